@@ -1,0 +1,65 @@
+// backend.hpp: the renderers a scene can be sent to, behind one interface.
+//
+// Implements: `Backend` (render a loaded scene into a Framebuffer), the statuses a render
+// ends with, and the provenance recorded with every result.
+//
+// Deliberately does not: compare images or write files.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+
+#include "harness/scene.hpp"
+#include "refraster/framebuffer.hpp"
+
+namespace harness {
+
+enum class BackendKind : std::uint8_t { Ref, OSMesa, Egl };
+enum class Driver : std::uint8_t { Llvmpipe, Softpipe };
+
+enum class RenderStatus : std::uint8_t {
+    Ok,
+    NotSupported,   // the renderer cannot draw what the scene asks
+    Crash,          // the worker process died
+    Timeout,        // the worker did not answer in time
+    InternalError,  // anything else that went wrong in the backend
+};
+
+std::string_view to_string(BackendKind k);
+std::string_view to_string(Driver d);
+std::string_view to_string(RenderStatus s);
+
+// Where a result came from. Keys are stable names (renderer, gl_version, mesa_version,
+// driver, cpu_flags, profile, commit, ...); values are free text.
+using Provenance = std::map<std::string, std::string>;
+
+struct RenderResult {
+    RenderStatus status = RenderStatus::Ok;
+    std::string message;  // one line, when status != Ok
+    refraster::Framebuffer image;
+    Provenance provenance;
+    double seconds = 0.0;  // time spent rendering, as the backend measured it
+};
+
+class Backend {
+public:
+    virtual ~Backend() = default;
+    virtual BackendKind kind() const = 0;
+    virtual std::string name() const = 0;  // e.g. "ref", "osmesa-llvmpipe"
+    virtual RenderResult render(const Scene& scene) = 0;
+};
+
+struct BackendOptions {
+    BackendKind kind = BackendKind::Ref;
+    Driver driver = Driver::Llvmpipe;
+    double timeout_seconds = 60.0;  // per scene, GL backends only
+};
+
+// Throws std::runtime_error when the backend was not built into this binary.
+std::unique_ptr<Backend> make_backend(const BackendOptions& options);
+
+// Provenance common to every backend: the project's commit and the CPU's FMA/AVX2 flags.
+Provenance host_provenance();
+
+}  // namespace harness

@@ -1,0 +1,101 @@
+// scene.hpp: a scene file (format v1) as the harness holds it, and how to load one.
+//
+// Implements: the parsed, validated content of a scene file (shared/spec/scene-format.md), in
+// two layers. `SceneFile` keeps what the file says (positions as written, their space and
+// matrix); `Scene` adds the API-neutral draw list the front end computes from it, identical
+// for every backend.
+//
+// Deliberately does not: render, compare, or know any backend.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "refraster/draw.hpp"
+
+namespace harness {
+
+// The scene format's version string, and the extensions this reader knows (none yet).
+inline constexpr const char* kSceneFormatV1 = "refraster-scene/1";
+
+enum class VertexSpace : std::uint8_t { Window, Clip };
+
+// One vertex as written in the file, each number already rounded once to float32.
+struct SceneVertex {
+    std::array<float, 4> position{0.0f, 0.0f, 0.0f, 1.0f};
+    std::uint32_t position_size = 0;  // how many coordinates the file gave (2, 3 or 4)
+    std::array<float, 4> color{1.0f, 1.0f, 1.0f, 1.0f};
+};
+
+struct SceneDraw {
+    refraster::PrimitiveType primitive = refraster::PrimitiveType::Triangles;
+    VertexSpace space = VertexSpace::Window;
+    std::optional<std::array<float, 16>> matrix;  // column-major; only with space "clip"
+    std::vector<SceneVertex> vertices;
+    std::optional<std::vector<std::uint32_t>> indices;
+    refraster::DrawState state;  // viewport already defaulted to the whole target
+};
+
+struct Expect {
+    std::uint32_t color_tolerance = 0;        // in units of the target's last bit
+    std::uint64_t max_mismatched_pixels = 0;  // pixels outside the tolerance
+};
+
+struct SceneFile {
+    std::string name;
+    std::string description;
+    std::vector<std::string> requires_extensions;
+    refraster::Target target;
+    refraster::ClearValues clear;
+    Expect expect;
+    std::vector<SceneDraw> draws;
+};
+
+struct Scene {
+    std::filesystem::path path;
+    SceneFile file;
+    refraster::DrawList draw_list;  // the front end's output
+    // Required extensions this reader does not implement; non-empty means NotSupported.
+    std::vector<std::string> unsupported_extensions;
+};
+
+// A refusal of bad input. `what()` is the whole one-line message:
+//   FILE: JSON.PATH: what was expected        (a value that is wrong)
+//   FILE:LINE:COLUMN: what was expected       (a file that does not parse)
+//   FILE: what went wrong                     (a file that cannot be read)
+class SceneError : public std::runtime_error {
+public:
+    SceneError(std::string file, std::string json_path, std::string message,
+               std::size_t line = 0, std::size_t column = 0);
+    const std::string& file() const { return file_; }
+    const std::string& json_path() const { return json_path_; }
+    const std::string& detail() const { return detail_; }
+    std::size_t line() const { return line_; }
+    std::size_t column() const { return column_; }
+
+private:
+    std::string file_;
+    std::string json_path_;
+    std::string detail_;
+    std::size_t line_;
+    std::size_t column_;
+};
+
+// Largest scene file read, in bytes; a larger file is refused before it is parsed.
+inline constexpr std::uintmax_t kMaxSceneFileBytes = 256u << 20;
+
+// Parses and validates text that claims to be a scene file. `file_label` names it in errors.
+SceneFile parse_scene(std::string_view text, const std::string& file_label);
+
+// Reads, parses, validates and runs the front end. Throws SceneError on any bad input.
+Scene load_scene(const std::filesystem::path& path);
+
+// The same from text already in memory (tests, generators).
+Scene load_scene_text(std::string_view text, const std::string& file_label);
+
+}  // namespace harness

@@ -1,0 +1,98 @@
+#include "harness/image_io.hpp"
+
+#include <OpenImageIO/imageio.h>
+#include <unistd.h>
+
+#include <system_error>
+
+namespace harness {
+
+namespace OIIO = OIIO_NAMESPACE;
+
+std::string_view image_extension(refraster::ColorFormat f) {
+    return f == refraster::ColorFormat::Rgba8 ? ".png" : ".exr";
+}
+
+void write_color_image(const refraster::Framebuffer& fb, const std::filesystem::path& path) {
+    const bool is8 = fb.color_format == refraster::ColorFormat::Rgba8;
+    const std::string ext = path.extension().string();
+    if (ext != std::string(image_extension(fb.color_format))) {
+        throw ImageIoError(path.string() + ": a " + std::string(to_string(fb.color_format)) +
+                           " target is written as " + std::string(image_extension(fb.color_format)) +
+                           ", not " + (ext.empty() ? "a file without extension" : ext));
+    }
+    // Write beside the destination and rename, so a failure never leaves a partial image.
+    const auto tmp = path.parent_path() /
+                     ("." + path.stem().string() + ".partial-" + std::to_string(::getpid()) + ext);
+    auto out = OIIO::ImageOutput::create(tmp.string());
+    if (!out) throw ImageIoError(path.string() + ": cannot create an image writer for " + ext);
+    const OIIO::TypeDesc type = is8 ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT;
+    OIIO::ImageSpec spec(static_cast<int>(fb.width), static_cast<int>(fb.height), 4, type);
+    // Pixels are stored as rendered: PNG alpha is unassociated, and without this attribute
+    // OpenImageIO would divide the colour by alpha on the way out.
+    spec.attribute("oiio:UnassociatedAlpha", 1);
+    if (!out->open(tmp.string(), spec)) {
+        throw ImageIoError(path.string() + ": cannot write: " + out->geterror());
+    }
+    // Image files store the top row first: file row 0 is window row height-1.
+    const std::size_t row_floats = std::size_t{fb.width} * 4;
+    bool ok = true;
+    for (std::uint32_t row = 0; ok && row < fb.height; ++row) {
+        const std::uint32_t src = fb.height - 1 - row;
+        const void* data = is8 ? static_cast<const void*>(fb.color8.data() + src * row_floats)
+                               : static_cast<const void*>(fb.color32f.data() + src * row_floats);
+        ok = out->write_scanline(static_cast<int>(row), 0, type, data);
+    }
+    ok = out->close() && ok;
+    std::error_code ec;
+    if (!ok) {
+        std::filesystem::remove(tmp, ec);
+        throw ImageIoError(path.string() + ": cannot write: " + out->geterror());
+    }
+    std::filesystem::rename(tmp, path, ec);
+    if (ec) {
+        std::filesystem::remove(tmp, ec);
+        throw ImageIoError(path.string() + ": cannot move the image into place: " + ec.message());
+    }
+}
+
+refraster::Framebuffer read_color_image(const std::filesystem::path& path) {
+    // Keep the colour as stored: without this, PNG colour is multiplied by alpha on reading.
+    OIIO::ImageSpec config;
+    config.attribute("oiio:UnassociatedAlpha", 1);
+    auto in = OIIO::ImageInput::open(path.string(), &config);
+    if (!in) throw ImageIoError(path.string() + ": cannot read: " + OIIO::geterror());
+    const OIIO::ImageSpec& spec = in->spec();
+    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels < 1) {
+        throw ImageIoError(path.string() + ": empty image");
+    }
+    const bool is8 = spec.format == OIIO::TypeDesc::UINT8;
+    refraster::Framebuffer fb(static_cast<std::uint32_t>(spec.width),
+                              static_cast<std::uint32_t>(spec.height),
+                              is8 ? refraster::ColorFormat::Rgba8 : refraster::ColorFormat::Rgba32f,
+                              refraster::DepthFormat::None);
+    const int nch = std::min(spec.nchannels, 4);
+    const OIIO::TypeDesc type = is8 ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT;
+    const std::size_t row_values = std::size_t{fb.width} * 4;
+    const auto pixel_stride = static_cast<OIIO::stride_t>(4 * type.size());
+    const auto row_stride = static_cast<OIIO::stride_t>(row_values * type.size());
+    // Read the top file row into the last buffer row: a negative row stride flips.
+    void* last_row = is8 ? static_cast<void*>(fb.color8.data() + (fb.height - 1) * row_values)
+                         : static_cast<void*>(fb.color32f.data() + (fb.height - 1) * row_values);
+    if (!in->read_image(0, 0, 0, nch, type, last_row, pixel_stride, -row_stride)) {
+        throw ImageIoError(path.string() + ": cannot read: " + in->geterror());
+    }
+    if (nch < 4) {  // a file without alpha is opaque
+        for (std::size_t i = 0; i < fb.pixel_count(); ++i) {
+            if (is8) {
+                fb.color8[i * 4 + 3] = 255;
+            } else {
+                fb.color32f[i * 4 + 3] = 1.0f;
+            }
+        }
+    }
+    in->close();
+    return fb;
+}
+
+}  // namespace harness

@@ -1,0 +1,169 @@
+// draw.hpp: the API-neutral draw list every renderer consumes.
+//
+// Implements: the render target description, the clear values, and an ordered list of draws,
+// each with clip-space float32 vertices (produced once by the harness front end), optional
+// indices and the fixed-function state of scene format v1 (shared/spec/scene-format.md).
+//
+// Deliberately does not: parse files, transform vertices, or validate ranges. Whoever builds a
+// DrawList (harness/front_end) guarantees what the scene format guarantees: finite clip
+// coordinates, indices within the vertex count, sizes within the documented limits.
+//
+// Coordinates are those of OpenGL: clip space as gl_Position, window space with its origin at
+// the bottom-left corner of the target.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace refraster {
+
+enum class PrimitiveType : std::uint8_t {
+    Points,
+    Lines,
+    LineStrip,
+    LineLoop,
+    Triangles,
+    TriangleStrip,
+    TriangleFan,
+};
+
+enum class ColorFormat : std::uint8_t { Rgba8, Rgba32f };
+enum class DepthFormat : std::uint8_t { None, Z16, Z24, Z32f };
+enum class CullMode : std::uint8_t { None, Front, Back, FrontAndBack };
+enum class FrontFace : std::uint8_t { Ccw, Cw };
+enum class CompareFunc : std::uint8_t {
+    Never,
+    Less,
+    Equal,
+    Lequal,
+    Greater,
+    NotEqual,
+    Gequal,
+    Always,
+};
+// How attributes are interpolated: GLSL `smooth`, `flat` and `noperspective`.
+enum class ShadeModel : std::uint8_t { Smooth, Flat, NoPerspective };
+enum class ProvokingVertex : std::uint8_t { Last, First };
+enum class PolygonMode : std::uint8_t { Fill, Line, Point };
+// Blend presets; factors are the same for colour and alpha (scene format v1).
+//   Alpha: src * SRC_ALPHA + dst * ONE_MINUS_SRC_ALPHA.   Add: src * ONE + dst * ONE.
+enum class BlendPreset : std::uint8_t { None, Alpha, Add };
+
+// A rectangle in window pixels: origin (x, y) at its bottom-left corner.
+struct Rect {
+    std::int32_t x = 0;
+    std::int32_t y = 0;
+    std::int32_t width = 0;
+    std::int32_t height = 0;
+    friend bool operator==(const Rect&, const Rect&) = default;
+};
+
+struct PolygonOffset {
+    float factor = 0.0f;
+    float units = 0.0f;
+    friend bool operator==(const PolygonOffset&, const PolygonOffset&) = default;
+};
+
+// Everything a draw may set; every draw starts from these defaults (nothing carries over).
+struct DrawState {
+    Rect viewport;  // the whole target unless the scene says otherwise
+    float depth_near = 0.0f;
+    float depth_far = 1.0f;
+    std::optional<Rect> scissor;
+    CullMode cull = CullMode::None;
+    FrontFace front_face = FrontFace::Ccw;
+    std::optional<CompareFunc> depth_test;  // nullopt: the depth test is disabled
+    bool depth_write = true;
+    ShadeModel shade = ShadeModel::Smooth;
+    ProvokingVertex provoking_vertex = ProvokingVertex::Last;
+    PolygonMode polygon_mode = PolygonMode::Fill;
+    std::optional<PolygonOffset> polygon_offset;
+    float line_width = 1.0f;
+    float point_size = 1.0f;
+    BlendPreset blend = BlendPreset::None;
+    friend bool operator==(const DrawState&, const DrawState&) = default;
+};
+
+// One vertex attribute besides the position, e.g. {"color", 4}.
+struct AttributeDesc {
+    std::string name;
+    std::uint32_t components = 4;
+    friend bool operator==(const AttributeDesc&, const AttributeDesc&) = default;
+};
+
+// Vertices as one float32 array. Each vertex is a record of `stride()` floats: the clip-space
+// position (x, y, z, w) first, then each attribute's components in the order of `attributes`.
+// Any number of attributes fits; format v1 uses one, "color".
+struct VertexArray {
+    static constexpr std::uint32_t kPositionComponents = 4;
+
+    std::vector<AttributeDesc> attributes;
+    std::vector<float> data;
+
+    std::uint32_t stride() const {
+        std::uint32_t n = kPositionComponents;
+        for (const auto& a : attributes) n += a.components;
+        return n;
+    }
+    std::size_t size() const { return stride() == 0 ? 0 : data.size() / stride(); }
+    std::span<const float> vertex(std::size_t i) const {
+        return {data.data() + i * stride(), stride()};
+    }
+    std::span<const float, 4> position(std::size_t i) const {
+        return std::span<const float, 4>(data.data() + i * stride(), 4);
+    }
+    // Offset of attribute `a` inside a vertex record, in floats.
+    std::uint32_t attribute_offset(std::size_t a) const {
+        std::uint32_t off = kPositionComponents;
+        for (std::size_t k = 0; k < a; ++k) off += attributes[k].components;
+        return off;
+    }
+    friend bool operator==(const VertexArray&, const VertexArray&) = default;
+};
+
+struct Draw {
+    PrimitiveType primitive = PrimitiveType::Triangles;
+    DrawState state;
+    VertexArray vertices;
+    // nullopt when the draw uses its vertices in order; otherwise each index < vertices.size().
+    std::optional<std::vector<std::uint32_t>> indices;
+
+    // The vertex count the primitive assembler sees.
+    std::size_t element_count() const { return indices ? indices->size() : vertices.size(); }
+    std::uint32_t element(std::size_t i) const {
+        return indices ? (*indices)[i] : static_cast<std::uint32_t>(i);
+    }
+    friend bool operator==(const Draw&, const Draw&) = default;
+};
+
+struct Target {
+    std::uint32_t width = 1;
+    std::uint32_t height = 1;
+    ColorFormat color = ColorFormat::Rgba8;
+    DepthFormat depth = DepthFormat::None;
+    std::uint32_t samples = 1;
+    friend bool operator==(const Target&, const Target&) = default;
+};
+
+struct ClearValues {
+    std::array<float, 4> color{0.0f, 0.0f, 0.0f, 0.0f};
+    float depth = 1.0f;  // passed to glClearDepth as a double; quantised as the driver does
+    friend bool operator==(const ClearValues&, const ClearValues&) = default;
+};
+
+struct DrawList {
+    Target target;
+    ClearValues clear;
+    std::vector<Draw> draws;
+    friend bool operator==(const DrawList&, const DrawList&) = default;
+};
+
+std::string_view to_string(PrimitiveType p);
+std::string_view to_string(ColorFormat f);
+std::string_view to_string(DepthFormat f);
+
+}  // namespace refraster

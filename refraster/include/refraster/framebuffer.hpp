@@ -1,0 +1,49 @@
+// framebuffer.hpp: the pixels a renderer produces, in the form every comparison uses.
+//
+// Implements: single-sample colour (rgba8 bytes or rgba32f floats) and depth storage, rows
+// bottom-up (row 0 is window row 0, as glReadPixels returns them), and the depth values
+// exactly as the scene format compares them: z16 as 16-bit integers, z24 as 24-bit integers,
+// z32f as the float's bit pattern.
+//
+// Deliberately does not: hold per-sample storage or resolve multisampling (a 4x target is
+// compared after resolve, as glBlitFramebuffer produces it), or know about image files.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "refraster/draw.hpp"
+
+namespace refraster {
+
+struct Framebuffer {
+    std::uint32_t width = 0;
+    std::uint32_t height = 0;
+    ColorFormat color_format = ColorFormat::Rgba8;
+    DepthFormat depth_format = DepthFormat::None;
+    std::vector<std::uint8_t> color8;   // rgba8: 4 bytes a pixel, row 0 at the bottom
+    std::vector<float> color32f;        // rgba32f: 4 floats a pixel, row 0 at the bottom
+    std::vector<std::uint32_t> depth;   // one value a pixel when depth_format != None
+
+    Framebuffer() = default;
+    Framebuffer(std::uint32_t w, std::uint32_t h, ColorFormat cf, DepthFormat df);
+
+    std::size_t pixel_count() const { return std::size_t{width} * height; }
+    std::size_t index(std::uint32_t x, std::uint32_t y) const {
+        return std::size_t{y} * width + x;
+    }
+    friend bool operator==(const Framebuffer&, const Framebuffer&) = default;
+};
+
+// Number of meaningful bits in a depth value of format `f` (z32f: all 32 bits of the float).
+constexpr std::uint32_t depth_bits(DepthFormat f) {
+    switch (f) {
+        case DepthFormat::Z16: return 16;
+        case DepthFormat::Z24: return 24;
+        case DepthFormat::Z32f: return 32;
+        case DepthFormat::None: return 0;
+    }
+    return 0;
+}
+
+}  // namespace refraster

@@ -1,0 +1,254 @@
+// wire_test.cpp: the worker protocol (harness/src/wire.hpp) round-trips every field, and a
+// short or corrupt stream is an error, never a wrong value.
+#include "wire.hpp"
+
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <limits>
+#include <thread>
+
+namespace {
+
+using namespace refraster;
+using harness::wire::FrameReader;
+using harness::wire::FrameType;
+using harness::wire::WireError;
+
+DrawList sample_draw_list() {
+    DrawList list;
+    list.target = Target{17, 9, ColorFormat::Rgba32f, DepthFormat::Z16, 4};
+    list.clear.color = {0.1f, -2.0f, std::numeric_limits<float>::infinity(), 1.0f};
+    list.clear.depth = 0.375f;
+
+    Draw a;
+    a.primitive = PrimitiveType::TriangleFan;
+    a.state.viewport = Rect{-3, 4, 100, 200};
+    a.state.depth_near = 0.75f;
+    a.state.depth_far = 0.25f;
+    a.state.scissor = Rect{1, 2, 0, 5};
+    a.state.cull = CullMode::FrontAndBack;
+    a.state.front_face = FrontFace::Cw;
+    a.state.depth_test = CompareFunc::Gequal;
+    a.state.depth_write = false;
+    a.state.shade = ShadeModel::NoPerspective;
+    a.state.provoking_vertex = ProvokingVertex::First;
+    a.state.polygon_mode = PolygonMode::Point;
+    a.state.polygon_offset = PolygonOffset{-1.5f, 2.0f};
+    a.state.line_width = 3.5f;
+    a.state.point_size = 255.0f;
+    a.state.blend = BlendPreset::Add;
+    a.vertices.attributes = {{"color", 4}, {"extra", 2}};
+    for (int i = 0; i < 3 * 10; ++i) a.vertices.data.push_back(static_cast<float>(i) * 0.125f);
+    a.vertices.data.push_back(-0.0f);  // the sign of zero must survive too
+    a.vertices.data.back() = std::nextafter(0.0f, 1.0f);
+    a.indices = std::vector<std::uint32_t>{2, 0, 1, 0xffffffffu};
+
+    Draw b;  // defaults, no indices, no attributes
+    b.primitive = PrimitiveType::Points;
+    b.vertices.data = {0.0f, 0.5f, -0.0f, 1.0f};
+
+    Draw c;  // empty
+    c.primitive = PrimitiveType::LineLoop;
+    c.indices = std::vector<std::uint32_t>{};
+    c.state.depth_test = CompareFunc::Never;
+
+    list.draws = {a, b, c};
+    return list;
+}
+
+harness::RenderResult sample_result() {
+    harness::RenderResult r;
+    r.status = harness::RenderStatus::NotSupported;
+    r.message = "no 4x here";
+    r.image = Framebuffer(3, 2, ColorFormat::Rgba8, DepthFormat::Z24);
+    for (std::size_t i = 0; i < r.image.color8.size(); ++i) {
+        r.image.color8[i] = static_cast<std::uint8_t>(i * 37);
+    }
+    for (std::size_t i = 0; i < r.image.depth.size(); ++i) {
+        r.image.depth[i] = static_cast<std::uint32_t>(i * 0x123457u);
+    }
+    r.provenance = {{"renderer", "llvmpipe (LLVM 15.0.6, 256 bits)"}, {"env", ""}, {"k", "v"}};
+    r.seconds = 0.1234567890123;
+    return r;
+}
+
+TEST(Wire, DrawListRoundTrip) {
+    const DrawList list = sample_draw_list();
+    const auto bytes = harness::wire::encode_draw_list(list);
+    const DrawList back = harness::wire::decode_draw_list(bytes);
+    EXPECT_EQ(back, list);
+    // operator== on floats cannot see -0.0 vs 0.0; the bits must be equal as well.
+    ASSERT_EQ(back.draws[1].vertices.data.size(), 4u);
+    EXPECT_TRUE(std::signbit(back.draws[1].vertices.data[2]));
+    EXPECT_TRUE(std::isinf(back.clear.color[2]));
+}
+
+TEST(Wire, ResultRoundTrip) {
+    const harness::RenderResult r = sample_result();
+    const auto back = harness::wire::decode_result(harness::wire::encode_result(r));
+    EXPECT_EQ(back.status, r.status);
+    EXPECT_EQ(back.message, r.message);
+    EXPECT_EQ(back.image, r.image);
+    EXPECT_EQ(back.provenance, r.provenance);
+    EXPECT_EQ(back.seconds, r.seconds);
+
+    harness::RenderResult f;
+    f.image = Framebuffer(2, 2, ColorFormat::Rgba32f, DepthFormat::Z32f);
+    f.image.color32f[5] = -1.0e30f;
+    const auto fb = harness::wire::decode_result(harness::wire::encode_result(f));
+    EXPECT_EQ(fb.image, f.image);
+    EXPECT_EQ(fb.status, harness::RenderStatus::Ok);
+}
+
+TEST(Wire, EveryTruncationIsAnError) {
+    const auto list_bytes = harness::wire::encode_draw_list(sample_draw_list());
+    for (std::size_t n = 0; n < list_bytes.size(); ++n) {
+        EXPECT_THROW(harness::wire::decode_draw_list(std::span(list_bytes.data(), n)), WireError)
+            << "prefix of " << n << " bytes";
+    }
+    const auto result_bytes = harness::wire::encode_result(sample_result());
+    for (std::size_t n = 0; n < result_bytes.size(); ++n) {
+        EXPECT_THROW(harness::wire::decode_result(std::span(result_bytes.data(), n)), WireError)
+            << "prefix of " << n << " bytes";
+    }
+}
+
+TEST(Wire, TrailingBytesAndBadEnumsAreErrors) {
+    auto bytes = harness::wire::encode_draw_list(sample_draw_list());
+    bytes.push_back(0);
+    EXPECT_THROW(harness::wire::decode_draw_list(bytes), WireError);
+
+    // Byte 8 is the target's colour format: 0 or 1.
+    bytes = harness::wire::encode_draw_list(DrawList{});
+    bytes[8] = 7;
+    EXPECT_THROW(harness::wire::decode_draw_list(bytes), WireError);
+
+    // A huge draw count must be refused, not reserved.
+    bytes = harness::wire::encode_draw_list(DrawList{});
+    const std::size_t count_at = bytes.size() - 8;
+    for (std::size_t i = count_at; i < bytes.size(); ++i) bytes[i] = 0xff;
+    EXPECT_THROW(harness::wire::decode_draw_list(bytes), WireError);
+
+    // The status is the first byte; past InternalError is corrupt.
+    bytes = harness::wire::encode_result(harness::RenderResult{});
+    bytes[0] = 5;
+    EXPECT_THROW(harness::wire::decode_result(bytes), WireError);
+}
+
+struct Pipe {
+    int r = -1;
+    int w = -1;
+    Pipe() {
+        int fds[2];
+        if (::pipe2(fds, O_CLOEXEC) != 0) throw std::runtime_error("pipe2");
+        r = fds[0];
+        w = fds[1];
+    }
+    void close_write() {
+        if (w >= 0) ::close(w);
+        w = -1;
+    }
+    ~Pipe() {
+        if (r >= 0) ::close(r);
+        close_write();
+    }
+};
+
+TEST(Wire, FramesCrossAPipeInPieces) {
+    Pipe p;
+    // Several MiB: far more than a pipe holds, so both ends see short writes and reads.
+    std::vector<std::uint8_t> big(5u << 20);
+    for (std::size_t i = 0; i < big.size(); ++i) big[i] = static_cast<std::uint8_t>(i * 131);
+    const auto list_bytes = harness::wire::encode_draw_list(sample_draw_list());
+
+    std::thread writer([&] {
+        harness::wire::write_frame(p.w, FrameType::Render, list_bytes);
+        harness::wire::write_frame(p.w, FrameType::Reply, big);
+        harness::wire::write_frame(p.w, FrameType::Crash, {});
+        p.close_write();
+    });
+    auto f1 = harness::wire::read_frame(p.r);
+    auto f2 = harness::wire::read_frame(p.r);
+    auto f3 = harness::wire::read_frame(p.r);
+    auto f4 = harness::wire::read_frame(p.r);
+    writer.join();
+
+    ASSERT_TRUE(f1 && f2 && f3);
+    EXPECT_EQ(f1->type, static_cast<std::uint32_t>(FrameType::Render));
+    EXPECT_EQ(harness::wire::decode_draw_list(f1->payload), sample_draw_list());
+    EXPECT_EQ(f2->type, static_cast<std::uint32_t>(FrameType::Reply));
+    EXPECT_EQ(f2->payload, big);
+    EXPECT_EQ(f3->type, static_cast<std::uint32_t>(FrameType::Crash));
+    EXPECT_TRUE(f3->payload.empty());
+    EXPECT_FALSE(f4.has_value()) << "end of stream between frames is a clean end";
+}
+
+TEST(Wire, NonBlockingReaderReportsProgress) {
+    Pipe p;
+    ASSERT_EQ(::fcntl(p.r, F_SETFL, O_NONBLOCK), 0);
+    FrameReader reader;
+    EXPECT_EQ(reader.read_some(p.r), FrameReader::Progress::NeedMore);  // EAGAIN
+    harness::wire::write_frame(p.w, FrameType::Hang, {1, 2, 3});
+    FrameReader::Progress got = FrameReader::Progress::NeedMore;
+    for (int i = 0; i < 4 && got == FrameReader::Progress::NeedMore; ++i) {
+        got = reader.read_some(p.r);
+    }
+    ASSERT_EQ(got, FrameReader::Progress::Complete);
+    const auto f = reader.take();
+    EXPECT_EQ(f.type, static_cast<std::uint32_t>(FrameType::Hang));
+    EXPECT_EQ(f.payload, (std::vector<std::uint8_t>{1, 2, 3}));
+    p.close_write();
+    EXPECT_EQ(reader.read_some(p.r), FrameReader::Progress::Eof);
+}
+
+TEST(Wire, StreamEndingInsideAFrameIsAnError) {
+    {
+        Pipe p;  // inside the payload
+        std::vector<std::uint8_t> header(12, 0);
+        header[0] = 3;
+        header[4] = 100;  // 100 payload bytes promised
+        ASSERT_EQ(::write(p.w, header.data(), header.size()), 12);
+        ASSERT_EQ(::write(p.w, header.data(), 10), 10);  // only 10 delivered
+        p.close_write();
+        EXPECT_THROW(harness::wire::read_frame(p.r), WireError);
+    }
+    {
+        Pipe p;  // inside the header
+        const std::uint8_t half[5] = {2, 0, 0, 0, 1};
+        ASSERT_EQ(::write(p.w, half, sizeof half), 5);
+        p.close_write();
+        EXPECT_THROW(harness::wire::read_frame(p.r), WireError);
+    }
+    {
+        Pipe p;  // an absurd length is refused before anything is allocated
+        std::vector<std::uint8_t> header(12, 0xff);
+        ASSERT_EQ(::write(p.w, header.data(), header.size()), 12);
+        p.close_write();
+        EXPECT_THROW(harness::wire::read_frame(p.r), WireError);
+    }
+}
+
+TEST(Wire, WritingToAClosedPipeIsAnErrorWithErrno) {
+    Pipe p;
+    ::close(p.r);
+    p.r = -1;
+    // SIGPIPE would end the test binary; the GL backend ignores it the same way.
+    struct sigaction ignore {};
+    struct sigaction old {};
+    ignore.sa_handler = SIG_IGN;
+    ::sigaction(SIGPIPE, &ignore, &old);
+    try {
+        harness::wire::write_frame(p.w, FrameType::Render, {1});
+        ADD_FAILURE() << "expected EPIPE";
+    } catch (const WireError& e) {
+        EXPECT_EQ(e.error_number(), EPIPE);
+    }
+    ::sigaction(SIGPIPE, &old, nullptr);
+}
+
+}  // namespace

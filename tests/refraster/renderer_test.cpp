@@ -1,0 +1,81 @@
+// The reference renderer's entry point: primitive assembly counts, clears, and refusals.
+#include <gtest/gtest.h>
+
+#include <bit>
+
+#include "refraster/renderer.hpp"
+
+namespace {
+
+using refraster::PrimitiveType;
+
+TEST(PrimitiveCount, FollowsGlAssembly) {
+    EXPECT_EQ(refraster::primitive_count(PrimitiveType::Points, 5), 5u);
+    EXPECT_EQ(refraster::primitive_count(PrimitiveType::Lines, 5), 2u);
+    EXPECT_EQ(refraster::primitive_count(PrimitiveType::LineStrip, 1), 0u);
+    EXPECT_EQ(refraster::primitive_count(PrimitiveType::LineStrip, 4), 3u);
+    EXPECT_EQ(refraster::primitive_count(PrimitiveType::LineLoop, 1), 0u);
+    EXPECT_EQ(refraster::primitive_count(PrimitiveType::LineLoop, 3), 3u);
+    EXPECT_EQ(refraster::primitive_count(PrimitiveType::Triangles, 5), 1u);
+    EXPECT_EQ(refraster::primitive_count(PrimitiveType::TriangleStrip, 2), 0u);
+    EXPECT_EQ(refraster::primitive_count(PrimitiveType::TriangleStrip, 5), 3u);
+    EXPECT_EQ(refraster::primitive_count(PrimitiveType::TriangleFan, 4), 2u);
+}
+
+refraster::DrawList cleared_list(refraster::DepthFormat depth, float z) {
+    refraster::DrawList l;
+    l.target = {3, 2, refraster::ColorFormat::Rgba8, depth, 1};
+    l.clear.color = {1.0f, 0.0f, 51.0f / 255.0f, 1.0f};
+    l.clear.depth = z;
+    return l;
+}
+
+TEST(Render, ClearOnlyFillsEveryPixel) {
+    refraster::Framebuffer fb;
+    const auto r = refraster::render(cleared_list(refraster::DepthFormat::Z24, 0.5f), fb);
+    ASSERT_EQ(r.status, refraster::RenderStatus::Ok) << r.message;
+    ASSERT_EQ(fb.color8.size(), 24u);
+    for (std::size_t i = 0; i < 6; ++i) {
+        EXPECT_EQ(fb.color8[4 * i + 0], 255);
+        EXPECT_EQ(fb.color8[4 * i + 1], 0);
+        EXPECT_EQ(fb.color8[4 * i + 2], 51);
+        EXPECT_EQ(fb.color8[4 * i + 3], 255);
+        // RNE(0.5 * 16777215) = RNE(8388607.5) = 8388608 (even).
+        EXPECT_EQ(fb.depth[i], 8388608u);
+    }
+}
+
+TEST(Render, ClearDepthFormats) {
+    refraster::Framebuffer fb;
+    ASSERT_EQ(refraster::render(cleared_list(refraster::DepthFormat::Z16, 0.5f), fb).status,
+              refraster::RenderStatus::Ok);
+    EXPECT_EQ(fb.depth[0], 32768u);  // RNE(32767.5) = 32768
+    ASSERT_EQ(refraster::render(cleared_list(refraster::DepthFormat::Z32f, 0.3f), fb).status,
+              refraster::RenderStatus::Ok);
+    EXPECT_EQ(fb.depth[0], std::bit_cast<std::uint32_t>(0.3f));
+}
+
+TEST(Render, InexactUnormClearIsRefusedNotGuessed) {
+    auto l = cleared_list(refraster::DepthFormat::None, 1.0f);
+    l.clear.color = {0.5f, 0, 0, 1};
+    refraster::Framebuffer fb;
+    EXPECT_EQ(refraster::render(l, fb).status, refraster::RenderStatus::NotSupported);
+}
+
+TEST(Render, DrawsWithPrimitivesAreNotSupportedYet) {
+    auto l = cleared_list(refraster::DepthFormat::None, 1.0f);
+    refraster::Draw d;
+    d.primitive = PrimitiveType::Triangles;
+    d.vertices.attributes = {{"color", 4}};
+    d.vertices.data.assign(3 * 8, 0.0f);
+    l.draws.push_back(d);
+    refraster::Framebuffer fb;
+    const auto r = refraster::render(l, fb);
+    EXPECT_EQ(r.status, refraster::RenderStatus::NotSupported);
+    EXPECT_NE(r.message.find("draws[0]"), std::string::npos);
+    // A draw with a leftover vertex only assembles nothing and is accepted.
+    l.draws[0].vertices.data.assign(2 * 8, 0.0f);
+    EXPECT_EQ(refraster::render(l, fb).status, refraster::RenderStatus::Ok);
+}
+
+}  // namespace
