@@ -1,0 +1,69 @@
+// compare.hpp: pixel-by-pixel comparison of two renders of one scene.
+//
+// Implements the scene format's comparison on decoded pixels (never file bytes): colour per
+// channel in units of the target's last bit (one unorm8 step for rgba8, one float ULP for
+// rgba32f), depth as exact integers (z16, z24 values; z32f bit patterns), the scene's
+// `expect` (tolerance and mismatched-pixel budget), the largest differences with their
+// location and both values, and an error mask image.
+//
+// Deliberately does not: decide which primitive owns a pixel. "Missing" and "extra" are judged
+// against the clear colour: a pixel one image left at the clear value and the other did not.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "harness/scene.hpp"
+#include "refraster/framebuffer.hpp"
+
+namespace harness {
+
+// Classes of the error mask, each with its colour in the mask image.
+enum class PixelClass : std::uint8_t {
+    Equal,      // dark grey (within tolerance, depth equal)
+    Missing,    // magenta: the reference drew it, the other render left the clear colour
+    Extra,      // red: the other render drew it, the reference left the clear colour
+    ColorOnly,  // yellow: both drew it, colours differ beyond tolerance
+    DepthOnly,  // blue: colours within tolerance, depth values differ
+};
+
+struct ChannelDifference {
+    std::uint64_t amount = 0;  // last-bit units (rgba8) or ULPs (rgba32f)
+    std::uint32_t x = 0;
+    std::uint32_t y = 0;  // window coordinates, row 0 at the bottom
+    std::uint32_t channel = 0;  // 0..3 = r, g, b, a
+    std::array<double, 4> reference{};  // both pixels' values, in the format's own units
+    std::array<double, 4> actual{};
+};
+
+struct DepthDifference {
+    std::uint64_t amount = 0;  // |a - b| of the integer values (z32f: ULPs)
+    std::uint32_t x = 0;
+    std::uint32_t y = 0;
+    std::uint32_t reference = 0;
+    std::uint32_t actual = 0;
+};
+
+struct Comparison {
+    bool size_mismatch = false;
+    std::uint64_t mismatched_pixels = 0;  // colour beyond tolerance or depth different
+    std::uint64_t missing = 0;
+    std::uint64_t extra = 0;
+    std::uint64_t color_only = 0;
+    std::uint64_t depth_only = 0;
+    std::optional<ChannelDifference> max_color;  // largest colour difference, if any differs
+    std::optional<DepthDifference> max_depth;
+    bool within_expect = false;
+    refraster::Framebuffer mask;  // rgba8, one PixelClass colour a pixel
+
+    std::string summary() const;  // one line, idiff's vocabulary
+};
+
+Comparison compare_images(const refraster::Framebuffer& reference,
+                          const refraster::Framebuffer& actual,
+                          const refraster::ClearValues& clear, const Expect& expect);
+
+std::array<std::uint8_t, 4> mask_color(PixelClass c);
+
+}  // namespace harness

@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages refraster builds and runs with. Idempotent: when every
+# package is present it installs nothing and does not touch the network.
+set -euo pipefail
+
+packages=(
+  # toolchain
+  g++ cmake ninja-build pkg-config git
+  # libraries (harness and tests)
+  nlohmann-json3-dev libcli11-dev libglm-dev libgtest-dev libgmock-dev libbenchmark-dev
+  # image files; OpenImageIO's exported CMake targets name the tools' binaries, so both
+  libopenimageio-dev openimageio-tools
+  # Mesa: OSMesa, and EGL surfaceless with the llvmpipe/softpipe DRI driver
+  libosmesa6-dev libegl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  status=$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)
+  [[ "$status" == "install ok installed" ]] || missing+=("$p")
+done
+
+if [[ ${#missing[@]} -eq 0 ]]; then
+  echo "setup-deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+
+echo "setup-deps: installing ${missing[*]}"
+sudo=""
+if [[ $(id -u) -ne 0 ]]; then
+  command -v sudo >/dev/null || { echo "setup-deps: need root (or sudo) to install: ${missing[*]}" >&2; exit 1; }
+  sudo="sudo"
+fi
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq
+$sudo apt-get install -y -qq "${missing[@]}" >/dev/null
+echo "setup-deps: done"

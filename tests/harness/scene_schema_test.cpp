@@ -1,0 +1,74 @@
+// The published schema and the shipped scenes agree with the loader.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "harness/scene.hpp"
+#include "test_util.hpp"
+
+namespace {
+
+using json = nlohmann::json;
+const std::filesystem::path kSource = REFRASTER_SOURCE_DIR;
+
+json schema() {
+    return json::parse(testutil::read_text(kSource / "conformance/schema/scene.schema.json"));
+}
+
+std::string scene_with_state(const std::string& key, const json& value) {
+    json s = {{"format", "refraster-scene/1"},
+              {"target", {{"width", 4}, {"height", 4}}},
+              {"draws", json::array({{{"primitive", "points"},
+                                      {"vertices", json::array()},
+                                      {"state", {{key, value}}}}})}};
+    return s.dump();
+}
+
+// Every enumerated state value the schema lists is accepted, and nothing else is.
+TEST(SceneSchema, StateEnumsMatchTheLoader) {
+    const json props = schema()["properties"]["draws"]["items"]["properties"]["state"]["properties"];
+    int checked = 0;
+    for (const auto& [key, spec] : props.items()) {
+        if (!spec.contains("enum")) continue;
+        for (const auto& v : spec["enum"]) {
+            EXPECT_NO_THROW((void)harness::load_scene_text(scene_with_state(key, v), "m.json"))
+                << key << " = " << v.dump();
+            ++checked;
+        }
+        EXPECT_THROW((void)harness::load_scene_text(scene_with_state(key, "no-such-value"), "m.json"),
+                     harness::SceneError)
+            << key;
+    }
+    EXPECT_EQ(checked, 26);  // cull 4, front_face 2, depth_test 9, shade 3, provoking 2, mode 3, blend 3
+}
+
+TEST(SceneSchema, PrimitivesMatchTheLoader) {
+    const json prims = schema()["properties"]["draws"]["items"]["properties"]["primitive"]["enum"];
+    ASSERT_EQ(prims.size(), 7u);
+    for (const auto& p : prims) {
+        json s = {{"format", "refraster-scene/1"},
+                  {"target", {{"width", 4}, {"height", 4}}},
+                  {"draws", json::array({{{"primitive", p}, {"vertices", json::array()}}})}};
+        const auto scene = harness::load_scene_text(s.dump(), "m.json");
+        EXPECT_EQ(refraster::to_string(scene.draw_list.draws[0].primitive), p.get<std::string>());
+    }
+}
+
+// Every shipped scene loads, describes itself, and is named by its dotted path.
+TEST(ShippedScenes, LoadDescribeAndNameByPath) {
+    const auto root = kSource / "conformance/scenes";
+    int n = 0;
+    for (const auto& e : std::filesystem::recursive_directory_iterator(root)) {
+        if (e.path().extension() != ".json") continue;
+        SCOPED_TRACE(e.path().string());
+        const auto s = harness::load_scene(e.path());
+        EXPECT_FALSE(s.file.description.empty());
+        auto rel = std::filesystem::relative(e.path(), root).replace_extension("").string();
+        for (auto& c : rel) c = c == '/' ? '.' : c;
+        EXPECT_EQ(s.file.name, rel);
+        ++n;
+    }
+    EXPECT_GE(n, 8);
+}
+
+}  // namespace
