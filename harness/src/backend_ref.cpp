@@ -16,6 +16,7 @@ public:
         RenderResult r;
         r.provenance = host_provenance();
         r.provenance["renderer"] = "refraster";
+        r.provenance["profile"] = "none (primitives not implemented)";
         if (!scene.unsupported_extensions.empty()) {
             r.status = RenderStatus::NotSupported;
             r.message = "requires extension \"" + scene.unsupported_extensions.front() +

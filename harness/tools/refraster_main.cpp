@@ -1,72 +1,101 @@
 // refraster: the command-line front door. Subcommands share one set of exit codes:
-//   0 success, 1 images differ beyond `expect`, 2 bad input or usage,
-//   3 backend failure (crash, timeout, internal error), 4 NotSupported.
+//   0 success, 1 images differ beyond `expect` (or a conformance case failed),
+//   2 bad input or usage, 3 backend failure (crash, timeout, internal error), 4 NotSupported.
 #include <CLI/CLI.hpp>
-#include <cstdio>
+#include <fstream>
 #include <iostream>
 
 #include "harness/backend.hpp"
+#include "harness/case_result.hpp"
 #include "harness/image_io.hpp"
 #include "harness/scene.hpp"
+#include "suite.hpp"
 
 namespace {
 
 constexpr int kExitOk = 0;
+constexpr int kExitMismatch = 1;
 constexpr int kExitBadInput = 2;
 constexpr int kExitBackendFailure = 3;
 constexpr int kExitNotSupported = 4;
 
-struct RenderArgs {
-    std::string scene;
-    std::string backend = "ref";
+// Options naming a backend, shared by the subcommands.
+struct BackendArgs {
+    std::string backend;
     std::string driver = "llvmpipe";
-    std::string output;
     double timeout = 60.0;
+
+    harness::BackendOptions options() const {
+        harness::BackendOptions o;
+        o.kind = backend == "osmesa" ? harness::BackendKind::OSMesa
+                 : backend == "egl"  ? harness::BackendKind::Egl
+                                     : harness::BackendKind::Ref;
+        o.driver = driver == "softpipe" ? harness::Driver::Softpipe : harness::Driver::Llvmpipe;
+        o.timeout_seconds = timeout;
+        return o;
+    }
 };
 
-harness::BackendKind parse_backend(const std::string& s) {
-    if (s == "osmesa") return harness::BackendKind::OSMesa;
-    if (s == "egl") return harness::BackendKind::Egl;
-    return harness::BackendKind::Ref;
+void add_driver_options(CLI::App* cmd, BackendArgs& a) {
+    cmd->add_option("--driver", a.driver, "Mesa driver for osmesa and egl")
+        ->check(CLI::IsMember({"llvmpipe", "softpipe"}))
+        ->capture_default_str();
+    cmd->add_option("--timeout", a.timeout, "Seconds a GL backend may take for one scene")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
 }
 
-int run_render(const RenderArgs& a) {
-    harness::Scene scene;
+std::optional<harness::Scene> load_or_report(const std::string& path) {
     try {
-        scene = harness::load_scene(a.scene);
+        return harness::load_scene(path);
     } catch (const harness::SceneError& e) {
         std::cerr << e.what() << "\n";
-        return kExitBadInput;
+        return std::nullopt;
     }
+}
+
+std::unique_ptr<harness::Backend> backend_or_report(const BackendArgs& a, const std::string& scene) {
+    try {
+        return harness::make_backend(a.options());
+    } catch (const std::exception& e) {
+        std::cerr << scene << ": backend " << a.backend << ": " << e.what() << "\n";
+        return nullptr;
+    }
+}
+
+int exit_code_for(harness::RenderStatus s) {
+    switch (s) {
+        case harness::RenderStatus::Ok: return kExitOk;
+        case harness::RenderStatus::NotSupported: return kExitNotSupported;
+        default: return kExitBackendFailure;
+    }
+}
+
+// ---- render ------------------------------------------------------------------------------
+
+struct RenderArgs {
+    std::string scene;
+    BackendArgs backend{"ref"};
+    std::string output;
+};
+
+int run_render(const RenderArgs& a) {
+    const auto scene = load_or_report(a.scene);
+    if (!scene) return kExitBadInput;
     const std::filesystem::path out(a.output);
-    const auto want_ext = harness::image_extension(scene.file.target.color);
+    const auto want_ext = harness::image_extension(scene->file.target.color);
     if (out.extension() != want_ext) {
-        std::cerr << a.output << ": the target is " << to_string(scene.file.target.color)
+        std::cerr << a.output << ": the target is " << to_string(scene->file.target.color)
                   << ", so the output must end in " << want_ext << "\n";
         return kExitBadInput;
     }
-    std::unique_ptr<harness::Backend> backend;
-    try {
-        harness::BackendOptions opt;
-        opt.kind = parse_backend(a.backend);
-        opt.driver = a.driver == "softpipe" ? harness::Driver::Softpipe : harness::Driver::Llvmpipe;
-        opt.timeout_seconds = a.timeout;
-        backend = harness::make_backend(opt);
-    } catch (const std::exception& e) {
-        std::cerr << a.scene << ": backend " << a.backend << ": " << e.what() << "\n";
-        return kExitBackendFailure;
-    }
-    const harness::RenderResult r = backend->render(scene);
-    switch (r.status) {
-        case harness::RenderStatus::Ok: break;
-        case harness::RenderStatus::NotSupported:
-            std::cerr << a.scene << ": NotSupported by " << backend->name() << ": " << r.message
-                      << "\n";
-            return kExitNotSupported;
-        default:
-            std::cerr << a.scene << ": " << to_string(r.status) << " in " << backend->name()
-                      << ": " << r.message << "\n";
-            return kExitBackendFailure;
+    auto backend = backend_or_report(a.backend, a.scene);
+    if (!backend) return kExitBackendFailure;
+    const harness::RenderResult r = backend->render(*scene);
+    if (r.status != harness::RenderStatus::Ok) {
+        std::cerr << a.scene << ": " << to_string(r.status) << " in " << backend->name() << ": "
+                  << r.message << "\n";
+        return exit_code_for(r.status);
     }
     try {
         harness::write_color_image(r.image, out);
@@ -74,9 +103,112 @@ int run_render(const RenderArgs& a) {
         std::cerr << e.what() << "\n";
         return kExitBadInput;
     }
-    std::cout << "wrote " << out.string() << " (" << backend->name() << ", "
-              << r.image.width << "x" << r.image.height << ")\n";
+    std::cout << "wrote " << out.string() << " (" << backend->name() << ", " << r.image.width
+              << "x" << r.image.height << ")\n";
     return kExitOk;
+}
+
+// ---- compare -----------------------------------------------------------------------------
+
+struct CompareArgs {
+    std::string scene;
+    BackendArgs reference{"ref"};
+    BackendArgs against{"osmesa"};
+    std::string reference_driver;  // empty: the same as --driver
+    std::string json;
+    std::string diff;
+};
+
+// Writes the mask to `diff` and both images beside it: OUT.<backend>.png.
+void write_diff_images(const harness::CaseResult& r, const std::filesystem::path& diff) {
+    harness::write_color_image(r.comparison->mask, diff);
+    const auto beside = [&](const harness::RenderResult& rr, const std::string& who) {
+        auto p = diff;
+        p.replace_filename(diff.stem().string() + "." + who +
+                           std::string(harness::image_extension(rr.image.color_format)));
+        harness::write_color_image(rr.image, p);
+    };
+    beside(*r.reference, r.reference_name);
+    beside(*r.actual, r.actual_name);
+}
+
+int run_compare(CompareArgs a) {
+    const auto scene = load_or_report(a.scene);
+    if (!scene) return kExitBadInput;
+    if (!a.diff.empty() && std::filesystem::path(a.diff).extension() != ".png") {
+        std::cerr << a.diff << ": the error mask is written as .png\n";
+        return kExitBadInput;
+    }
+    if (a.reference_driver.empty()) a.reference_driver = a.against.driver;
+    a.reference.driver = a.reference_driver;
+    a.reference.timeout = a.against.timeout;
+    auto ref = backend_or_report(a.reference, a.scene);
+    auto act = backend_or_report(a.against, a.scene);
+    if (!ref || !act) return kExitBackendFailure;
+    const std::string name = scene->file.name.empty() ? std::filesystem::path(a.scene).stem().string()
+                                                      : scene->file.name;
+    const harness::CaseResult r = harness::run_case(*scene, name, *ref, *act);
+    try {
+        if (!a.json.empty()) {
+            const std::filesystem::path p(a.json);
+            const auto tmp = p.parent_path() / ("." + p.filename().string() + ".partial");
+            std::ofstream(tmp) << harness::to_json_line(r) << "\n";
+            std::filesystem::rename(tmp, p);
+        }
+        if (!a.diff.empty() && r.comparison && !r.comparison->size_mismatch) {
+            write_diff_images(r, a.diff);
+        }
+    } catch (const std::exception& e) {
+        std::cerr << e.what() << "\n";
+        return kExitBadInput;
+    }
+    std::cout << to_string(r.status) << " " << r.name << " (" << r.reference_name << " vs "
+              << r.actual_name << ")";
+    if (r.comparison) std::cout << ": " << r.comparison->summary();
+    std::cout << "\n";
+    switch (r.status) {
+        case harness::CaseStatus::Pass: return kExitOk;
+        case harness::CaseStatus::Fail: return kExitMismatch;
+        case harness::CaseStatus::NotSupported:
+            std::cerr << a.scene << ": NotSupported: " << r.message << "\n";
+            return kExitNotSupported;
+        default:
+            std::cerr << a.scene << ": " << to_string(r.status) << ": " << r.message << "\n";
+            return kExitBackendFailure;
+    }
+}
+
+// ---- conformance run ---------------------------------------------------------------------
+
+struct ConformanceArgs {
+    std::string cases;
+    std::string scenes;
+    BackendArgs against{"osmesa"};
+    std::string output;
+};
+
+std::filesystem::path default_scenes_root() {
+    if (std::filesystem::is_directory("conformance/scenes")) return "conformance/scenes";
+    return std::filesystem::path(REFRASTER_SOURCE_DIR) / "conformance/scenes";
+}
+
+int run_conformance(const ConformanceArgs& a) {
+    conformance::RunOptions o;
+    o.scenes_root = a.scenes.empty() ? default_scenes_root() : std::filesystem::path(a.scenes);
+    std::stringstream globs(a.cases);
+    for (std::string g; std::getline(globs, g, ',');) {
+        if (!g.empty()) o.case_globs.push_back(g);
+    }
+    o.reference = BackendArgs{"ref"}.options();
+    o.against = a.against.options();
+    o.output = a.output;
+    try {
+        const auto s = conformance::run_suite(o, std::cout);
+        return s.failed == 0 ? kExitOk : kExitMismatch;
+    } catch (const std::exception& e) {
+        std::cerr << "refraster conformance run: " << e.what() << "\n";
+        return kExitBadInput;
+    }
 }
 
 }  // namespace
@@ -86,20 +218,47 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
 
     RenderArgs render;
-    auto* cmd = app.add_subcommand("render", "Render one scene file through one backend");
-    cmd->add_option("scene", render.scene, "Scene file (format refraster-scene/1)")->required();
-    cmd->add_option("--backend", render.backend, "Renderer: ref, osmesa or egl")
+    auto* rcmd = app.add_subcommand("render", "Render one scene file through one backend");
+    rcmd->add_option("scene", render.scene, "Scene file (format refraster-scene/1)")->required();
+    rcmd->add_option("--backend", render.backend.backend, "Renderer: ref, osmesa or egl")
         ->check(CLI::IsMember({"ref", "osmesa", "egl"}))
         ->capture_default_str();
-    cmd->add_option("--driver", render.driver, "Mesa driver for osmesa and egl")
-        ->check(CLI::IsMember({"llvmpipe", "softpipe"}))
-        ->capture_default_str();
-    cmd->add_option("-o,--output", render.output,
-                    "Output image: .png for rgba8 targets, .exr for rgba32f")
+    add_driver_options(rcmd, render.backend);
+    rcmd->add_option("-o,--output", render.output,
+                     "Output image: .png for rgba8 targets, .exr for rgba32f")
         ->required();
-    cmd->add_option("--timeout", render.timeout, "Seconds a GL backend may take for the scene")
-        ->check(CLI::PositiveNumber)
+
+    CompareArgs compare;
+    auto* ccmd = app.add_subcommand(
+        "compare", "Render one scene through the reference and a GL backend and compare pixels");
+    ccmd->add_option("scene", compare.scene, "Scene file (format refraster-scene/1)")->required();
+    ccmd->add_option("--against", compare.against.backend, "Backend compared with the reference")
+        ->check(CLI::IsMember({"ref", "osmesa", "egl"}))
         ->capture_default_str();
+    ccmd->add_option("--reference", compare.reference.backend,
+                     "Backend taken as the truth (ref, or a GL backend to compare two drivers)")
+        ->check(CLI::IsMember({"ref", "osmesa", "egl"}))
+        ->capture_default_str();
+    add_driver_options(ccmd, compare.against);
+    ccmd->add_option("--reference-driver", compare.reference_driver,
+                     "Mesa driver of a GL --reference (default: --driver)")
+        ->check(CLI::IsMember({"llvmpipe", "softpipe"}));
+    ccmd->add_option("--json", compare.json, "Write the result record (JSON) here");
+    ccmd->add_option("--diff", compare.diff,
+                     "Write the error mask here (.png), both images beside it as NAME.<backend>.png");
+
+    ConformanceArgs conf;
+    auto* conf_cmd = app.add_subcommand("conformance", "The conformance suite");
+    conf_cmd->require_subcommand(1);
+    auto* run_cmd = conf_cmd->add_subcommand("run", "Run the scenes against a GL backend");
+    run_cmd->add_option("--cases", conf.cases, "Comma-separated globs on case names (smoke.*)");
+    run_cmd->add_option("--scenes", conf.scenes, "Scene root (default conformance/scenes)");
+    run_cmd->add_option("--against", conf.against.backend, "GL backend compared with the reference")
+        ->check(CLI::IsMember({"ref", "osmesa", "egl"}))
+        ->capture_default_str();
+    add_driver_options(run_cmd, conf.against);
+    run_cmd->add_option("--output", conf.output, "Directory for results.jsonl and images")
+        ->required();
 
     try {
         app.parse(argc, argv);
@@ -111,6 +270,8 @@ int main(int argc, char** argv) {
         std::cerr << "refraster: " << e.what() << " (see --help)\n";
         return kExitBadInput;
     }
-    if (cmd->parsed()) return run_render(render);
+    if (rcmd->parsed()) return run_render(render);
+    if (ccmd->parsed()) return run_compare(compare);
+    if (run_cmd->parsed()) return run_conformance(conf);
     return kExitBadInput;
 }

@@ -1,0 +1,48 @@
+// case_result.hpp: one scene rendered by two backends and compared: the unit every command
+// that reports (compare, conformance run) is built from.
+//
+// Implements: the case statuses of dEQP (Pass, Fail, NotSupported, Crash, Timeout,
+// InternalError), running one case, and its JSON record (one line of results.jsonl).
+//
+// Deliberately does not: write images or decide exit codes.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "harness/backend.hpp"
+#include "harness/compare.hpp"
+#include "harness/scene.hpp"
+
+namespace harness {
+
+enum class CaseStatus : std::uint8_t { Pass, Fail, NotSupported, Crash, Timeout, InternalError };
+
+std::string_view to_string(CaseStatus s);
+bool counts_as_failure(CaseStatus s);  // Fail, Crash, Timeout, InternalError
+
+struct CaseResult {
+    std::string name;
+    std::string scene_path;
+    CaseStatus status = CaseStatus::InternalError;
+    std::string message;  // one line: why, for anything but Pass
+    Expect expect;
+    std::string reference_name;
+    std::string actual_name;
+    std::optional<RenderResult> reference;
+    std::optional<RenderResult> actual;
+    std::optional<Comparison> comparison;
+};
+
+// Renders `scene` through both backends and compares actual against reference.
+CaseResult run_case(const Scene& scene, const std::string& case_name, Backend& reference,
+                    Backend& actual);
+
+// A case that could not run at all (its scene did not load).
+CaseResult case_error(const std::string& case_name, const std::string& scene_path,
+                      const std::string& message);
+
+// One JSON object, on one line, without a trailing newline.
+std::string to_json_line(const CaseResult& r);
+
+}  // namespace harness

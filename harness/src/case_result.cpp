@@ -1,0 +1,137 @@
+#include "harness/case_result.hpp"
+
+#include <nlohmann/json.hpp>
+
+namespace harness {
+
+using ojson = nlohmann::ordered_json;
+
+std::string_view to_string(CaseStatus s) {
+    switch (s) {
+        case CaseStatus::Pass: return "Pass";
+        case CaseStatus::Fail: return "Fail";
+        case CaseStatus::NotSupported: return "NotSupported";
+        case CaseStatus::Crash: return "Crash";
+        case CaseStatus::Timeout: return "Timeout";
+        case CaseStatus::InternalError: return "InternalError";
+    }
+    return "?";
+}
+
+bool counts_as_failure(CaseStatus s) {
+    return s != CaseStatus::Pass && s != CaseStatus::NotSupported;
+}
+
+namespace {
+
+// How a backend's non-Ok status becomes the case's status.
+CaseStatus case_status(RenderStatus s) {
+    switch (s) {
+        case RenderStatus::Ok: return CaseStatus::Pass;
+        case RenderStatus::NotSupported: return CaseStatus::NotSupported;
+        case RenderStatus::Crash: return CaseStatus::Crash;
+        case RenderStatus::Timeout: return CaseStatus::Timeout;
+        case RenderStatus::InternalError: return CaseStatus::InternalError;
+    }
+    return CaseStatus::InternalError;
+}
+
+// A failure outranks NotSupported: a crash must not hide behind the other side's refusal.
+int severity(RenderStatus s) {
+    switch (s) {
+        case RenderStatus::Ok: return 0;
+        case RenderStatus::NotSupported: return 1;
+        case RenderStatus::InternalError: return 2;
+        case RenderStatus::Timeout: return 3;
+        case RenderStatus::Crash: return 4;
+    }
+    return 5;
+}
+
+ojson render_json(const std::string& name, const RenderResult& r) {
+    ojson j;
+    j["backend"] = name;
+    j["status"] = to_string(r.status);
+    if (!r.message.empty()) j["message"] = r.message;
+    j["seconds"] = r.seconds;
+    j["provenance"] = ojson(r.provenance);
+    return j;
+}
+
+}  // namespace
+
+CaseResult run_case(const Scene& scene, const std::string& case_name, Backend& reference,
+                    Backend& actual) {
+    CaseResult c;
+    c.name = case_name;
+    c.scene_path = scene.path.string();
+    c.expect = scene.file.expect;
+    c.reference_name = reference.name();
+    c.actual_name = actual.name();
+    c.reference = reference.render(scene);
+    c.actual = actual.render(scene);
+    const RenderResult& worse =
+        severity(c.actual->status) >= severity(c.reference->status) ? *c.actual : *c.reference;
+    const std::string& worse_name = &worse == &*c.actual ? c.actual_name : c.reference_name;
+    if (worse.status != RenderStatus::Ok) {
+        c.status = case_status(worse.status);
+        c.message = worse_name + ": " + worse.message;
+        return c;
+    }
+    c.comparison = compare_images(c.reference->image, c.actual->image, scene.draw_list.clear,
+                                  scene.file.expect);
+    c.status = c.comparison->within_expect ? CaseStatus::Pass : CaseStatus::Fail;
+    if (c.status == CaseStatus::Fail) c.message = c.comparison->summary();
+    return c;
+}
+
+CaseResult case_error(const std::string& case_name, const std::string& scene_path,
+                      const std::string& message) {
+    CaseResult c;
+    c.name = case_name;
+    c.scene_path = scene_path;
+    c.status = CaseStatus::InternalError;
+    c.message = message;
+    return c;
+}
+
+std::string to_json_line(const CaseResult& r) {
+    ojson j;
+    j["case"] = r.name;
+    j["status"] = to_string(r.status);
+    j["scene"] = r.scene_path;
+    if (!r.message.empty()) j["message"] = r.message;
+    j["expect"] = {{"color_tolerance", r.expect.color_tolerance},
+                   {"max_mismatched_pixels", r.expect.max_mismatched_pixels}};
+    if (r.reference) j["reference"] = render_json(r.reference_name, *r.reference);
+    if (r.actual) j["actual"] = render_json(r.actual_name, *r.actual);
+    if (r.comparison) {
+        const Comparison& c = *r.comparison;
+        ojson k;
+        k["size_mismatch"] = c.size_mismatch;
+        k["mismatched_pixels"] = c.mismatched_pixels;
+        k["missing"] = c.missing;
+        k["extra"] = c.extra;
+        k["color_only"] = c.color_only;
+        k["depth_only"] = c.depth_only;
+        if (c.max_color) {
+            k["max_color"] = {{"amount", c.max_color->amount},
+                              {"x", c.max_color->x},
+                              {"y", c.max_color->y},
+                              {"channel", c.max_color->channel},
+                              {"reference", c.max_color->reference},
+                              {"actual", c.max_color->actual}};
+        }
+        if (c.max_depth) {
+            k["max_depth"] = {{"amount", c.max_depth->amount},
+                              {"x", c.max_depth->x},
+                              {"y", c.max_depth->y},
+                              {"reference", c.max_depth->reference},
+                              {"actual", c.max_depth->actual}};
+        }
+        j["comparison"] = k;
+    }
+    return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+}  // namespace harness
