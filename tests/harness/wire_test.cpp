@@ -88,6 +88,12 @@ TEST(Wire, DrawListRoundTrip) {
     EXPECT_TRUE(std::isinf(back.clear.color[2]));
 }
 
+TEST(Wire, ManyEmptyDrawsRoundTrip) {
+    DrawList list;
+    list.draws.resize(1000);
+    EXPECT_EQ(harness::wire::decode_draw_list(harness::wire::encode_draw_list(list)), list);
+}
+
 TEST(Wire, ResultRoundTrip) {
     const harness::RenderResult r = sample_result();
     const auto back = harness::wire::decode_result(harness::wire::encode_result(r));

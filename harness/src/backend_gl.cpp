@@ -1,0 +1,478 @@
+// backend_gl.cpp: see backend_gl.hpp. No GL here: this file is part of harness_core.
+#include "backend_gl.hpp"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <stdexcept>
+#include <system_error>
+#include <thread>
+#include <vector>
+
+#include "wire.hpp"
+
+namespace harness {
+
+namespace {
+
+constexpr const char* kWorkerDirVariable = "REFRASTER_WORKER_DIR";
+// Creating a context (llvmpipe compiles its first shaders lazily) takes well under a second;
+// a short per-scene timeout must not make every start-up fail.
+constexpr double kMinStartupSeconds = 10.0;
+// How long a worker that closed its pipe may take to finish exiting before it is killed.
+constexpr auto kExitGrace = std::chrono::seconds(2);
+
+const char* worker_name(BackendKind kind) {
+    switch (kind) {
+        case BackendKind::OSMesa: return "refraster-worker-osmesa";
+        case BackendKind::Egl: return "refraster-worker-egl";
+        case BackendKind::Ref: break;
+    }
+    throw std::invalid_argument("the reference renderer has no GL worker");
+}
+
+const char* driver_name(Driver d) { return d == Driver::Softpipe ? "softpipe" : "llvmpipe"; }
+
+const char* kind_name(BackendKind k) { return k == BackendKind::Egl ? "egl" : "osmesa"; }
+
+std::string describe_wait_status(int status) {
+    if (WIFSIGNALED(status)) {
+        const int sig = WTERMSIG(status);
+        const char* abbrev = sigabbrev_np(sig);
+        const char* text = strsignal(sig);
+        return "killed by signal " + std::to_string(sig) + " (" +
+               (abbrev ? std::string("SIG") + abbrev : std::string("?")) +
+               (text ? std::string(", ") + text : std::string()) + ")";
+    }
+    if (WIFEXITED(status)) return "exited with status " + std::to_string(WEXITSTATUS(status));
+    return "ended with wait status " + std::to_string(status);
+}
+
+// Keeps a pipe end away from fds 0-2, which posix_spawn's dup2 onto 0 and 1 could clobber.
+int above_stdio(int fd) {
+    if (fd > STDERR_FILENO) return fd;
+    const int moved = ::fcntl(fd, F_DUPFD_CLOEXEC, STDERR_FILENO + 1);
+    const int saved = errno;
+    ::close(fd);
+    if (moved < 0) throw std::system_error(saved, std::generic_category(), "fcntl");
+    return moved;
+}
+
+void set_nonblocking(int fd) {
+    const int flags = ::fcntl(fd, F_GETFL);
+    if (flags < 0 || ::fcntl(fd, F_SETFL, flags | O_NONBLOCK) < 0) {
+        throw std::system_error(errno, std::generic_category(), "fcntl(O_NONBLOCK)");
+    }
+}
+
+void close_fd(int& fd) {
+    if (fd >= 0) ::close(fd);
+    fd = -1;
+}
+
+// Milliseconds for poll(2): -1 without a deadline, rounded up so a wait never ends early.
+int poll_timeout(const std::optional<std::chrono::steady_clock::time_point>& deadline) {
+    if (!deadline) return -1;
+    const auto left = *deadline - std::chrono::steady_clock::now();
+    if (left <= std::chrono::steady_clock::duration::zero()) return 0;
+    const auto ms = std::chrono::ceil<std::chrono::milliseconds>(left).count();
+    return static_cast<int>(std::min<long long>(ms, 1 << 30));
+}
+
+std::string scene_label(const Scene& scene) {
+    if (!scene.path.empty()) return scene.path.string();
+    if (!scene.file.name.empty()) return "scene " + scene.file.name;
+    return "an unnamed scene";
+}
+
+// Child environment: ours, with GALLIUM_DRIVER replaced by the driver asked for. The
+// REFRASTER_WORKER_KILL_AT test hook reaches only the first worker, so that a run sees
+// exactly the one crash it asked for, not one per replacement worker.
+std::vector<std::string> worker_environment(Driver driver, bool first_worker) {
+    std::vector<std::string> env;
+    for (char** e = environ; e && *e; ++e) {
+        const std::string_view kv(*e);
+        if (kv.starts_with("GALLIUM_DRIVER=")) continue;
+        if (!first_worker && kv.starts_with("REFRASTER_WORKER_KILL_AT=")) continue;
+        env.emplace_back(kv);
+    }
+    env.push_back(std::string("GALLIUM_DRIVER=") + driver_name(driver));
+    return env;
+}
+
+}  // namespace
+
+std::filesystem::path gl_worker_path(BackendKind kind) {
+    const char* name = worker_name(kind);
+    if (const char* dir = std::getenv(kWorkerDirVariable); dir && *dir) {
+        return std::filesystem::path(dir) / name;
+    }
+    std::error_code ec;
+    const auto self = std::filesystem::read_symlink("/proc/self/exe", ec);
+    if (ec) return std::filesystem::path(name);
+    return self.parent_path() / name;
+}
+
+GlWorkerBackend::GlWorkerBackend(const BackendOptions& options)
+    : options_(options), worker_path_(gl_worker_path(options.kind)) {
+    if (::access(worker_path_.c_str(), X_OK) != 0) {
+        throw std::runtime_error("GL worker " + worker_path_.string() +
+                                 " is not an executable file (set " + kWorkerDirVariable +
+                                 " to the directory that holds it)");
+    }
+    ::signal(SIGPIPE, SIG_IGN);
+}
+
+GlWorkerBackend::~GlWorkerBackend() {
+    if (pid_ < 0) return;
+    // End of stream on its stdin is the worker's cue to tear its context down and exit.
+    close_fd(to_worker_);
+    const auto until = Clock::now() + kExitGrace;
+    int status = 0;
+    while (::waitpid(pid_, &status, WNOHANG) == 0 && Clock::now() < until) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    kill_worker();
+}
+
+std::string GlWorkerBackend::name() const {
+    return std::string(kind_name(options_.kind)) + "-" + driver_name(options_.driver);
+}
+
+GlWorkerBackend::Deadline GlWorkerBackend::deadline_after(double seconds) const {
+    if (!(seconds > 0.0) || !std::isfinite(seconds)) return std::nullopt;
+    return Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                              std::chrono::duration<double>(seconds));
+}
+
+Provenance GlWorkerBackend::base_provenance() {
+    if (!host_provenance_) host_provenance_ = host_provenance();
+    Provenance p = *host_provenance_;
+    p["backend"] = kind_name(options_.kind);
+    p["driver"] = driver_name(options_.driver);
+    for (const auto& [k, v] : worker_provenance_) p.insert_or_assign(k, v);
+    return p;
+}
+
+RenderResult GlWorkerBackend::failure(RenderStatus status, std::string message) {
+    RenderResult r;
+    r.status = status;
+    r.message = std::move(message);
+    r.provenance = base_provenance();
+    return r;
+}
+
+void GlWorkerBackend::close_pipes() {
+    close_fd(to_worker_);
+    close_fd(from_worker_);
+}
+
+void GlWorkerBackend::kill_worker() {
+    close_pipes();
+    if (pid_ < 0) return;
+    ::kill(pid_, SIGKILL);
+    int status = 0;
+    while (::waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
+    }
+    pid_ = -1;
+}
+
+std::string GlWorkerBackend::reap_worker() {
+    close_pipes();
+    if (pid_ < 0) return "not running";
+    const pid_t pid = pid_;
+    const auto until = Clock::now() + kExitGrace;
+    int status = 0;
+    for (;;) {
+        const pid_t r = ::waitpid(pid, &status, WNOHANG);
+        if (r == pid) {
+            pid_ = -1;
+            return describe_wait_status(status);
+        }
+        if (r < 0 && errno != EINTR) {
+            // Someone else reaped it (SIGCHLD ignored, for instance): nothing more to learn.
+            pid_ = -1;
+            return "ended (exit status unavailable)";
+        }
+        if (Clock::now() >= until) {
+            kill_worker();
+            return "closed its pipe but did not exit (killed)";
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+}
+
+std::optional<RenderResult> GlWorkerBackend::ensure_worker() {
+    if (pid_ >= 0) return std::nullopt;
+    if (startup_failure_) return failure(RenderStatus::InternalError, *startup_failure_);
+    worker_provenance_.clear();
+
+    int request[2] = {-1, -1};
+    int reply[2] = {-1, -1};
+    auto close_all = [&] {
+        for (int* fd : {&request[0], &request[1], &reply[0], &reply[1]}) close_fd(*fd);
+    };
+    posix_spawn_file_actions_t actions;
+    posix_spawnattr_t attr;
+    bool have_actions = false;
+    bool have_attr = false;
+    try {
+        if (::pipe2(request, O_CLOEXEC) != 0 || ::pipe2(reply, O_CLOEXEC) != 0) {
+            throw std::system_error(errno, std::generic_category(), "pipe2");
+        }
+        for (int* fd : {&request[0], &request[1], &reply[0], &reply[1]}) *fd = above_stdio(*fd);
+
+        // The child's stdin reads requests and its stdout writes replies; dup2 clears
+        // close-on-exec on the copies only, so no other worker inherits these pipes.
+        posix_spawn_file_actions_init(&actions);
+        have_actions = true;
+        posix_spawn_file_actions_adddup2(&actions, request[0], STDIN_FILENO);
+        posix_spawn_file_actions_adddup2(&actions, reply[1], STDOUT_FILENO);
+        // The worker starts with default signal handling (our SIGPIPE is ignored, and an
+        // ignored disposition would survive exec) and nothing blocked.
+        posix_spawnattr_init(&attr);
+        have_attr = true;
+        sigset_t defaults;
+        sigemptyset(&defaults);
+        sigaddset(&defaults, SIGPIPE);
+        sigset_t none;
+        sigemptyset(&none);
+        posix_spawnattr_setsigdefault(&attr, &defaults);
+        posix_spawnattr_setsigmask(&attr, &none);
+        posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGDEF | POSIX_SPAWN_SETSIGMASK);
+
+        std::string program = worker_path_.string();
+        std::vector<char*> argv{program.data(), nullptr};
+        std::vector<std::string> env = worker_environment(options_.driver, workers_started_ == 0);
+        std::vector<char*> envp;
+        envp.reserve(env.size() + 1);
+        for (auto& e : env) envp.push_back(e.data());
+        envp.push_back(nullptr);
+
+        pid_t pid = -1;
+        const int rc = ::posix_spawn(&pid, program.c_str(), &actions, &attr, argv.data(),
+                                     envp.data());
+        if (rc != 0) throw std::system_error(rc, std::generic_category(), "posix_spawn");
+        pid_ = pid;
+        ++workers_started_;
+        close_fd(request[0]);
+        close_fd(reply[1]);
+        to_worker_ = request[1];
+        from_worker_ = reply[0];
+        request[1] = reply[0] = -1;
+        set_nonblocking(to_worker_);
+        set_nonblocking(from_worker_);
+    } catch (const std::exception& e) {
+        close_all();
+        if (have_actions) posix_spawn_file_actions_destroy(&actions);
+        if (have_attr) posix_spawnattr_destroy(&attr);
+        if (pid_ >= 0) kill_worker();
+        return failure(RenderStatus::InternalError,
+                       "cannot start " + worker_path_.string() + ": " + e.what());
+    }
+    posix_spawn_file_actions_destroy(&actions);
+    posix_spawnattr_destroy(&attr);
+
+    // The worker announces itself once its context exists.
+    const double startup = options_.timeout_seconds > 0.0
+                               ? std::max(options_.timeout_seconds, kMinStartupSeconds)
+                               : 0.0;
+    std::uint32_t type = 0;
+    std::vector<std::uint8_t> payload;
+    std::string error;
+    const Io io = receive(type, payload, deadline_after(startup), error);
+    const std::string who = worker_path_.filename().string();
+    if (io == Io::TimedOut) {
+        kill_worker();
+        return failure(RenderStatus::Timeout, who + " did not start within " +
+                                                  std::to_string(startup) + " s");
+    }
+    if (io == Io::Died) {
+        const std::string how = reap_worker();
+        return failure(RenderStatus::Crash, who + " " + how + " while starting" +
+                                                (error.empty() ? "" : " (" + error + ")"));
+    }
+    if (type != static_cast<std::uint32_t>(wire::FrameType::Hello)) {
+        kill_worker();
+        return failure(RenderStatus::InternalError,
+                       who + " sent frame type " + std::to_string(type) + " instead of Hello");
+    }
+    RenderResult hello;
+    try {
+        hello = wire::decode_result(payload);
+    } catch (const wire::WireError& e) {
+        kill_worker();
+        return failure(RenderStatus::InternalError, who + ": bad Hello: " + e.what());
+    }
+    if (hello.status != RenderStatus::Ok) {
+        reap_worker();
+        startup_failure_ = who + " (" + driver_name(options_.driver) +
+                           ") cannot create its context: " + hello.message;
+        return failure(RenderStatus::InternalError, *startup_failure_);
+    }
+    worker_provenance_ = std::move(hello.provenance);
+    return std::nullopt;
+}
+
+GlWorkerBackend::Io GlWorkerBackend::send(std::uint32_t type, std::vector<std::uint8_t> payload,
+                                          Deadline deadline) {
+    wire::FrameWriter writer(static_cast<wire::FrameType>(type), std::move(payload));
+    for (;;) {
+        try {
+            if (writer.write_some(to_worker_)) return Io::Ok;
+        } catch (const wire::WireError&) {
+            return Io::Died;  // EPIPE: the worker's end is closed
+        }
+        pollfd p{to_worker_, POLLOUT, 0};
+        const int n = ::poll(&p, 1, poll_timeout(deadline));
+        if (n < 0 && errno != EINTR) return Io::Died;
+        if (n == 0) return Io::TimedOut;
+    }
+}
+
+GlWorkerBackend::Io GlWorkerBackend::receive(std::uint32_t& type,
+                                             std::vector<std::uint8_t>& payload,
+                                             Deadline deadline, std::string& error) {
+    wire::FrameReader reader;
+    for (;;) {
+        pollfd p{from_worker_, POLLIN, 0};
+        const int n = ::poll(&p, 1, poll_timeout(deadline));
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            error = std::string("poll: ") + std::strerror(errno);
+            return Io::Died;
+        }
+        if (n == 0) return Io::TimedOut;
+        try {
+            // Drain what is there before polling again: large images arrive in many pieces.
+            for (int i = 0; i < 64; ++i) {
+                const auto progress = reader.read_some(from_worker_);
+                if (progress == wire::FrameReader::Progress::Complete) {
+                    wire::Frame f = reader.take();
+                    type = f.type;
+                    payload = std::move(f.payload);
+                    return Io::Ok;
+                }
+                if (progress == wire::FrameReader::Progress::Eof) return Io::Died;
+            }
+        } catch (const wire::WireError& e) {
+            error = e.what();
+            return Io::Died;
+        }
+    }
+}
+
+RenderResult GlWorkerBackend::render(const Scene& scene) {
+    const std::string label = scene_label(scene);
+    if (!scene.unsupported_extensions.empty()) {
+        std::string list;
+        for (const auto& e : scene.unsupported_extensions) list += (list.empty() ? "" : ", ") + e;
+        return failure(RenderStatus::NotSupported, label + ": requires unsupported extension(s) " +
+                                                       list);
+    }
+    if (auto r = ensure_worker()) {
+        r->message = label + ": " + r->message;
+        return *r;
+    }
+    const std::string who = worker_path_.filename().string() + " (pid " +
+                            std::to_string(pid_) + ", " + driver_name(options_.driver) + ")";
+
+    std::vector<std::uint8_t> request;
+    try {
+        request = wire::encode_draw_list(scene.draw_list);
+    } catch (const std::exception& e) {
+        return failure(RenderStatus::InternalError, label + ": cannot encode: " + e.what());
+    }
+
+    const auto start = Clock::now();
+    const Deadline deadline = deadline_after(options_.timeout_seconds);
+    auto timed_out = [&] {
+        kill_worker();
+        return failure(RenderStatus::Timeout, who + " gave no answer within " +
+                                                  std::to_string(options_.timeout_seconds) +
+                                                  " s for " + label + " (killed)");
+    };
+    auto died = [&](const std::string& detail) {
+        const std::string how = reap_worker();
+        return failure(RenderStatus::Crash, who + " " + how + " while rendering " + label +
+                                                (detail.empty() ? "" : " (" + detail + ")"));
+    };
+
+    Io io = send(static_cast<std::uint32_t>(wire::FrameType::Render), std::move(request),
+                 deadline);
+    if (io == Io::TimedOut) return timed_out();
+    if (io == Io::Died) return died("");
+
+    std::uint32_t type = 0;
+    std::vector<std::uint8_t> payload;
+    std::string error;
+    io = receive(type, payload, deadline, error);
+    if (io == Io::TimedOut) return timed_out();
+    if (io == Io::Died) return died(error);
+    const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+
+    if (type != static_cast<std::uint32_t>(wire::FrameType::Reply)) {
+        kill_worker();
+        return failure(RenderStatus::InternalError, who + " sent frame type " +
+                                                        std::to_string(type) + " for " + label);
+    }
+    RenderResult r;
+    try {
+        r = wire::decode_result(payload);
+    } catch (const wire::WireError& e) {
+        kill_worker();
+        return failure(RenderStatus::InternalError, who + ": bad reply for " + label + ": " +
+                                                        e.what());
+    }
+    r.seconds = seconds;
+    Provenance p = base_provenance();
+    for (auto& [k, v] : r.provenance) p.insert_or_assign(k, std::move(v));
+    r.provenance = std::move(p);
+    if (r.status != RenderStatus::Ok) {
+        r.message = label + ": " + r.message;
+        return r;
+    }
+
+    const auto& t = scene.draw_list.target;
+    const auto& fb = r.image;
+    const std::size_t n = std::size_t{t.width} * t.height;
+    const bool shape_ok =
+        fb.width == t.width && fb.height == t.height && fb.color_format == t.color &&
+        fb.depth_format == t.depth &&
+        (t.color == refraster::ColorFormat::Rgba8 ? fb.color8.size() : fb.color32f.size()) ==
+            n * 4 &&
+        fb.depth.size() == (t.depth == refraster::DepthFormat::None ? 0 : n);
+    if (!shape_ok) {
+        return failure(RenderStatus::InternalError,
+                       who + " returned an image that does not match the target of " + label);
+    }
+    return r;
+}
+
+bool GlWorkerBackend::send_debug_frame(std::uint32_t type) {
+    if (ensure_worker()) return false;
+    return send(type, {}, deadline_after(kMinStartupSeconds)) == Io::Ok;
+}
+
+bool GlWorkerBackend::debug_crash_worker() {
+    return send_debug_frame(static_cast<std::uint32_t>(wire::FrameType::Crash));
+}
+
+bool GlWorkerBackend::debug_hang_worker() {
+    return send_debug_frame(static_cast<std::uint32_t>(wire::FrameType::Hang));
+}
+
+std::unique_ptr<Backend> make_gl_backend(const BackendOptions& options) {
+    return std::make_unique<GlWorkerBackend>(options);
+}
+
+}  // namespace harness
