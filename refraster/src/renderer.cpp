@@ -1,3 +1,11 @@
+// The stage order, per draw (compare Mesa's draw module and llvmpipe):
+//   assemble triangles          assembly.cpp
+//   viewport, clip mask, clip   vertex_stage.cpp   (draw module)
+//   float cull (draw pipeline)  vertex_stage.cpp   (draw_pipe_cull.c)
+//   snap, orient, cull, edges   setup.cpp          (lp_setup_tri.c)
+//   covered pixels              traverse.hpp       (lp_rast_tri_tmp.h)
+//   colour write                write_span below
+// or, for the exact profile, assemble -> ExactCoverage -> colour write.
 #include "refraster/renderer.hpp"
 
 #include <algorithm>
@@ -5,8 +13,41 @@
 #include <bit>
 #include <cmath>
 
+#include "assembly.hpp"
+#include "exact_coverage.hpp"
+#include "setup.hpp"
+#include "traverse.hpp"
+#include "vertex_stage.hpp"
+
 namespace refraster {
+
+std::size_t primitive_count(PrimitiveType p, std::size_t n) {
+    switch (p) {
+        case PrimitiveType::Points: return n;
+        case PrimitiveType::Lines: return n / 2;
+        case PrimitiveType::LineStrip: return n >= 2 ? n - 1 : 0;
+        case PrimitiveType::LineLoop: return n >= 2 ? n : 0;
+        case PrimitiveType::Triangles: return n / 3;
+        case PrimitiveType::TriangleStrip:
+        case PrimitiveType::TriangleFan: return n >= 3 ? n - 2 : 0;
+    }
+    return 0;
+}
+
+bool host_has_fma() {
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("fma");
+#else
+    return false;
+#endif
+}
+
 namespace {
+
+using detail::PixelRect;
+using detail::StageTriangle;
+using detail::StageVertex;
 
 // glClearDepth stores RNE(double(z) * (2^bits - 1)), computed in double: measured for z24
 // (mesa-22.3-rules.md 11.1), the same packing for z16 (util_pack_z in
@@ -24,7 +65,7 @@ std::uint32_t clear_depth_value(DepthFormat f, float z) {
 
 // Clears the whole target (scissor off, every mask on). A unorm8 clear colour is exact only
 // when c * 255 is an integer after clamping to [0, 1]; the driver's rounding of other values
-// is not yet established, so they are refused rather than guessed.
+// is not established, so they are refused rather than guessed.
 RenderOutcome clear(const DrawList& list, Framebuffer& out) {
     const auto& c = list.clear.color;
     if (list.target.color == ColorFormat::Rgba8) {
@@ -50,34 +91,345 @@ RenderOutcome clear(const DrawList& list, Framebuffer& out) {
     return {};
 }
 
-}  // namespace
-
-std::size_t primitive_count(PrimitiveType p, std::size_t n) {
-    switch (p) {
-        case PrimitiveType::Points: return n;
-        case PrimitiveType::Lines: return n / 2;
-        case PrimitiveType::LineStrip: return n >= 2 ? n - 1 : 0;
-        case PrimitiveType::LineLoop: return n >= 2 ? n : 0;
-        case PrimitiveType::Triangles: return n / 3;
-        case PrimitiveType::TriangleStrip:
-        case PrimitiveType::TriangleFan: return n >= 3 ? n - 2 : 0;
-    }
-    return 0;
+// Fragment colour to unorm8: clamp to [0, 1], then RNE(fl(c * 255)) (mesa-22.3-rules.md P2).
+std::uint8_t to_unorm8(float c) {
+    if (!(c > 0.0f)) return 0;  // also NaN
+    if (c >= 1.0f) return 255;
+    return static_cast<std::uint8_t>(std::nearbyint(c * 255.0f));
 }
 
-RenderOutcome render(const DrawList& list, Framebuffer& out) {
-    out = Framebuffer(list.target.width, list.target.height, list.target.color,
-                      list.target.depth);
+// The colour every fragment of a draw gets, when that colour is constant: with flat shading
+// the provoking vertex's; with smooth or noperspective shading only when all of the draw's
+// vertices carry the same colour and (for smooth) the same w, so that interpolation returns
+// it unchanged. Otherwise the draw needs attribute interpolation, which is not implemented.
+struct ConstantColor {
+    bool ok = false;
+    std::string why;
+};
+
+ConstantColor check_constant_color(const Draw& d) {
+    if (d.state.shade == ShadeModel::Flat) return {true, ""};
+    const std::size_t n = d.element_count();
+    if (n == 0) return {true, ""};
+    const auto first = d.vertices.vertex(d.element(0));
+    for (std::size_t i = 1; i < n; ++i) {
+        const auto v = d.vertices.vertex(d.element(i));
+        for (std::size_t k = 4; k < v.size(); ++k) {
+            if (std::bit_cast<std::uint32_t>(v[k]) != std::bit_cast<std::uint32_t>(first[k])) {
+                return {false, "interpolated colours are not implemented yet (use shade flat)"};
+            }
+        }
+        if (d.state.shade == ShadeModel::Smooth && v[3] != first[3]) {
+            return {false, "perspective-correct interpolation across different w is not implemented yet"};
+        }
+    }
+    return {true, ""};
+}
+
+std::string unsupported(const Draw& d, const Target& target) {
+    switch (d.primitive) {
+        case PrimitiveType::Triangles:
+        case PrimitiveType::TriangleStrip:
+        case PrimitiveType::TriangleFan: break;
+        default: return "the reference rasterizer does not draw " + std::string(to_string(d.primitive)) + " yet";
+    }
+    if (d.state.polygon_mode != PolygonMode::Fill) return "polygon_mode line and point are not implemented yet";
+    if (d.state.blend != BlendPreset::None) return "blending is not implemented yet";
+    if (d.state.depth_test && target.depth != DepthFormat::None) return "depth testing is not implemented yet";
+    if (const auto c = check_constant_color(d); !c.ok) return c.why;
+    return {};
+}
+
+// Stands in for the trace records when no trace is requested; every use of a record sits in an
+// `if constexpr (kTrace)` branch, so the untraced instantiation carries none of it.
+struct NoTrace {};
+
+class DrawRasterizer {
+public:
+    DrawRasterizer(std::size_t draw_index, const Draw& d, const Target& target, const Profile& profile,
+                   Framebuffer& fb, PixelTrace* trace)
+        : index_(draw_index), draw_(d), profile_(profile), fb_(fb), trace_(trace),
+          params_(detail::setup_params(profile, d.state, target)) {}
+
+    template <bool kTrace>
+    void run() {
+        const bool fma = profile_.viewport_fma == FmaMode::On ||
+                         (profile_.viewport_fma == FmaMode::Auto && host_has_fma());
+        detail::VertexStage stage(draw_, {fma, profile_.flush_denormals});
+        const bool first = params_.provoking_first;
+        const auto tris = detail::assemble_triangles(draw_.primitive, draw_.element_count(), first,
+                                                     profile_.draw_segment_vertices);
+        const auto vertex_of = [&](std::uint32_t e) { return draw_.element(e); };
+
+        // Segments with any vertex outside the view volume go through the draw pipeline.
+        std::vector<bool> segment_clipped;
+        for (const auto& t : tris) {
+            if (t.segment >= segment_clipped.size()) segment_clipped.resize(t.segment + 1, false);
+            for (auto e : t.element) {
+                if (stage.vertex(vertex_of(e)).clipmask != 0) segment_clipped[t.segment] = true;
+            }
+        }
+        if (nine_vertex_quirk_drops(stage, tris, segment_clipped)) {
+            if constexpr (kTrace) {
+                PrimitiveTrace pt;
+                pt.draw = index_;
+                pt.note = "draw dropped by llvmpipe's nine-vertex rectangle analysis";
+                trace_->primitives.push_back(pt);
+            }
+            return;
+        }
+
+        std::vector<StageTriangle> staged;
+        for (std::size_t p = 0; p < tris.size(); ++p) {
+            const auto& at = tris[p];
+            const std::array<std::uint32_t, 3> idx{vertex_of(at.element[0]), vertex_of(at.element[1]),
+                                                   vertex_of(at.element[2])};
+            const auto colour = stage.attributes(stage.vertex(idx[first ? 0 : 2]));
+            [[maybe_unused]] std::conditional_t<kTrace, PrimitiveTrace, NoTrace> pt;
+            if constexpr (kTrace) {
+                pt.draw = index_;
+                pt.primitive = p;
+                pt.vertices = idx;
+                for (std::size_t k = 0; k < 3; ++k) {
+                    pt.clip[k] = stage.vertex(idx[k]).clip;
+                    pt.clipmask[k] = stage.vertex(idx[k]).clipmask;
+                }
+                pt.in_draw_pipeline = segment_clipped[at.segment];
+            }
+            if (profile_.coverage == CoverageModel::Exact) {
+                draw_exact<kTrace>(stage, idx, colour, pt);
+            } else {
+                staged.clear();
+                [[maybe_unused]] std::vector<std::vector<StageVertex>> polygons;
+                stage.clip_triangle(idx, first, staged, kTrace ? &polygons : nullptr);
+                if constexpr (kTrace) {
+                    for (const auto& poly : polygons) {
+                        auto& out = pt.clipped_polygon.emplace_back();
+                        for (const auto& v : poly) out.push_back(v.clip);
+                    }
+                    if (staged.empty()) pt.note = "clipped away entirely";
+                }
+                for (const auto& st : staged) {
+                    draw_snapped<kTrace>(stage, st, segment_clipped[at.segment], pt);
+                }
+            }
+            if constexpr (kTrace) {
+                if (pt.covered || relevant(pt)) trace_->primitives.push_back(std::move(pt));
+            }
+        }
+    }
+
+private:
+    // lp_setup_analyse_triangles (lp_setup_analysis.c), reached from lp_setup_draw_arrays for
+    // a non-indexed triangle list of exactly 9 vertices drawn without constant-interpolated
+    // inputs and without the draw pipeline: when the last triangle's three window y values are
+    // equal, the function claims the draw; it draws the first two triangles as a rectangle if
+    // they form one, and nothing otherwise.
+    bool nine_vertex_quirk_drops(const detail::VertexStage& stage,
+                                 const std::vector<detail::AssembledTriangle>& tris,
+                                 const std::vector<bool>& segment_clipped) const {
+        if (!profile_.nine_vertex_quirk || profile_.coverage != CoverageModel::Snapped) return false;
+        if (draw_.primitive != PrimitiveType::Triangles || draw_.indices || draw_.element_count() != 9) return false;
+        if (draw_.state.shade == ShadeModel::Flat || tris.size() != 3 || segment_clipped[0]) return false;
+        const auto y = [&](std::uint32_t i) { return stage.vertex(i).window[1]; };
+        if (!(y(8) == y(7) && y(8) == y(6))) return false;
+        const auto x = [&](std::uint32_t i) { return stage.vertex(i).window[0]; };
+        const bool rect = x(0) == x(1) && x(0) == x(5) && x(2) == x(3) && x(2) == x(4) && y(0) == y(3) &&
+                          y(0) == y(5) && y(1) == y(2) && y(1) == y(4);
+        // A rectangle goes to lp_rect_cw; it is drawn here as its two triangles. Only the
+        // triangles are dropped otherwise.
+        return !rect;
+    }
+
+    bool pixel_in_box(const PixelRect& b) const {
+        return trace_->x >= b.x0 && trace_->x <= b.x1 && trace_->y >= b.y0 && trace_->y <= b.y1;
+    }
+
+    bool relevant(const PrimitiveTrace& pt) const {
+        // A primitive is worth showing when one of its set-up triangles' boxes (before the
+        // draw region) holds the pixel.
+        for (const auto& s : pt.setups) {
+            const auto [xmin, xmax] = std::minmax({s.x[0], s.x[1], s.x[2]});
+            const auto [ymin, ymax] = std::minmax({s.y[0], s.y[1], s.y[2]});
+            const int b = s.subpixel_bits;
+            if (trace_->x >= (xmin >> b) && trace_->x <= ((xmax - 1) >> b) + 1 && trace_->y >= (ymin >> b) &&
+                trace_->y <= ((ymax - 1) >> b) + 1) {
+                return true;
+            }
+        }
+        return false;
+    }
+
+    template <bool kTrace, class PT>
+    void draw_snapped(const detail::VertexStage& stage, const StageTriangle& st, bool in_pipeline, PT& pt) {
+        [[maybe_unused]] std::conditional_t<kTrace, SetupTrace, NoTrace> s;
+        if constexpr (kTrace) {
+            for (std::size_t k = 0; k < 3; ++k) s.window[k] = st.v[k].window;
+            s.clipped = st.clipped;
+            s.subpixel_bits = params_.bits;
+        }
+        const auto finish = [&](const char* outcome) {
+            if constexpr (kTrace) {
+                s.outcome = outcome;
+                pt.setups.push_back(s);
+            }
+        };
+        if (in_pipeline && profile_.draw_pipeline_cull &&
+            !detail::passes_draw_cull(st, draw_.state.cull, params_.front_ccw)) {
+            return finish("culled by the draw module's float cull");
+        }
+        detail::TriangleSetup t;
+        const std::array<std::array<float, 2>, 3> w{{{st.v[0].window[0], st.v[0].window[1]},
+                                                     {st.v[1].window[0], st.v[1].window[1]},
+                                                     {st.v[2].window[0], st.v[2].window[1]}}};
+        const auto outcome = detail::setup_triangle(w, params_, t);
+        if constexpr (kTrace) {
+            s.x = t.x;
+            s.y = t.y;
+            s.order = t.order;
+            s.area = t.area;
+            s.front_facing = t.front_facing;
+            for (std::size_t k = 0; k < 3; ++k) {
+                const auto& e = t.edges[k];
+                const std::int64_t v = e.at(trace_->x, trace_->y, t.bits);
+                s.edges[k] = {e.a, e.b, e.c, e.owns_ties, v, v - (e.owns_ties ? 1 : 0) == 0};
+            }
+        }
+        switch (outcome) {
+            case detail::SetupOutcome::ZeroArea: return finish("zero area");
+            case detail::SetupOutcome::Culled: return finish("culled");
+            case detail::SetupOutcome::OutOfRange: return finish("snapped position out of range");
+            case detail::SetupOutcome::Outside: return finish("outside the draw region");
+            case detail::SetupOutcome::Ok: break;
+        }
+        // The provoking vertex keeps its place through the swap: last, or first.
+        const auto colour = stage.attributes(st.v[params_.provoking_first ? 0 : 2]);
+        const Fill fill = make_fill(colour);
+        detail::traverse_triangle(t, [&](int y, int x0, int x1) { write_span(fill, y, x0, x1); });
+        if constexpr (kTrace) {
+            s.covered = pixel_in_box(t.bbox) && detail::covers_pixel(t, trace_->x, trace_->y);
+            pt.covered = pt.covered || s.covered;
+        }
+        finish("drawn");
+    }
+
+    template <bool kTrace, class PT>
+    void draw_exact(const detail::VertexStage& stage, const std::array<std::uint32_t, 3>& idx,
+                    std::span<const float> colour, PT& pt) {
+        const detail::ExactCoverage ex({stage.vertex(idx[0]).clip, stage.vertex(idx[1]).clip,
+                                        stage.vertex(idx[2]).clip},
+                                       draw_.state, params_.draw_region, profile_.tie_rule);
+        if (ex.degenerate()) {
+            if constexpr (kTrace) pt.note = "degenerate (det = 0)";
+            return;
+        }
+        const bool front = ex.front_facing() == (draw_.state.front_face == FrontFace::Ccw);
+        const auto cull = draw_.state.cull;
+        if (cull == CullMode::FrontAndBack || (cull == CullMode::Front && front) || (cull == CullMode::Back && !front)) {
+            if constexpr (kTrace) pt.note = "culled";
+            return;
+        }
+        const Fill fill = make_fill(colour);
+        const PixelRect r = ex.candidates();
+        for (int y = r.y0; y <= r.y1; ++y) {
+            int run = -1;
+            for (int x = r.x0; x <= r.x1 + 1; ++x) {
+                const bool in = x <= r.x1 && ex.covers(x, y);
+                if (in && run < 0) run = x;
+                if (!in && run >= 0) {
+                    write_span(fill, y, run, x);
+                    run = -1;
+                }
+            }
+        }
+        if constexpr (kTrace) {
+            pt.covered = ex.covers(trace_->x, trace_->y);
+            const auto signs = ex.weight_signs(trace_->x, trace_->y);
+            const auto owns = ex.owns_ties();
+            SetupTrace s;
+            s.outcome = "exact";
+            for (std::size_t k = 0; k < 3; ++k) {
+                s.edges[k].value = signs[k];
+                s.edges[k].owns_ties = owns[k];
+                s.edges[k].tie = signs[k] == 0;
+            }
+            s.covered = pt.covered;
+            s.front_facing = ex.front_facing();
+            pt.setups.push_back(s);
+        }
+    }
+
+    struct Fill {
+        std::array<std::uint8_t, 4> bytes{};
+        std::array<float, 4> floats{};
+    };
+    Fill make_fill(std::span<const float> colour) const {
+        Fill f;
+        for (std::size_t k = 0; k < 4; ++k) {
+            const float c = k < colour.size() ? colour[k] : (k == 3 ? 1.0f : 0.0f);
+            f.floats[k] = c;
+            f.bytes[k] = to_unorm8(c);
+        }
+        return f;
+    }
+    void write_span(const Fill& f, int y, int x0, int x1) {
+        const std::size_t row = static_cast<std::size_t>(y) * fb_.width;
+        if (fb_.color_format == ColorFormat::Rgba8) {
+            for (int x = x0; x < x1; ++x) {
+                std::copy(f.bytes.begin(), f.bytes.end(),
+                          fb_.color8.begin() + static_cast<std::ptrdiff_t>(4 * (row + static_cast<std::size_t>(x))));
+            }
+        } else {
+            for (int x = x0; x < x1; ++x) {
+                std::copy(f.floats.begin(), f.floats.end(),
+                          fb_.color32f.begin() + static_cast<std::ptrdiff_t>(4 * (row + static_cast<std::size_t>(x))));
+            }
+        }
+    }
+    std::size_t index_;
+    const Draw& draw_;
+    const Profile& profile_;
+    Framebuffer& fb_;
+    PixelTrace* trace_;
+    detail::SetupParams params_;
+};
+
+}  // namespace
+
+RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebuffer& out) {
+    out = Framebuffer(list.target.width, list.target.height, list.target.color, list.target.depth);
     if (list.target.samples != 1) {
         return {RenderStatus::NotSupported, "multisampled targets are not implemented yet"};
     }
     if (auto c = clear(list, out); c.status != RenderStatus::Ok) return c;
+    PixelTrace* trace = options.trace;
+    if (trace != nullptr) {
+        trace->profile = options.profile.name;
+        trace->primitives.clear();
+    }
     for (std::size_t i = 0; i < list.draws.size(); ++i) {
         const Draw& d = list.draws[i];
         if (primitive_count(d.primitive, d.element_count()) == 0) continue;
-        return {RenderStatus::NotSupported,
-                "the reference rasterizer does not draw " + std::string(to_string(d.primitive)) +
-                    " yet (draws[" + std::to_string(i) + "])"};
+        if (auto why = unsupported(d, list.target); !why.empty()) {
+            return {RenderStatus::NotSupported, why + " (draws[" + std::to_string(i) + "])"};
+        }
+    }
+    for (std::size_t i = 0; i < list.draws.size(); ++i) {
+        const Draw& d = list.draws[i];
+        if (primitive_count(d.primitive, d.element_count()) == 0) continue;
+        DrawRasterizer r(i, d, list.target, options.profile, out, trace);
+        if (trace != nullptr) {
+            r.run<true>();
+        } else {
+            r.run<false>();
+        }
+    }
+    if (trace != nullptr && trace->x >= 0 && trace->y >= 0 && static_cast<std::uint32_t>(trace->x) < out.width &&
+        static_cast<std::uint32_t>(trace->y) < out.height) {
+        const std::size_t i = 4 * out.index(static_cast<std::uint32_t>(trace->x), static_cast<std::uint32_t>(trace->y));
+        for (std::size_t k = 0; k < 4; ++k) {
+            trace->final_color[k] = out.color_format == ColorFormat::Rgba8 ? out.color8[i + k] : out.color32f[i + k];
+        }
     }
     return {};
 }

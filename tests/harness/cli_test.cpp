@@ -22,8 +22,7 @@ TEST(Cli, RefBackendRefusesPrimitivesWithExitFour) {
     testutil::TempDir dir;
     const auto scene = dir.write("s.json", R"({"format": "refraster-scene/1",
       "target": {"width": 4, "height": 4},
-      "draws": [{"primitive": "triangles", "vertices": [{"position": [0, 0]}, {"position": [4, 0]},
-        {"position": [0, 4]}]}]})");
+      "draws": [{"primitive": "lines", "vertices": [{"position": [0, 0]}, {"position": [4, 0]}]}]})");
     const auto out = dir.path() / "o.png";
     const auto r = testutil::run_cli({"render", scene.string(), "--backend", "ref", "-o", out.string()});
     EXPECT_EQ(r.exit_code, 4) << r.err;

@@ -62,19 +62,20 @@ TEST(Render, InexactUnormClearIsRefusedNotGuessed) {
     EXPECT_EQ(refraster::render(l, fb).status, refraster::RenderStatus::NotSupported);
 }
 
-TEST(Render, DrawsWithPrimitivesAreNotSupportedYet) {
+TEST(Render, LinesAreNotSupportedYet) {
     auto l = cleared_list(refraster::DepthFormat::None, 1.0f);
     refraster::Draw d;
-    d.primitive = PrimitiveType::Triangles;
+    d.primitive = PrimitiveType::Lines;
     d.vertices.attributes = {{"color", 4}};
-    d.vertices.data.assign(3 * 8, 0.0f);
+    d.vertices.data.assign(2 * 8, 0.0f);
+    d.vertices.data[3] = d.vertices.data[11] = 1.0f;
     l.draws.push_back(d);
     refraster::Framebuffer fb;
     const auto r = refraster::render(l, fb);
     EXPECT_EQ(r.status, refraster::RenderStatus::NotSupported);
     EXPECT_NE(r.message.find("draws[0]"), std::string::npos);
     // A draw with a leftover vertex only assembles nothing and is accepted.
-    l.draws[0].vertices.data.assign(2 * 8, 0.0f);
+    l.draws[0].vertices.data.assign(1 * 8, 0.0f);
     EXPECT_EQ(refraster::render(l, fb).status, refraster::RenderStatus::Ok);
 }
 

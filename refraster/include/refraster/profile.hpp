@@ -1,0 +1,94 @@
+// profile.hpp: every rasterization rule the reference follows, as data.
+//
+// Implements: Profile, the parameters that distinguish one GL implementation's rules from
+// another's (subpixel precision, snapping rounding, pixel-centre offset, the tie rule, the
+// clipper, FMA and denormal behaviour, Mesa draw-module quirks), the built-in profiles
+// `llvmpipe-22.3` and `gl-exact`, and reading and writing single parameters as text
+// (`tie_rule=right-top`) so that profiles can be stored and overridden from the outside.
+//
+// Deliberately does not: parse files (the harness reads profile JSON through these setters),
+// or describe rules not implemented yet (attribute, depth, line and point rules arrive with
+// their implementations).
+//
+// The meaning and evidence of every parameter: docs/precision.md.
+#pragma once
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "refraster/fixed.hpp"
+
+namespace refraster {
+
+// How coverage is decided.
+enum class CoverageModel : std::uint8_t {
+    Snapped,  // window coordinates snapped to a subpixel grid, integer edge functions
+    Exact,    // exact predicates on the float32 clip-space inputs, no snapping, no clipper
+};
+
+// Which edges own a pixel centre lying exactly on them, in GL window terms (y up).
+// The first word names the owned non-horizontal edges (left: the interior is to the edge's
+// right), the second the owned horizontal edges (bottom: the interior is above).
+enum class TieRule : std::uint8_t { LeftBottom, LeftTop, RightBottom, RightTop };
+
+enum class FmaMode : std::uint8_t {
+    Auto,  // fuse where the reproduced driver fuses iff this CPU has FMA (as gallivm decides)
+    On,
+    Off,
+};
+
+struct Profile {
+    std::string name = "llvmpipe-22.3";
+    CoverageModel coverage = CoverageModel::Snapped;
+
+    // Snapped coverage: window coordinates become Fixed<subpixel_bits>, rounded by
+    // `snap_rounding` after subtracting `pixel_center_offset`.
+    int subpixel_bits = 8;
+    SnapRounding snap_rounding = SnapRounding::NearestEven;
+    float pixel_center_offset = 0.5f;
+
+    TieRule tie_rule = TieRule::LeftBottom;
+
+    // The viewport transform of unclipped vertices: fma(x * (1/w), scale, translate).
+    FmaMode viewport_fma = FmaMode::Auto;
+    // Flush denormal results and inputs to zero in the vertex pipeline (Mesa sets FTZ/DAZ
+    // around draw and rasterization).
+    bool flush_denormals = true;
+
+    // Mesa's draw module: triangles of a vertex segment in which any vertex needs clipping
+    // go through the draw pipeline, whose cull stage culls in float before setup culls in
+    // fixed point. Segments hold `draw_segment_vertices` vertices.
+    bool draw_pipeline_cull = true;
+    int draw_segment_vertices = 4096;
+    // llvmpipe's lp_setup_analyse_triangles: a non-indexed draw of exactly 9 smooth-shaded
+    // triangle vertices whose last triangle has three equal window y values draws nothing
+    // unless its first two triangles form an axis-aligned rectangle.
+    bool nine_vertex_quirk = true;
+
+    friend bool operator==(const Profile&, const Profile&) = default;
+};
+
+class ProfileError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+// The built-in profiles.
+Profile llvmpipe_22_3_profile();
+Profile gl_exact_profile();
+// By name; throws ProfileError for an unknown name.
+Profile builtin_profile(const std::string& name);
+std::vector<std::string> builtin_profile_names();
+
+// Every parameter as (key, value) text pairs, in a stable order: what a profile file holds.
+std::vector<std::pair<std::string, std::string>> profile_parameters(const Profile& p);
+// Sets one parameter from text; throws ProfileError naming the key and the accepted values.
+void set_profile_parameter(Profile& p, const std::string& key, const std::string& value);
+
+std::string to_string(TieRule r);
+std::string to_string(SnapRounding r);
+
+}  // namespace refraster

@@ -1,0 +1,64 @@
+// trace.hpp: every decision the reference makes about one pixel, for `refraster explain`.
+//
+// Implements: PixelTrace, filled by render() when RenderOptions::trace is set: for each
+// primitive that reaches the pixel's neighbourhood, its clip-space input, clip masks, the
+// clipper's output polygon, each triangle handed to setup (window coordinates, snapped
+// fixed-point vertices, area and orientation, the three edge functions with their value at
+// the pixel and the tie decisions) and whether it covered the pixel; finally the bytes written.
+//
+// Deliberately does not: format anything (the harness prints it), or cost anything when no
+// trace is requested (the rasterizer's loops are instantiated without it).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace refraster {
+
+struct EdgeTrace {
+    std::int32_t a = 0;  // Y_i - Y_{i+1}
+    std::int32_t b = 0;  // X_i - X_{i+1}
+    std::int64_t c = 0;  // with the tie bias
+    bool owns_ties = false;
+    std::int64_t value = 0;  // E at the pixel (bias included): covered needs > 0 on all edges
+    bool tie = false;        // the pixel centre lies exactly on this edge (E minus bias is 0)
+};
+
+struct SetupTrace {
+    std::array<std::array<float, 4>, 3> window{};  // x, y, z, 1/w in setup's input order
+    bool clipped = false;                          // made by the clipper
+    std::string outcome;  // "drawn", "zero area", "culled (back)", "culled by draw module", ...
+    int subpixel_bits = 8;
+    std::array<std::int32_t, 3> x{};  // snapped, after the orientation swap
+    std::array<std::int32_t, 3> y{};
+    std::array<int, 3> order{0, 1, 2};
+    std::int64_t area = 0;
+    bool front_facing = true;
+    std::array<EdgeTrace, 3> edges;
+    bool covered = false;
+};
+
+struct PrimitiveTrace {
+    std::size_t draw = 0;
+    std::size_t primitive = 0;  // index of the assembled primitive within its draw
+    std::array<std::uint32_t, 3> vertices{};  // vertex indices, in setup order
+    std::array<std::array<float, 4>, 3> clip{};
+    std::array<std::uint32_t, 3> clipmask{};
+    bool in_draw_pipeline = false;  // its vertex segment needed clipping
+    std::vector<std::vector<std::array<float, 4>>> clipped_polygon;  // clip-space, if clipped
+    std::vector<SetupTrace> setups;
+    std::string note;
+    bool covered = false;
+};
+
+struct PixelTrace {
+    int x = 0;
+    int y = 0;
+    std::string profile;
+    std::vector<PrimitiveTrace> primitives;
+    std::array<float, 4> final_color{};  // as stored (rgba8 targets: byte values)
+};
+
+}  // namespace refraster

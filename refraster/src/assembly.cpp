@@ -1,0 +1,52 @@
+#include "assembly.hpp"
+
+#include <algorithm>
+
+namespace refraster::detail {
+
+std::vector<AssembledTriangle> assemble_triangles(PrimitiveType p, std::size_t count,
+                                                  bool provoking_first, int segment_vertices) {
+    std::vector<AssembledTriangle> out;
+    const auto u = [](std::size_t v) { return static_cast<std::uint32_t>(v); };
+    // Triangles per segment (draw_split_tmp.h): lists split at a multiple of 3 vertices,
+    // strips at the full segment with two vertices of overlap, fans at vsplit's segment size
+    // (at most 1024 vertices) with the centre repeated.
+    const auto seg = static_cast<std::size_t>(std::max(segment_vertices, 3));
+    switch (p) {
+        case PrimitiveType::Triangles: {
+            const std::size_t per = std::max<std::size_t>(seg / 3, 1);
+            for (std::size_t i = 0; i + 2 < count; i += 3) {
+                out.push_back({{u(i), u(i + 1), u(i + 2)}, u((i / 3) / per)});
+            }
+            break;
+        }
+        case PrimitiveType::TriangleStrip: {
+            const std::size_t per = seg - 2;
+            for (std::size_t k = 0; k + 2 < count; ++k) {
+                std::array<std::uint32_t, 3> e;
+                if (k % 2 == 0) {
+                    e = {u(k), u(k + 1), u(k + 2)};
+                } else if (provoking_first) {
+                    e = {u(k), u(k + 2), u(k + 1)};
+                } else {
+                    e = {u(k + 1), u(k), u(k + 2)};
+                }
+                out.push_back({e, u(k / per)});
+            }
+            break;
+        }
+        case PrimitiveType::TriangleFan: {
+            const std::size_t per = std::min<std::size_t>(seg, 1024) - 2;
+            for (std::size_t k = 0; k + 2 < count; ++k) {
+                const auto e = provoking_first ? std::array<std::uint32_t, 3>{u(k + 1), u(k + 2), 0}
+                                               : std::array<std::uint32_t, 3>{0, u(k + 1), u(k + 2)};
+                out.push_back({e, u(k / per)});
+            }
+            break;
+        }
+        default: break;
+    }
+    return out;
+}
+
+}  // namespace refraster::detail

@@ -1,0 +1,157 @@
+#include "refraster/profile.hpp"
+
+#include <charconv>
+
+namespace refraster {
+
+Profile llvmpipe_22_3_profile() { return Profile{}; }
+
+Profile gl_exact_profile() {
+    Profile p;
+    p.name = "gl-exact";
+    p.coverage = CoverageModel::Exact;
+    // Not used by the exact model; kept at llvmpipe's values so that a profile file stays
+    // meaningful when its coverage model is switched.
+    p.draw_pipeline_cull = false;
+    p.nine_vertex_quirk = false;
+    return p;
+}
+
+std::vector<std::string> builtin_profile_names() { return {"llvmpipe-22.3", "gl-exact"}; }
+
+Profile builtin_profile(const std::string& name) {
+    if (name == "llvmpipe-22.3") return llvmpipe_22_3_profile();
+    if (name == "gl-exact") return gl_exact_profile();
+    throw ProfileError("unknown profile \"" + name + "\" (built in: llvmpipe-22.3, gl-exact)");
+}
+
+std::string to_string(TieRule r) {
+    switch (r) {
+        case TieRule::LeftBottom: return "left-bottom";
+        case TieRule::LeftTop: return "left-top";
+        case TieRule::RightBottom: return "right-bottom";
+        case TieRule::RightTop: return "right-top";
+    }
+    return "?";
+}
+
+std::string to_string(SnapRounding r) {
+    switch (r) {
+        case SnapRounding::NearestEven: return "nearest-even";
+        case SnapRounding::HalfAwayFromZero: return "half-away";
+        case SnapRounding::Truncate: return "truncate";
+    }
+    return "?";
+}
+
+namespace {
+
+std::string to_string(CoverageModel c) { return c == CoverageModel::Snapped ? "snapped" : "exact"; }
+std::string to_string(FmaMode m) {
+    return m == FmaMode::Auto ? "auto" : m == FmaMode::On ? "on" : "off";
+}
+std::string bool_text(bool b) { return b ? "true" : "false"; }
+
+std::string float_text(float f) {
+    char buf[32];
+    const auto r = std::to_chars(buf, buf + sizeof buf, f);
+    return std::string(buf, r.ptr);
+}
+
+[[noreturn]] void bad(const std::string& key, const std::string& value, const std::string& expected) {
+    throw ProfileError("profile parameter " + key + "=" + value + ": expected " + expected);
+}
+
+template <class E>
+E pick(const std::string& key, const std::string& value,
+       std::initializer_list<std::pair<const char*, E>> options) {
+    std::string list;
+    for (const auto& [n, e] : options) {
+        if (value == n) return e;
+        list += (list.empty() ? "" : ", ") + std::string(n);
+    }
+    bad(key, value, "one of " + list);
+}
+
+bool parse_bool(const std::string& key, const std::string& value) {
+    return pick<bool>(key, value, {{"true", true}, {"false", false}});
+}
+
+int parse_int(const std::string& key, const std::string& value, int lo, int hi) {
+    int v = 0;
+    const auto r = std::from_chars(value.data(), value.data() + value.size(), v);
+    if (r.ec != std::errc() || r.ptr != value.data() + value.size() || v < lo || v > hi) {
+        bad(key, value, "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    }
+    return v;
+}
+
+float parse_float(const std::string& key, const std::string& value) {
+    float v = 0;
+    const auto r = std::from_chars(value.data(), value.data() + value.size(), v);
+    if (r.ec != std::errc() || r.ptr != value.data() + value.size() || !(v >= 0.0f && v < 1.0f)) {
+        bad(key, value, "a number in [0, 1)");
+    }
+    return v;
+}
+
+}  // namespace
+
+std::vector<std::pair<std::string, std::string>> profile_parameters(const Profile& p) {
+    return {
+        {"name", p.name},
+        {"coverage", to_string(p.coverage)},
+        {"subpixel_bits", std::to_string(p.subpixel_bits)},
+        {"snap_rounding", to_string(p.snap_rounding)},
+        {"pixel_center_offset", float_text(p.pixel_center_offset)},
+        {"tie_rule", to_string(p.tie_rule)},
+        {"viewport_fma", to_string(p.viewport_fma)},
+        {"flush_denormals", bool_text(p.flush_denormals)},
+        {"draw_pipeline_cull", bool_text(p.draw_pipeline_cull)},
+        {"draw_segment_vertices", std::to_string(p.draw_segment_vertices)},
+        {"nine_vertex_quirk", bool_text(p.nine_vertex_quirk)},
+    };
+}
+
+void set_profile_parameter(Profile& p, const std::string& key, const std::string& value) {
+    if (key == "name") {
+        if (value.empty()) bad(key, value, "a non-empty name");
+        p.name = value;
+    } else if (key == "coverage") {
+        p.coverage = pick<CoverageModel>(key, value,
+                                         {{"snapped", CoverageModel::Snapped}, {"exact", CoverageModel::Exact}});
+    } else if (key == "subpixel_bits") {
+        // 8 bits is llvmpipe's FIXED_ORDER; the edge-function budget in setup.cpp holds up to 8.
+        p.subpixel_bits = parse_int(key, value, 1, 8);
+    } else if (key == "snap_rounding") {
+        p.snap_rounding = pick<SnapRounding>(key, value,
+                                             {{"nearest-even", SnapRounding::NearestEven},
+                                              {"half-away", SnapRounding::HalfAwayFromZero},
+                                              {"truncate", SnapRounding::Truncate}});
+    } else if (key == "pixel_center_offset") {
+        p.pixel_center_offset = parse_float(key, value);
+    } else if (key == "tie_rule") {
+        p.tie_rule = pick<TieRule>(key, value,
+                                   {{"left-bottom", TieRule::LeftBottom},
+                                    {"left-top", TieRule::LeftTop},
+                                    {"right-bottom", TieRule::RightBottom},
+                                    {"right-top", TieRule::RightTop}});
+    } else if (key == "viewport_fma") {
+        p.viewport_fma = pick<FmaMode>(key, value,
+                                       {{"auto", FmaMode::Auto}, {"on", FmaMode::On}, {"off", FmaMode::Off}});
+    } else if (key == "flush_denormals") {
+        p.flush_denormals = parse_bool(key, value);
+    } else if (key == "draw_pipeline_cull") {
+        p.draw_pipeline_cull = parse_bool(key, value);
+    } else if (key == "draw_segment_vertices") {
+        p.draw_segment_vertices = parse_int(key, value, 3, 1 << 20);
+    } else if (key == "nine_vertex_quirk") {
+        p.nine_vertex_quirk = parse_bool(key, value);
+    } else {
+        std::string keys;
+        for (const auto& [k, _] : profile_parameters(Profile{})) keys += (keys.empty() ? "" : ", ") + k;
+        throw ProfileError("unknown profile parameter \"" + key + "\" (known: " + keys + ")");
+    }
+}
+
+}  // namespace refraster

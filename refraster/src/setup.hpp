@@ -1,0 +1,116 @@
+// setup.hpp: a window-space triangle to three integer edge functions, as llvmpipe sets it up.
+//
+// Implements (gallium/drivers/llvmpipe/lp_setup_tri.c):
+//  - snapping: X = round((x - pixel_center_offset) * 2^bits), the subtraction and the
+//    multiplication in float, then the profile's rounding (calc_fixed_position, SSE path:
+//    cvtps2dq rounds to nearest even);
+//  - orientation: area = (X0-X1)*(Y2-Y0) - (X2-X0)*(Y0-Y1) in int64; zero draws nothing;
+//    a negative area swaps v0 and v1 (v1 and v2 with the first-vertex provoking convention)
+//    and the triangle faces the other way (triangle_both / triangle_cw / triangle_ccw);
+//  - culling by that fixed-point area;
+//  - edge functions E(px, py) = c - a*(px << bits) + b*(py << bits), a = Y_i - Y_{i+1},
+//    b = X_i - X_{i+1}, c = a*X_i - b*Y_i plus 1 when the tie rule owns the edge, so that a
+//    pixel is covered iff E > 0 for all three edges (do_triangle_ccw, generic branch);
+//  - the bounding box of do_triangle_ccw, intersected with the draw region.
+//
+// Window coordinates are those of an FBO: gallium y equals GL y (mesa-22.3-rules.md 0.1), so
+// llvmpipe's bottom_edge_rule is 0 and the tie rule maps to GL terms directly.
+//
+// Deliberately does not: multisample setup (pixel_offset 0), or attribute planes.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+
+#include "refraster/draw.hpp"
+#include "refraster/fixed.hpp"
+#include "refraster/profile.hpp"
+
+namespace refraster::detail {
+
+// Bit budget of the snapped path. Window coordinates stay below 2^16 in magnitude (viewport
+// origin in [-32768, 32767] plus a width of at most 16384, and the clipper keeps vertices
+// inside the viewport up to float rounding), so with at most 8 subpixel bits:
+//   snapped coordinates      |X|      < 2^24
+//   edge deltas a, b         |a|,|b|  < 2^25
+//   edge constants c         |c|      < 2^25 * 2^24 * 2 = 2^50
+//   edge value at a pixel    |E|      < 2^50 + 2 * 2^25 * 2^(14+8) = 2^51 (framebuffer < 2^14)
+inline constexpr int kMaxSubpixelBits = 8;
+inline constexpr int kWindowCoordinateBits = 16;
+inline constexpr int kSnappedBits = kWindowCoordinateBits + kMaxSubpixelBits;  // 24
+inline constexpr int kEdgeDeltaBits = kSnappedBits + 1;                        // 25
+inline constexpr int kEdgeConstantBits = kEdgeDeltaBits + kSnappedBits + 1;    // 50
+inline constexpr int kFramebufferBits = 14;                                    // 16384
+inline constexpr int kEdgeValueBits = kEdgeConstantBits + 1;                   // 51
+static_assert(kSnappedBits < 31, "snapped coordinates must fit int32 (llvmpipe's 24.8)");
+static_assert(kEdgeDeltaBits < 31, "edge deltas must fit int32");
+static_assert(kEdgeDeltaBits + kFramebufferBits + kMaxSubpixelBits + 1 <= kEdgeConstantBits,
+              "stepping across the framebuffer must stay within the constant's budget");
+static_assert(kEdgeValueBits < 63, "edge values must fit int64");
+
+using Subpixel = Fixed<kMaxSubpixelBits, std::int32_t>;
+
+// An inclusive rectangle of pixels; empty when x0 > x1 or y0 > y1.
+struct PixelRect {
+    int x0 = 0;
+    int y0 = 0;
+    int x1 = -1;
+    int y1 = -1;
+    bool empty() const { return x0 > x1 || y0 > y1; }
+    friend bool operator==(const PixelRect&, const PixelRect&) = default;
+};
+PixelRect intersect(const PixelRect& a, const PixelRect& b);
+
+struct EdgeFunction {
+    std::int32_t a = 0;  // dE/dpx = -a << bits
+    std::int32_t b = 0;  // dE/dpy = +b << bits
+    std::int64_t c = 0;  // includes the tie bias
+    bool owns_ties = false;
+
+    // E at the pixel (px, py); the pixel centre is the origin of the snapped grid.
+    std::int64_t at(int px, int py, int bits) const {
+        return c - wide_mul(a, px) * (std::int64_t{1} << bits) +
+               wide_mul(b, py) * (std::int64_t{1} << bits);
+    }
+};
+
+struct TriangleSetup {
+    int bits = 8;
+    std::array<std::int32_t, 3> x{};  // snapped positions after the orientation swap
+    std::array<std::int32_t, 3> y{};
+    std::array<int, 3> order{0, 1, 2};  // input vertex at each position after the swap
+    std::int64_t area = 0;              // before the swap (negative: swapped)
+    bool front_facing = true;
+    std::array<EdgeFunction, 3> edges;
+    PixelRect bbox;  // do_triangle_ccw's box, already intersected with the draw region
+};
+
+enum class SetupOutcome : std::uint8_t { Ok, ZeroArea, Culled, Outside, OutOfRange };
+
+struct SetupParams {
+    int bits = 8;
+    SnapRounding rounding = SnapRounding::NearestEven;
+    float pixel_center_offset = 0.5f;
+    TieRule tie_rule = TieRule::LeftBottom;
+    CullMode cull = CullMode::None;
+    bool front_ccw = false;  // gallium's rasterizer front_ccw (FBO: flipped from GL)
+    bool provoking_first = false;
+    PixelRect draw_region;  // framebuffer, intersected with the scissor
+};
+
+SetupParams setup_params(const Profile& profile, const DrawState& state, const Target& target);
+
+// Snaps one window coordinate; nullopt when it does not fit the budget above.
+std::optional<std::int32_t> snap_coordinate(float v, const SetupParams& p);
+
+SetupOutcome setup_triangle(const std::array<std::array<float, 2>, 3>& window, const SetupParams& p,
+                            TriangleSetup& out);
+
+// The plain test: every edge value positive at the pixel.
+inline bool covers_pixel(const TriangleSetup& t, int px, int py) {
+    return t.edges[0].at(px, py, t.bits) > 0 && t.edges[1].at(px, py, t.bits) > 0 &&
+           t.edges[2].at(px, py, t.bits) > 0;
+}
+
+}  // namespace refraster::detail

@@ -1,0 +1,230 @@
+#include "vertex_stage.hpp"
+
+#include <bit>
+#include <cmath>
+#include <limits>
+
+namespace refraster::detail {
+
+float flush_denormal(float v) {
+    return std::fabs(v) < std::numeric_limits<float>::min() ? std::copysign(0.0f, v) : v;
+}
+
+namespace {
+
+// Float operations of the reproduced driver code: each input and result flushed when the
+// driver runs with FTZ/DAZ (draw_pt.c sets them around the whole vertex pipeline).
+struct Fp {
+    bool flush;
+    float f(float v) const { return flush ? flush_denormal(v) : v; }
+    float add(float a, float b) const { return f(f(a) + f(b)); }
+    float sub(float a, float b) const { return f(f(a) - f(b)); }
+    float mul(float a, float b) const { return f(f(a) * f(b)); }
+    float div(float a, float b) const { return f(f(a) / f(b)); }
+    float fma(float a, float b, float c) const { return f(std::fma(f(a), f(b), f(c))); }
+};
+
+// The view-volume planes of draw_context.c (draw->plane[0..5]), as (x, y, z, w) coefficients.
+constexpr float kPlanes[6][4] = {
+    {-1, 0, 0, 1}, {1, 0, 0, 1}, {0, -1, 0, 1}, {0, 1, 0, 1}, {0, 0, 1, 1}, {0, 0, -1, 1},
+};
+
+}  // namespace
+
+ViewportTransform viewport_transform(const DrawState& s) {
+    // mesa/main/viewport.c, _mesa_get_viewport_xform: half sizes in float, depth in double
+    // then stored as float. An FBO is not y-flipped (st_atom_viewport.c).
+    ViewportTransform t;
+    const float half_w = 0.5f * static_cast<float>(s.viewport.width);
+    const float half_h = 0.5f * static_cast<float>(s.viewport.height);
+    t.scale[0] = half_w;
+    t.translate[0] = half_w + static_cast<float>(s.viewport.x);
+    t.scale[1] = half_h;
+    t.translate[1] = half_h + static_cast<float>(s.viewport.y);
+    const double n = s.depth_near;
+    const double f = s.depth_far;
+    t.scale[2] = static_cast<float>(0.5 * (f - n));
+    t.translate[2] = static_cast<float>(0.5 * (n + f));
+    return t;
+}
+
+VertexStage::VertexStage(const Draw& draw, VertexStageOptions options)
+    : draw_(draw), options_(options), vp_(viewport_transform(draw.state)) {
+    const Fp fp{options_.flush_denormals};
+    attribute_floats_ = draw.vertices.stride() - VertexArray::kPositionComponents;
+    const std::size_t n = draw.vertices.size();
+    vertices_.resize(n);
+    pool_.reserve(n * attribute_floats_ * 2);
+    for (std::size_t i = 0; i < n; ++i) {
+        const auto src = draw.vertices.vertex(i);
+        StageVertex& v = vertices_[i];
+        for (std::size_t k = 0; k < 4; ++k) v.clip[k] = fp.f(src[k]);
+        const auto& c = v.clip;
+        // draw_llvm.c generate_clipmask: compares, and the sums x+w, y+w, z+w in float.
+        v.clipmask = (c[0] > c[3] ? 1u : 0u) | (0.0f > fp.add(c[0], c[3]) ? 2u : 0u) |
+                     (c[1] > c[3] ? 4u : 0u) | (0.0f > fp.add(c[1], c[3]) ? 8u : 0u) |
+                     (0.0f > fp.add(c[2], c[3]) ? 16u : 0u) | (c[2] > c[3] ? 32u : 0u);
+        // draw_llvm.c generate_viewport: a true division for 1/w, a multiply, then
+        // lp_build_fmuladd, which LLVM fuses when the CPU has FMA.
+        const float oow = fp.div(1.0f, c[3]);
+        for (std::size_t k = 0; k < 3; ++k) {
+            const float ndc = fp.mul(c[k], oow);
+            v.window[k] = options_.fma ? fp.fma(ndc, vp_.scale[k], vp_.translate[k])
+                                       : fp.add(fp.mul(ndc, vp_.scale[k]), vp_.translate[k]);
+        }
+        v.window[3] = oow;
+        v.attributes = static_cast<std::uint32_t>(pool_.size());
+        pool_.insert(pool_.end(), src.begin() + 4, src.end());
+    }
+}
+
+StageVertex VertexStage::interpolate(float t, const StageVertex& out, const StageVertex& in) {
+    // draw_pipe_clip.c interp(): LINTERP(t, out, in) = out + t * (in - out), unfused.
+    const Fp fp{options_.flush_denormals};
+    const auto lerp = [&](float o, float i) { return fp.add(o, fp.mul(t, fp.sub(i, o))); };
+    StageVertex d;
+    d.generated = true;
+    for (std::size_t k = 0; k < 4; ++k) d.clip[k] = lerp(out.clip[k], in.clip[k]);
+    const float oow = fp.div(1.0f, d.clip[3]);
+    for (std::size_t k = 0; k < 3; ++k) {
+        d.window[k] = fp.add(fp.mul(fp.mul(d.clip[k], oow), vp_.scale[k]), vp_.translate[k]);
+    }
+    d.window[3] = oow;
+
+    // Attributes: smooth ones with the clip-space t; noperspective ones with a t recomputed
+    // in screen space from the first of x, y that differs; flat ones are left to the copy
+    // from the provoking vertex (their values here are never read).
+    float t_attr = t;
+    if (draw_.state.shade == ShadeModel::NoPerspective) {
+        for (std::size_t k = 0; k < 2; ++k) {
+            if (in.clip[k] != out.clip[k]) {
+                const float in_coord = fp.div(in.clip[k], in.clip[3]);
+                const float out_coord = fp.div(out.clip[k], out.clip[3]);
+                const float dst_coord = fp.div(d.clip[k], d.clip[3]);
+                t_attr = fp.div(fp.sub(dst_coord, out_coord), fp.sub(in_coord, out_coord));
+                break;
+            }
+        }
+    }
+    d.attributes = static_cast<std::uint32_t>(pool_.size());
+    for (std::size_t a = 0; a < attribute_floats_; ++a) {
+        const float o = pool_[out.attributes + a];
+        const float i = pool_[in.attributes + a];
+        pool_.push_back(fp.add(o, fp.mul(t_attr, fp.sub(i, o))));
+    }
+    return d;
+}
+
+StageVertex VertexStage::duplicate_with_flat(const StageVertex& v, const StageVertex& provoking) {
+    // draw_pipe_clip.c dup_vert + copy_flat: flat attributes come from the provoking vertex.
+    StageVertex d = v;
+    d.attributes = static_cast<std::uint32_t>(pool_.size());
+    for (std::size_t a = 0; a < attribute_floats_; ++a) pool_.push_back(pool_[provoking.attributes + a]);
+    return d;
+}
+
+void VertexStage::clip_triangle(const std::array<std::uint32_t, 3>& idx, bool provoking_first,
+                                std::vector<StageTriangle>& out,
+                                std::vector<std::vector<StageVertex>>* polygon_trace) {
+    const StageVertex& v0 = vertices_[idx[0]];
+    const StageVertex& v1 = vertices_[idx[1]];
+    const StageVertex& v2 = vertices_[idx[2]];
+    std::uint32_t mask = v0.clipmask | v1.clipmask | v2.clipmask;
+    if (mask == 0) {
+        out.push_back({{v0, v1, v2}, false, false});
+        return;
+    }
+    if ((v0.clipmask & v1.clipmask & v2.clipmask) != 0) return;  // clip_tri: all outside one plane
+
+    const Fp fp{options_.flush_denormals};
+    std::vector<StageVertex> in_list{v0, v1, v2};
+    std::vector<StageVertex> out_list;
+    const auto distance = [&](const StageVertex& v, int plane) {
+        // draw_pipe_clip.c dot4: a[0]*b[0] + a[1]*b[1] + a[2]*b[2] + a[3]*b[3], left to right.
+        const float* p = kPlanes[plane];
+        return fp.add(fp.add(fp.add(fp.mul(v.clip[0], p[0]), fp.mul(v.clip[1], p[1])),
+                             fp.mul(v.clip[2], p[2])),
+                      fp.mul(v.clip[3], p[3]));
+    };
+    while (mask != 0 && in_list.size() >= 3) {
+        const int plane = std::countr_zero(mask);
+        mask &= mask - 1;
+        out_list.clear();
+        const std::size_t n = in_list.size();
+        in_list.push_back(in_list[0]);  // "prevent rotation of vertices"
+        float dp_prev = distance(in_list[0], plane);
+        if (std::isnan(dp_prev) || std::isinf(dp_prev)) return;
+        for (std::size_t i = 1; i <= n; ++i) {
+            const StageVertex& prev = in_list[i - 1];
+            const StageVertex& cur = in_list[i];
+            const float dp = distance(cur, plane);
+            if (std::isnan(dp) || std::isinf(dp)) return;
+            bool different_sign;
+            if (dp_prev >= 0.0f) {
+                out_list.push_back(prev);
+                different_sign = dp < 0.0f;
+            } else {
+                different_sign = !(dp < 0.0f);
+            }
+            if (different_sign) {
+                const float denom = fp.sub(dp, dp_prev);
+                if (dp < 0.0f) {
+                    // Going out.
+                    if (-dp < dp_prev) {
+                        out_list.push_back(interpolate(fp.div(dp, denom), cur, prev));
+                    } else {
+                        out_list.push_back(interpolate(fp.div(-dp_prev, denom), prev, cur));
+                    }
+                } else {
+                    // Coming back in.
+                    if (-dp_prev < dp) {
+                        out_list.push_back(interpolate(fp.div(-dp_prev, denom), prev, cur));
+                    } else {
+                        out_list.push_back(interpolate(fp.div(dp, denom), cur, prev));
+                    }
+                }
+            }
+            dp_prev = dp;
+        }
+        std::swap(in_list, out_list);
+    }
+    if (in_list.size() < 3) return;
+    const StageVertex& provoking = provoking_first ? v0 : v2;
+    if (draw_.state.shade == ShadeModel::Flat && in_list[0].attributes != provoking.attributes) {
+        in_list[0] = duplicate_with_flat(in_list[0], provoking);
+    }
+    if (polygon_trace != nullptr) polygon_trace->push_back(in_list);
+    // draw_pipe_clip.c emit_poly: a fan that keeps the provoking vertex in its place.
+    for (std::size_t i = 2; i < in_list.size(); ++i) {
+        StageTriangle t;
+        t.v = provoking_first ? std::array<StageVertex, 3>{in_list[0], in_list[i - 1], in_list[i]}
+                              : std::array<StageVertex, 3>{in_list[i - 1], in_list[i], in_list[0]};
+        t.clipped = true;
+        out.push_back(t);
+    }
+}
+
+bool passes_draw_cull(const StageTriangle& t, CullMode cull, bool front_ccw) {
+    if (cull == CullMode::None) return true;
+    // draw_pipe_cull.c cull_tri: e = v0 - v2, f = v1 - v2, det = ex*fy - ey*fx (unfused).
+    // The driver runs this under FTZ as well; a flushed product changes no sign tested here
+    // except through a zero, which the flush cannot create from two nonzero normal factors
+    // whose product is representable.
+    const float ex = t.v[0].window[0] - t.v[2].window[0];
+    const float ey = t.v[0].window[1] - t.v[2].window[1];
+    const float fx = t.v[1].window[0] - t.v[2].window[0];
+    const float fy = t.v[1].window[1] - t.v[2].window[1];
+    const float det = flush_denormal(flush_denormal(ex * fy) - flush_denormal(ey * fx));
+    if (det == 0.0f) return cull != CullMode::Back && cull != CullMode::FrontAndBack;
+    const bool ccw = det < 0.0f;
+    const bool front = ccw == front_ccw;
+    switch (cull) {
+        case CullMode::None: return true;
+        case CullMode::Front: return !front;
+        case CullMode::Back: return front;
+        case CullMode::FrontAndBack: return false;
+    }
+    return true;
+}
+
+}  // namespace refraster::detail

@@ -1,0 +1,103 @@
+// vertex_stage.hpp: clip-space vertices to window-space triangles, as Mesa's draw module does.
+//
+// Implements, for triangles:
+//  - the viewport transform of unclipped vertices as llvmpipe's generated vertex code does it
+//    (gallium/auxiliary/draw/draw_llvm.c, generate_viewport): oow = 1/w, then
+//    fmuladd(c * oow, scale, translate), fused iff the profile says so;
+//  - the clip mask (draw_llvm.c, generate_clipmask): bits x>w, x+w<0, y>w, y+w<0, z+w<0, z>w;
+//  - the clipper (gallium/auxiliary/draw/draw_pipe_clip.c, do_clip_tri and interp):
+//    Sutherland-Hodgman over the set mask bits in increasing order, plane distances as
+//    unfused float dot products, the new vertex at out + t*(in - out) with t and the roles of
+//    in and out chosen exactly as the driver chooses them, new window coordinates in plain C
+//    arithmetic (x * (1/w) * scale + translate, unfused), flat attributes copied to the fan's
+//    first vertex, and the polygon emitted as a fan in provoking-vertex order;
+//  - the draw module's float cull stage (draw_pipe_cull.c, cull_tri), which sees triangles
+//    only when they go through the draw pipeline.
+//
+// Deliberately does not: guard-band clipping, user clip planes, depth clamp, or any
+// primitive but triangles.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "refraster/draw.hpp"
+#include "refraster/profile.hpp"
+
+namespace refraster::detail {
+
+// Flushes a denormal to a zero of the same sign (FTZ/DAZ, mesa-22.3-rules.md P6).
+float flush_denormal(float v);
+
+// The viewport of one draw as Mesa stores it (mesa/main/viewport.c,
+// _mesa_get_viewport_xform): float32 scale and translate.
+struct ViewportTransform {
+    std::array<float, 3> scale{};
+    std::array<float, 3> translate{};
+};
+ViewportTransform viewport_transform(const DrawState& s);
+
+// A vertex between the vertex stage and setup. `attributes` indexes the pool of the
+// VertexStage that owns the vertex.
+struct StageVertex {
+    std::array<float, 4> clip{};
+    std::array<float, 4> window{};  // x, y, z, 1/w
+    std::uint32_t clipmask = 0;
+    std::uint32_t attributes = 0;
+    bool generated = false;  // made by the clipper
+};
+
+// A triangle handed to setup: its three vertices in the order setup receives them.
+struct StageTriangle {
+    std::array<StageVertex, 3> v;
+    bool clipped = false;      // produced by the clipper
+    bool in_pipeline = false;  // went through the draw pipeline (its cull stage applies)
+};
+
+// Clip-plane bit names, in clip-mask bit order.
+inline constexpr const char* kClipPlaneNames[6] = {"x<=w", "x>=-w", "y<=w", "y>=-w", "z>=-w", "z<=w"};
+
+struct VertexStageOptions {
+    bool fma = true;
+    bool flush_denormals = true;
+};
+
+class VertexStage {
+public:
+    VertexStage(const Draw& draw, VertexStageOptions options);
+
+    // The unclipped vertex `index` of the draw (transform, clip mask, attributes).
+    const StageVertex& vertex(std::uint32_t index) const { return vertices_[index]; }
+    std::size_t attribute_floats() const { return attribute_floats_; }
+    std::span<const float> attributes(const StageVertex& v) const {
+        return {pool_.data() + v.attributes, attribute_floats_};
+    }
+
+    // Clips one assembled triangle (vertex indices in setup order, provoking vertex last or
+    // first by `provoking_first`) and appends the triangles it becomes to `out`. A triangle
+    // with no clip bit set is appended unchanged; one entirely outside a plane appends nothing.
+    void clip_triangle(const std::array<std::uint32_t, 3>& indices, bool provoking_first,
+                       std::vector<StageTriangle>& out, std::vector<std::vector<StageVertex>>* polygon_trace);
+
+    const ViewportTransform& viewport() const { return vp_; }
+
+private:
+    StageVertex interpolate(float t, const StageVertex& out, const StageVertex& in);
+    StageVertex duplicate_with_flat(const StageVertex& v, const StageVertex& provoking);
+    float ftz(float v) const { return options_.flush_denormals ? flush_denormal(v) : v; }
+
+    const Draw& draw_;
+    VertexStageOptions options_;
+    ViewportTransform vp_;
+    std::size_t attribute_floats_ = 0;
+    std::vector<StageVertex> vertices_;
+    std::vector<float> pool_;  // attribute values of every vertex, original and generated
+};
+
+// draw_pipe_cull.c cull_tri: false when the triangle is culled by the draw module's float
+// determinant (computed from window coordinates; zero counts as back-facing).
+bool passes_draw_cull(const StageTriangle& t, CullMode cull, bool front_ccw);
+
+}  // namespace refraster::detail
