@@ -57,7 +57,7 @@ Provenance host_provenance() {
 
 std::unique_ptr<Backend> make_backend(const BackendOptions& options) {
     switch (options.kind) {
-        case BackendKind::Ref: return make_ref_backend();
+        case BackendKind::Ref: return make_ref_backend(options);
         case BackendKind::OSMesa:
 #ifdef REFRASTER_HAVE_OSMESA
             return make_gl_backend(options);

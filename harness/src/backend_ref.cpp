@@ -9,6 +9,8 @@ namespace {
 
 class RefBackend final : public Backend {
 public:
+    explicit RefBackend(const BackendOptions& o) : options_(o) {}
+
     BackendKind kind() const override { return BackendKind::Ref; }
     std::string name() const override { return "ref"; }
 
@@ -16,7 +18,14 @@ public:
         RenderResult r;
         r.provenance = host_provenance();
         r.provenance["renderer"] = "refraster";
-        r.provenance["profile"] = "none (primitives not implemented)";
+        r.provenance["profile"] = options_.profile.name;
+        std::string overrides;
+        for (const auto& o : options_.profile_overrides) overrides += (overrides.empty() ? "" : ";") + o;
+        if (!overrides.empty()) r.provenance["profile_overrides"] = overrides;
+        const auto fma = options_.profile.viewport_fma;
+        r.provenance["fma"] = fma == refraster::FmaMode::On || (fma == refraster::FmaMode::Auto && refraster::host_has_fma())
+                                  ? "on"
+                                  : "off";
         if (!scene.unsupported_extensions.empty()) {
             r.status = RenderStatus::NotSupported;
             r.message = "requires extension \"" + scene.unsupported_extensions.front() +
@@ -24,7 +33,9 @@ public:
             return r;
         }
         const auto t0 = std::chrono::steady_clock::now();
-        const auto outcome = refraster::render(scene.draw_list, r.image);
+        refraster::RenderOptions ro;
+        ro.profile = options_.profile;
+        const auto outcome = refraster::render(scene.draw_list, ro, r.image);
         r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         if (outcome.status == refraster::RenderStatus::NotSupported) {
             r.status = RenderStatus::NotSupported;
@@ -32,10 +43,15 @@ public:
         }
         return r;
     }
+
+private:
+    BackendOptions options_;
 };
 
 }  // namespace
 
-std::unique_ptr<Backend> make_ref_backend() { return std::make_unique<RefBackend>(); }
+std::unique_ptr<Backend> make_ref_backend(const BackendOptions& options) {
+    return std::make_unique<RefBackend>(options);
+}
 
 }  // namespace harness

@@ -7,6 +7,6 @@
 
 namespace harness {
 
-std::unique_ptr<Backend> make_ref_backend();
+std::unique_ptr<Backend> make_ref_backend(const BackendOptions& options);
 
 }  // namespace harness

@@ -8,6 +8,7 @@
 #include "harness/backend.hpp"
 #include "harness/case_result.hpp"
 #include "harness/image_io.hpp"
+#include "harness/profile_io.hpp"
 #include "harness/scene.hpp"
 #include "suite.hpp"
 
@@ -19,14 +20,37 @@ constexpr int kExitBadInput = 2;
 constexpr int kExitBackendFailure = 3;
 constexpr int kExitNotSupported = 4;
 
+// The reference's profile, shared by the subcommands that run it.
+struct ProfileArgs {
+    std::string profile = "llvmpipe-22.3";
+    std::vector<std::string> overrides;
+
+    // Throws refraster::ProfileError.
+    refraster::Profile load() const {
+        auto p = harness::load_profile(profile);
+        harness::apply_profile_overrides(p, overrides);
+        return p;
+    }
+};
+
+void add_profile_options(CLI::App* cmd, ProfileArgs& a) {
+    cmd->add_option("--profile", a.profile, "Reference profile: a built-in name or a profile JSON file")
+        ->capture_default_str();
+    cmd->add_option("--profile-set", a.overrides, "Override one profile parameter: key=value (repeatable)");
+}
+
 // Options naming a backend, shared by the subcommands.
 struct BackendArgs {
+    explicit BackendArgs(std::string b) : backend(std::move(b)) {}
     std::string backend;
     std::string driver = "llvmpipe";
     double timeout = 60.0;
+    ProfileArgs profile;
 
     harness::BackendOptions options() const {
         harness::BackendOptions o;
+        o.profile = profile.load();
+        o.profile_overrides = profile.overrides;
         o.kind = backend == "osmesa" ? harness::BackendKind::OSMesa
                  : backend == "egl"  ? harness::BackendKind::Egl
                                      : harness::BackendKind::Ref;
@@ -54,9 +78,17 @@ std::optional<harness::Scene> load_or_report(const std::string& path) {
     }
 }
 
-std::unique_ptr<harness::Backend> backend_or_report(const BackendArgs& a, const std::string& scene) {
+// nullptr after reporting; `bad_profile` tells a usage error (exit 2) from a backend that
+// cannot start (exit 3).
+std::unique_ptr<harness::Backend> backend_or_report(const BackendArgs& a, const std::string& scene,
+                                                    bool& bad_profile) {
+    bad_profile = false;
     try {
         return harness::make_backend(a.options());
+    } catch (const refraster::ProfileError& e) {
+        std::cerr << "refraster: " << e.what() << "\n";
+        bad_profile = true;
+        return nullptr;
     } catch (const std::exception& e) {
         std::cerr << scene << ": backend " << a.backend << ": " << e.what() << "\n";
         return nullptr;
@@ -89,8 +121,9 @@ int run_render(const RenderArgs& a) {
                   << ", so the output must end in " << want_ext << "\n";
         return kExitBadInput;
     }
-    auto backend = backend_or_report(a.backend, a.scene);
-    if (!backend) return kExitBackendFailure;
+    bool bad_profile = false;
+    auto backend = backend_or_report(a.backend, a.scene, bad_profile);
+    if (!backend) return bad_profile ? kExitBadInput : kExitBackendFailure;
     const harness::RenderResult r = backend->render(*scene);
     if (r.status != harness::RenderStatus::Ok) {
         std::cerr << a.scene << ": " << to_string(r.status) << " in " << backend->name() << ": "
@@ -142,9 +175,12 @@ int run_compare(CompareArgs a) {
     if (a.reference_driver.empty()) a.reference_driver = a.against.driver;
     a.reference.driver = a.reference_driver;
     a.reference.timeout = a.against.timeout;
-    auto ref = backend_or_report(a.reference, a.scene);
-    auto act = backend_or_report(a.against, a.scene);
-    if (!ref || !act) return kExitBackendFailure;
+    a.against.profile = a.reference.profile;
+    bool bad_ref = false;
+    bool bad_act = false;
+    auto ref = backend_or_report(a.reference, a.scene, bad_ref);
+    auto act = ref ? backend_or_report(a.against, a.scene, bad_act) : nullptr;
+    if (!ref || !act) return bad_ref || bad_act ? kExitBadInput : kExitBackendFailure;
     const std::string name = scene->file.name.empty() ? std::filesystem::path(a.scene).stem().string()
                                                       : scene->file.name;
     const harness::CaseResult r = harness::run_case(*scene, name, *ref, *act);
@@ -184,6 +220,7 @@ struct ConformanceArgs {
     std::string cases;
     std::string scenes;
     BackendArgs against{"osmesa"};
+    ProfileArgs profile;
     std::string output;
 };
 
@@ -199,10 +236,12 @@ int run_conformance(const ConformanceArgs& a) {
     for (std::string g; std::getline(globs, g, ',');) {
         if (!g.empty()) o.case_globs.push_back(g);
     }
-    o.reference = BackendArgs{"ref"}.options();
-    o.against = a.against.options();
     o.output = a.output;
     try {
+        BackendArgs ref{"ref"};
+        ref.profile = a.profile;
+        o.reference = ref.options();
+        o.against = a.against.options();
         const auto s = conformance::run_suite(o, std::cout);
         return s.failed == 0 ? kExitOk : kExitMismatch;
     } catch (const std::exception& e) {
@@ -224,6 +263,7 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"ref", "osmesa", "egl"}))
         ->capture_default_str();
     add_driver_options(rcmd, render.backend);
+    add_profile_options(rcmd, render.backend.profile);
     rcmd->add_option("-o,--output", render.output,
                      "Output image: .png for rgba8 targets, .exr for rgba32f")
         ->required();
@@ -240,6 +280,7 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"ref", "osmesa", "egl"}))
         ->capture_default_str();
     add_driver_options(ccmd, compare.against);
+    add_profile_options(ccmd, compare.reference.profile);
     ccmd->add_option("--reference-driver", compare.reference_driver,
                      "Mesa driver of a GL --reference (default: --driver)")
         ->check(CLI::IsMember({"llvmpipe", "softpipe"}));
@@ -257,8 +298,14 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"ref", "osmesa", "egl"}))
         ->capture_default_str();
     add_driver_options(run_cmd, conf.against);
+    add_profile_options(run_cmd, conf.profile);
     run_cmd->add_option("--output", conf.output, "Directory for results.jsonl and images")
         ->required();
+
+    ProfileArgs show;
+    auto* pcmd = app.add_subcommand("profile", "Print a reference profile as JSON (a profile file)");
+    pcmd->add_option("name", show.profile, "Built-in name or profile file")->capture_default_str();
+    pcmd->add_option("--profile-set", show.overrides, "Override one parameter: key=value (repeatable)");
 
     try {
         app.parse(argc, argv);
@@ -273,5 +320,14 @@ int main(int argc, char** argv) {
     if (rcmd->parsed()) return run_render(render);
     if (ccmd->parsed()) return run_compare(compare);
     if (run_cmd->parsed()) return run_conformance(conf);
+    if (pcmd->parsed()) {
+        try {
+            std::cout << harness::profile_to_json(show.load()) << "\n";
+            return kExitOk;
+        } catch (const refraster::ProfileError& e) {
+            std::cerr << "refraster: " << e.what() << "\n";
+            return kExitBadInput;
+        }
+    }
     return kExitBadInput;
 }

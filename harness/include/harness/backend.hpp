@@ -12,6 +12,7 @@
 
 #include "harness/scene.hpp"
 #include "refraster/framebuffer.hpp"
+#include "refraster/profile.hpp"
 
 namespace harness {
 
@@ -54,6 +55,10 @@ struct BackendOptions {
     BackendKind kind = BackendKind::Ref;
     Driver driver = Driver::Llvmpipe;
     double timeout_seconds = 60.0;  // per scene, GL backends only
+    // The reference's rules (ref only), and the key=value overrides applied to the named
+    // profile, recorded with every result.
+    refraster::Profile profile;
+    std::vector<std::string> profile_overrides;
 };
 
 // Throws std::runtime_error when the backend was not built into this binary.

@@ -1,0 +1,60 @@
+#include "harness/profile_io.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+namespace harness {
+
+refraster::Profile load_profile(const std::string& name_or_path) {
+    const auto names = refraster::builtin_profile_names();
+    if (std::find(names.begin(), names.end(), name_or_path) != names.end()) {
+        return refraster::builtin_profile(name_or_path);
+    }
+    if (!std::filesystem::is_regular_file(name_or_path)) {
+        std::string list;
+        for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+        throw refraster::ProfileError(name_or_path + ": neither a built-in profile (" + list + ") nor a file");
+    }
+    std::ifstream in(name_or_path);
+    std::stringstream text;
+    text << in.rdbuf();
+    nlohmann::json j;
+    try {
+        j = nlohmann::json::parse(text.str());
+    } catch (const nlohmann::json::parse_error& e) {
+        throw refraster::ProfileError(name_or_path + ": invalid JSON: " + e.what());
+    }
+    if (!j.is_object()) throw refraster::ProfileError(name_or_path + ": expected a JSON object");
+    refraster::Profile p;
+    for (const auto& [key, value] : j.items()) {
+        if (!value.is_string()) {
+            throw refraster::ProfileError(name_or_path + ": " + key + ": expected a string value");
+        }
+        try {
+            refraster::set_profile_parameter(p, key, value.get<std::string>());
+        } catch (const refraster::ProfileError& e) {
+            throw refraster::ProfileError(name_or_path + ": " + e.what());
+        }
+    }
+    return p;
+}
+
+void apply_profile_overrides(refraster::Profile& p, const std::vector<std::string>& overrides) {
+    for (const auto& o : overrides) {
+        const auto eq = o.find('=');
+        if (eq == std::string::npos || eq == 0) {
+            throw refraster::ProfileError("--profile-set " + o + ": expected key=value");
+        }
+        refraster::set_profile_parameter(p, o.substr(0, eq), o.substr(eq + 1));
+    }
+}
+
+std::string profile_to_json(const refraster::Profile& p) {
+    nlohmann::ordered_json j;
+    for (const auto& [k, v] : refraster::profile_parameters(p)) j[k] = v;
+    return j.dump(2);
+}
+
+}  // namespace harness
