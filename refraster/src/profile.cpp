@@ -50,6 +50,7 @@ std::string to_string(CoverageModel c) { return c == CoverageModel::Snapped ? "s
 std::string to_string(FmaMode m) {
     return m == FmaMode::Auto ? "auto" : m == FmaMode::On ? "on" : "off";
 }
+std::string to_string(Clipping c) { return c == Clipping::ViewVolume ? "view-volume" : "guard-band"; }
 std::string bool_text(bool b) { return b ? "true" : "false"; }
 
 std::string float_text(float f) {
@@ -105,6 +106,7 @@ std::vector<std::pair<std::string, std::string>> profile_parameters(const Profil
         {"snap_rounding", to_string(p.snap_rounding)},
         {"pixel_center_offset", float_text(p.pixel_center_offset)},
         {"tie_rule", to_string(p.tie_rule)},
+        {"clipping", to_string(p.clipping)},
         {"viewport_fma", to_string(p.viewport_fma)},
         {"flush_denormals", bool_text(p.flush_denormals)},
         {"draw_pipeline_cull", bool_text(p.draw_pipeline_cull)},
@@ -136,6 +138,9 @@ void set_profile_parameter(Profile& p, const std::string& key, const std::string
                                     {"left-top", TieRule::LeftTop},
                                     {"right-bottom", TieRule::RightBottom},
                                     {"right-top", TieRule::RightTop}});
+    } else if (key == "clipping") {
+        p.clipping = pick<Clipping>(key, value,
+                                    {{"view-volume", Clipping::ViewVolume}, {"guard-band", Clipping::GuardBand}});
     } else if (key == "viewport_fma") {
         p.viewport_fma = pick<FmaMode>(key, value,
                                        {{"auto", FmaMode::Auto}, {"on", FmaMode::On}, {"off", FmaMode::Off}});

@@ -155,7 +155,7 @@ public:
     void run() {
         const bool fma = profile_.viewport_fma == FmaMode::On ||
                          (profile_.viewport_fma == FmaMode::Auto && host_has_fma());
-        detail::VertexStage stage(draw_, {fma, profile_.flush_denormals});
+        detail::VertexStage stage(draw_, {fma, profile_.flush_denormals, profile_.clipping == Clipping::GuardBand});
         const bool first = params_.provoking_first;
         const auto tris = detail::assemble_triangles(draw_.primitive, draw_.element_count(), first,
                                                      profile_.draw_segment_vertices);

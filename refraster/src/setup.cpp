@@ -20,6 +20,11 @@ SetupParams setup_params(const Profile& profile, const DrawState& state, const T
     p.provoking_first = state.provoking_vertex == ProvokingVertex::First;
     // lp_setup.c: the draw region is the framebuffer, intersected with the scissor.
     p.draw_region = {0, 0, static_cast<int>(target.width) - 1, static_cast<int>(target.height) - 1};
+    if (profile.clipping == Clipping::GuardBand) {
+        // With the guard band the viewport is applied as a scissor (lp_setup.c, draw_regions).
+        const auto& v = state.viewport;
+        p.draw_region = intersect(p.draw_region, {v.x, v.y, v.x + v.width - 1, v.y + v.height - 1});
+    }
     if (state.scissor) {
         const auto& s = *state.scissor;
         const std::int64_t x1 = std::int64_t{s.x} + s.width - 1;
@@ -66,7 +71,8 @@ SetupOutcome setup_triangle(const std::array<std::array<float, 2>, 3>& w, const 
         t.y[i] = *y;
     }
     t.order = {0, 1, 2};
-    t.area = wide_mul(t.x[0] - t.x[1], t.y[2] - t.y[0]) - wide_mul(t.x[2] - t.x[0], t.y[0] - t.y[1]);
+    t.area = checked_sub(wide_mul(checked_sub(t.x[0], t.x[1]), checked_sub(t.y[2], t.y[0])),
+                         wide_mul(checked_sub(t.x[2], t.x[0]), checked_sub(t.y[0], t.y[1])));
     if (t.area == 0) return SetupOutcome::ZeroArea;
     // triangle_both / _cw / _ccw: area > 0 is gallium's counter-clockwise.
     t.front_facing = (t.area > 0) == p.front_ccw;
@@ -85,10 +91,11 @@ SetupOutcome setup_triangle(const std::array<std::array<float, 2>, 3>& w, const 
     for (std::size_t i = 0; i < 3; ++i) {
         const std::size_t j = (i + 1) % 3;
         EdgeFunction& e = t.edges[i];
-        e.a = t.y[i] - t.y[j];
-        e.b = t.x[i] - t.x[j];
+        e.a = checked_sub(t.y[i], t.y[j]);
+        e.b = checked_sub(t.x[i], t.x[j]);
         e.owns_ties = owns_ties(e.a, e.b, p.tie_rule);
-        e.c = wide_mul(e.a, t.x[i]) - wide_mul(e.b, t.y[i]) + (e.owns_ties ? 1 : 0);
+        e.c = checked_add(checked_sub(wide_mul(e.a, t.x[i]), wide_mul(e.b, t.y[i])),
+                          std::int64_t{e.owns_ties ? 1 : 0});
     }
     // do_triangle_ccw's bounding box: x0 and y0 by arithmetic shift (floor); x1 and y1 from
     // max - 1, which leaves out a column (row) whose centres lie exactly on the rightmost

@@ -70,8 +70,8 @@ struct EdgeFunction {
 
     // E at the pixel (px, py); the pixel centre is the origin of the snapped grid.
     std::int64_t at(int px, int py, int bits) const {
-        return c - wide_mul(a, px) * (std::int64_t{1} << bits) +
-               wide_mul(b, py) * (std::int64_t{1} << bits);
+        const std::int64_t one = std::int64_t{1} << bits;
+        return checked_add(checked_sub(c, checked_mul(wide_mul(a, px), one)), checked_mul(wide_mul(b, py), one));
     }
 };
 

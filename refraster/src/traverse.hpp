@@ -88,7 +88,7 @@ void traverse_triangle(const TriangleSetup& t, Visit&& visit) {
                 for (unsigned i = 0; i < 3; ++i) {
                     if (!(still & (1u << i))) continue;
                     const EdgeFunction& e = t.edges[i];
-                    q_row[n_edges] = static_cast<std::int32_t>((e.at(x_lo, y_lo, bits) - 1) >> bits);
+                    q_row[n_edges] = checked_narrow<std::int32_t>((e.at(x_lo, y_lo, bits) - 1) >> bits);
                     step_x[n_edges] = -e.a;
                     step_y[n_edges] = e.b;
                     ++n_edges;
@@ -100,7 +100,7 @@ void traverse_triangle(const TriangleSetup& t, Visit&& visit) {
                         bool in = true;
                         for (unsigned k = 0; k < n_edges; ++k) {
                             in = in && q[k] >= 0;
-                            q[k] += step_x[k];
+                            q[k] = checked_add(q[k], step_x[k]);
                         }
                         if (in) m |= std::uint64_t{1} << (x - tx);
                     }
@@ -108,7 +108,7 @@ void traverse_triangle(const TriangleSetup& t, Visit&& visit) {
                         rows[y - ty] |= m;
                         any = true;
                     }
-                    for (unsigned k = 0; k < n_edges; ++k) q_row[k] += step_y[k];
+                    for (unsigned k = 0; k < n_edges; ++k) q_row[k] = checked_add(q_row[k], step_y[k]);
                 }
             };
             block(block, tx, ty, kTileSize, 0b111u);

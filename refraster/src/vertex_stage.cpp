@@ -60,10 +60,20 @@ VertexStage::VertexStage(const Draw& draw, VertexStageOptions options)
         StageVertex& v = vertices_[i];
         for (std::size_t k = 0; k < 4; ++k) v.clip[k] = fp.f(src[k]);
         const auto& c = v.clip;
-        // draw_llvm.c generate_clipmask: compares, and the sums x+w, y+w, z+w in float.
-        v.clipmask = (c[0] > c[3] ? 1u : 0u) | (0.0f > fp.add(c[0], c[3]) ? 2u : 0u) |
-                     (c[1] > c[3] ? 4u : 0u) | (0.0f > fp.add(c[1], c[3]) ? 8u : 0u) |
-                     (0.0f > fp.add(c[2], c[3]) ? 16u : 0u) | (c[2] > c[3] ? 32u : 0u);
+        if (options_.guard_band) {
+            // draw_cliptest_tmp.h, DO_CLIP_XY_GUARD_BAND: -0.50 * x + w >= 0 and friends, in
+            // double (0.50 is a double literal).
+            const auto outside = [](double t) { return !(t >= 0.0); };
+            v.clipmask = (outside(-0.50 * double{c[0]} + double{c[3]}) ? 1u : 0u) |
+                         (outside(0.50 * double{c[0]} + double{c[3]}) ? 2u : 0u) |
+                         (outside(-0.50 * double{c[1]} + double{c[3]}) ? 4u : 0u) |
+                         (outside(0.50 * double{c[1]} + double{c[3]}) ? 8u : 0u);
+        } else {
+            // draw_llvm.c generate_clipmask: compares, and the sums x+w, y+w in float.
+            v.clipmask = (c[0] > c[3] ? 1u : 0u) | (0.0f > fp.add(c[0], c[3]) ? 2u : 0u) |
+                         (c[1] > c[3] ? 4u : 0u) | (0.0f > fp.add(c[1], c[3]) ? 8u : 0u);
+        }
+        v.clipmask |= (0.0f > fp.add(c[2], c[3]) ? 16u : 0u) | (c[2] > c[3] ? 32u : 0u);
         // draw_llvm.c generate_viewport: a true division for 1/w, a multiply, then
         // lp_build_fmuladd, which LLVM fuses when the CPU has FMA.
         const float oow = fp.div(1.0f, c[3]);

@@ -14,8 +14,11 @@
 //  - the draw module's float cull stage (draw_pipe_cull.c, cull_tri), which sees triangles
 //    only when they go through the draw pipeline.
 //
-// Deliberately does not: guard-band clipping, user clip planes, depth clamp, or any
-// primitive but triangles.
+// With the guard band, the x/y bits of the clip mask test |x|, |y| <= 2w as the draw module's C
+// path does (draw_cliptest_tmp.h, DO_CLIP_XY_GUARD_BAND, in double); the clipper still clips
+// against the view-volume planes of the bits set.
+//
+// Deliberately does not: user clip planes, depth clamp, or any primitive but triangles.
 #pragma once
 
 #include <array>
@@ -62,6 +65,7 @@ inline constexpr const char* kClipPlaneNames[6] = {"x<=w", "x>=-w", "y<=w", "y>=
 struct VertexStageOptions {
     bool fma = true;
     bool flush_denormals = true;
+    bool guard_band = false;
 };
 
 class VertexStage {

@@ -152,6 +152,27 @@ TEST(CoverageRules, ClippedTriangleCoversTheVisiblePart) {
     EXPECT_EQ(got, want);
 }
 
+TEST(CoverageRules, GuardBandAppliesTheViewportAsScissor) {
+    // A 16x16 viewport at the origin and a triangle reaching 1.5w to its right: within the
+    // guard band it is not clipped, and the viewport scissor keeps it inside the viewport.
+    refraster::DrawState s;
+    DrawList l = triangles({{2, 2}, {28, 2}, {2, 12}}, s);
+    l.draws[0].state.viewport = {0, 0, 16, 16};
+    for (std::size_t v = 0; v < 3; ++v) {  // re-map the clip coordinates to the 16x16 viewport
+        l.draws[0].vertices.data[v * 8] = (l.draws[0].vertices.data[v * 8] + 1.0f) * 2.0f - 1.0f;
+        l.draws[0].vertices.data[v * 8 + 1] = (l.draws[0].vertices.data[v * 8 + 1] + 1.0f) * 2.0f - 1.0f;
+    }
+    refraster::Profile gb;
+    gb.clipping = refraster::Clipping::GuardBand;
+    const auto with_gb = lit(l, gb);
+    EXPECT_EQ(with_gb, lit(l));
+    for (const auto& [x, y] : with_gb) {
+        EXPECT_LT(x, 16);
+        EXPECT_LT(y, 16);
+    }
+    EXPECT_TRUE(with_gb.count({15, 3}));
+}
+
 TEST(CoverageRules, BehindTheEyeIsClippedAway) {
     // Vertices with w < 0 fail the x/y planes; only the w > 0 part is drawn. A triangle with
     // all three w < 0 draws nothing, in both coverage models.

@@ -77,4 +77,59 @@ constexpr std::int64_t wide_mul(std::int32_t a, std::int32_t b) {
     return static_cast<std::int64_t>(a) * static_cast<std::int64_t>(b);
 }
 
+// Checked arithmetic. The bit budgets stated beside each constant rule overflow out; a build
+// with REFRASTER_CHECKED_ARITHMETIC=1 (the tests' checked build) verifies that at run time and
+// aborts with a message on the first overflow instead of wrapping.
+#ifndef REFRASTER_CHECKED_ARITHMETIC
+#define REFRASTER_CHECKED_ARITHMETIC 0
+#endif
+inline constexpr bool kCheckedArithmetic = REFRASTER_CHECKED_ARITHMETIC != 0;
+
+[[noreturn]] void overflow_trap(const char* what);
+
+template <class T>
+constexpr T checked_add(T a, T b) {
+    if constexpr (kCheckedArithmetic) {
+        T r{};
+        if (__builtin_add_overflow(a, b, &r)) overflow_trap("integer overflow in an addition");
+        return r;
+    } else {
+        return static_cast<T>(a + b);
+    }
+}
+
+template <class T>
+constexpr T checked_sub(T a, T b) {
+    if constexpr (kCheckedArithmetic) {
+        T r{};
+        if (__builtin_sub_overflow(a, b, &r)) overflow_trap("integer overflow in a subtraction");
+        return r;
+    } else {
+        return static_cast<T>(a - b);
+    }
+}
+
+// Narrows to a smaller integer type; in the checked build a value that does not fit traps.
+template <class To, class From>
+constexpr To checked_narrow(From v) {
+    if constexpr (kCheckedArithmetic) {
+        if (v < static_cast<From>(std::numeric_limits<To>::min()) ||
+            v > static_cast<From>(std::numeric_limits<To>::max())) {
+            overflow_trap("integer overflow in a narrowing conversion");
+        }
+    }
+    return static_cast<To>(v);
+}
+
+template <class T>
+constexpr T checked_mul(T a, T b) {
+    if constexpr (kCheckedArithmetic) {
+        T r{};
+        if (__builtin_mul_overflow(a, b, &r)) overflow_trap("integer overflow in a multiplication");
+        return r;
+    } else {
+        return static_cast<T>(a * b);
+    }
+}
+
 }  // namespace refraster

@@ -34,6 +34,12 @@ enum class CoverageModel : std::uint8_t {
 // right), the second the owned horizontal edges (bottom: the interior is above).
 enum class TieRule : std::uint8_t { LeftBottom, LeftTop, RightBottom, RightTop };
 
+// Which x/y clip test decides that a triangle goes to the clipper.
+enum class Clipping : std::uint8_t {
+    ViewVolume,  // |x|, |y| <= w (llvmpipe with a depth buffer, OSMesa, FBOs)
+    GuardBand,   // |x|, |y| <= 2w, the viewport then applied as a scissor (draw's guard band)
+};
+
 enum class FmaMode : std::uint8_t {
     Auto,  // fuse where the reproduced driver fuses iff this CPU has FMA (as gallivm decides)
     On,
@@ -51,6 +57,8 @@ struct Profile {
     float pixel_center_offset = 0.5f;
 
     TieRule tie_rule = TieRule::LeftBottom;
+
+    Clipping clipping = Clipping::ViewVolume;
 
     // The viewport transform of unclipped vertices: fma(x * (1/w), scale, translate).
     FmaMode viewport_fma = FmaMode::Auto;
