@@ -91,6 +91,16 @@ public:
     }
     friend bool operator==(const BigInt&, const BigInt&) = default;
 
+    // The nearest double, give or take a few ulps (for the oracle's attribute weights, where
+    // the decisions are already made exactly). Values stay below 2^1023 by the budget above.
+    double to_double() const {
+        const bool neg = sign() < 0;
+        const BigInt m = neg ? -*this : *this;
+        double r = 0.0;
+        for (int i = kLimbs - 1; i >= 0; --i) r = r * 4294967296.0 + static_cast<double>(m.limb_[i]);
+        return neg ? -r : r;
+    }
+
 private:
     int used() const {
         int n = kLimbs;

@@ -109,6 +109,15 @@ std::array<int, 3> ExactCoverage::weight_signs(int px, int py) const {
 
 std::array<bool, 3> ExactCoverage::owns_ties() const { return t_->owns; }
 
+std::array<double, 3> ExactCoverage::weights(int px, int py) const {
+    const ExactTriangle& t = *t_;
+    const auto p = scaled_centre(t.viewport, px, py);
+    const double d = (t.det * p[2]).to_double();
+    std::array<double, 3> b{};
+    for (std::size_t k = 0; k < 3; ++k) b[k] = (t.A[k] * p[0] + t.B[k] * p[1] + t.C[k] * p[2]).to_double() / d;
+    return b;
+}
+
 bool ExactCoverage::covers(int px, int py) const {
     const ExactTriangle& t = *t_;
     if (t.det_sign == 0) return false;

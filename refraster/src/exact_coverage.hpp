@@ -44,6 +44,9 @@ public:
     // the tie rule owns edge i.
     std::array<int, 3> weight_signs(int px, int py) const;
     std::array<bool, 3> owns_ties() const;
+    // The homogeneous weights b of the pixel centre (sum b_i w_i = 1): the clip-space point on
+    // the triangle is sum b_i v_i, so a perspective-correct attribute is sum b_i a_i.
+    std::array<double, 3> weights(int px, int py) const;
 
 private:
     std::unique_ptr<ExactTriangle> t_;

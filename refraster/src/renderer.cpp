@@ -15,6 +15,7 @@
 
 #include "assembly.hpp"
 #include "exact_coverage.hpp"
+#include "fragment.hpp"
 #include "setup.hpp"
 #include "traverse.hpp"
 #include "vertex_stage.hpp"
@@ -63,22 +64,13 @@ std::uint32_t clear_depth_value(DepthFormat f, float z) {
     return 0;
 }
 
-// Clears the whole target (scissor off, every mask on). A unorm8 clear colour is exact only
-// when c * 255 is an integer after clamping to [0, 1]; the driver's rounding of other values
-// is not established, so they are refused rather than guessed.
+// Clears the whole target (scissor off, every mask on): unorm8 colours through
+// float_to_ubyte as util_pack_color does for R8G8B8A8_UNORM, floats as given.
 RenderOutcome clear(const DrawList& list, Framebuffer& out) {
     const auto& c = list.clear.color;
     if (list.target.color == ColorFormat::Rgba8) {
         std::array<std::uint8_t, 4> bytes{};
-        for (std::size_t k = 0; k < 4; ++k) {
-            const float v = std::clamp(c[k], 0.0f, 1.0f) * 255.0f;
-            if (v != std::floor(v)) {
-                return {RenderStatus::NotSupported,
-                        "clear colour components must be multiples of 1/255 until unorm8 clear "
-                        "rounding is implemented"};
-            }
-            bytes[k] = static_cast<std::uint8_t>(v);
-        }
+        for (std::size_t k = 0; k < 4; ++k) bytes[k] = detail::clear_to_unorm8(c[k]);
         for (std::size_t i = 0; i < out.pixel_count(); ++i) {
             std::copy(bytes.begin(), bytes.end(), out.color8.begin() + static_cast<std::ptrdiff_t>(i * 4));
         }
@@ -91,41 +83,6 @@ RenderOutcome clear(const DrawList& list, Framebuffer& out) {
     return {};
 }
 
-// Fragment colour to unorm8: clamp to [0, 1], then RNE(fl(c * 255)) (mesa-22.3-rules.md P2).
-std::uint8_t to_unorm8(float c) {
-    if (!(c > 0.0f)) return 0;  // also NaN
-    if (c >= 1.0f) return 255;
-    return static_cast<std::uint8_t>(std::nearbyint(c * 255.0f));
-}
-
-// The colour every fragment of a draw gets, when that colour is constant: with flat shading
-// the provoking vertex's; with smooth or noperspective shading only when all of the draw's
-// vertices carry the same colour and (for smooth) the same w, so that interpolation returns
-// it unchanged. Otherwise the draw needs attribute interpolation, which is not implemented.
-struct ConstantColor {
-    bool ok = false;
-    std::string why;
-};
-
-ConstantColor check_constant_color(const Draw& d) {
-    if (d.state.shade == ShadeModel::Flat) return {true, ""};
-    const std::size_t n = d.element_count();
-    if (n == 0) return {true, ""};
-    const auto first = d.vertices.vertex(d.element(0));
-    for (std::size_t i = 1; i < n; ++i) {
-        const auto v = d.vertices.vertex(d.element(i));
-        for (std::size_t k = 4; k < v.size(); ++k) {
-            if (std::bit_cast<std::uint32_t>(v[k]) != std::bit_cast<std::uint32_t>(first[k])) {
-                return {false, "interpolated colours are not implemented yet (use shade flat)"};
-            }
-        }
-        if (d.state.shade == ShadeModel::Smooth && v[3] != first[3]) {
-            return {false, "perspective-correct interpolation across different w is not implemented yet"};
-        }
-    }
-    return {true, ""};
-}
-
 std::string unsupported(const Draw& d, const Target& target) {
     switch (d.primitive) {
         case PrimitiveType::Triangles:
@@ -134,9 +91,7 @@ std::string unsupported(const Draw& d, const Target& target) {
         default: return "the reference rasterizer does not draw " + std::string(to_string(d.primitive)) + " yet";
     }
     if (d.state.polygon_mode != PolygonMode::Fill) return "polygon_mode line and point are not implemented yet";
-    if (d.state.blend != BlendPreset::None) return "blending is not implemented yet";
-    if (d.state.depth_test && target.depth != DepthFormat::None) return "depth testing is not implemented yet";
-    if (const auto c = check_constant_color(d); !c.ok) return c.why;
+    (void)target;
     return {};
 }
 
@@ -148,14 +103,13 @@ class DrawRasterizer {
 public:
     DrawRasterizer(std::size_t draw_index, const Draw& d, const Target& target, const Profile& profile,
                    Framebuffer& fb, PixelTrace* trace)
-        : index_(draw_index), draw_(d), profile_(profile), fb_(fb), trace_(trace),
-          params_(detail::setup_params(profile, d.state, target)) {}
+        : index_(draw_index), draw_(d), target_(target), profile_(profile), fb_(fb), trace_(trace),
+          params_(detail::setup_params(profile, d.state, target)),
+          fma_(profile.viewport_fma == FmaMode::On || (profile.viewport_fma == FmaMode::Auto && host_has_fma())) {}
 
     template <bool kTrace>
     void run() {
-        const bool fma = profile_.viewport_fma == FmaMode::On ||
-                         (profile_.viewport_fma == FmaMode::Auto && host_has_fma());
-        detail::VertexStage stage(draw_, {fma, profile_.flush_denormals, profile_.clipping == Clipping::GuardBand});
+        detail::VertexStage stage(draw_, {fma_, profile_.flush_denormals, profile_.clipping == Clipping::GuardBand});
         const bool first = params_.provoking_first;
         const auto tris = detail::assemble_triangles(draw_.primitive, draw_.element_count(), first,
                                                      profile_.draw_segment_vertices);
@@ -184,7 +138,6 @@ public:
             const auto& at = tris[p];
             const std::array<std::uint32_t, 3> idx{vertex_of(at.element[0]), vertex_of(at.element[1]),
                                                    vertex_of(at.element[2])};
-            const auto colour = stage.attributes(stage.vertex(idx[first ? 0 : 2]));
             [[maybe_unused]] std::conditional_t<kTrace, PrimitiveTrace, NoTrace> pt;
             if constexpr (kTrace) {
                 pt.draw = index_;
@@ -197,7 +150,7 @@ public:
                 pt.in_draw_pipeline = segment_clipped[at.segment];
             }
             if (profile_.coverage == CoverageModel::Exact) {
-                draw_exact<kTrace>(stage, idx, colour, pt);
+                draw_exact<kTrace>(stage, idx, pt);
             } else {
                 staged.clear();
                 [[maybe_unused]] std::vector<std::vector<StageVertex>> polygons;
@@ -302,20 +255,26 @@ private:
             case detail::SetupOutcome::Outside: return finish("outside the draw region");
             case detail::SetupOutcome::Ok: break;
         }
-        // The provoking vertex keeps its place through the swap: last, or first.
-        const auto colour = stage.attributes(st.v[params_.provoking_first ? 0 : 2]);
-        const Fill fill = make_fill(colour);
-        detail::traverse_triangle(t, [&](int y, int x0, int x1) { write_span(fill, y, x0, x1); });
+        // Attribute setup sees the vertices in setup's order, after the orientation swap.
+        const detail::TriangleShader shader({&st.v[static_cast<std::size_t>(t.order[0])],
+                                             &st.v[static_cast<std::size_t>(t.order[1])],
+                                             &st.v[static_cast<std::size_t>(t.order[2])]},
+                                            stage, draw_, target_, params_.provoking_first,
+                                            {fma_, profile_.flush_denormals});
         if constexpr (kTrace) {
             s.covered = pixel_in_box(t.bbox) && detail::covers_pixel(t, trace_->x, trace_->y);
             pt.covered = pt.covered || s.covered;
+            if (s.covered) {
+                s.has_fragment = true;
+                s.fragment = shader.trace_pixel(trace_->x, trace_->y, fb_);
+            }
         }
+        detail::traverse_triangle(t, [&](int y, int x0, int x1) { shader.shade_span(y, x0, x1, fb_); });
         finish("drawn");
     }
 
     template <bool kTrace, class PT>
-    void draw_exact(const detail::VertexStage& stage, const std::array<std::uint32_t, 3>& idx,
-                    std::span<const float> colour, PT& pt) {
+    void draw_exact(const detail::VertexStage& stage, const std::array<std::uint32_t, 3>& idx, PT& pt) {
         const detail::ExactCoverage ex({stage.vertex(idx[0]).clip, stage.vertex(idx[1]).clip,
                                         stage.vertex(idx[2]).clip},
                                        draw_.state, params_.draw_region, profile_.tie_rule);
@@ -329,17 +288,12 @@ private:
             if constexpr (kTrace) pt.note = "culled";
             return;
         }
-        const Fill fill = make_fill(colour);
+        const detail::ExactShader shader(ex, {&stage.vertex(idx[0]), &stage.vertex(idx[1]), &stage.vertex(idx[2])},
+                                         stage, draw_, target_, params_.provoking_first);
         const PixelRect r = ex.candidates();
         for (int y = r.y0; y <= r.y1; ++y) {
-            int run = -1;
-            for (int x = r.x0; x <= r.x1 + 1; ++x) {
-                const bool in = x <= r.x1 && ex.covers(x, y);
-                if (in && run < 0) run = x;
-                if (!in && run >= 0) {
-                    write_span(fill, y, run, x);
-                    run = -1;
-                }
+            for (int x = r.x0; x <= r.x1; ++x) {
+                if (ex.covers(x, y)) shader.shade(x, y, fb_);
             }
         }
         if constexpr (kTrace) {
@@ -359,39 +313,14 @@ private:
         }
     }
 
-    struct Fill {
-        std::array<std::uint8_t, 4> bytes{};
-        std::array<float, 4> floats{};
-    };
-    Fill make_fill(std::span<const float> colour) const {
-        Fill f;
-        for (std::size_t k = 0; k < 4; ++k) {
-            const float c = k < colour.size() ? colour[k] : (k == 3 ? 1.0f : 0.0f);
-            f.floats[k] = c;
-            f.bytes[k] = to_unorm8(c);
-        }
-        return f;
-    }
-    void write_span(const Fill& f, int y, int x0, int x1) {
-        const std::size_t row = static_cast<std::size_t>(y) * fb_.width;
-        if (fb_.color_format == ColorFormat::Rgba8) {
-            for (int x = x0; x < x1; ++x) {
-                std::copy(f.bytes.begin(), f.bytes.end(),
-                          fb_.color8.begin() + static_cast<std::ptrdiff_t>(4 * (row + static_cast<std::size_t>(x))));
-            }
-        } else {
-            for (int x = x0; x < x1; ++x) {
-                std::copy(f.floats.begin(), f.floats.end(),
-                          fb_.color32f.begin() + static_cast<std::ptrdiff_t>(4 * (row + static_cast<std::size_t>(x))));
-            }
-        }
-    }
     std::size_t index_;
     const Draw& draw_;
+    const Target& target_;
     const Profile& profile_;
     Framebuffer& fb_;
     PixelTrace* trace_;
     detail::SetupParams params_;
+    bool fma_;
 };
 
 }  // namespace

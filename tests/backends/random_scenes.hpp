@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
+#include <optional>
 #include <cstdio>
 #include <random>
 #include <string>
@@ -180,6 +182,170 @@ inline std::string describe(const CellTriangle& t) {
     std::snprintf(buf, sizeof buf, " cull %d front_face %d provoking %d", static_cast<int>(t.cull),
                   static_cast<int>(t.front_face), static_cast<int>(t.provoking));
     return s + buf;
+}
+
+}  // namespace testscenes
+
+namespace testscenes {
+
+// Cells of several overlapping, depth-tested triangles with random per-vertex colours,
+// depth and w, and a random draw state from the fragment stage's options.
+struct AttributeCell {
+    std::vector<CellTriangle> tris;
+    std::vector<std::array<std::array<float, 4>, 3>> colors;  // per triangle, per vertex
+    refraster::ShadeModel shade = refraster::ShadeModel::Smooth;
+    std::optional<refraster::CompareFunc> depth_test;
+    bool depth_write = true;
+    refraster::BlendPreset blend = refraster::BlendPreset::None;
+    std::optional<refraster::PolygonOffset> offset;
+    std::array<float, 2> depth_range{0.0f, 1.0f};
+};
+
+struct AttributeOptions {
+    int triangles_per_cell = 2;
+    bool vary_shade = false;   // flat and noperspective too, not only smooth
+    bool vary_state = false;   // blending, polygon offset, depth write, depth range
+};
+
+class AttributeGenerator {
+public:
+    AttributeGenerator(std::uint64_t seed, AttributeOptions o) : rng_(seed), o_(o) {}
+
+    std::vector<AttributeCell> next_batch() {
+        std::vector<AttributeCell> cells(kCells);
+        static constexpr refraster::CompareFunc funcs[] = {
+            refraster::CompareFunc::Less,   refraster::CompareFunc::Lequal, refraster::CompareFunc::Greater,
+            refraster::CompareFunc::Gequal, refraster::CompareFunc::Equal,  refraster::CompareFunc::NotEqual,
+            refraster::CompareFunc::Always, refraster::CompareFunc::Never};
+        for (auto& c : cells) {
+            const float pick = uniform(0, 1);
+            c.depth_test = pick < 0.5f ? refraster::CompareFunc::Less
+                                       : funcs[static_cast<std::size_t>(uniform_int(0, 7))];
+            if (o_.vary_shade) {
+                const int s = uniform_int(0, 3);
+                c.shade = s == 0 ? refraster::ShadeModel::Flat
+                          : s == 1 ? refraster::ShadeModel::NoPerspective
+                                   : refraster::ShadeModel::Smooth;
+            }
+            if (o_.vary_state) {
+                c.depth_write = uniform(0, 1) < 0.8f;
+                const int b = uniform_int(0, 3);
+                c.blend = b == 0 ? refraster::BlendPreset::Alpha : b == 1 ? refraster::BlendPreset::Add
+                                                                         : refraster::BlendPreset::None;
+                if (uniform(0, 1) < 0.4f) {
+                    c.offset = refraster::PolygonOffset{static_cast<float>(uniform_int(-4, 4)) * 0.5f,
+                                                        static_cast<float>(uniform_int(-8, 8))};
+                }
+                if (uniform(0, 1) < 0.3f) c.depth_range = {uniform(0, 1), uniform(0, 1)};
+            }
+            for (int t = 0; t < o_.triangles_per_cell; ++t) {
+                CellTriangle tri;
+                const bool cross = uniform(0, 1) < 0.3f;
+                for (auto& v : tri.clip) {
+                    const float w = uniform(0.25f, 4.0f);
+                    const float r = cross ? 1.6f : 0.95f;
+                    v = {uniform(-r, r) * w, uniform(-r, r) * w, uniform(-0.99f, 0.99f) * w, w};
+                }
+                tri.provoking = uniform(0, 1) < 0.5f ? refraster::ProvokingVertex::Last : refraster::ProvokingVertex::First;
+                std::array<std::array<float, 4>, 3> col{};
+                for (auto& vc : col) {
+                    for (auto& ch : vc) ch = uniform(0, 1) < 0.1f ? uniform(-0.3f, 1.3f) : uniform(0, 1);
+                }
+                c.tris.push_back(tri);
+                c.colors.push_back(col);
+            }
+        }
+        return cells;
+    }
+
+private:
+    float uniform(float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(rng_); }
+    int uniform_int(int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(rng_); }
+    std::mt19937_64 rng_;
+    AttributeOptions o_;
+};
+
+inline harness::Scene attribute_scene(const std::vector<AttributeCell>& cells, refraster::DepthFormat depth,
+                                      refraster::ColorFormat color, std::array<float, 4> clear_color,
+                                      float clear_depth) {
+    harness::Scene s;
+    s.path = "random-attribute-cells";
+    s.file.name = "random";
+    s.file.target = {kSize, kSize, color, depth, 1};
+    s.file.clear.color = clear_color;
+    s.file.clear.depth = clear_depth;
+    s.draw_list.target = s.file.target;
+    s.draw_list.clear = s.file.clear;
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+        const auto& c = cells[i];
+        const int cx = static_cast<int>(i % kGrid) * kCell;
+        const int cy = static_cast<int>(i / kGrid) * kCell;
+        for (std::size_t t = 0; t < c.tris.size(); ++t) {
+            refraster::Draw d;
+            d.primitive = refraster::PrimitiveType::Triangles;
+            d.state.viewport = {cx, cy, kCell, kCell};
+            d.state.scissor = refraster::Rect{cx, cy, kCell, kCell};
+            d.state.shade = c.shade;
+            d.state.depth_test = c.depth_test;
+            d.state.depth_write = c.depth_write;
+            d.state.blend = c.blend;
+            d.state.polygon_offset = c.offset;
+            d.state.depth_near = c.depth_range[0];
+            d.state.depth_far = c.depth_range[1];
+            d.state.provoking_vertex = c.tris[t].provoking;
+            d.vertices.attributes = {{"color", 4}};
+            for (std::size_t v = 0; v < 3; ++v) {
+                const auto& p = c.tris[t].clip[v];
+                d.vertices.data.insert(d.vertices.data.end(), p.begin(), p.end());
+                d.vertices.data.insert(d.vertices.data.end(), c.colors[t][v].begin(), c.colors[t][v].end());
+            }
+            s.draw_list.draws.push_back(std::move(d));
+        }
+    }
+    return s;
+}
+
+inline std::string describe(const AttributeCell& c) {
+    std::string s;
+    for (std::size_t t = 0; t < c.tris.size(); ++t) {
+        s += "\n  triangle " + std::to_string(t) + ": " + describe(c.tris[t]) + " colours";
+        char buf[64];
+        for (const auto& v : c.colors[t]) {
+            for (float ch : v) {
+                std::snprintf(buf, sizeof buf, " %a", static_cast<double>(ch));
+                s += buf;
+            }
+            s += " |";
+        }
+    }
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "\n  shade %d depth_test %d write %d blend %d offset %s range %g %g",
+                  static_cast<int>(c.shade), c.depth_test ? static_cast<int>(*c.depth_test) : -1,
+                  static_cast<int>(c.depth_write), static_cast<int>(c.blend),
+                  c.offset ? (std::to_string(c.offset->factor) + "," + std::to_string(c.offset->units)).c_str() : "none",
+                  static_cast<double>(c.depth_range[0]), static_cast<double>(c.depth_range[1]));
+    return s + buf;
+}
+
+// Pixels of cell i that differ in colour (rgba8 bytes or rgba32f bits) or depth.
+inline std::uint64_t cell_differences(const refraster::Framebuffer& a, const refraster::Framebuffer& b, std::size_t i) {
+    const std::uint32_t cx = static_cast<std::uint32_t>(i % kGrid) * kCell;
+    const std::uint32_t cy = static_cast<std::uint32_t>(i / kGrid) * kCell;
+    std::uint64_t n = 0;
+    for (std::uint32_t y = cy; y < cy + kCell; ++y) {
+        for (std::uint32_t x = cx; x < cx + kCell; ++x) {
+            const std::size_t p = a.index(x, y);
+            bool diff = !a.depth.empty() && a.depth[p] != b.depth[p];
+            for (std::size_t k = 0; k < 4 && !diff; ++k) {
+                diff = a.color_format == refraster::ColorFormat::Rgba8
+                           ? a.color8[4 * p + k] != b.color8[4 * p + k]
+                           : std::bit_cast<std::uint32_t>(a.color32f[4 * p + k]) !=
+                                 std::bit_cast<std::uint32_t>(b.color32f[4 * p + k]);
+            }
+            n += diff;
+        }
+    }
+    return n;
 }
 
 }  // namespace testscenes

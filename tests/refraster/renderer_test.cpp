@@ -55,11 +55,17 @@ TEST(Render, ClearDepthFormats) {
     EXPECT_EQ(fb.depth[0], std::bit_cast<std::uint32_t>(0.3f));
 }
 
-TEST(Render, InexactUnormClearIsRefusedNotGuessed) {
+TEST(Render, UnormClearRoundsLikeFloatToUbyte) {
+    // float_to_ubyte: 0.5 * 255/256 + 32768 = 32768.498046875, which float rounds to
+    // 32768 + 128/256 (a tie, to even): 128. 0.2 gives 51; values outside [0, 1] clamp.
     auto l = cleared_list(refraster::DepthFormat::None, 1.0f);
-    l.clear.color = {0.5f, 0, 0, 1};
+    l.clear.color = {0.5f, 0.2f, -3.0f, 7.0f};
     refraster::Framebuffer fb;
-    EXPECT_EQ(refraster::render(l, fb).status, refraster::RenderStatus::NotSupported);
+    ASSERT_EQ(refraster::render(l, fb).status, refraster::RenderStatus::Ok);
+    EXPECT_EQ(fb.color8[0], 128);
+    EXPECT_EQ(fb.color8[1], 51);
+    EXPECT_EQ(fb.color8[2], 0);
+    EXPECT_EQ(fb.color8[3], 255);
 }
 
 TEST(Render, LinesAreNotSupportedYet) {

@@ -26,6 +26,21 @@ struct EdgeTrace {
     bool tie = false;        // the pixel centre lies exactly on this edge (E minus bias is 0)
 };
 
+// What the fragment stage did at the pixel.
+struct FragmentTrace {
+    std::array<float, 3> z_plane{};  // A0, dz/dx, dz/dy (A0 at the centre of pixel (0, 0))
+    std::array<float, 3> w_plane{};  // the same for 1/w
+    float z_offset = 0.0f;            // polygon offset added to z
+    float z = 0.0f;                   // z after offset and clamp
+    bool depth_tested = false;
+    std::uint32_t depth_value = 0;    // quantised (z32f: the float's bits)
+    std::uint32_t depth_stored = 0;   // what the depth buffer held
+    bool depth_pass = true;
+    std::array<float, 4> shader_color{};  // the interpolated colour
+    std::array<float, 4> destination{};   // the framebuffer before this fragment
+    std::array<float, 4> written{};       // after conversion and blending
+};
+
 struct SetupTrace {
     std::array<std::array<float, 4>, 3> window{};  // x, y, z, 1/w in setup's input order
     bool clipped = false;                          // made by the clipper
@@ -38,6 +53,8 @@ struct SetupTrace {
     bool front_facing = true;
     std::array<EdgeTrace, 3> edges;
     bool covered = false;
+    bool has_fragment = false;
+    FragmentTrace fragment;  // when covered
 };
 
 struct PrimitiveTrace {

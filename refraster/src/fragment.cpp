@@ -1,0 +1,347 @@
+#include "fragment.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstring>
+
+namespace refraster::detail {
+
+std::uint8_t clear_to_unorm8(float c) {
+    if (!(c > 0.0f)) return 0;  // NaN too
+    if (c >= 1.0f) return 255;
+    const float t = c * (255.0f / 256.0f) + 32768.0f;
+    return static_cast<std::uint8_t>(std::bit_cast<std::uint32_t>(t) & 0xffu);
+}
+
+std::uint8_t color_to_unorm8(float c) {
+    if (!(c > 0.0f)) return 0;
+    if (c >= 1.0f) return 255;
+    return static_cast<std::uint8_t>(std::nearbyint(c * 255.0f));
+}
+
+namespace {
+
+// Float operations of the reproduced JIT code, with FTZ/DAZ as llvmpipe runs it (lp_rast.c).
+struct Fp {
+    bool flush;
+    float f(float v) const { return flush ? flush_denormal(v) : v; }
+    float add(float a, float b) const { return f(f(a) + f(b)); }
+    float sub(float a, float b) const { return f(f(a) - f(b)); }
+    float mul(float a, float b) const { return f(f(a) * f(b)); }
+    float div(float a, float b) const { return f(f(a) / f(b)); }
+};
+
+// calc_coef4 for one channel (lp_state_setup.c), given the shared setup terms.
+struct SetupTerms {
+    float x0c, y0c, dx01o, dy01o, dx20o, dy20o;
+};
+
+Plane calc_coef(const Fp& fp, const SetupTerms& s, float a0, float a1, float a2) {
+    const float da01 = fp.sub(a0, a1);
+    const float da20 = fp.sub(a2, a0);
+    Plane p;
+    p.dadx = fp.sub(fp.mul(da01, s.dy20o), fp.mul(da20, s.dy01o));
+    p.dady = fp.sub(fp.mul(da20, s.dx01o), fp.mul(da01, s.dx20o));
+    p.a0 = fp.sub(a0, fp.add(fp.mul(p.dadx, s.x0c), fp.mul(p.dady, s.y0c)));
+    return p;
+}
+
+double depth_mrd(DepthFormat f) {
+    // util_get_depth_format_mrd: the minimum resolvable difference of a fixed-point format.
+    switch (f) {
+        case DepthFormat::Z16: return 1.0 / 65535.0;
+        case DepthFormat::Z24: return 1.0 / 16777215.0;
+        default: return 0.0;
+    }
+}
+
+bool compare(CompareFunc f, std::uint32_t frag, std::uint32_t stored, bool is_float) {
+    // z32f values are compared as floats (both are in [0, 1], so their bit patterns order the
+    // same way, but the intent is kept explicit).
+    const auto lt = [&] { return is_float ? std::bit_cast<float>(frag) < std::bit_cast<float>(stored) : frag < stored; };
+    const auto eq = [&] { return is_float ? std::bit_cast<float>(frag) == std::bit_cast<float>(stored) : frag == stored; };
+    switch (f) {
+        case CompareFunc::Never: return false;
+        case CompareFunc::Less: return lt();
+        case CompareFunc::Equal: return eq();
+        case CompareFunc::Lequal: return lt() || eq();
+        case CompareFunc::Greater: return !lt() && !eq();
+        case CompareFunc::NotEqual: return !eq();
+        case CompareFunc::Gequal: return !lt();
+        case CompareFunc::Always: return true;
+    }
+    return true;
+}
+
+}  // namespace
+
+TriangleShader::TriangleShader(const std::array<const StageVertex*, 3>& v, const VertexStage& stage,
+                               const Draw& draw, const Target& target, bool provoking_first,
+                               FragmentOptions options)
+    : draw_(draw), target_(target), options_(options), shade_(draw.state.shade) {
+    const Fp fp{options.flush_denormals};
+    depth_test_ = draw.state.depth_test.has_value() && target.depth != DepthFormat::None;
+    const auto& p0 = v[0]->window;
+    const auto& p1 = v[1]->window;
+    const auto& p2 = v[2]->window;
+    // init_args: the position deltas as vectors (x, y, z, 1/w).
+    std::array<float, 4> d01{}, d20{};
+    for (std::size_t k = 0; k < 4; ++k) {
+        d01[k] = fp.sub(p0[k], p1[k]);
+        d20[k] = fp.sub(p2[k], p0[k]);
+    }
+    const float e = fp.mul(d01[0], d20[1]);
+    const float f = fp.mul(d01[1], d20[0]);
+    const float ooa = fp.div(1.0f, fp.sub(e, f));
+
+    if (draw.state.polygon_offset) {
+        // lp_do_offset_tri: res12 = (dz20*dy01 - dy20*dz01, dx20*dz01 - dz20*dx01), times ooa.
+        const float res1 = fp.sub(fp.mul(d20[2], d01[1]), fp.mul(d20[1], d01[2]));
+        const float res2 = fp.sub(fp.mul(d20[0], d01[2]), fp.mul(d20[2], d01[0]));
+        const float dzdx = std::fabs(fp.mul(res1, ooa));
+        const float dzdy = std::fabs(fp.mul(res2, ooa));
+        // LLVMRealUGT: unordered or greater picks dzdx.
+        const float max_slope = (dzdx > dzdy || std::isnan(dzdx) || std::isnan(dzdy)) ? dzdx : dzdy;
+        const float mult = fp.mul(max_slope, draw.state.polygon_offset->factor);
+        const float units = draw.state.polygon_offset->units;
+        if (target.depth == DepthFormat::Z32f) {
+            // units * 2^(exponent(max |z_i|) - 23), the exponent taken from the float's bits
+            // and clamped at zero.
+            const float maxz = std::max(std::fabs(p2[2]), std::max(std::fabs(p0[2]), std::fabs(p1[2])));
+            std::int32_t ebits = static_cast<std::int32_t>(std::bit_cast<std::uint32_t>(maxz) & (0xffu << 23)) - (23 << 23);
+            ebits = std::max(ebits, 0);
+            const float scale = std::bit_cast<float>(static_cast<std::uint32_t>(ebits));
+            z_offset_ = fp.add(fp.mul(scale, units), mult);
+        } else {
+            // lp_make_setup_variant_key: (float)(offset_units * mrd * 2), in double.
+            const auto units_fixed = static_cast<float>(static_cast<double>(units) * depth_mrd(target.depth) * 2);
+            z_offset_ = fp.add(units_fixed, mult);
+        }
+    }
+
+    SetupTerms s;
+    s.x0c = fp.sub(p0[0], 0.5f);
+    s.y0c = fp.sub(p0[1], 0.5f);
+    s.dx20o = fp.mul(d20[0], ooa);
+    s.dy20o = fp.mul(d20[1], ooa);
+    s.dx01o = fp.mul(d01[0], ooa);
+    s.dy01o = fp.mul(d01[1], ooa);
+    z_ = calc_coef(fp, s, p0[2], p1[2], p2[2]);
+    w_ = calc_coef(fp, s, p0[3], p1[3], p2[3]);
+
+    const auto c0 = stage.attributes(*v[0]);
+    const auto c1 = stage.attributes(*v[1]);
+    const auto c2 = stage.attributes(*v[2]);
+    const auto& prov = provoking_first ? c0 : c2;
+    for (std::size_t k = 0; k < 4; ++k) {
+        flat_color_[k] = prov[k];
+        if (shade_ == ShadeModel::Smooth) {
+            // apply_perspective_corr: each vertex value times its own 1/w.
+            color_[k] = calc_coef(fp, s, fp.mul(c0[k], p0[3]), fp.mul(c1[k], p1[3]), fp.mul(c2[k], p2[3]));
+        } else if (shade_ == ShadeModel::NoPerspective) {
+            color_[k] = calc_coef(fp, s, c0[k], c1[k], c2[k]);
+        }
+    }
+}
+
+float TriangleShader::eval_plane(const Plane& p, float px, float py) const {
+    const Fp fp{options_.flush_denormals};
+    if (options_.fma) {
+        return fp.f(std::fma(p.dady, py, fp.f(std::fma(p.dadx, px, p.a0))));
+    }
+    return fp.add(fp.mul(p.dady, py), fp.add(fp.mul(p.dadx, px), p.a0));
+}
+
+TriangleShader::PixelResult TriangleShader::evaluate(int x, int y, const Framebuffer& fb) const {
+    const Fp fp{options_.flush_denormals};
+    const float px = static_cast<float>(x);
+    const float py = static_cast<float>(y);
+    PixelResult r;
+    if (depth_test_) {
+        float z = fp.add(eval_plane(z_, px, py), z_offset_);
+        z = std::min(std::max(z, 0.0f), 1.0f);  // lp_build_clamp: max then min
+        r.z = z;
+        switch (target_.depth) {
+            case DepthFormat::Z16: r.depth = static_cast<std::uint32_t>(std::nearbyint(z * 65535.0f)); break;
+            case DepthFormat::Z24: r.depth = static_cast<std::uint32_t>(std::nearbyint(z * 16777215.0f)); break;
+            case DepthFormat::Z32f: r.depth = std::bit_cast<std::uint32_t>(z); break;
+            case DepthFormat::None: break;
+        }
+        const std::uint32_t stored = fb.depth[fb.index(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y))];
+        r.depth_pass = compare(*draw_.state.depth_test, r.depth, stored, target_.depth == DepthFormat::Z32f);
+    }
+    if (shade_ == ShadeModel::Flat) {
+        r.color = flat_color_;
+    } else if (shade_ == ShadeModel::NoPerspective) {
+        for (std::size_t k = 0; k < 4; ++k) r.color[k] = eval_plane(color_[k], px, py);
+    } else {
+        const float w = fp.div(1.0f, eval_plane(w_, px, py));  // lp_build_rcp: a true division
+        for (std::size_t k = 0; k < 4; ++k) r.color[k] = fp.mul(eval_plane(color_[k], px, py), w);
+    }
+    return r;
+}
+
+void write_fragment_color(const Draw& draw, Framebuffer& fb, std::size_t i, const std::array<float, 4>& c) {
+    const BlendPreset blend = draw.state.blend;
+    if (fb.color_format == ColorFormat::Rgba8) {
+        std::uint8_t* d = fb.color8.data() + 4 * i;
+        std::array<std::uint8_t, 4> s{};
+        for (std::size_t k = 0; k < 4; ++k) s[k] = color_to_unorm8(c[k]);
+        switch (blend) {
+            case BlendPreset::None: std::memcpy(d, s.data(), 4); break;
+            case BlendPreset::Alpha: {
+                const std::uint32_t a = s[3];
+                for (std::size_t k = 0; k < 4; ++k) {
+                    const std::uint32_t v = std::uint32_t{unorm8_mul(s[k], a)} + unorm8_mul(d[k], 255 - a);
+                    d[k] = static_cast<std::uint8_t>(std::min<std::uint32_t>(v, 255));
+                }
+                break;
+            }
+            case BlendPreset::Add:
+                for (std::size_t k = 0; k < 4; ++k) {
+                    d[k] = static_cast<std::uint8_t>(std::min<std::uint32_t>(std::uint32_t{s[k]} + d[k], 255));
+                }
+                break;
+        }
+    } else {
+        float* d = fb.color32f.data() + 4 * i;
+        switch (blend) {
+            case BlendPreset::None: std::copy(c.begin(), c.end(), d); break;
+            case BlendPreset::Alpha: {
+                const float a = c[3];
+                const float inv = 1.0f - a;
+                for (std::size_t k = 0; k < 4; ++k) d[k] = c[k] * a + d[k] * inv;
+                break;
+            }
+            case BlendPreset::Add:
+                for (std::size_t k = 0; k < 4; ++k) d[k] = c[k] + d[k];
+                break;
+        }
+    }
+}
+
+void TriangleShader::shade_span(int y, int x0, int x1, Framebuffer& fb) const {
+    for (int x = x0; x < x1; ++x) {
+        const PixelResult r = evaluate(x, y, fb);
+        if (!r.depth_pass) continue;
+        const std::size_t i = fb.index(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y));
+        if (depth_test_ && draw_.state.depth_write) fb.depth[i] = r.depth;
+        write_fragment_color(draw_, fb, i, r.color);
+    }
+}
+
+FragmentTrace TriangleShader::trace_pixel(int x, int y, const Framebuffer& fb_before) const {
+    FragmentTrace t;
+    t.z_plane = {z_.a0, z_.dadx, z_.dady};
+    t.w_plane = {w_.a0, w_.dadx, w_.dady};
+    t.z_offset = z_offset_;
+    const PixelResult r = evaluate(x, y, fb_before);
+    const std::size_t i = fb_before.index(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y));
+    t.z = r.z;
+    t.depth_tested = depth_test_;
+    t.depth_value = r.depth;
+    t.depth_stored = depth_test_ ? fb_before.depth[i] : 0;
+    t.depth_pass = r.depth_pass;
+    t.shader_color = r.color;
+    Framebuffer one(1, 1, fb_before.color_format, DepthFormat::None);
+    for (std::size_t k = 0; k < 4; ++k) {
+        if (fb_before.color_format == ColorFormat::Rgba8) {
+            one.color8[k] = fb_before.color8[4 * i + k];
+            t.destination[k] = one.color8[k];
+        } else {
+            one.color32f[k] = fb_before.color32f[4 * i + k];
+            t.destination[k] = one.color32f[k];
+        }
+    }
+    if (r.depth_pass) write_fragment_color(draw_, one, 0, r.color);
+    for (std::size_t k = 0; k < 4; ++k) {
+        t.written[k] = fb_before.color_format == ColorFormat::Rgba8 ? one.color8[k] : one.color32f[k];
+    }
+    return t;
+}
+
+}  // namespace refraster::detail
+
+namespace refraster::detail {
+
+ExactShader::ExactShader(const ExactCoverage& coverage, const std::array<const StageVertex*, 3>& v,
+                         const VertexStage& stage, const Draw& draw, const Target& target, bool provoking_first)
+    : coverage_(coverage), v_(v), stage_(stage), draw_(draw), target_(target), provoking_first_(provoking_first) {
+    depth_test_ = draw.state.depth_test.has_value() && target.depth != DepthFormat::None;
+    if (draw.state.polygon_offset && depth_test_) {
+        // The slope of window z over window x and y: z is linear in window space. Only
+        // meaningful for triangles entirely in front of the eye.
+        std::array<std::array<double, 3>, 3> p{};
+        const auto& vp = draw.state.viewport;
+        const double n = draw.state.depth_near;
+        const double f = draw.state.depth_far;
+        for (std::size_t i = 0; i < 3; ++i) {
+            const auto& c = v[i]->clip;
+            p[i] = {(double{c[0]} / double{c[3]} + 1.0) * 0.5 * vp.width + vp.x,
+                    (double{c[1]} / double{c[3]} + 1.0) * 0.5 * vp.height + vp.y,
+                    double{c[2]} / double{c[3]} * 0.5 * (f - n) + 0.5 * (n + f)};
+        }
+        const double ax = p[1][0] - p[0][0], ay = p[1][1] - p[0][1], az = p[1][2] - p[0][2];
+        const double bx = p[2][0] - p[0][0], by = p[2][1] - p[0][1], bz = p[2][2] - p[0][2];
+        const double det = ax * by - ay * bx;
+        const double m = det == 0.0 ? 0.0 : std::max(std::fabs((az * by - ay * bz) / det), std::fabs((ax * bz - az * bx) / det));
+        double r = 0.0;
+        if (target.depth == DepthFormat::Z32f) {
+            const double maxz = std::max({std::fabs(p[0][2]), std::fabs(p[1][2]), std::fabs(p[2][2])});
+            int e = 0;
+            (void)std::frexp(maxz, &e);
+            r = std::ldexp(1.0, e - 1 - 23);
+        } else {
+            r = 1.0 / (target.depth == DepthFormat::Z16 ? 65535.0 : 16777215.0);
+        }
+        offset_ = m * double{draw.state.polygon_offset->factor} + r * double{draw.state.polygon_offset->units};
+    }
+}
+
+void ExactShader::shade(int x, int y, Framebuffer& fb) const {
+    const auto b = coverage_.weights(x, y);
+    const std::size_t i = fb.index(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y));
+    if (depth_test_) {
+        double zn = 0.0;
+        for (std::size_t k = 0; k < 3; ++k) zn += b[k] * double{v_[k]->clip[2]};
+        const double n = draw_.state.depth_near;
+        const double f = draw_.state.depth_far;
+        double z = zn * 0.5 * (f - n) + 0.5 * (n + f) + offset_;
+        z = std::min(std::max(z, 0.0), 1.0);
+        std::uint32_t q = 0;
+        switch (target_.depth) {
+            case DepthFormat::Z16: q = static_cast<std::uint32_t>(std::nearbyint(z * 65535.0)); break;
+            case DepthFormat::Z24: q = static_cast<std::uint32_t>(std::nearbyint(z * 16777215.0)); break;
+            case DepthFormat::Z32f: q = std::bit_cast<std::uint32_t>(static_cast<float>(z)); break;
+            case DepthFormat::None: break;
+        }
+        if (!compare(*draw_.state.depth_test, q, fb.depth[i], target_.depth == DepthFormat::Z32f)) return;
+        if (draw_.state.depth_write) fb.depth[i] = q;
+    }
+    std::array<float, 4> c{};
+    const auto a0 = stage_.attributes(*v_[0]);
+    const auto a1 = stage_.attributes(*v_[1]);
+    const auto a2 = stage_.attributes(*v_[2]);
+    const std::array<std::span<const float>, 3> a{a0, a1, a2};
+    for (std::size_t k = 0; k < 4; ++k) {
+        switch (draw_.state.shade) {
+            case ShadeModel::Flat: c[k] = a[provoking_first_ ? 0 : 2][k]; break;
+            case ShadeModel::Smooth: {
+                double s = 0.0;
+                for (std::size_t j = 0; j < 3; ++j) s += b[j] * double{a[j][k]};
+                c[k] = static_cast<float>(s);
+                break;
+            }
+            case ShadeModel::NoPerspective: {
+                double s = 0.0;
+                for (std::size_t j = 0; j < 3; ++j) s += b[j] * double{v_[j]->clip[3]} * double{a[j][k]};
+                c[k] = static_cast<float>(s);
+                break;
+            }
+        }
+    }
+    write_fragment_color(draw_, fb, i, c);
+}
+
+}  // namespace refraster::detail

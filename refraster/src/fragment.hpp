@@ -1,0 +1,128 @@
+// fragment.hpp: from a set-up triangle to bytes in the framebuffer, as llvmpipe computes them.
+//
+// Implements:
+//  - attribute planes (gallium/drivers/llvmpipe/lp_state_setup.c, init_args and calc_coef4):
+//    from the unsnapped window positions in setup's (swapped) vertex order,
+//    x0c = x0 - 0.5, ooa = 1 / (dx01*dy20 - dy01*dx20) with both products rounded, the deltas
+//    pre-multiplied by ooa, dadx = da01*dy20o - da20*dy01o, dady = da20*dx01o - da01*dx20o,
+//    A0 = a0 - (dadx*x0c + dady*y0c); smooth attributes are multiplied by their vertex's 1/w
+//    first (apply_perspective_corr); flat ones take the provoking vertex (emit_constant_coef4);
+//    window z and 1/w get planes of their own. All unfused.
+//  - polygon offset (lp_do_offset_tri): the slopes |dz/dx|, |dz/dy| from the cross product of
+//    the unscaled deltas times ooa; offset = units' + max slope * factor, where units' is
+//    units * 2 * mrd for fixed-point depth (lp_make_setup_variant_key), and for float depth
+//    units * 2^(exponent(max |z_i|) - 23).
+//  - per-pixel evaluation (lp_bld_interp.c, attribs_update_simple) at the pixel's integer
+//    coordinates: fmuladd(dady, py, fmuladd(dadx, px, A0)), fused when FMA is on; smooth
+//    values times 1 / (the 1/w plane's value), a true division.
+//  - depth: z plus the offset, clamped to [0, 1] (lp_build_depth_clamp), quantised
+//    RNE(fl(z * (2^n - 1))) for z16 and z24 (lp_build_clamped_float_to_unsigned_norm) or kept
+//    as float for z32f, the eight compare functions on those values, writes when enabled.
+//  - colour output: rgba8 RNE(fl(c * 255)) of the clamped colour (lp_build_conv); rgba32f
+//    unclamped; blending per scene format's presets: on rgba8 in 8-bit fixed point with
+//    M(x, y) = (x*y + ((x*y) >> 8) + 128) >> 8 and saturating adds (lp_bld_blend, measured in
+//    mesa-22.3-rules-2.md 5.2); on rgba32f in float, unfused.
+//
+// Deliberately does not: multisampling, stencil, colour masks, blend equations other than
+// the two presets.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "refraster/draw.hpp"
+#include "refraster/framebuffer.hpp"
+#include "exact_coverage.hpp"
+#include "refraster/trace.hpp"
+#include "vertex_stage.hpp"
+
+namespace refraster::detail {
+
+struct Plane {
+    float a0 = 0.0f;
+    float dadx = 0.0f;
+    float dady = 0.0f;
+};
+
+struct FragmentOptions {
+    bool fma = true;
+    bool flush_denormals = true;
+};
+
+// Everything the per-pixel stage needs for one triangle.
+class TriangleShader {
+public:
+    // `v` in setup's order (after the orientation swap); `attributes(v)` gives each vertex's
+    // attribute values; the colour is the first four.
+    TriangleShader(const std::array<const StageVertex*, 3>& v, const VertexStage& stage, const Draw& draw,
+                   const Target& target, bool provoking_first, FragmentOptions options);
+
+    // Shades the pixels [x0, x1) of row y into `fb`, with depth test and blending.
+    void shade_span(int y, int x0, int x1, Framebuffer& fb) const;
+
+    // The same decisions for one pixel, recorded (the pixel must be covered).
+    FragmentTrace trace_pixel(int x, int y, const Framebuffer& fb_before) const;
+
+private:
+    struct PixelResult {
+        bool depth_pass = true;
+        std::uint32_t depth = 0;  // quantised (z32f: bits)
+        float z = 0.0f;
+        std::array<float, 4> color{};
+    };
+    PixelResult evaluate(int x, int y, const Framebuffer& fb) const;
+    float eval_plane(const Plane& p, float px, float py) const;
+
+    const Draw& draw_;
+    Target target_;
+    FragmentOptions options_;
+    ShadeModel shade_;
+    bool depth_test_ = false;
+    Plane z_;
+    Plane w_;  // the 1/w plane
+    float z_offset_ = 0.0f;
+    std::array<Plane, 4> color_;
+    std::array<float, 4> flat_color_{};
+};
+
+// The exact oracle's fragments: attributes and depth from the exact homogeneous weights of the
+// pixel centre (perspective-correct: sum b_i a_i; noperspective: the screen-space weights
+// b_i w_i; flat: the provoking vertex), depth quantised by rounding the real value to
+// nearest, polygon offset as the GL specification states it (14.6.5: m * factor + r * units
+// with r = 1 / (2^n - 1), or 2^(e - 23) for float depth), the same output merge as llvmpipe's.
+class ExactShader {
+public:
+    ExactShader(const ExactCoverage& coverage, const std::array<const StageVertex*, 3>& v,
+                const VertexStage& stage, const Draw& draw, const Target& target, bool provoking_first);
+    void shade(int x, int y, Framebuffer& fb) const;
+
+private:
+    const ExactCoverage& coverage_;
+    std::array<const StageVertex*, 3> v_;
+    const VertexStage& stage_;
+    const Draw& draw_;
+    Target target_;
+    bool provoking_first_;
+    double offset_ = 0.0;
+    bool depth_test_ = false;
+};
+
+// The output merge shared by both models: conversion, blending and the colour write.
+void write_fragment_color(const Draw& draw, Framebuffer& fb, std::size_t i, const std::array<float, 4>& c);
+
+// glClearColor into rgba8: float_to_ubyte (util/u_math.h), which util_pack_color uses for
+// R8G8B8A8_UNORM: f * (255/256) + 32768 in float, then the low byte of the float's bits.
+std::uint8_t clear_to_unorm8(float c);
+
+// Fragment colour into rgba8: clamp to [0, 1], then RNE(fl(c * 255)) (mesa-22.3-rules.md 3.3).
+std::uint8_t color_to_unorm8(float c);
+
+// llvmpipe's 8-bit product (lp_build_mul_norm): (x*y + ((x*y) >> 8) + 128) >> 8.
+constexpr std::uint8_t unorm8_mul(std::uint32_t x, std::uint32_t y) {
+    const std::uint32_t p = x * y;
+    return static_cast<std::uint8_t>((p + (p >> 8) + 128) >> 8);
+}
+
+}  // namespace refraster::detail
