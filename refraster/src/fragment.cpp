@@ -76,12 +76,15 @@ bool compare(CompareFunc f, std::uint32_t frag, std::uint32_t stored, bool is_fl
 
 }  // namespace
 
-TriangleShader::TriangleShader(const std::array<const StageVertex*, 3>& v, const VertexStage& stage,
-                               const Draw& draw, const Target& target, bool provoking_first,
-                               FragmentOptions options)
-    : draw_(draw), target_(target), options_(options), shade_(draw.state.shade) {
-    const Fp fp{options.flush_denormals};
+FragmentShader::FragmentShader(const Planes& planes, const Draw& draw, const Target& target, FragmentOptions options)
+    : draw_(draw), target_(target), options_(options), shade_(draw.state.shade), p_(planes) {
     depth_test_ = draw.state.depth_test.has_value() && target.depth != DepthFormat::None;
+}
+
+Planes triangle_planes(const std::array<const StageVertex*, 3>& v, const VertexStage& stage, const Draw& draw,
+                       const Target& target, bool provoking_first, FragmentOptions options) {
+    const Fp fp{options.flush_denormals};
+    Planes out;
     const auto& p0 = v[0]->window;
     const auto& p1 = v[1]->window;
     const auto& p2 = v[2]->window;
@@ -112,11 +115,11 @@ TriangleShader::TriangleShader(const std::array<const StageVertex*, 3>& v, const
             std::int32_t ebits = static_cast<std::int32_t>(std::bit_cast<std::uint32_t>(maxz) & (0xffu << 23)) - (23 << 23);
             ebits = std::max(ebits, 0);
             const float scale = std::bit_cast<float>(static_cast<std::uint32_t>(ebits));
-            z_offset_ = fp.add(fp.mul(scale, units), mult);
+            out.z_offset = fp.add(fp.mul(scale, units), mult);
         } else {
             // lp_make_setup_variant_key: (float)(offset_units * mrd * 2), in double.
             const auto units_fixed = static_cast<float>(static_cast<double>(units) * depth_mrd(target.depth) * 2);
-            z_offset_ = fp.add(units_fixed, mult);
+            out.z_offset = fp.add(units_fixed, mult);
         }
     }
 
@@ -127,25 +130,26 @@ TriangleShader::TriangleShader(const std::array<const StageVertex*, 3>& v, const
     s.dy20o = fp.mul(d20[1], ooa);
     s.dx01o = fp.mul(d01[0], ooa);
     s.dy01o = fp.mul(d01[1], ooa);
-    z_ = calc_coef(fp, s, p0[2], p1[2], p2[2]);
-    w_ = calc_coef(fp, s, p0[3], p1[3], p2[3]);
+    out.z = calc_coef(fp, s, p0[2], p1[2], p2[2]);
+    out.w = calc_coef(fp, s, p0[3], p1[3], p2[3]);
 
     const auto c0 = stage.attributes(*v[0]);
     const auto c1 = stage.attributes(*v[1]);
     const auto c2 = stage.attributes(*v[2]);
     const auto& prov = provoking_first ? c0 : c2;
     for (std::size_t k = 0; k < 4; ++k) {
-        flat_color_[k] = prov[k];
-        if (shade_ == ShadeModel::Smooth) {
+        out.flat[k] = prov[k];
+        if (draw.state.shade == ShadeModel::Smooth) {
             // apply_perspective_corr: each vertex value times its own 1/w.
-            color_[k] = calc_coef(fp, s, fp.mul(c0[k], p0[3]), fp.mul(c1[k], p1[3]), fp.mul(c2[k], p2[3]));
-        } else if (shade_ == ShadeModel::NoPerspective) {
-            color_[k] = calc_coef(fp, s, c0[k], c1[k], c2[k]);
+            out.color[k] = calc_coef(fp, s, fp.mul(c0[k], p0[3]), fp.mul(c1[k], p1[3]), fp.mul(c2[k], p2[3]));
+        } else if (draw.state.shade == ShadeModel::NoPerspective) {
+            out.color[k] = calc_coef(fp, s, c0[k], c1[k], c2[k]);
         }
     }
+    return out;
 }
 
-float TriangleShader::eval_plane(const Plane& p, float px, float py) const {
+float FragmentShader::eval_plane(const Plane& p, float px, float py) const {
     const Fp fp{options_.flush_denormals};
     if (options_.fma) {
         return fp.f(std::fma(p.dady, py, fp.f(std::fma(p.dadx, px, p.a0))));
@@ -153,13 +157,13 @@ float TriangleShader::eval_plane(const Plane& p, float px, float py) const {
     return fp.add(fp.mul(p.dady, py), fp.add(fp.mul(p.dadx, px), p.a0));
 }
 
-TriangleShader::PixelResult TriangleShader::evaluate(int x, int y, const Framebuffer& fb) const {
+FragmentShader::PixelResult FragmentShader::evaluate(int x, int y, const Framebuffer& fb) const {
     const Fp fp{options_.flush_denormals};
     const float px = static_cast<float>(x);
     const float py = static_cast<float>(y);
     PixelResult r;
     if (depth_test_) {
-        float z = fp.add(eval_plane(z_, px, py), z_offset_);
+        float z = fp.add(eval_plane(p_.z, px, py), p_.z_offset);
         z = std::min(std::max(z, 0.0f), 1.0f);  // lp_build_clamp: max then min
         r.z = z;
         switch (target_.depth) {
@@ -172,12 +176,12 @@ TriangleShader::PixelResult TriangleShader::evaluate(int x, int y, const Framebu
         r.depth_pass = compare(*draw_.state.depth_test, r.depth, stored, target_.depth == DepthFormat::Z32f);
     }
     if (shade_ == ShadeModel::Flat) {
-        r.color = flat_color_;
+        r.color = p_.flat;
     } else if (shade_ == ShadeModel::NoPerspective) {
-        for (std::size_t k = 0; k < 4; ++k) r.color[k] = eval_plane(color_[k], px, py);
+        for (std::size_t k = 0; k < 4; ++k) r.color[k] = eval_plane(p_.color[k], px, py);
     } else {
-        const float w = fp.div(1.0f, eval_plane(w_, px, py));  // lp_build_rcp: a true division
-        for (std::size_t k = 0; k < 4; ++k) r.color[k] = fp.mul(eval_plane(color_[k], px, py), w);
+        const float w = fp.div(1.0f, eval_plane(p_.w, px, py));  // lp_build_rcp: a true division
+        for (std::size_t k = 0; k < 4; ++k) r.color[k] = fp.mul(eval_plane(p_.color[k], px, py), w);
     }
     return r;
 }
@@ -221,7 +225,7 @@ void write_fragment_color(const Draw& draw, Framebuffer& fb, std::size_t i, cons
     }
 }
 
-void TriangleShader::shade_span(int y, int x0, int x1, Framebuffer& fb) const {
+void FragmentShader::shade_span(int y, int x0, int x1, Framebuffer& fb) const {
     for (int x = x0; x < x1; ++x) {
         const PixelResult r = evaluate(x, y, fb);
         if (!r.depth_pass) continue;
@@ -231,11 +235,11 @@ void TriangleShader::shade_span(int y, int x0, int x1, Framebuffer& fb) const {
     }
 }
 
-FragmentTrace TriangleShader::trace_pixel(int x, int y, const Framebuffer& fb_before) const {
+FragmentTrace FragmentShader::trace_pixel(int x, int y, const Framebuffer& fb_before) const {
     FragmentTrace t;
-    t.z_plane = {z_.a0, z_.dadx, z_.dady};
-    t.w_plane = {w_.a0, w_.dadx, w_.dady};
-    t.z_offset = z_offset_;
+    t.z_plane = {p_.z.a0, p_.z.dadx, p_.z.dady};
+    t.w_plane = {p_.w.a0, p_.w.dadx, p_.w.dady};
+    t.z_offset = p_.z_offset;
     const PixelResult r = evaluate(x, y, fb_before);
     const std::size_t i = fb_before.index(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y));
     t.z = r.z;

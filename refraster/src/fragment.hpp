@@ -51,13 +51,25 @@ struct FragmentOptions {
     bool flush_denormals = true;
 };
 
-// Everything the per-pixel stage needs for one triangle.
-class TriangleShader {
+// The planes one primitive hands to the per-pixel stage: window z, 1/w, the colour's four
+// channels (premultiplied by 1/w for smooth shading), the flat colour, and the polygon offset.
+struct Planes {
+    Plane z;
+    Plane w;
+    std::array<Plane, 4> color;
+    std::array<float, 4> flat{};
+    float z_offset = 0.0f;
+};
+
+// Triangle planes (lp_state_setup.c); `v` in setup's order, after the orientation swap; the
+// colour is each vertex's first four attribute values.
+Planes triangle_planes(const std::array<const StageVertex*, 3>& v, const VertexStage& stage, const Draw& draw,
+                       const Target& target, bool provoking_first, FragmentOptions options);
+
+// Everything the per-pixel stage needs for one primitive.
+class FragmentShader {
 public:
-    // `v` in setup's order (after the orientation swap); `attributes(v)` gives each vertex's
-    // attribute values; the colour is the first four.
-    TriangleShader(const std::array<const StageVertex*, 3>& v, const VertexStage& stage, const Draw& draw,
-                   const Target& target, bool provoking_first, FragmentOptions options);
+    FragmentShader(const Planes& planes, const Draw& draw, const Target& target, FragmentOptions options);
 
     // Shades the pixels [x0, x1) of row y into `fb`, with depth test and blending.
     void shade_span(int y, int x0, int x1, Framebuffer& fb) const;
@@ -80,11 +92,7 @@ private:
     FragmentOptions options_;
     ShadeModel shade_;
     bool depth_test_ = false;
-    Plane z_;
-    Plane w_;  // the 1/w plane
-    float z_offset_ = 0.0f;
-    std::array<Plane, 4> color_;
-    std::array<float, 4> flat_color_{};
+    Planes p_;
 };
 
 // The exact oracle's fragments: attributes and depth from the exact homogeneous weights of the

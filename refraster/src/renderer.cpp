@@ -256,11 +256,13 @@ private:
             case detail::SetupOutcome::Ok: break;
         }
         // Attribute setup sees the vertices in setup's order, after the orientation swap.
-        const detail::TriangleShader shader({&st.v[static_cast<std::size_t>(t.order[0])],
-                                             &st.v[static_cast<std::size_t>(t.order[1])],
-                                             &st.v[static_cast<std::size_t>(t.order[2])]},
-                                            stage, draw_, target_, params_.provoking_first,
-                                            {fma_, profile_.flush_denormals});
+        const detail::FragmentOptions fo{fma_, profile_.flush_denormals};
+        const detail::FragmentShader shader(
+            detail::triangle_planes({&st.v[static_cast<std::size_t>(t.order[0])],
+                                     &st.v[static_cast<std::size_t>(t.order[1])],
+                                     &st.v[static_cast<std::size_t>(t.order[2])]},
+                                    stage, draw_, target_, params_.provoking_first, fo),
+            draw_, target_, fo);
         if constexpr (kTrace) {
             s.covered = pixel_in_box(t.bbox) && detail::covers_pixel(t, trace_->x, trace_->y);
             pt.covered = pt.covered || s.covered;
