@@ -16,6 +16,7 @@
 #include "assembly.hpp"
 #include "exact_coverage.hpp"
 #include "fragment.hpp"
+#include "line_point.hpp"
 #include "setup.hpp"
 #include "traverse.hpp"
 #include "vertex_stage.hpp"
@@ -83,15 +84,17 @@ RenderOutcome clear(const DrawList& list, Framebuffer& out) {
     return {};
 }
 
-std::string unsupported(const Draw& d, const Target& target) {
-    switch (d.primitive) {
-        case PrimitiveType::Triangles:
-        case PrimitiveType::TriangleStrip:
-        case PrimitiveType::TriangleFan: break;
-        default: return "the reference rasterizer does not draw " + std::string(to_string(d.primitive)) + " yet";
+bool is_triangle(PrimitiveType p) {
+    return p == PrimitiveType::Triangles || p == PrimitiveType::TriangleStrip || p == PrimitiveType::TriangleFan;
+}
+
+std::string unsupported(const Draw& d, const Profile& profile) {
+    if (is_triangle(d.primitive) && d.state.polygon_mode != PolygonMode::Fill) {
+        return "polygon_mode line and point are not implemented yet";
     }
-    if (d.state.polygon_mode != PolygonMode::Fill) return "polygon_mode line and point are not implemented yet";
-    (void)target;
+    if (!is_triangle(d.primitive) && profile.coverage == CoverageModel::Exact) {
+        return "the exact profile covers triangles only";
+    }
     return {};
 }
 
@@ -110,6 +113,8 @@ public:
     template <bool kTrace>
     void run() {
         detail::VertexStage stage(draw_, {fma_, profile_.flush_denormals, profile_.clipping == Clipping::GuardBand});
+        if (draw_.primitive == PrimitiveType::Points) return run_points<kTrace>(stage);
+        if (!is_triangle(draw_.primitive)) return run_lines<kTrace>(stage);
         const bool first = params_.provoking_first;
         const auto tris = detail::assemble_triangles(draw_.primitive, draw_.element_count(), first,
                                                      profile_.draw_segment_vertices);
@@ -142,10 +147,10 @@ public:
             if constexpr (kTrace) {
                 pt.draw = index_;
                 pt.primitive = p;
-                pt.vertices = idx;
                 for (std::size_t k = 0; k < 3; ++k) {
-                    pt.clip[k] = stage.vertex(idx[k]).clip;
-                    pt.clipmask[k] = stage.vertex(idx[k]).clipmask;
+                    pt.vertices.push_back(idx[k]);
+                    pt.clip.push_back(stage.vertex(idx[k]).clip);
+                    pt.clipmask.push_back(stage.vertex(idx[k]).clipmask);
                 }
                 pt.in_draw_pipeline = segment_clipped[at.segment];
             }
@@ -173,6 +178,106 @@ public:
     }
 
 private:
+    const detail::FragmentOptions fragment_options() const { return {fma_, profile_.flush_denormals}; }
+
+    template <bool kTrace, class PT, class Setup>
+    void trace_edges(PT& pt, SetupTrace& s, const Setup& t, const detail::FragmentShader& shader) {
+        if constexpr (kTrace) {
+            s.subpixel_bits = t.bits;
+            for (const auto& e : t.edges) {
+                const std::int64_t v = e.at(trace_->x, trace_->y, t.bits);
+                s.edges.push_back({e.a, e.b, e.c, e.owns_ties, v, v - (e.owns_ties ? 1 : 0) == 0});
+            }
+            bool in = pixel_in_box(t.bbox);
+            for (const auto& e : t.edges) in = in && e.at(trace_->x, trace_->y, t.bits) > 0;
+            s.covered = in;
+            pt.covered = pt.covered || in;
+            if (in) {
+                s.has_fragment = true;
+                s.fragment = shader.trace_pixel(trace_->x, trace_->y, fb_);
+            }
+            s.outcome = "drawn";
+        }
+    }
+
+    // Lines: assembly, clipping (do_clip_line), then try_setup_line and the shared fragment
+    // stage. Lines are never culled.
+    template <bool kTrace>
+    void run_lines(detail::VertexStage& stage) {
+        const bool first = params_.provoking_first;
+        const auto segs = detail::assemble_lines(draw_.primitive, draw_.element_count());
+        for (std::size_t p = 0; p < segs.size(); ++p) {
+            const std::uint32_t a = draw_.element(segs[p][0]);
+            const std::uint32_t b = draw_.element(segs[p][1]);
+            [[maybe_unused]] std::conditional_t<kTrace, PrimitiveTrace, NoTrace> pt;
+            if constexpr (kTrace) {
+                pt.draw = index_;
+                pt.primitive = p;
+                pt.kind = "line";
+                for (auto v : {a, b}) {
+                    pt.vertices.push_back(v);
+                    pt.clip.push_back(stage.vertex(v).clip);
+                    pt.clipmask.push_back(stage.vertex(v).clipmask);
+                }
+            }
+            const auto clipped = stage.clip_line(a, b, first);
+            if (!clipped) {
+                if constexpr (kTrace) {
+                    pt.note = "clipped away entirely";
+                    trace_->primitives.push_back(std::move(pt));
+                }
+                continue;
+            }
+            const auto& [v1, v2] = *clipped;
+            const auto setup = detail::setup_line(v1, v2, draw_.state.line_width, params_);
+            if (!setup) continue;
+            const detail::FragmentShader shader(detail::line_planes(v1, v2, stage, draw_, first, fragment_options()),
+                                                draw_, target_, fragment_options());
+            if constexpr (kTrace) {
+                SetupTrace s;
+                s.window = {v1.window, v2.window};
+                s.clipped = v1.generated || v2.generated;
+                s.x.assign(setup->x.begin(), setup->x.end());
+                s.y.assign(setup->y.begin(), setup->y.end());
+                trace_edges<kTrace>(pt, s, *setup, shader);
+                pt.setups.push_back(s);
+            }
+            detail::traverse_convex(*setup, [&](int y, int x0, int x1) { shader.shade_span(y, x0, x1, fb_); });
+            if constexpr (kTrace) {
+                if (pt.covered || relevant(pt)) trace_->primitives.push_back(std::move(pt));
+            }
+        }
+    }
+
+    // Points: clipped by their centre (draw_pipe_clip.c clip_point), then quad points.
+    template <bool kTrace>
+    void run_points(detail::VertexStage& stage) {
+        for (std::size_t p = 0; p < draw_.element_count(); ++p) {
+            const std::uint32_t i = draw_.element(p);
+            const auto& v = stage.vertex(i);
+            if (v.clipmask != 0) continue;
+            const auto setup = detail::setup_point(v, draw_.state.point_size, params_);
+            if (!setup) continue;
+            const detail::FragmentShader shader(detail::point_planes(v, stage, draw_, fragment_options()), draw_,
+                                                target_, fragment_options());
+            if constexpr (kTrace) {
+                PrimitiveTrace pt;
+                pt.draw = index_;
+                pt.primitive = p;
+                pt.kind = "point";
+                pt.vertices = {i};
+                pt.clip = {v.clip};
+                pt.clipmask = {v.clipmask};
+                SetupTrace s;
+                s.window = {v.window};
+                trace_edges<kTrace>(pt, s, *setup, shader);
+                pt.setups.push_back(s);
+                if (pt.covered) trace_->primitives.push_back(std::move(pt));
+            }
+            detail::traverse_convex(*setup, [&](int y, int x0, int x1) { shader.shade_span(y, x0, x1, fb_); });
+        }
+    }
+
     // lp_setup_analyse_triangles (lp_setup_analysis.c), reached from lp_setup_draw_arrays for
     // a non-indexed triangle list of exactly 9 vertices drawn without constant-interpolated
     // inputs and without the draw pipeline: when the last triangle's three window y values are
@@ -202,11 +307,12 @@ private:
         // A primitive is worth showing when one of its set-up triangles' boxes (before the
         // draw region) holds the pixel.
         for (const auto& s : pt.setups) {
-            const auto [xmin, xmax] = std::minmax({s.x[0], s.x[1], s.x[2]});
-            const auto [ymin, ymax] = std::minmax({s.y[0], s.y[1], s.y[2]});
+            if (s.x.empty()) continue;
+            const auto [xmin, xmax] = std::minmax_element(s.x.begin(), s.x.end());
+            const auto [ymin, ymax] = std::minmax_element(s.y.begin(), s.y.end());
             const int b = s.subpixel_bits;
-            if (trace_->x >= (xmin >> b) && trace_->x <= ((xmax - 1) >> b) + 1 && trace_->y >= (ymin >> b) &&
-                trace_->y <= ((ymax - 1) >> b) + 1) {
+            if (trace_->x >= (*xmin >> b) && trace_->x <= ((*xmax - 1) >> b) + 1 && trace_->y >= (*ymin >> b) &&
+                trace_->y <= ((*ymax - 1) >> b) + 1) {
                 return true;
             }
         }
@@ -217,7 +323,7 @@ private:
     void draw_snapped(const detail::VertexStage& stage, const StageTriangle& st, bool in_pipeline, PT& pt) {
         [[maybe_unused]] std::conditional_t<kTrace, SetupTrace, NoTrace> s;
         if constexpr (kTrace) {
-            for (std::size_t k = 0; k < 3; ++k) s.window[k] = st.v[k].window;
+            for (std::size_t k = 0; k < 3; ++k) s.window.push_back(st.v[k].window);
             s.clipped = st.clipped;
             s.subpixel_bits = params_.bits;
         }
@@ -237,15 +343,15 @@ private:
                                                      {st.v[2].window[0], st.v[2].window[1]}}};
         const auto outcome = detail::setup_triangle(w, params_, t);
         if constexpr (kTrace) {
-            s.x = t.x;
-            s.y = t.y;
+            s.x.assign(t.x.begin(), t.x.end());
+            s.y.assign(t.y.begin(), t.y.end());
             s.order = t.order;
             s.area = t.area;
             s.front_facing = t.front_facing;
             for (std::size_t k = 0; k < 3; ++k) {
                 const auto& e = t.edges[k];
                 const std::int64_t v = e.at(trace_->x, trace_->y, t.bits);
-                s.edges[k] = {e.a, e.b, e.c, e.owns_ties, v, v - (e.owns_ties ? 1 : 0) == 0};
+                s.edges.push_back({e.a, e.b, e.c, e.owns_ties, v, v - (e.owns_ties ? 1 : 0) == 0});
             }
         }
         switch (outcome) {
@@ -304,6 +410,7 @@ private:
             const auto owns = ex.owns_ties();
             SetupTrace s;
             s.outcome = "exact";
+            s.edges.resize(3);
             for (std::size_t k = 0; k < 3; ++k) {
                 s.edges[k].value = signs[k];
                 s.edges[k].owns_ties = owns[k];
@@ -341,7 +448,7 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
     for (std::size_t i = 0; i < list.draws.size(); ++i) {
         const Draw& d = list.draws[i];
         if (primitive_count(d.primitive, d.element_count()) == 0) continue;
-        if (auto why = unsupported(d, list.target); !why.empty()) {
+        if (auto why = unsupported(d, options.profile); !why.empty()) {
             return {RenderStatus::NotSupported, why + " (draws[" + std::to_string(i) + "])"};
         }
     }

@@ -10,8 +10,12 @@
 // Deliberately does not: evaluate attributes or know about fragments.
 #pragma once
 
+#include <algorithm>
 #include <bit>
 #include <cstdint>
+#include <iterator>
+#include <tuple>
+#include <utility>
 
 #include "setup.hpp"
 
@@ -25,9 +29,12 @@ static_assert(kEdgeDeltaBits + 2 + 1 < 31, "4x4 block stepping must fit int32");
 inline constexpr int kTileSize = 64;
 
 // Calls visit(y, x_begin, x_end) (x_end exclusive) for every run of covered pixels, row by
-// row within each tile; tiles in raster order.
-template <class Visit>
-void traverse_triangle(const TriangleSetup& t, Visit&& visit) {
+// row within each tile; tiles in raster order. `Setup` is any convex primitive with `edges`
+// (a std::array of EdgeFunction: 3 for triangles, 4 for lines), `bbox` and `bits`.
+template <class Setup, class Visit>
+void traverse_convex(const Setup& t, Visit&& visit) {
+    constexpr unsigned kEdges = static_cast<unsigned>(std::tuple_size_v<decltype(t.edges)>);
+    constexpr unsigned kAll = (1u << kEdges) - 1;
     const PixelRect box = t.bbox;
     if (box.empty()) return;
     const int bits = t.bits;
@@ -53,7 +60,7 @@ void traverse_triangle(const TriangleSetup& t, Visit&& visit) {
                 // Clip the block to the box: blocks outside it contribute nothing.
                 if (bx > box.x1 || by > box.y1 || bx + size - 1 < box.x0 || by + size - 1 < box.y0) return;
                 unsigned still = 0;
-                for (unsigned i = 0; i < 3; ++i) {
+                for (unsigned i = 0; i < kEdges; ++i) {
                     if (!(live & (1u << i))) continue;
                     const EdgeFunction& e = t.edges[i];
                     const std::int64_t e0 = e.at(bx, by, bits);
@@ -81,11 +88,11 @@ void traverse_triangle(const TriangleSetup& t, Visit&& visit) {
                     return;
                 }
                 // A 4x4 block that some edges cross: step q = (E - 1) >> bits in int32.
-                std::int32_t q_row[3] = {0, 0, 0};
-                std::int32_t step_x[3] = {0, 0, 0};
-                std::int32_t step_y[3] = {0, 0, 0};
+                std::int32_t q_row[kEdges] = {};
+                std::int32_t step_x[kEdges] = {};
+                std::int32_t step_y[kEdges] = {};
                 unsigned n_edges = 0;
-                for (unsigned i = 0; i < 3; ++i) {
+                for (unsigned i = 0; i < kEdges; ++i) {
                     if (!(still & (1u << i))) continue;
                     const EdgeFunction& e = t.edges[i];
                     q_row[n_edges] = checked_narrow<std::int32_t>((e.at(x_lo, y_lo, bits) - 1) >> bits);
@@ -94,7 +101,8 @@ void traverse_triangle(const TriangleSetup& t, Visit&& visit) {
                     ++n_edges;
                 }
                 for (int y = y_lo; y <= y_hi; ++y) {
-                    std::int32_t q[3] = {q_row[0], q_row[1], q_row[2]};
+                    std::int32_t q[kEdges];
+                    std::copy(std::begin(q_row), std::end(q_row), std::begin(q));
                     std::uint64_t m = 0;
                     for (int x = x_lo; x <= x_hi; ++x) {
                         bool in = true;
@@ -111,7 +119,7 @@ void traverse_triangle(const TriangleSetup& t, Visit&& visit) {
                     for (unsigned k = 0; k < n_edges; ++k) q_row[k] = checked_add(q_row[k], step_y[k]);
                 }
             };
-            block(block, tx, ty, kTileSize, 0b111u);
+            block(block, tx, ty, kTileSize, kAll);
             if (!any) continue;
             for (int r = 0; r < kTileSize; ++r) {
                 std::uint64_t m = rows[r];
@@ -124,6 +132,11 @@ void traverse_triangle(const TriangleSetup& t, Visit&& visit) {
             }
         }
     }
+}
+
+template <class Visit>
+void traverse_triangle(const TriangleSetup& t, Visit&& visit) {
+    traverse_convex(t, std::forward<Visit>(visit));
 }
 
 }  // namespace refraster::detail

@@ -214,6 +214,50 @@ void VertexStage::clip_triangle(const std::array<std::uint32_t, 3>& idx, bool pr
     }
 }
 
+std::optional<std::array<StageVertex, 2>> VertexStage::clip_line(std::uint32_t a, std::uint32_t b,
+                                                                bool provoking_first) {
+    const StageVertex& v0 = vertices_[a];
+    const StageVertex& v1 = vertices_[b];
+    std::uint32_t mask = v0.clipmask | v1.clipmask;
+    if (mask == 0) return std::array<StageVertex, 2>{v0, v1};
+    if ((v0.clipmask & v1.clipmask) != 0) return std::nullopt;
+    const Fp fp{options_.flush_denormals};
+    const auto distance = [&](const StageVertex& v, int plane) {
+        const float* p = kPlanes[plane];
+        return fp.add(fp.add(fp.add(fp.mul(v.clip[0], p[0]), fp.mul(v.clip[1], p[1])), fp.mul(v.clip[2], p[2])),
+                      fp.mul(v.clip[3], p[3]));
+    };
+    float t0 = 0.0f;
+    float t1 = 0.0f;
+    while (mask != 0) {
+        const int plane = std::countr_zero(mask);
+        mask &= mask - 1;
+        const float dp0 = distance(v0, plane);
+        const float dp1 = distance(v1, plane);
+        if (!std::isfinite(dp0) || !std::isfinite(dp1)) return std::nullopt;
+        if (dp1 < 0.0f) {
+            const float t = fp.div(dp1, fp.sub(dp1, dp0));
+            t1 = t1 > t ? t1 : t;  // MAX2
+        }
+        if (dp0 < 0.0f) {
+            const float t = fp.div(dp0, fp.sub(dp0, dp1));
+            t0 = t0 > t ? t0 : t;
+        }
+        if (fp.add(t0, t1) >= 1.0f) return std::nullopt;
+    }
+    const StageVertex& provoking = provoking_first ? v0 : v1;
+    std::array<StageVertex, 2> out{v0, v1};
+    if (v0.clipmask != 0) {
+        out[0] = interpolate(t0, v0, v1);
+        if (draw_.state.shade == ShadeModel::Flat) out[0] = duplicate_with_flat(out[0], provoking);
+    }
+    if (v1.clipmask != 0) {
+        out[1] = interpolate(t1, v1, v0);
+        if (draw_.state.shade == ShadeModel::Flat) out[1] = duplicate_with_flat(out[1], provoking);
+    }
+    return out;
+}
+
 bool passes_draw_cull(const StageTriangle& t, CullMode cull, bool front_ccw) {
     if (cull == CullMode::None) return true;
     // draw_pipe_cull.c cull_tri: e = v0 - v2, f = v1 - v2, det = ex*fy - ey*fx (unfused).

@@ -23,6 +23,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -84,6 +85,11 @@ public:
     // with no clip bit set is appended unchanged; one entirely outside a plane appends nothing.
     void clip_triangle(const std::array<std::uint32_t, 3>& indices, bool provoking_first,
                        std::vector<StageTriangle>& out, std::vector<std::vector<StageVertex>>* polygon_trace);
+
+    // draw_pipe_clip.c clip_line / do_clip_line: the segment (a, b) in setup order, cut back
+    // by the largest t from each end over the set planes; nullopt when nothing is left. New
+    // ends get the provoking vertex's flat attributes (copy_flat).
+    std::optional<std::array<StageVertex, 2>> clip_line(std::uint32_t a, std::uint32_t b, bool provoking_first);
 
     const ViewportTransform& viewport() const { return vp_; }
 

@@ -42,16 +42,16 @@ struct FragmentTrace {
 };
 
 struct SetupTrace {
-    std::array<std::array<float, 4>, 3> window{};  // x, y, z, 1/w in setup's input order
+    std::vector<std::array<float, 4>> window;  // x, y, z, 1/w in setup's input order
     bool clipped = false;                          // made by the clipper
     std::string outcome;  // "drawn", "zero area", "culled (back)", "culled by draw module", ...
     int subpixel_bits = 8;
-    std::array<std::int32_t, 3> x{};  // snapped, after the orientation swap
-    std::array<std::int32_t, 3> y{};
+    std::vector<std::int32_t> x;  // snapped corners (triangles: after the orientation swap)
+    std::vector<std::int32_t> y;
     std::array<int, 3> order{0, 1, 2};
     std::int64_t area = 0;
     bool front_facing = true;
-    std::array<EdgeTrace, 3> edges;
+    std::vector<EdgeTrace> edges;  // 3 for triangles, 4 for lines and points
     bool covered = false;
     bool has_fragment = false;
     FragmentTrace fragment;  // when covered
@@ -60,9 +60,10 @@ struct SetupTrace {
 struct PrimitiveTrace {
     std::size_t draw = 0;
     std::size_t primitive = 0;  // index of the assembled primitive within its draw
-    std::array<std::uint32_t, 3> vertices{};  // vertex indices, in setup order
-    std::array<std::array<float, 4>, 3> clip{};
-    std::array<std::uint32_t, 3> clipmask{};
+    std::string kind = "triangle";             // "triangle", "line", "point"
+    std::vector<std::uint32_t> vertices;       // vertex indices, in setup order
+    std::vector<std::array<float, 4>> clip;
+    std::vector<std::uint32_t> clipmask;
     bool in_draw_pipeline = false;  // its vertex segment needed clipping
     std::vector<std::vector<std::array<float, 4>>> clipped_polygon;  // clip-space, if clipped
     std::vector<SetupTrace> setups;

@@ -1,0 +1,322 @@
+#include "line_point.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace refraster::detail {
+
+namespace {
+
+// util_iround on x86-64 (util/u_math.h): (int)(f + 0.5f) or (int)(f - 0.5f), in float.
+std::optional<std::int32_t> iround(float f) {
+    const float r = f >= 0.0f ? f + 0.5f : f - 0.5f;
+    if (!std::isfinite(r) || std::fabs(r) >= static_cast<float>(1 << kSnappedBits)) return std::nullopt;
+    return static_cast<std::int32_t>(r);
+}
+
+// subpixel_snap in lp_setup_line.c / lp_setup_point.c: util_iround(FIXED_ONE * a).
+std::optional<std::int32_t> snap(float a, int bits) { return iround(static_cast<float>(1 << bits) * a); }
+
+bool nonneg(float x) { return x >= 0; }  // lp_setup_line.c sign()
+
+float fracf(float f) { return f - std::floor(f); }
+
+bool owns(std::int32_t a, std::int32_t b, TieRule rule) {
+    const bool left = rule == TieRule::LeftBottom || rule == TieRule::LeftTop;
+    const bool bottom = rule == TieRule::LeftBottom || rule == TieRule::RightBottom;
+    if (a != 0) return (-a > 0) == left;
+    return (b > 0) == bottom;
+}
+
+EdgeFunction edge(std::int32_t xi, std::int32_t yi, std::int32_t xj, std::int32_t yj, TieRule rule) {
+    EdgeFunction e;
+    e.a = checked_sub(yi, yj);
+    e.b = checked_sub(xi, xj);
+    e.owns_ties = owns(e.a, e.b, rule);
+    e.c = checked_add(checked_sub(wide_mul(e.a, xi), wide_mul(e.b, yi)), std::int64_t{e.owns_ties ? 1 : 0});
+    return e;
+}
+
+int ceil_shift(std::int32_t v, int bits) { return (v + (1 << bits) - 1) >> bits; }
+
+bool owns_right(TieRule r) { return r == TieRule::RightBottom || r == TieRule::RightTop; }
+bool owns_top(TieRule r) { return r == TieRule::LeftTop || r == TieRule::RightTop; }
+
+}  // namespace
+
+std::vector<std::array<std::uint32_t, 2>> assemble_lines(PrimitiveType p, std::size_t count) {
+    std::vector<std::array<std::uint32_t, 2>> out;
+    const auto u = [](std::size_t v) { return static_cast<std::uint32_t>(v); };
+    switch (p) {
+        case PrimitiveType::Lines:
+            for (std::size_t i = 0; i + 1 < count; i += 2) out.push_back({u(i), u(i + 1)});
+            break;
+        case PrimitiveType::LineStrip:
+        case PrimitiveType::LineLoop:
+            for (std::size_t i = 0; i + 1 < count; ++i) out.push_back({u(i), u(i + 1)});
+            if (p == PrimitiveType::LineLoop && count >= 2) out.push_back({u(count - 1), 0});
+            break;
+        default: break;
+    }
+    return out;
+}
+
+std::optional<LineSetup> setup_line(const StageVertex& sv1, const StageVertex& sv2, float line_width,
+                                    const SetupParams& p) {
+    // try_setup_line, the non-rectangular branch, step by step in the driver's float order.
+    const float* v1 = sv1.window.data();
+    const float* v2 = sv2.window.data();
+    const float width = std::max(1.0f, line_width);
+    float dx = v1[0] - v2[0];
+    float dy = v1[1] - v2[1];
+    const float area = dx * dx + dy * dy;
+    if (area == 0) return std::nullopt;
+    const float pixel_offset = p.pixel_center_offset;
+
+    float x_offset = 0, y_offset = 0, x_offset_end = 0, y_offset_end = 0;
+    float x1diff = v1[0] - std::floor(v1[0]) - 0.5f;
+    float y1diff = v1[1] - std::floor(v1[1]) - 0.5f;
+    float x2diff = v2[0] - std::floor(v2[0]) - 0.5f;
+    float y2diff = v2[1] - std::floor(v2[1]) - 0.5f;
+    const auto iw = iround(width);
+    if (!iw) return std::nullopt;
+    const std::int32_t fixed_width = *iw * (1 << p.bits);
+    LineSetup L;
+    L.bits = p.bits;
+    bool draw_start = false;
+    bool draw_end = false;
+    std::array<std::optional<std::int32_t>, 8> s{};  // x[0..3], y[0..3] before the width
+
+    if (std::fabs(dx) >= std::fabs(dy)) {
+        L.x_major = true;
+        const float dydx = dy / dx;
+        if (y2diff == -0.5f && dy < 0) y2diff = 0.5f;
+        if (std::fabs(x1diff) + std::fabs(y1diff) < 0.5f) {
+            draw_start = true;
+        } else if (nonneg(x1diff) == nonneg(-dx)) {
+            draw_start = false;
+        } else if (nonneg(-y1diff) != nonneg(dy)) {
+            draw_start = true;
+        } else {
+            const float yintersect = fracf(v1[1]) + x1diff * dydx;
+            draw_start = yintersect < 1.0f && yintersect > 0.0f;
+        }
+        if (std::fabs(x2diff) + std::fabs(y2diff) < 0.5f) {
+            draw_end = false;
+        } else if (nonneg(x2diff) != nonneg(-dx)) {
+            draw_end = false;
+        } else if (nonneg(-y2diff) == nonneg(dy)) {
+            draw_end = true;
+        } else {
+            const float yintersect = fracf(v2[1]) + x2diff * dydx;
+            draw_end = yintersect < 1.0f && yintersect > 0.0f;
+        }
+        const bool will_draw_start = nonneg(-x1diff) != nonneg(dx);
+        const bool will_draw_end = nonneg(x2diff) == nonneg(-dx) || x2diff == 0;
+        if (dx < 0) {
+            std::swap(v1, v2);
+            dx = -dx;
+            dy = -dy;
+            if (will_draw_start != draw_start) {
+                x_offset_end = -x1diff - 0.5f;
+                y_offset_end = x_offset_end * dydx;
+            }
+            if (will_draw_end != draw_end) {
+                x_offset = -x2diff - 0.5f;
+                y_offset = x_offset * dydx;
+            }
+        } else {
+            if (will_draw_start != draw_start) {
+                x_offset = -x1diff + 0.5f;
+                y_offset = x_offset * dydx;
+            }
+            if (will_draw_end != draw_end) {
+                x_offset_end = -x2diff + 0.5f;
+                y_offset_end = x_offset_end * dydx;
+            }
+        }
+        s[0] = snap(v1[0] + x_offset - pixel_offset, p.bits);
+        s[1] = snap(v2[0] + x_offset_end - pixel_offset, p.bits);
+        s[2] = s[1];
+        s[3] = s[0];
+        const auto ya = snap(v1[1] + y_offset - pixel_offset, p.bits);
+        const auto yb = snap(v2[1] + y_offset_end - pixel_offset, p.bits);
+        if (!ya || !yb) return std::nullopt;
+        s[4] = *ya - fixed_width / 2;
+        s[5] = *yb - fixed_width / 2;
+        s[6] = *yb + fixed_width / 2;
+        s[7] = *ya + fixed_width / 2;
+    } else {
+        L.x_major = false;
+        const float dxdy = dx / dy;
+        if (x2diff == -0.5f && dx < 0) x2diff = 0.5f;
+        if (std::fabs(x1diff) + std::fabs(y1diff) < 0.5f) {
+            draw_start = true;
+        } else if (nonneg(-y1diff) == nonneg(dy)) {
+            draw_start = false;
+        } else if (nonneg(x1diff) != nonneg(-dx)) {
+            draw_start = true;
+        } else {
+            const float xintersect = fracf(v1[0]) + y1diff * dxdy;
+            draw_start = xintersect < 1.0f && xintersect > 0.0f;
+        }
+        if (std::fabs(x2diff) + std::fabs(y2diff) < 0.5f) {
+            draw_end = false;
+        } else if (nonneg(-y2diff) != nonneg(dy)) {
+            draw_end = false;
+        } else if (nonneg(x2diff) == nonneg(-dx)) {
+            draw_end = true;
+        } else {
+            const float xintersect = fracf(v2[0]) + y2diff * dxdy;
+            draw_end = xintersect < 1.0f && xintersect >= 0.0f;
+        }
+        const bool will_draw_start = nonneg(y1diff) == nonneg(dy);
+        const bool will_draw_end = nonneg(-y2diff) == nonneg(dy) || y2diff == 0;
+        if (dy > 0) {
+            std::swap(v1, v2);
+            dx = -dx;
+            dy = -dy;
+            if (will_draw_start != draw_start) {
+                y_offset_end = -y1diff + 0.5f;
+                x_offset_end = y_offset_end * dxdy;
+            }
+            if (will_draw_end != draw_end) {
+                y_offset = -y2diff + 0.5f;
+                x_offset = y_offset * dxdy;
+            }
+        } else {
+            if (will_draw_start != draw_start) {
+                y_offset = -y1diff - 0.5f;
+                x_offset = y_offset * dxdy;
+            }
+            if (will_draw_end != draw_end) {
+                y_offset_end = -y2diff - 0.5f;
+                x_offset_end = y_offset_end * dxdy;
+            }
+        }
+        const auto xa = snap(v1[0] + x_offset - pixel_offset, p.bits);
+        const auto xb = snap(v2[0] + x_offset_end - pixel_offset, p.bits);
+        if (!xa || !xb) return std::nullopt;
+        s[0] = *xa - fixed_width / 2;
+        s[1] = *xb - fixed_width / 2;
+        s[2] = *xb + fixed_width / 2;
+        s[3] = *xa + fixed_width / 2;
+        s[4] = snap(v1[1] + y_offset - pixel_offset, p.bits);
+        s[5] = snap(v2[1] + y_offset_end - pixel_offset, p.bits);
+        s[6] = s[5];
+        s[7] = s[4];
+    }
+    for (const auto& v : s) {
+        if (!v) return std::nullopt;
+    }
+    for (std::size_t i = 0; i < 4; ++i) {
+        L.x[i] = *s[i];
+        L.y[i] = *s[4 + i];
+    }
+    L.draw_start = draw_start;
+    L.draw_end = draw_end;
+    for (std::size_t i = 0; i < 4; ++i) {
+        const std::size_t j = (i + 1) % 4;
+        L.edges[i] = edge(L.x[i], L.y[i], L.x[j], L.y[j], p.tie_rule);
+    }
+    // The box: inclusive x0, y0 rounded up; x1, y1 one below the rounded-up maximum (the
+    // driver's, for rules owning left and bottom edges); rules owning right or top edges keep
+    // the pixel on the maximum.
+    const auto [xmin, xmax] = std::minmax_element(L.x.begin(), L.x.end());
+    const auto [ymin, ymax] = std::minmax_element(L.y.begin(), L.y.end());
+    const int x1 = owns_right(p.tie_rule) ? (*xmax >> p.bits) : ceil_shift(*xmax, p.bits) - 1;
+    const int y1 = owns_top(p.tie_rule) ? (*ymax >> p.bits) : ceil_shift(*ymax, p.bits) - 1;
+    L.bbox = intersect({ceil_shift(*xmin, p.bits), ceil_shift(*ymin, p.bits), x1, y1}, p.draw_region);
+    if (L.bbox.empty()) return std::nullopt;
+    return L;
+}
+
+Planes line_planes(const StageVertex& v1, const StageVertex& v2, const VertexStage& stage, const Draw& draw,
+                   bool provoking_first, FragmentOptions options) {
+    // setup_line_coefficients: C arithmetic (no fusion: baseline x86-64), under FTZ.
+    const auto f = [&](float v) { return options.flush_denormals ? flush_denormal(v) : v; };
+    const float* a = v1.window.data();
+    const float* b = v2.window.data();
+    const float dx = f(a[0] - b[0]);
+    const float dy = f(a[1] - b[1]);
+    const float area = f(f(dx * dx) + f(dy * dy));
+    const float oneoverarea = f(1.0f / area);
+    float info_dx = dx;
+    float info_dy = dy;
+    if (std::fabs(dx) >= std::fabs(dy)) {
+        const float dydx = f(dy / dx);
+        info_dx = f(info_dx * f(1.0f + f(dydx * dydx)));
+        info_dy = 0.0f;
+    } else {
+        const float dxdy = f(dx / dy);
+        info_dx = 0.0f;
+        info_dy = f(info_dy * f(1.0f + f(dxdy * dxdy)));
+    }
+    const float x0c = f(a[0] - 0.5f);
+    const float y0c = f(a[1] - 0.5f);
+    const auto linear = [&](float a1, float a2) {
+        const float da21 = f(a1 - a2);
+        Plane pl;
+        pl.dadx = f(f(da21 * info_dx) * oneoverarea);
+        pl.dady = f(f(da21 * info_dy) * oneoverarea);
+        pl.a0 = f(a1 - f(f(pl.dadx * x0c) + f(pl.dady * y0c)));
+        return pl;
+    };
+    Planes out;
+    out.z = linear(a[2], b[2]);
+    out.w = linear(a[3], b[3]);
+    const auto c1 = stage.attributes(v1);
+    const auto c2 = stage.attributes(v2);
+    for (std::size_t k = 0; k < 4; ++k) {
+        out.flat[k] = provoking_first ? c1[k] : c2[k];
+        if (draw.state.shade == ShadeModel::Smooth) {
+            out.color[k] = linear(f(c1[k] * a[3]), f(c2[k] * b[3]));  // perspective_coef
+        } else if (draw.state.shade == ShadeModel::NoPerspective) {
+            out.color[k] = linear(c1[k], c2[k]);
+        }
+    }
+    return out;
+}
+
+std::optional<PointSetup> setup_point(const StageVertex& v, float size, const SetupParams& p) {
+    // try_setup_point, quad points: fixed_width = MAX2(FIXED_ONE, subpixel_snap(size)),
+    // origin subpixel_snap(pos - pixel_offset) - fixed_width / 2.
+    size = std::min(size, 255.0f);  // LP_MAX_POINT_WIDTH
+    const auto fw_snapped = snap(size, p.bits);
+    const auto xs = snap(v.window[0] - p.pixel_center_offset, p.bits);
+    const auto ys = snap(v.window[1] - p.pixel_center_offset, p.bits);
+    if (!fw_snapped || !xs || !ys) return std::nullopt;
+    const std::int32_t fw = std::max(1 << p.bits, *fw_snapped);
+    const std::int32_t x0 = *xs - fw / 2;
+    const std::int32_t y0 = *ys - fw / 2;
+    const std::int32_t x1 = x0 + fw;
+    const std::int32_t y1 = y0 + fw;
+    PointSetup s;
+    s.bits = p.bits;
+    // Left, right, bottom, top, oriented like a set-up triangle (interior where E > 0): the
+    // planes of try_setup_point, with the tie rule's +1 on the owned sides.
+    s.edges = {edge(x0, y0, x0, y1, p.tie_rule), edge(x1, y1, x1, y0, p.tie_rule),
+               edge(x1, y0, x0, y0, p.tie_rule), edge(x0, y1, x1, y1, p.tie_rule)};
+    const int bx1 = owns_right(p.tie_rule) ? (x1 >> p.bits) : ceil_shift(x1, p.bits) - 1;
+    const int by1 = owns_top(p.tie_rule) ? (y1 >> p.bits) : ceil_shift(y1, p.bits) - 1;
+    s.bbox = intersect({x0 >> p.bits, y0 >> p.bits, bx1, by1}, p.draw_region);
+    if (s.bbox.empty()) return std::nullopt;
+    return s;
+}
+
+Planes point_planes(const StageVertex& v, const VertexStage& stage, const Draw& draw, FragmentOptions options) {
+    // setup_point_coefficients: every attribute constant; smooth ones premultiplied by 1/w
+    // (point_persp_coeff) and divided again per pixel by the constant 1/w plane.
+    const auto f = [&](float x) { return options.flush_denormals ? flush_denormal(x) : x; };
+    Planes out;
+    out.z.a0 = v.window[2];
+    out.w.a0 = v.window[3];
+    const auto c = stage.attributes(v);
+    for (std::size_t k = 0; k < 4; ++k) {
+        out.flat[k] = c[k];
+        out.color[k].a0 = draw.state.shade == ShadeModel::Smooth ? f(c[k] * v.window[3]) : c[k];
+    }
+    return out;
+}
+
+}  // namespace refraster::detail

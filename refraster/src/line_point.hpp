@@ -1,0 +1,65 @@
+// line_point.hpp: lines and points as llvmpipe sets them up, kept apart from triangles.
+//
+// Implements:
+//  - line assembly for lines, line_strip and line_loop, in the order llvmpipe's vbuf path
+//    emits segments (lp_setup_vbuf.c): the closing segment of a loop is (v[n-1], v[0]), and
+//    the provoking vertex is a segment's second vertex (first with the first-vertex
+//    convention) (mesa-22.3-rules-2.md 6.4);
+//  - line coverage (lp_setup_line.c, try_setup_line, the non-rectangular path GL uses): a
+//    four-plane parallelogram around the line, its width util_iround(width) pixels in the
+//    minor axis, its ends moved by half a pixel by the driver's diamond-exit heuristics
+//    (including its quirk for y2diff == -0.5 with dy < 0), positions snapped with util_iround
+//    (half away from zero), then the triangle plane and tie rules (mesa-22.3-rules.md 5.1-5.2);
+//  - line attribute planes (setup_line_coefficients, linear_coef, perspective_coef): plain C
+//    float arithmetic, the gradient only along the major axis, scaled by 1 + slope^2;
+//  - points as quads (lp_setup_point.c, try_setup_point with point sprites on): a square of
+//    side max(1, util_iround(256 * size) / 256) around the snapped centre, left and bottom
+//    edges inclusive (mesa-22.3-rules.md 6.2); attributes constant over the point
+//    (constant_coef, point_persp_coeff).
+//
+// Deliberately does not: smooth (antialiased) lines, stipple, legacy (non-sprite) points,
+// point sprite texture coordinates, per-vertex point size, multisampling.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "fragment.hpp"
+#include "setup.hpp"
+#include "vertex_stage.hpp"
+
+namespace refraster::detail {
+
+// Segments as pairs of element positions, in setup's (first, second) order.
+std::vector<std::array<std::uint32_t, 2>> assemble_lines(PrimitiveType p, std::size_t count);
+
+struct LineSetup {
+    int bits = 8;
+    std::array<std::int32_t, 4> x{};
+    std::array<std::int32_t, 4> y{};
+    std::array<EdgeFunction, 4> edges;
+    PixelRect bbox;
+    bool x_major = true;
+    bool draw_start = false;  // the diamond-exit decisions, for traces
+    bool draw_end = false;
+};
+
+// nullopt: a zero-length line, or one outside the draw region.
+std::optional<LineSetup> setup_line(const StageVertex& v1, const StageVertex& v2, float width, const SetupParams& p);
+
+Planes line_planes(const StageVertex& v1, const StageVertex& v2, const VertexStage& stage, const Draw& draw,
+                   bool provoking_first, FragmentOptions options);
+
+struct PointSetup {
+    int bits = 8;
+    std::array<EdgeFunction, 4> edges;  // left, right, bottom, top
+    PixelRect bbox;
+};
+
+std::optional<PointSetup> setup_point(const StageVertex& v, float size, const SetupParams& p);
+
+Planes point_planes(const StageVertex& v, const VertexStage& stage, const Draw& draw, FragmentOptions options);
+
+}  // namespace refraster::detail
