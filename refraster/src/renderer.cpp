@@ -89,11 +89,9 @@ bool is_triangle(PrimitiveType p) {
 }
 
 std::string unsupported(const Draw& d, const Profile& profile) {
-    if (is_triangle(d.primitive) && d.state.polygon_mode != PolygonMode::Fill) {
-        return "polygon_mode line and point are not implemented yet";
-    }
-    if (!is_triangle(d.primitive) && profile.coverage == CoverageModel::Exact) {
-        return "the exact profile covers triangles only";
+    if ((!is_triangle(d.primitive) || d.state.polygon_mode != PolygonMode::Fill) &&
+        profile.coverage == CoverageModel::Exact) {
+        return "the exact profile covers filled triangles only";
     }
     return {};
 }
@@ -115,6 +113,7 @@ public:
         detail::VertexStage stage(draw_, {fma_, profile_.flush_denormals, profile_.clipping == Clipping::GuardBand});
         if (draw_.primitive == PrimitiveType::Points) return run_points<kTrace>(stage);
         if (!is_triangle(draw_.primitive)) return run_lines<kTrace>(stage);
+        if (draw_.state.polygon_mode != PolygonMode::Fill) return run_unfilled<kTrace>(stage);
         const bool first = params_.provoking_first;
         const auto tris = detail::assemble_triangles(draw_.primitive, draw_.element_count(), first,
                                                      profile_.draw_segment_vertices);
@@ -228,25 +227,47 @@ private:
                 }
                 continue;
             }
-            const auto& [v1, v2] = *clipped;
-            const auto setup = detail::setup_line(v1, v2, draw_.state.line_width, params_);
-            if (!setup) continue;
-            const detail::FragmentShader shader(detail::line_planes(v1, v2, stage, draw_, first, fragment_options()),
-                                                draw_, target_, fragment_options());
-            if constexpr (kTrace) {
-                SetupTrace s;
-                s.window = {v1.window, v2.window};
-                s.clipped = v1.generated || v2.generated;
-                s.x.assign(setup->x.begin(), setup->x.end());
-                s.y.assign(setup->y.begin(), setup->y.end());
-                trace_edges<kTrace>(pt, s, *setup, shader);
-                pt.setups.push_back(s);
-            }
-            detail::traverse_convex(*setup, [&](int y, int x0, int x1) { shader.shade_span(y, x0, x1, fb_); });
+            draw_segment<kTrace>(stage, (*clipped)[0], (*clipped)[1], pt);
             if constexpr (kTrace) {
                 if (pt.covered || relevant(pt)) trace_->primitives.push_back(std::move(pt));
             }
         }
+    }
+
+    // One segment after clipping: try_setup_line, its planes, the fragment stage.
+    template <bool kTrace, class PT>
+    void draw_segment(const detail::VertexStage& stage, const StageVertex& v1, const StageVertex& v2, PT& pt) {
+        const auto setup = detail::setup_line(v1, v2, draw_.state.line_width, params_);
+        if (!setup) return;
+        const detail::FragmentShader shader(
+            detail::line_planes(v1, v2, stage, draw_, params_.provoking_first, fragment_options()), draw_, target_,
+            fragment_options());
+        if constexpr (kTrace) {
+            SetupTrace s;
+            s.window = {v1.window, v2.window};
+            s.clipped = v1.generated || v2.generated;
+            s.x.assign(setup->x.begin(), setup->x.end());
+            s.y.assign(setup->y.begin(), setup->y.end());
+            trace_edges<kTrace>(pt, s, *setup, shader);
+            pt.setups.push_back(s);
+        }
+        detail::traverse_convex(*setup, [&](int y, int x0, int x1) { shader.shade_span(y, x0, x1, fb_); });
+    }
+
+    // One point that survived clipping: try_setup_point, its planes, the fragment stage.
+    template <bool kTrace, class PT>
+    void draw_point(const detail::VertexStage& stage, const StageVertex& v, PT& pt) {
+        const auto setup = detail::setup_point(v, draw_.state.point_size, params_);
+        if (!setup) return;
+        const detail::FragmentShader shader(detail::point_planes(v, stage, draw_, fragment_options()), draw_, target_,
+                                            fragment_options());
+        if constexpr (kTrace) {
+            SetupTrace s;
+            s.window = {v.window};
+            trace_edges<kTrace>(pt, s, *setup, shader);
+            pt.setups.push_back(s);
+        }
+        detail::traverse_convex(*setup, [&](int y, int x0, int x1) { shader.shade_span(y, x0, x1, fb_); });
     }
 
     // Points: clipped by their centre (draw_pipe_clip.c clip_point), then quad points.
@@ -256,25 +277,79 @@ private:
             const std::uint32_t i = draw_.element(p);
             const auto& v = stage.vertex(i);
             if (v.clipmask != 0) continue;
-            const auto setup = detail::setup_point(v, draw_.state.point_size, params_);
-            if (!setup) continue;
-            const detail::FragmentShader shader(detail::point_planes(v, stage, draw_, fragment_options()), draw_,
-                                                target_, fragment_options());
+            [[maybe_unused]] std::conditional_t<kTrace, PrimitiveTrace, NoTrace> pt;
             if constexpr (kTrace) {
-                PrimitiveTrace pt;
                 pt.draw = index_;
                 pt.primitive = p;
                 pt.kind = "point";
                 pt.vertices = {i};
                 pt.clip = {v.clip};
                 pt.clipmask = {v.clipmask};
-                SetupTrace s;
-                s.window = {v.window};
-                trace_edges<kTrace>(pt, s, *setup, shader);
-                pt.setups.push_back(s);
+            }
+            draw_point<kTrace>(stage, v, pt);
+            if constexpr (kTrace) {
                 if (pt.covered) trace_->primitives.push_back(std::move(pt));
             }
-            detail::traverse_convex(*setup, [&](int y, int x0, int x1) { shader.shade_span(y, x0, x1, fb_); });
+        }
+    }
+
+    // Polygon modes line and point: always the draw pipeline (llvmpipe hands unfilled
+    // polygons to it, lp_state_rasterizer.c): clip, the float cull stage, the draw module's
+    // polygon offset (draw_pipe_offset.c; llvmpipe's own is off then), the flat-shade copy
+    // (draw_pipe_flatshade.c), then draw_pipe_unfilled.c's edges (v2,v0), (v0,v1), (v1,v2) or
+    // points v0, v1, v2, each only where the polygon's edge flag and the starting vertex's
+    // edge flag are set, so that clip-plane edges and fan diagonals are not drawn.
+    template <bool kTrace>
+    void run_unfilled(detail::VertexStage& stage) {
+        const bool first = params_.provoking_first;
+        const auto tris = detail::assemble_triangles(draw_.primitive, draw_.element_count(), first,
+                                                     profile_.draw_segment_vertices);
+        std::vector<StageTriangle> staged;
+        for (std::size_t p = 0; p < tris.size(); ++p) {
+            const auto& at = tris[p];
+            const std::array<std::uint32_t, 3> idx{draw_.element(at.element[0]), draw_.element(at.element[1]),
+                                                   draw_.element(at.element[2])};
+            [[maybe_unused]] std::conditional_t<kTrace, PrimitiveTrace, NoTrace> pt;
+            if constexpr (kTrace) {
+                pt.draw = index_;
+                pt.primitive = p;
+                pt.kind = draw_.state.polygon_mode == PolygonMode::Line ? "polygon edges" : "polygon vertices";
+                for (std::size_t k = 0; k < 3; ++k) {
+                    pt.vertices.push_back(idx[k]);
+                    pt.clip.push_back(stage.vertex(idx[k]).clip);
+                    pt.clipmask.push_back(stage.vertex(idx[k]).clipmask);
+                }
+            }
+            staged.clear();
+            stage.clip_triangle(idx, first, staged, nullptr);
+            for (auto t : staged) {
+                if (!detail::passes_draw_cull(t, draw_.state.cull, params_.front_ccw)) continue;
+                if (draw_.state.polygon_offset) {
+                    detail::apply_draw_offset(t, detail::draw_determinant(t, profile_.flush_denormals),
+                                              *draw_.state.polygon_offset, target_.depth, profile_.flush_denormals);
+                }
+                if (draw_.state.shade == ShadeModel::Flat) {
+                    const StageVertex prov = t.v[first ? 0 : 2];
+                    for (std::size_t k = 0; k < 3; ++k) {
+                        if (k != (first ? 0u : 2u)) t.v[k] = stage.duplicate_with_flat(t.v[k], prov);
+                    }
+                }
+                const auto edge = [&](unsigned bit, std::size_t from) {
+                    return (t.edge_flags & bit) != 0 && t.v[from].edgeflag;
+                };
+                if (draw_.state.polygon_mode == PolygonMode::Line) {
+                    if (edge(4, 2)) draw_segment<kTrace>(stage, t.v[2], t.v[0], pt);
+                    if (edge(1, 0)) draw_segment<kTrace>(stage, t.v[0], t.v[1], pt);
+                    if (edge(2, 1)) draw_segment<kTrace>(stage, t.v[1], t.v[2], pt);
+                } else {
+                    if (edge(1, 0)) draw_point<kTrace>(stage, t.v[0], pt);
+                    if (edge(2, 1)) draw_point<kTrace>(stage, t.v[1], pt);
+                    if (edge(4, 2)) draw_point<kTrace>(stage, t.v[2], pt);
+                }
+            }
+            if constexpr (kTrace) {
+                if (pt.covered || relevant(pt)) trace_->primitives.push_back(std::move(pt));
+            }
         }
     }
 

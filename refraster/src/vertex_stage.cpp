@@ -149,6 +149,9 @@ void VertexStage::clip_triangle(const std::array<std::uint32_t, 3>& idx, bool pr
     const Fp fp{options_.flush_denormals};
     std::vector<StageVertex> in_list{v0, v1, v2};
     std::vector<StageVertex> out_list;
+    // Edge flags parallel to the vertex lists: edge k runs from vertex k to vertex k + 1.
+    std::vector<bool> in_edges{true, true, true};
+    std::vector<bool> out_edges;
     const auto distance = [&](const StageVertex& v, int plane) {
         // draw_pipe_clip.c dot4: a[0]*b[0] + a[1]*b[1] + a[2]*b[2] + a[3]*b[3], left to right.
         const float* p = kPlanes[plane];
@@ -160,43 +163,47 @@ void VertexStage::clip_triangle(const std::array<std::uint32_t, 3>& idx, bool pr
         const int plane = std::countr_zero(mask);
         mask &= mask - 1;
         out_list.clear();
+        out_edges.clear();
         const std::size_t n = in_list.size();
         in_list.push_back(in_list[0]);  // "prevent rotation of vertices"
+        in_edges.push_back(in_edges[0]);
         float dp_prev = distance(in_list[0], plane);
         if (std::isnan(dp_prev) || std::isinf(dp_prev)) return;
         for (std::size_t i = 1; i <= n; ++i) {
             const StageVertex& prev = in_list[i - 1];
             const StageVertex& cur = in_list[i];
+            const bool edge_prev = in_edges[i - 1];
             const float dp = distance(cur, plane);
             if (std::isnan(dp) || std::isinf(dp)) return;
             bool different_sign;
             if (dp_prev >= 0.0f) {
                 out_list.push_back(prev);
+                out_edges.push_back(edge_prev);
                 different_sign = dp < 0.0f;
             } else {
                 different_sign = !(dp < 0.0f);
             }
             if (different_sign) {
                 const float denom = fp.sub(dp, dp_prev);
+                StageVertex nv;
                 if (dp < 0.0f) {
-                    // Going out.
-                    if (-dp < dp_prev) {
-                        out_list.push_back(interpolate(fp.div(dp, denom), cur, prev));
-                    } else {
-                        out_list.push_back(interpolate(fp.div(-dp_prev, denom), prev, cur));
-                    }
+                    // Going out; no edge along a view-volume plane.
+                    nv = -dp < dp_prev ? interpolate(fp.div(dp, denom), cur, prev)
+                                       : interpolate(fp.div(-dp_prev, denom), prev, cur);
+                    nv.edgeflag = false;
                 } else {
                     // Coming back in.
-                    if (-dp_prev < dp) {
-                        out_list.push_back(interpolate(fp.div(-dp_prev, denom), prev, cur));
-                    } else {
-                        out_list.push_back(interpolate(fp.div(dp, denom), cur, prev));
-                    }
+                    nv = -dp_prev < dp ? interpolate(fp.div(-dp_prev, denom), prev, cur)
+                                       : interpolate(fp.div(dp, denom), cur, prev);
+                    nv.edgeflag = prev.edgeflag;
                 }
+                out_list.push_back(nv);
+                out_edges.push_back(edge_prev);
             }
             dp_prev = dp;
         }
         std::swap(in_list, out_list);
+        std::swap(in_edges, out_edges);
     }
     if (in_list.size() < 3) return;
     const StageVertex& provoking = provoking_first ? v0 : v2;
@@ -204,11 +211,21 @@ void VertexStage::clip_triangle(const std::array<std::uint32_t, 3>& idx, bool pr
         in_list[0] = duplicate_with_flat(in_list[0], provoking);
     }
     if (polygon_trace != nullptr) polygon_trace->push_back(in_list);
-    // draw_pipe_clip.c emit_poly: a fan that keeps the provoking vertex in its place.
-    for (std::size_t i = 2; i < in_list.size(); ++i) {
+    // draw_pipe_clip.c emit_poly: a fan that keeps the provoking vertex in its place, with the
+    // polygon's edge flags on the fan's outer edges only.
+    const std::uint8_t flag0 = 1, flag1 = 2, flag2 = 4;
+    std::uint8_t edge_first = provoking_first ? flag0 : flag2;
+    const std::uint8_t edge_middle = provoking_first ? flag1 : flag0;
+    const std::uint8_t edge_last = provoking_first ? flag2 : flag1;
+    if (!in_edges[0]) edge_first = 0;
+    std::uint8_t flags = static_cast<std::uint8_t>(edge_first | edge_middle);
+    for (std::size_t i = 2; i < in_list.size(); ++i, flags = edge_middle) {
         StageTriangle t;
         t.v = provoking_first ? std::array<StageVertex, 3>{in_list[0], in_list[i - 1], in_list[i]}
                               : std::array<StageVertex, 3>{in_list[i - 1], in_list[i], in_list[0]};
+        if (!in_edges[i - 1]) flags = static_cast<std::uint8_t>(flags & ~edge_middle);
+        if (i == in_list.size() - 1 && in_edges[i]) flags = static_cast<std::uint8_t>(flags | edge_last);
+        t.edge_flags = flags;
         t.clipped = true;
         out.push_back(t);
     }
@@ -256,6 +273,45 @@ std::optional<std::array<StageVertex, 2>> VertexStage::clip_line(std::uint32_t a
         if (draw_.state.shade == ShadeModel::Flat) out[1] = duplicate_with_flat(out[1], provoking);
     }
     return out;
+}
+
+float draw_determinant(const StageTriangle& t, bool flush_denormals) {
+    const Fp fp{flush_denormals};
+    const float ex = fp.sub(t.v[0].window[0], t.v[2].window[0]);
+    const float ey = fp.sub(t.v[0].window[1], t.v[2].window[1]);
+    const float fx = fp.sub(t.v[1].window[0], t.v[2].window[0]);
+    const float fy = fp.sub(t.v[1].window[1], t.v[2].window[1]);
+    return fp.sub(fp.mul(ex, fy), fp.mul(ey, fx));
+}
+
+void apply_draw_offset(StageTriangle& t, float det, const PolygonOffset& o, DepthFormat depth, bool flush_denormals) {
+    const Fp fp{flush_denormals};
+    const float inv_det = fp.div(1.0f, det);
+    const auto& v0 = t.v[0].window;
+    const auto& v1 = t.v[1].window;
+    const auto& v2 = t.v[2].window;
+    const float ex = fp.sub(v0[0], v2[0]), ey = fp.sub(v0[1], v2[1]), ez = fp.sub(v0[2], v2[2]);
+    const float fx = fp.sub(v1[0], v2[0]), fy = fp.sub(v1[1], v2[1]), fz = fp.sub(v1[2], v2[2]);
+    const float a = fp.sub(fp.mul(ey, fz), fp.mul(ez, fy));
+    const float b = fp.sub(fp.mul(ez, fx), fp.mul(ex, fz));
+    const float dzdx = std::fabs(fp.mul(a, inv_det));
+    const float dzdy = std::fabs(fp.mul(b, inv_det));
+    const float mult = fp.mul(dzdx > dzdy ? dzdx : dzdy, o.factor);  // MAX2
+    float zoffset = 0.0f;
+    if (depth == DepthFormat::Z32f) {
+        const float maxz = std::max(std::max(std::fabs(v0[2]), std::fabs(v1[2])), std::fabs(v2[2]));
+        std::int32_t bits = static_cast<std::int32_t>(std::bit_cast<std::uint32_t>(maxz) & (0xffu << 23)) - (23 << 23);
+        bits = std::max(bits, 0);
+        zoffset = fp.add(fp.mul(o.units, std::bit_cast<float>(static_cast<std::uint32_t>(bits))), mult);
+    } else {
+        // offset_first_tri: (float)(offset_units * mrd * 2), in double.
+        const double mrd = depth == DepthFormat::Z16 ? 1.0 / 65535.0 : 1.0 / 16777215.0;
+        zoffset = fp.add(static_cast<float>(static_cast<double>(o.units) * mrd * 2), mult);
+    }
+    for (auto& v : t.v) {
+        const float z = fp.add(v.window[2], zoffset);
+        v.window[2] = z < 0.0f ? 0.0f : (z > 1.0f ? 1.0f : z);  // SATURATE
+    }
 }
 
 bool passes_draw_cull(const StageTriangle& t, CullMode cull, bool front_ccw) {

@@ -51,6 +51,7 @@ struct StageVertex {
     std::uint32_t clipmask = 0;
     std::uint32_t attributes = 0;
     bool generated = false;  // made by the clipper
+    bool edgeflag = true;    // false for a vertex the clipper put on a view-volume plane going out
 };
 
 // A triangle handed to setup: its three vertices in the order setup receives them.
@@ -58,6 +59,9 @@ struct StageTriangle {
     std::array<StageVertex, 3> v;
     bool clipped = false;      // produced by the clipper
     bool in_pipeline = false;  // went through the draw pipeline (its cull stage applies)
+    // Which edges are polygon edges (DRAW_PIPE_EDGE_FLAG_0..2: v0-v1, v1-v2, v2-v0), for
+    // polygon modes line and point.
+    std::uint8_t edge_flags = 7;
 };
 
 // Clip-plane bit names, in clip-mask bit order.
@@ -93,9 +97,12 @@ public:
 
     const ViewportTransform& viewport() const { return vp_; }
 
+    // dup_vert + copy_flat: `v` with the flat attributes of `provoking` (all of them: the only
+    // attribute is the colour, flat or not as the draw says).
+    StageVertex duplicate_with_flat(const StageVertex& v, const StageVertex& provoking);
+
 private:
     StageVertex interpolate(float t, const StageVertex& out, const StageVertex& in);
-    StageVertex duplicate_with_flat(const StageVertex& v, const StageVertex& provoking);
     float ftz(float v) const { return options_.flush_denormals ? flush_denormal(v) : v; }
 
     const Draw& draw_;
@@ -109,5 +116,13 @@ private:
 // draw_pipe_cull.c cull_tri: false when the triangle is culled by the draw module's float
 // determinant (computed from window coordinates; zero counts as back-facing).
 bool passes_draw_cull(const StageTriangle& t, CullMode cull, bool front_ccw);
+
+// draw_pipe_cull.c's determinant of window coordinates: (v0 - v2) x (v1 - v2).
+float draw_determinant(const StageTriangle& t, bool flush_denormals);
+
+// draw_pipe_offset.c do_offset_tri: adds the polygon offset computed from `det` to each
+// vertex's window z and saturates it to [0, 1] (used for polygon modes line and point, where
+// the draw module, not llvmpipe, applies the offset).
+void apply_draw_offset(StageTriangle& t, float det, const PolygonOffset& o, DepthFormat depth, bool flush_denormals);
 
 }  // namespace refraster::detail
