@@ -82,3 +82,58 @@ TEST(Trace, FarPixelRecordsNothing) {
 }
 
 }  // namespace
+
+namespace {
+
+refraster::DrawList one_primitive(refraster::PrimitiveType p, std::vector<std::array<float, 2>> win, float size) {
+    refraster::DrawList l;
+    l.target = {32, 32, refraster::ColorFormat::Rgba8, refraster::DepthFormat::None, 1};
+    l.clear.color = {0, 0, 0, 1};
+    refraster::Draw d;
+    d.primitive = p;
+    d.state.viewport = {0, 0, 32, 32};
+    d.state.line_width = size;
+    d.state.point_size = size;
+    d.vertices.attributes = {{"color", 4}};
+    for (const auto& [x, y] : win) d.vertices.data.insert(d.vertices.data.end(), {x / 16 - 1, y / 16 - 1, 0, 1, 1, 1, 1, 1});
+    l.draws.push_back(d);
+    return l;
+}
+
+refraster::PixelTrace trace_of(const refraster::DrawList& l, int x, int y) {
+    refraster::PixelTrace t;
+    t.x = x;
+    t.y = y;
+    refraster::RenderOptions o;
+    o.trace = &t;
+    refraster::Framebuffer fb;
+    EXPECT_EQ(refraster::render(l, o, fb).status, refraster::RenderStatus::Ok);
+    return t;
+}
+
+TEST(Trace, LinesRecordFourEdgesAndTheFragment) {
+    const auto t = trace_of(one_primitive(refraster::PrimitiveType::Lines, {{2.25f, 8.5f}, {20.75f, 8.5f}}, 1.0f), 10, 8);
+    ASSERT_EQ(t.primitives.size(), 1u);
+    const auto& p = t.primitives[0];
+    EXPECT_EQ(p.kind, "line");
+    EXPECT_TRUE(p.covered);
+    ASSERT_EQ(p.setups.size(), 1u);
+    EXPECT_EQ(p.setups[0].edges.size(), 4u);
+    EXPECT_TRUE(p.setups[0].has_fragment);
+    EXPECT_EQ(p.setups[0].fragment.written[0], 255.0f);
+    // A pixel a row away is not reported as covered.
+    for (const auto& q : trace_of(one_primitive(refraster::PrimitiveType::Lines, {{2.25f, 8.5f}, {20.75f, 8.5f}}, 1.0f), 10, 10)
+             .primitives) {
+        EXPECT_FALSE(q.covered);
+    }
+}
+
+TEST(Trace, PointsRecordTheirSquare) {
+    const auto t = trace_of(one_primitive(refraster::PrimitiveType::Points, {{10.0f, 10.0f}}, 1.0f), 9, 9);
+    ASSERT_EQ(t.primitives.size(), 1u);
+    EXPECT_EQ(t.primitives[0].kind, "point");
+    EXPECT_TRUE(t.primitives[0].covered);  // a size-1 point at (10, 10) lights pixel (9, 9)
+    EXPECT_TRUE(trace_of(one_primitive(refraster::PrimitiveType::Points, {{10.0f, 10.0f}}, 1.0f), 10, 10).primitives.empty());
+}
+
+}  // namespace
