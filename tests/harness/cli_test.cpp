@@ -21,7 +21,7 @@ TEST(Cli, HelpOnSubcommand) {
 TEST(Cli, RefBackendRefusesPrimitivesWithExitFour) {
     testutil::TempDir dir;
     const auto scene = dir.write("s.json", R"({"format": "refraster-scene/1",
-      "target": {"width": 4, "height": 4},
+      "target": {"width": 4, "height": 4, "samples": 4},
       "draws": [{"primitive": "lines", "vertices": [{"position": [0, 0]}, {"position": [4, 0]}]}]})");
     const auto out = dir.path() / "o.png";
     const auto r = testutil::run_cli({"render", scene.string(), "--backend", "ref", "-o", out.string()});

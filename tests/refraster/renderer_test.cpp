@@ -68,7 +68,16 @@ TEST(Render, UnormClearRoundsLikeFloatToUbyte) {
     EXPECT_EQ(fb.color8[3], 255);
 }
 
-TEST(Render, LinesAreNotSupportedYet) {
+TEST(Render, MultisampledTargetsAreNotSupportedYet) {
+    auto l = cleared_list(refraster::DepthFormat::None, 1.0f);
+    l.target.samples = 4;
+    refraster::Framebuffer fb;
+    const auto r = refraster::render(l, fb);
+    EXPECT_EQ(r.status, refraster::RenderStatus::NotSupported);
+    EXPECT_NE(r.message.find("multisampled"), std::string::npos);
+}
+
+TEST(Render, ExactProfileRefusesLines) {
     auto l = cleared_list(refraster::DepthFormat::None, 1.0f);
     refraster::Draw d;
     d.primitive = PrimitiveType::Lines;
@@ -76,12 +85,17 @@ TEST(Render, LinesAreNotSupportedYet) {
     d.vertices.data.assign(2 * 8, 0.0f);
     d.vertices.data[3] = d.vertices.data[11] = 1.0f;
     l.draws.push_back(d);
+    refraster::RenderOptions o;
+    o.profile = refraster::gl_exact_profile();
     refraster::Framebuffer fb;
-    const auto r = refraster::render(l, fb);
+    const auto r = refraster::render(l, o, fb);
     EXPECT_EQ(r.status, refraster::RenderStatus::NotSupported);
     EXPECT_NE(r.message.find("draws[0]"), std::string::npos);
     // A draw with a leftover vertex only assembles nothing and is accepted.
     l.draws[0].vertices.data.assign(1 * 8, 0.0f);
+    EXPECT_EQ(refraster::render(l, o, fb).status, refraster::RenderStatus::Ok);
+    // The snapped profile draws the line.
+    l.draws[0].vertices.data.assign(2 * 8, 0.0f);
     EXPECT_EQ(refraster::render(l, fb).status, refraster::RenderStatus::Ok);
 }
 
