@@ -1,14 +1,21 @@
 #include "suite.hpp"
 
+#include <fcntl.h>
 #include <fnmatch.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <ostream>
+#include <set>
+#include <sstream>
 #include <stdexcept>
 
 #include "harness/case_result.hpp"
 #include "harness/image_io.hpp"
+#include "reports.hpp"
 
 namespace conformance {
 
@@ -18,25 +25,135 @@ std::string case_name_for(const std::filesystem::path& root, const std::filesyst
     return rel;
 }
 
-std::vector<CaseFile> discover_cases(const std::filesystem::path& root,
-                                     const std::vector<std::string>& globs) {
+std::vector<CaseFile> discover_cases(const std::filesystem::path& root) {
     if (!std::filesystem::is_directory(root)) {
         throw std::runtime_error(root.string() + ": not a directory of scenes");
     }
     std::vector<CaseFile> cases;
     for (const auto& e : std::filesystem::recursive_directory_iterator(root)) {
         if (!e.is_regular_file() || e.path().extension() != ".json") continue;
-        CaseFile c{case_name_for(root, e.path()), e.path()};
-        const bool keep = globs.empty() || std::any_of(globs.begin(), globs.end(), [&](const auto& g) {
-                              return ::fnmatch(g.c_str(), c.name.c_str(), 0) == 0;
-                          });
-        if (keep) cases.push_back(std::move(c));
+        cases.push_back({case_name_for(root, e.path()), e.path()});
     }
     std::sort(cases.begin(), cases.end(), [](const auto& a, const auto& b) { return a.name < b.name; });
+    for (std::size_t i = 1; i < cases.size(); ++i) {
+        if (cases[i].name == cases[i - 1].name) {
+            throw std::runtime_error("duplicate case name " + cases[i].name + ": " + cases[i - 1].file.string() +
+                                     " and " + cases[i].file.string());
+        }
+    }
     return cases;
 }
 
+bool matches_any(const std::string& name, const std::vector<std::string>& globs) {
+    if (globs.empty()) return true;
+    return std::any_of(globs.begin(), globs.end(),
+                       [&](const auto& g) { return ::fnmatch(g.c_str(), name.c_str(), 0) == 0; });
+}
+
 namespace {
+
+std::vector<std::string> read_lines(const std::filesystem::path& file, const char* what) {
+    std::ifstream in(file);
+    if (!in) throw std::runtime_error(file.string() + ": cannot read the " + what);
+    std::vector<std::string> out;
+    for (std::string line; std::getline(in, line);) {
+        if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
+        const auto b = line.find_first_not_of(" \t\r");
+        const auto e = line.find_last_not_of(" \t\r");
+        if (b == std::string::npos) continue;
+        out.push_back(line.substr(b, e - b + 1));
+    }
+    return out;
+}
+
+}  // namespace
+
+std::vector<std::string> read_caselist(const std::filesystem::path& file) { return read_lines(file, "case list"); }
+
+std::map<std::string, std::string> read_baseline(const std::filesystem::path& file) {
+    std::map<std::string, std::string> out;
+    std::size_t n = 0;
+    for (const auto& line : read_lines(file, "baseline")) {
+        ++n;
+        const auto comma = line.find(',');
+        const std::string status = comma == std::string::npos ? "" : line.substr(comma + 1);
+        const auto st = harness::case_status_from_string(status.substr(0, status.find(',')));
+        if (comma == std::string::npos || !st) {
+            throw std::runtime_error(file.string() + ": line " + std::to_string(n) +
+                                     ": expected name,Status with Status one of Fail, Crash, Timeout, "
+                                     "InternalError, NotSupported, Pass");
+        }
+        out[line.substr(0, comma)] = std::string(harness::to_string(*st));
+    }
+    return out;
+}
+
+namespace {
+
+// The results of a killed run: every complete line of results.jsonl; the file is cut back to
+// its last complete line, so that appending continues it cleanly.
+std::map<std::string, nlohmann::json> recover(const std::filesystem::path& jsonl) {
+    std::map<std::string, nlohmann::json> done;
+    if (!std::filesystem::exists(jsonl)) return done;
+    std::ifstream in(jsonl, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    const std::string text = ss.str();
+    std::size_t good = 0;
+    std::size_t start = 0;
+    while (start < text.size()) {
+        const auto nl = text.find('\n', start);
+        if (nl == std::string::npos) break;  // a half-written last line: dropped
+        try {
+            auto j = nlohmann::json::parse(text.substr(start, nl - start));
+            if (j.contains("case")) done[j["case"].get<std::string>()] = std::move(j);
+            good = nl + 1;
+        } catch (const nlohmann::json::exception&) {
+            break;  // a corrupt line: keep everything before it
+        }
+        start = nl + 1;
+    }
+    in.close();
+    std::filesystem::resize_file(jsonl, good);
+    return done;
+}
+
+// Applies the baseline to a case's result: an expected failure becomes ExpectedFail, a pass
+// of a listed failure UnexpectedPass. Returns whether the result is unexpected.
+bool judge(harness::CaseResult& r, const std::map<std::string, std::string>* baseline) {
+    if (baseline == nullptr) return false;
+    const auto it = baseline->find(r.name);
+    const std::string expected = it == baseline->end() ? "Pass" : it->second;
+    const std::string got(harness::to_string(r.status));
+    if (got == expected) {
+        if (r.status != harness::CaseStatus::Pass && r.status != harness::CaseStatus::NotSupported) {
+            r.raw_status = r.status;
+            r.status = harness::CaseStatus::ExpectedFail;
+        }
+        return false;
+    }
+    if (r.status == harness::CaseStatus::NotSupported) return false;  // skipping is never a regression
+    if (r.status == harness::CaseStatus::Pass) {
+        r.raw_status = r.status;
+        r.status = harness::CaseStatus::UnexpectedPass;
+    }
+    return true;
+}
+
+harness::CaseResult run_one(const CaseFile& c, harness::Backend& reference, harness::Backend& actual) {
+    try {
+        const harness::Scene scene = harness::load_scene(c.file);
+        auto r = harness::run_case(scene, c.name, reference, actual);
+        if (!scene.file.name.empty() && scene.file.name != c.name) {
+            r.status = harness::CaseStatus::InternalError;
+            r.message = c.file.string() + ": name \"" + scene.file.name + "\" does not match its path (expected \"" +
+                        c.name + "\")";
+        }
+        return r;
+    } catch (const harness::SceneError& e) {
+        return harness::case_error(c.name, c.file.string(), e.what());
+    }
+}
 
 void write_images(const harness::CaseResult& r, const std::filesystem::path& dir) {
     const auto save = [&](const std::optional<harness::RenderResult>& rr, const std::string& who) {
@@ -51,33 +168,105 @@ void write_images(const harness::CaseResult& r, const std::filesystem::path& dir
     }
 }
 
+// Appends one line and makes it durable before the next case starts: a run killed at any
+// moment leaves at most a half line, which recover() drops.
+void append_line(const std::filesystem::path& path, const std::string& line) {
+    const int fd = ::open(path.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0644);
+    if (fd < 0) throw std::runtime_error(path.string() + ": cannot write");
+    const std::string data = line + "\n";
+    std::size_t off = 0;
+    while (off < data.size()) {
+        const ssize_t n = ::write(fd, data.data() + off, data.size() - off);
+        if (n < 0) {
+            ::close(fd);
+            throw std::runtime_error(path.string() + ": write failed");
+        }
+        off += static_cast<std::size_t>(n);
+    }
+    ::fdatasync(fd);
+    ::close(fd);
+}
+
+std::string format_duration(double s) {
+    const auto total = static_cast<long>(s + 0.5);
+    std::ostringstream o;
+    if (total >= 3600) o << total / 3600 << "h";
+    if (total >= 60) o << (total / 60) % 60 << "m";
+    o << total % 60 << "s";
+    return o.str();
+}
+
 }  // namespace
 
 RunSummary run_suite(const RunOptions& options, std::ostream& console) {
-    const auto cases = discover_cases(options.scenes_root, options.case_globs);
+    if (options.shard_count < 1 || options.shard_index < 0 || options.shard_index >= options.shard_count) {
+        throw std::runtime_error("shard index " + std::to_string(options.shard_index) + " is not in [0, " +
+                                 std::to_string(options.shard_count) + ")");
+    }
+    std::vector<std::string> listed;
+    if (options.caselist) listed = read_caselist(*options.caselist);
+    std::map<std::string, std::string> baseline;
+    if (options.baseline) baseline = read_baseline(*options.baseline);
+
+    std::vector<CaseFile> cases;
+    std::size_t index = 0;
+    for (auto& c : discover_cases(options.scenes_root)) {
+        if (!matches_any(c.name, options.case_globs) || (!options.exclude_globs.empty() && matches_any(c.name, options.exclude_globs))) {
+            continue;
+        }
+        if (options.caselist && !matches_any(c.name, listed)) continue;
+        if (index++ % static_cast<std::size_t>(options.shard_count) != static_cast<std::size_t>(options.shard_index)) continue;
+        cases.push_back(std::move(c));
+    }
     if (cases.empty()) throw std::runtime_error("no scene matched the selection");
 
     std::filesystem::create_directories(options.output / "images");
     const auto results_path = options.output / "results.jsonl";
-    std::ofstream results(results_path, std::ios::trunc);
-    if (!results) throw std::runtime_error(results_path.string() + ": cannot write");
+    std::map<std::string, nlohmann::json> done;
+    if (options.resume) {
+        done = recover(results_path);
+    } else {
+        std::ofstream(results_path, std::ios::trunc);
+    }
+    if (!std::filesystem::exists(results_path)) throw std::runtime_error(results_path.string() + ": cannot write");
 
     auto reference = harness::make_backend(options.reference);
     auto actual = harness::make_backend(options.against);
 
     RunSummary s;
+    const auto count = [&](harness::CaseStatus st) {
+        if (st == harness::CaseStatus::NotSupported) {
+            ++s.skipped;
+        } else if (harness::counts_as_failure(st)) {
+            ++s.failed;
+        } else {
+            ++s.passed;
+        }
+    };
+    std::size_t finished = 0;
     for (const auto& c : cases) {
-        harness::CaseResult r;
-        try {
-            const harness::Scene scene = harness::load_scene(c.file);
-            r = harness::run_case(scene, c.name, *reference, *actual);
-            if (!scene.file.name.empty() && scene.file.name != c.name) {
-                r.status = harness::CaseStatus::InternalError;
-                r.message = c.file.string() + ": name \"" + scene.file.name +
-                            "\" does not match its path (expected \"" + c.name + "\")";
+        if (const auto it = done.find(c.name); it != done.end()) {
+            const auto st = harness::case_status_from_string(it->second.value("status", ""));
+            count(st.value_or(harness::CaseStatus::InternalError));
+            ++finished;
+        }
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::size_t resumed = finished;
+    for (const auto& c : cases) {
+        if (done.count(c.name) != 0) continue;
+        harness::CaseResult r = run_one(c, *reference, *actual);
+        if (judge(r, options.baseline ? &baseline : nullptr)) {
+            // An unexpected result runs once more: the same again is the result, anything
+            // else was a flake.
+            const std::string first(harness::to_string(r.raw_status.value_or(r.status)));
+            harness::CaseResult again = run_one(c, *reference, *actual);
+            if (std::string(harness::to_string(again.status)) != first) {
+                r.raw_status = r.raw_status.value_or(r.status);
+                r.status = harness::CaseStatus::Flake;
+                r.message = "unexpected " + first + ", then " + std::string(harness::to_string(again.status)) +
+                            " on the re-run" + (r.message.empty() ? "" : ": " + r.message);
             }
-        } catch (const harness::SceneError& e) {
-            r = harness::case_error(c.name, c.file.string(), e.what());
         }
         try {
             write_images(r, options.output / "images");
@@ -87,20 +276,27 @@ RunSummary run_suite(const RunOptions& options, std::ostream& console) {
                 r.message = e.what();
             }
         }
-        results << harness::to_json_line(r) << '\n' << std::flush;
-        console << to_string(r.status) << " " << r.name;
-        if (!r.message.empty()) console << ": " << r.message;
-        console << '\n' << std::flush;
-        if (r.status == harness::CaseStatus::Pass) {
-            ++s.passed;
-        } else if (r.status == harness::CaseStatus::NotSupported) {
-            ++s.skipped;
-        } else {
-            ++s.failed;
+        append_line(results_path, harness::to_json_line(r));
+        count(r.status);
+        ++finished;
+        if (options.progress) {
+            const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            const double per = elapsed / static_cast<double>(finished - resumed);
+            console << "\r\033[K[" << finished << "/" << cases.size() << "] " << s.passed << " pass, " << s.failed
+                    << " fail, " << s.skipped << " skip, ETA " << format_duration(per * static_cast<double>(cases.size() - finished))
+                    << " " << std::flush;
+        }
+        if (harness::counts_as_failure(r.status) || !options.progress) {
+            if (options.progress) console << "\r\033[K";
+            console << to_string(r.status) << " " << r.name;
+            if (!r.message.empty()) console << ": " << r.message;
+            console << '\n' << std::flush;
         }
     }
-    console << "results: " << results_path.string() << ", images: "
-            << (options.output / "images").string() << "/\n";
+    if (options.progress) console << "\r\033[K";
+    write_reports(options.output, cases.size());
+    console << "results: " << results_path.string() << "; report: " << (options.output / "index.html").string()
+            << "\n";
     console << s.passed << " passed, " << s.failed << " failed, " << s.skipped << " skipped\n";
     return s;
 }

@@ -1,15 +1,24 @@
-// suite.hpp: the conformance run: every scene under a root, rendered by the reference and one
-// GL backend, compared, and streamed to DIR/results.jsonl as each case ends.
+// suite.hpp: the conformance run: the scenes under a root, selected, sharded, rendered by the
+// reference and one GL backend, compared, judged against a baseline, streamed to
+// DIR/results.jsonl as each case ends, and reported.
 //
-// Implements: case discovery (a case's name is its scene's path below the root, dotted, without
-// ".json"), selection by glob, the run loop with per-case images, and the console summary whose
-// last line is "N passed, N failed, N skipped".
+// Implements: case discovery (a case's name is its scene's path below the root, dotted,
+// without ".json"; two files giving one name are an error), selection by globs, exclusion
+// globs and case lists (dEQP style: one name per line, '#' comments), sharding (case i of the
+// sorted selection runs on shard i % count; defaults from GTEST_SHARD_INDEX and
+// GTEST_TOTAL_SHARDS), baselines in deqp-runner's "name,Status" lines (ExpectedFail,
+// UnexpectedPass, and a re-run of every unexpected result to tell a Flake), resuming a killed
+// run from its results.jsonl (a half-written last line is dropped), a progress line on
+// terminals, and the reports of reports.hpp.
 //
-// Deliberately does not (yet): baselines, shards, resume, HTML/JUnit reports.
+// Deliberately does not: run cases in parallel (one GL worker per backend; parallelism is
+// sharding across processes or machines).
 #pragma once
 
 #include <filesystem>
 #include <iosfwd>
+#include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,33 +27,48 @@
 namespace conformance {
 
 struct CaseFile {
-    std::string name;  // triangles.coverage.shared_edge_h
+    std::string name;  // triangles.coverage.shared_edge_horizontal_ccw
     std::filesystem::path file;
 };
 
-// Scene files below `root`, sorted by case name. `globs` (fnmatch patterns on the case name)
-// keep a case that matches any of them; empty keeps every case.
-std::vector<CaseFile> discover_cases(const std::filesystem::path& root,
-                                     const std::vector<std::string>& globs);
+// Scene files below `root`, sorted by case name; throws std::runtime_error when two files give
+// the same case name.
+std::vector<CaseFile> discover_cases(const std::filesystem::path& root);
 
 std::string case_name_for(const std::filesystem::path& root, const std::filesystem::path& file);
+
+// True when `name` matches any of the fnmatch globs (none: everything matches).
+bool matches_any(const std::string& name, const std::vector<std::string>& globs);
+
+// Reads a case list: one name or glob per line, '#' starts a comment.
+std::vector<std::string> read_caselist(const std::filesystem::path& file);
+
+// Reads a baseline: "name,Status" lines (deqp-runner's failures.csv), '#' comments.
+std::map<std::string, std::string> read_baseline(const std::filesystem::path& file);
 
 struct RunOptions {
     std::filesystem::path scenes_root;
     std::vector<std::string> case_globs;
+    std::vector<std::string> exclude_globs;
+    std::optional<std::filesystem::path> caselist;
+    std::optional<std::filesystem::path> baseline;
+    int shard_index = 0;
+    int shard_count = 1;
+    bool resume = false;
+    bool progress = false;  // a live progress line (terminals only)
     harness::BackendOptions reference;  // ref by default
     harness::BackendOptions against;
     std::filesystem::path output;
 };
 
 struct RunSummary {
-    std::size_t passed = 0;
-    std::size_t failed = 0;
-    std::size_t skipped = 0;
+    std::size_t passed = 0;  // Pass, ExpectedFail, Flake
+    std::size_t failed = 0;  // Fail, Crash, Timeout, InternalError, UnexpectedPass
+    std::size_t skipped = 0;  // NotSupported
 };
 
 // Runs the suite; throws std::runtime_error for a problem with the run itself (no scenes
-// matched, output not writable, backend unavailable).
+// matched, a bad case list or baseline, output not writable, backend unavailable).
 RunSummary run_suite(const RunOptions& options, std::ostream& console);
 
 }  // namespace conformance

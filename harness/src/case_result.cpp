@@ -14,12 +14,30 @@ std::string_view to_string(CaseStatus s) {
         case CaseStatus::Crash: return "Crash";
         case CaseStatus::Timeout: return "Timeout";
         case CaseStatus::InternalError: return "InternalError";
+        case CaseStatus::ExpectedFail: return "ExpectedFail";
+        case CaseStatus::UnexpectedPass: return "UnexpectedPass";
+        case CaseStatus::Flake: return "Flake";
     }
     return "?";
 }
 
+std::optional<CaseStatus> case_status_from_string(std::string_view s) {
+    for (auto c : {CaseStatus::Pass, CaseStatus::Fail, CaseStatus::NotSupported, CaseStatus::Crash,
+                   CaseStatus::Timeout, CaseStatus::InternalError, CaseStatus::ExpectedFail,
+                   CaseStatus::UnexpectedPass, CaseStatus::Flake}) {
+        if (to_string(c) == s) return c;
+    }
+    return std::nullopt;
+}
+
 bool counts_as_failure(CaseStatus s) {
-    return s != CaseStatus::Pass && s != CaseStatus::NotSupported;
+    switch (s) {
+        case CaseStatus::Pass:
+        case CaseStatus::NotSupported:
+        case CaseStatus::ExpectedFail:
+        case CaseStatus::Flake: return false;
+        default: return true;
+    }
 }
 
 namespace {
@@ -99,6 +117,7 @@ std::string to_json_line(const CaseResult& r) {
     ojson j;
     j["case"] = r.name;
     j["status"] = to_string(r.status);
+    if (r.raw_status) j["raw_status"] = to_string(*r.raw_status);
     j["scene"] = r.scene_path;
     if (!r.message.empty()) j["message"] = r.message;
     j["expect"] = {{"color_tolerance", r.expect.color_tolerance},

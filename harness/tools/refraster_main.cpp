@@ -2,6 +2,9 @@
 //   0 success, 1 images differ beyond `expect` (or a conformance case failed),
 //   2 bad input or usage, 3 backend failure (crash, timeout, internal error), 4 NotSupported.
 #include <CLI/CLI.hpp>
+#include <unistd.h>
+
+#include <cstdlib>
 #include <fstream>
 #include <iostream>
 
@@ -218,11 +221,26 @@ int run_compare(CompareArgs a) {
 
 struct ConformanceArgs {
     std::string cases;
+    std::string exclude;
+    std::string caselist;
+    std::string baseline;
     std::string scenes;
+    int shard_index = 0;
+    int shard_count = 1;
+    bool resume = false;
     BackendArgs against{"osmesa"};
     ProfileArgs profile;
     std::string output;
 };
+
+std::vector<std::string> split_globs(const std::string& s) {
+    std::vector<std::string> out;
+    std::stringstream ss(s);
+    for (std::string g; std::getline(ss, g, ',');) {
+        if (!g.empty()) out.push_back(g);
+    }
+    return out;
+}
 
 std::filesystem::path default_scenes_root() {
     if (std::filesystem::is_directory("conformance/scenes")) return "conformance/scenes";
@@ -232,10 +250,15 @@ std::filesystem::path default_scenes_root() {
 int run_conformance(const ConformanceArgs& a) {
     conformance::RunOptions o;
     o.scenes_root = a.scenes.empty() ? default_scenes_root() : std::filesystem::path(a.scenes);
-    std::stringstream globs(a.cases);
-    for (std::string g; std::getline(globs, g, ',');) {
-        if (!g.empty()) o.case_globs.push_back(g);
-    }
+    o.case_globs = split_globs(a.cases);
+    o.exclude_globs = split_globs(a.exclude);
+    if (!a.caselist.empty()) o.caselist = a.caselist;
+    if (!a.baseline.empty()) o.baseline = a.baseline;
+    o.shard_index = a.shard_index;
+    o.shard_count = a.shard_count;
+    o.resume = a.resume;
+    const char* ci = std::getenv("CI");
+    o.progress = ::isatty(STDOUT_FILENO) != 0 && !(ci != nullptr && std::string(ci) == "true");
     o.output = a.output;
     try {
         BackendArgs ref{"ref"};
@@ -293,6 +316,19 @@ int main(int argc, char** argv) {
     conf_cmd->require_subcommand(1);
     auto* run_cmd = conf_cmd->add_subcommand("run", "Run the scenes against a GL backend");
     run_cmd->add_option("--cases", conf.cases, "Comma-separated globs on case names (smoke.*)");
+    run_cmd->add_option("--exclude", conf.exclude, "Comma-separated globs of cases to leave out");
+    run_cmd->add_option("--caselist", conf.caselist, "File of case names or globs, one a line, '#' comments")
+        ->check(CLI::ExistingFile);
+    run_cmd->add_option("--baseline", conf.baseline,
+                        "Expected failures, deqp-runner style name,Status lines (a previous failures.csv)")
+        ->check(CLI::ExistingFile);
+    run_cmd->add_option("--shard-index", conf.shard_index, "This shard (default $GTEST_SHARD_INDEX or 0)")
+        ->envname("GTEST_SHARD_INDEX")
+        ->check(CLI::NonNegativeNumber);
+    run_cmd->add_option("--shard-count", conf.shard_count, "Number of shards (default $GTEST_TOTAL_SHARDS or 1)")
+        ->envname("GTEST_TOTAL_SHARDS")
+        ->check(CLI::PositiveNumber);
+    run_cmd->add_flag("--resume", conf.resume, "Continue a run killed part way, keeping its finished cases");
     run_cmd->add_option("--scenes", conf.scenes, "Scene root (default conformance/scenes)");
     run_cmd->add_option("--against", conf.against.backend, "GL backend compared with the reference")
         ->check(CLI::IsMember({"ref", "osmesa", "egl"}))

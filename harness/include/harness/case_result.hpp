@@ -16,15 +16,29 @@
 
 namespace harness {
 
-enum class CaseStatus : std::uint8_t { Pass, Fail, NotSupported, Crash, Timeout, InternalError };
+enum class CaseStatus : std::uint8_t {
+    Pass,
+    Fail,
+    NotSupported,
+    Crash,
+    Timeout,
+    InternalError,
+    // Against a baseline:
+    ExpectedFail,    // failed as the baseline says it does
+    UnexpectedPass,  // passed where the baseline lists a failure
+    Flake,           // an unexpected result that did not repeat on the re-run
+};
 
 std::string_view to_string(CaseStatus s);
-bool counts_as_failure(CaseStatus s);  // Fail, Crash, Timeout, InternalError
+std::optional<CaseStatus> case_status_from_string(std::string_view s);
+// Fail, Crash, Timeout, InternalError, UnexpectedPass.
+bool counts_as_failure(CaseStatus s);
 
 struct CaseResult {
     std::string name;
     std::string scene_path;
     CaseStatus status = CaseStatus::InternalError;
+    std::optional<CaseStatus> raw_status;  // before the baseline, when one changed it
     std::string message;  // one line: why, for anything but Pass
     Expect expect;
     std::string reference_name;
