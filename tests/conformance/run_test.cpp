@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
+#include <fstream>
+#include <map>
 #include <regex>
 
 #include "harness/image_io.hpp"
@@ -122,6 +124,117 @@ TEST(ConformanceRun, NoMatchingCaseIsAUsageError) {
                                       (dir.path() / "run").string()});
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_EQ(testutil::count_lines(r.err), 1u);
+}
+
+std::map<std::string, std::string> statuses(const std::filesystem::path& jsonl) {
+    std::map<std::string, std::string> m;
+    for (const auto& l : read_jsonl(jsonl)) m[l["case"].get<std::string>()] = l["status"].get<std::string>();
+    return m;
+}
+
+std::string bin() { return testutil::shell_quote(std::string(REFRASTER_BIN_DIR) + "/refraster"); }
+
+TEST(ConformanceRun, SigkillThenResumeGivesTheUninterruptedResults) {
+    testutil::TempDir dir;
+    const auto full = dir.path() / "full";
+    const auto killed = dir.path() / "killed";
+    const std::string sel = " --cases 'triangles.*,lines.*' --against osmesa --output ";
+    ASSERT_EQ(std::system((bin() + " conformance run" + sel + testutil::shell_quote(full.string()) + " > /dev/null").c_str()) >> 8, 0);
+    // Kill a second run with SIGKILL once it has written some results.
+    const std::string cmd = bin() + " conformance run" + sel + testutil::shell_quote(killed.string()) +
+                            " > /dev/null & pid=$!; while [ ! -s " + testutil::shell_quote((killed / "results.jsonl").string()) +
+                            " ] || [ $(wc -l < " + testutil::shell_quote((killed / "results.jsonl").string()) +
+                            ") -lt 20 ]; do sleep 0.01; done; kill -9 $pid; wait $pid";
+    std::system(cmd.c_str());
+    const auto partial = read_jsonl(killed / "results.jsonl");
+    EXPECT_GE(partial.size(), 20u);
+    EXPECT_LT(partial.size(), statuses(full / "results.jsonl").size());
+    // Cut the last line in half, as a kill in the middle of a write would.
+    {
+        const auto text = testutil::read_text(killed / "results.jsonl");
+        std::ofstream(killed / "results.jsonl", std::ios::trunc) << text.substr(0, text.size() - 40);
+    }
+    const int rc = std::system((bin() + " conformance run" + sel + testutil::shell_quote(killed.string()) + " --resume > /dev/null").c_str());
+    EXPECT_EQ(rc >> 8, 0);
+    EXPECT_EQ(statuses(killed / "results.jsonl"), statuses(full / "results.jsonl"));
+    EXPECT_EQ(read_jsonl(killed / "results.jsonl").size(), read_jsonl(full / "results.jsonl").size());  // none twice
+}
+
+TEST(ConformanceRun, BaselineExpectedFailAndUnexpectedPass) {
+    testutil::TempDir dir;
+    // Scenes of our own: one the reference gets wrong on purpose (tie rule flipped by profile)
+    // and one it gets right.
+    const auto scenes = dir.path() / "scenes" / "t";
+    std::filesystem::create_directories(scenes);
+    std::ofstream(scenes / "tie.json") << R"({"format": "refraster-scene/1", "name": "t.tie", "description": "d",
+      "target": {"width": 8, "height": 8}, "clear": {"color": [0, 0, 0, 1]},
+      "draws": [{"primitive": "triangles", "vertices": [{"position": [0, 0]}, {"position": [8, 0]}, {"position": [0, 8]}]}]})";
+    std::ofstream(scenes / "plain.json") << R"({"format": "refraster-scene/1", "name": "t.plain", "description": "d",
+      "target": {"width": 8, "height": 8}, "clear": {"color": [0, 0, 0, 1]},
+      "draws": [{"primitive": "triangles", "vertices": [{"position": [0.25, 0.25]}, {"position": [7.25, 0.75]}, {"position": [1.5, 7.75]}]}]})";
+    std::ofstream(dir.path() / "baseline.csv") << "# known failures\nt.tie,Fail\nt.plain,Fail\n";
+    const auto out = dir.path() / "out";
+    const auto r = testutil::run_cli({"conformance", "run", "--scenes", (dir.path() / "scenes").string(), "--baseline",
+                                      (dir.path() / "baseline.csv").string(), "--profile-set", "tie_rule=right-top",
+                                      "--output", out.string()});
+    const auto st = statuses(out / "results.jsonl");
+    EXPECT_EQ(st.at("t.tie"), "ExpectedFail");
+    EXPECT_EQ(st.at("t.plain"), "UnexpectedPass");
+    EXPECT_EQ(r.exit_code, 1);  // an unexpected pass fails the run: the baseline is stale
+    EXPECT_EQ(testutil::read_text(out / "failures.csv"), "t.plain,UnexpectedPass\n");
+    EXPECT_NE(testutil::read_text(out / "results.csv").find("t.tie,ExpectedFail,"), std::string::npos);
+    const auto junit = testutil::read_text(out / "junit.xml");
+    EXPECT_NE(junit.find("<failure type=\"UnexpectedPass\""), std::string::npos);
+    EXPECT_NE(junit.find("tests=\"2\" failures=\"1\""), std::string::npos);
+}
+
+TEST(ConformanceRun, ShardsPartitionTheSelection) {
+    testutil::TempDir dir;
+    std::map<std::string, std::string> all;
+    std::size_t total = 0;
+    for (int i = 0; i < 3; ++i) {
+        const auto out = dir.path() / ("s" + std::to_string(i));
+        const std::string cmd = "GTEST_SHARD_INDEX=" + std::to_string(i) + " GTEST_TOTAL_SHARDS=3 " + bin() +
+                                " conformance run --cases 'smoke.*,points.*' --against osmesa --output " +
+                                testutil::shell_quote(out.string()) + " > /dev/null";
+        EXPECT_EQ(std::system(cmd.c_str()) >> 8, 0);
+        const auto st = statuses(out / "results.jsonl");
+        total += st.size();
+        EXPECT_GE(st.size(), 9u);
+        for (const auto& [k, v] : st) EXPECT_TRUE(all.emplace(k, v).second) << k << " ran on two shards";
+    }
+    const auto whole = dir.path() / "whole";
+    EXPECT_EQ(std::system((bin() + " conformance run --cases 'smoke.*,points.*' --output " +
+                           testutil::shell_quote(whole.string()) + " > /dev/null").c_str()) >> 8, 0);
+    EXPECT_EQ(all, statuses(whole / "results.jsonl"));
+    EXPECT_EQ(total, all.size());
+}
+
+TEST(ConformanceRun, CaselistAndExclude) {
+    testutil::TempDir dir;
+    std::ofstream(dir.path() / "list.txt") << "# a dEQP-style case list\nsmoke.triangles\nsmoke.depth  # trailing comment\npoints.size_*\n";
+    const auto out = dir.path() / "out";
+    const auto r = testutil::run_cli({"conformance", "run", "--caselist", (dir.path() / "list.txt").string(), "--exclude",
+                                      "points.size_1*", "--output", out.string()});
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    const auto st = statuses(out / "results.jsonl");
+    EXPECT_TRUE(st.count("smoke.triangles"));
+    EXPECT_TRUE(st.count("smoke.depth"));
+    EXPECT_TRUE(st.count("points.size_2"));
+    EXPECT_FALSE(st.count("points.size_1_5"));
+    EXPECT_FALSE(st.count("smoke.lines"));
+}
+
+TEST(ConformanceRun, DuplicateCaseNamesAreRefused) {
+    testutil::TempDir dir;
+    std::filesystem::create_directories(dir.path() / "a");
+    const std::string scene = R"({"format": "refraster-scene/1", "target": {"width": 4, "height": 4}, "draws": []})";
+    std::ofstream(dir.path() / "a" / "b.json") << scene;
+    std::ofstream(dir.path() / "a.b.json") << scene;
+    const auto r = testutil::run_cli({"conformance", "run", "--scenes", dir.path().string(), "--output",
+                                      (dir.path() / "out").string()});
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("duplicate case name a.b"), std::string::npos) << r.err;
 }
 
 }  // namespace
