@@ -10,6 +10,7 @@
 
 #include "harness/backend.hpp"
 #include "harness/case_result.hpp"
+#include "harness/image_hash.hpp"
 #include "harness/image_io.hpp"
 #include "harness/profile_io.hpp"
 #include "harness/scene.hpp"
@@ -273,6 +274,36 @@ int run_conformance(const ConformanceArgs& a) {
     }
 }
 
+// ---- conformance hashes ------------------------------------------------------------------
+
+// One line per scene, "case hash", of the reference's render (or its status when it does not
+// render): the golden file conformance/expectations/ref-hashes.txt.
+int run_hashes(const std::string& scenes, const ProfileArgs& profile) {
+    try {
+        BackendArgs ref{"ref"};
+        ref.profile = profile;
+        // Fused arithmetic wherever llvmpipe fuses, whatever this CPU has: std::fma gives the
+        // same result everywhere, so the hashes do not depend on the host.
+        ref.profile.overrides.insert(ref.profile.overrides.begin(), "viewport_fma=on");
+        auto backend = harness::make_backend(ref.options());
+        const auto root = scenes.empty() ? default_scenes_root() : std::filesystem::path(scenes);
+        std::cout << "# refraster reference image hashes (FNV-1a 64 of decoded colour and depth), profile "
+                  << ref.profile.load().name << " with viewport_fma=on\n"
+                  << "# regenerate: build/bin/refraster conformance hashes > conformance/expectations/ref-hashes.txt\n";
+        for (const auto& c : conformance::discover_cases(root)) {
+            const auto r = backend->render(harness::load_scene(c.file));
+            std::cout << c.name << " "
+                      << (r.status == harness::RenderStatus::Ok ? harness::image_hash(r.image)
+                                                                : std::string(harness::to_string(r.status)))
+                      << "\n";
+        }
+        return kExitOk;
+    } catch (const std::exception& e) {
+        std::cerr << "refraster conformance hashes: " << e.what() << "\n";
+        return kExitBadInput;
+    }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -335,6 +366,11 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     add_driver_options(run_cmd, conf.against);
     add_profile_options(run_cmd, conf.profile);
+    std::string hash_scenes;
+    ProfileArgs hash_profile;
+    auto* hash_cmd = conf_cmd->add_subcommand("hashes", "Print the reference's image hash for every scene");
+    hash_cmd->add_option("--scenes", hash_scenes, "Scene root (default conformance/scenes)");
+    add_profile_options(hash_cmd, hash_profile);
     run_cmd->add_option("--output", conf.output, "Directory for results.jsonl and images")
         ->required();
 
@@ -356,6 +392,7 @@ int main(int argc, char** argv) {
     if (rcmd->parsed()) return run_render(render);
     if (ccmd->parsed()) return run_compare(compare);
     if (run_cmd->parsed()) return run_conformance(conf);
+    if (hash_cmd->parsed()) return run_hashes(hash_scenes, hash_profile);
     if (pcmd->parsed()) {
         try {
             std::cout << harness::profile_to_json(show.load()) << "\n";
