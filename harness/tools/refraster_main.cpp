@@ -10,6 +10,7 @@
 
 #include "harness/backend.hpp"
 #include "harness/case_result.hpp"
+#include "harness/explain.hpp"
 #include "harness/image_hash.hpp"
 #include "harness/image_io.hpp"
 #include "harness/profile_io.hpp"
@@ -274,6 +275,59 @@ int run_conformance(const ConformanceArgs& a) {
     }
 }
 
+// ---- explain -----------------------------------------------------------------------------
+
+struct ExplainArgs {
+    std::string scene;
+    std::string pixel;
+    bool json = false;
+    std::string svg;
+    BackendArgs against{"osmesa"};
+    bool no_backend = false;
+};
+
+int run_explain(ExplainArgs a) {
+    const auto scene = load_or_report(a.scene);
+    if (!scene) return kExitBadInput;
+    int x = 0;
+    int y = 0;
+    char comma = 0;
+    std::istringstream ps(a.pixel);
+    if (!(ps >> x >> comma >> y) || comma != ',' || !ps.eof()) {
+        std::cerr << "refraster explain: --pixel " << a.pixel << ": expected X,Y\n";
+        return kExitBadInput;
+    }
+    refraster::Profile profile;
+    try {
+        profile = a.against.profile.load();
+    } catch (const refraster::ProfileError& e) {
+        std::cerr << "refraster: " << e.what() << "\n";
+        return kExitBadInput;
+    }
+    std::unique_ptr<harness::Backend> backend;
+    if (!a.no_backend) {
+        bool bad = false;
+        BackendArgs gl = a.against;
+        gl.profile = ProfileArgs{};
+        backend = backend_or_report(gl, a.scene, bad);
+        if (!backend) return bad ? kExitBadInput : kExitBackendFailure;
+    }
+    try {
+        const auto e = harness::explain_pixel(*scene, profile, x, y, backend.get());
+        std::cout << (a.json ? harness::explanation_json(e) + "\n" : harness::explanation_text(e));
+        if (!a.svg.empty()) {
+            const std::filesystem::path p(a.svg);
+            const auto tmp = p.parent_path() / ("." + p.filename().string() + ".partial");
+            std::ofstream(tmp) << harness::explanation_svg(*scene, profile, e);
+            std::filesystem::rename(tmp, p);
+        }
+        return e.agree ? kExitOk : kExitMismatch;
+    } catch (const std::exception& ex) {
+        std::cerr << a.scene << ": " << ex.what() << "\n";
+        return kExitBackendFailure;
+    }
+}
+
 // ---- conformance hashes ------------------------------------------------------------------
 
 // One line per scene, "case hash", of the reference's render (or its status when it does not
@@ -374,6 +428,19 @@ int main(int argc, char** argv) {
     run_cmd->add_option("--output", conf.output, "Directory for results.jsonl and images")
         ->required();
 
+    ExplainArgs explain;
+    auto* xcmd = app.add_subcommand("explain", "Trace every decision about one pixel, and where the backend parts");
+    xcmd->add_option("scene", explain.scene, "Scene file (format refraster-scene/1)")->required();
+    xcmd->add_option("--pixel", explain.pixel, "The pixel, X,Y in window coordinates (row 0 at the bottom)")->required();
+    xcmd->add_flag("--json", explain.json, "Print the trace and verdict as JSON");
+    xcmd->add_option("--svg", explain.svg, "Draw the pixel's neighbourhood at subpixel zoom into this SVG file");
+    xcmd->add_option("--against", explain.against.backend, "GL backend whose bytes to compare")
+        ->check(CLI::IsMember({"osmesa", "egl"}))
+        ->capture_default_str();
+    xcmd->add_flag("--no-backend", explain.no_backend, "Trace the reference alone");
+    add_driver_options(xcmd, explain.against);
+    add_profile_options(xcmd, explain.against.profile);
+
     ProfileArgs show;
     auto* pcmd = app.add_subcommand("profile", "Print a reference profile as JSON (a profile file)");
     pcmd->add_option("name", show.profile, "Built-in name or profile file")->capture_default_str();
@@ -393,6 +460,7 @@ int main(int argc, char** argv) {
     if (ccmd->parsed()) return run_compare(compare);
     if (run_cmd->parsed()) return run_conformance(conf);
     if (hash_cmd->parsed()) return run_hashes(hash_scenes, hash_profile);
+    if (xcmd->parsed()) return run_explain(explain);
     if (pcmd->parsed()) {
         try {
             std::cout << harness::profile_to_json(show.load()) << "\n";

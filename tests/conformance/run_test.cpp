@@ -238,3 +238,62 @@ TEST(ConformanceRun, DuplicateCaseNamesAreRefused) {
 }
 
 }  // namespace
+
+namespace {
+
+nlohmann::json explain(const std::string& scene, const std::string& pixel, const std::vector<std::string>& extra) {
+    std::vector<std::string> args{"explain", std::string(REFRASTER_SOURCE_DIR) + "/conformance/scenes/" + scene, "--pixel", pixel, "--json"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const auto r = testutil::run_cli(args);
+    return nlohmann::json::parse(r.out);
+}
+
+TEST(Explain, FlippedTieRuleFailuresNameTheTieRule) {
+    // Every failing pixel of a tie-heavy scene under the flipped rule is explained by the tie rule.
+    testutil::TempDir dir;
+    const auto scene = std::string(REFRASTER_SOURCE_DIR) + "/conformance/scenes/triangles/coverage/square_through_centres.json";
+    const auto r = testutil::run_cli({"compare", scene, "--profile-set", "tie_rule=right-top", "--diff", (dir.path() / "m.png").string()});
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    const auto mask = harness::read_color_image(dir.path() / "m.png");
+    int explained = 0;
+    for (std::uint32_t y = 0; y < mask.height; ++y) {
+        for (std::uint32_t x = 0; x < mask.width; ++x) {
+            if (mask.color8[4 * mask.index(x, y)] != 255) continue;  // dark grey: equal
+            const auto j = explain("triangles/coverage/square_through_centres.json", std::to_string(x) + "," + std::to_string(y),
+                                   {"--profile-set", "tie_rule=right-top"});
+            EXPECT_EQ(j["rule"], "tie rule") << x << "," << y << ": " << j["verdict"];
+            EXPECT_FALSE(j["agree"].get<bool>());
+            ++explained;
+        }
+    }
+    // The square lights (10..19)^2 under left-bottom and (11..20)^2 under right-top: 19 + 19
+    // pixels of difference.
+    EXPECT_EQ(explained, 38);
+}
+
+TEST(Explain, SnappingMismatchIsNotATie) {
+    // Half-away rounding moves the left edge at 10.5 + 1/512 off the centres: a mismatch at
+    // column 10 with no centre exactly on a reference edge.
+    const auto j = explain("triangles/coverage/left_edge_plus_1_512.json", "10,15", {"--profile-set", "snap_rounding=half-away"});
+    EXPECT_FALSE(j["agree"].get<bool>());
+    EXPECT_NE(j["rule"], "tie rule");
+    EXPECT_EQ(j["rule"], "snapping");
+}
+
+TEST(Explain, AgreementAndSvg) {
+    testutil::TempDir dir;
+    const auto svg = dir.path() / "n.svg";
+    const auto r = testutil::run_cli({"explain", std::string(REFRASTER_SOURCE_DIR) + "/conformance/scenes/smoke/triangles.json",
+                                      "--pixel", "3,2", "--svg", svg.string()});
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("verdict: the reference and the backend agree at (3, 2)"), std::string::npos) << r.out;
+    const auto text = testutil::read_text(svg);
+    EXPECT_NE(text.find("<svg"), std::string::npos);
+    EXPECT_NE(text.find("<polygon"), std::string::npos);  // the triangle's snapped edges
+    const auto bad = testutil::run_cli({"explain", std::string(REFRASTER_SOURCE_DIR) + "/conformance/scenes/smoke/triangles.json",
+                                        "--pixel", "99,2"});
+    EXPECT_EQ(bad.exit_code, 3);
+    EXPECT_NE(bad.err.find("outside"), std::string::npos);
+}
+
+}  // namespace
