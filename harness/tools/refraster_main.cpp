@@ -14,6 +14,7 @@
 #include "harness/image_hash.hpp"
 #include "harness/image_io.hpp"
 #include "harness/profile_io.hpp"
+#include "harness/reduce.hpp"
 #include "harness/scene.hpp"
 #include "suite.hpp"
 
@@ -328,6 +329,52 @@ int run_explain(ExplainArgs a) {
     }
 }
 
+// ---- reduce ------------------------------------------------------------------------------
+
+struct ReduceArgs {
+    std::string scene;
+    std::string output;
+    BackendArgs against{"osmesa"};
+};
+
+int run_reduce(const ReduceArgs& a) {
+    const auto scene = load_or_report(a.scene);
+    if (!scene) return kExitBadInput;
+    refraster::Profile profile;
+    try {
+        profile = a.against.profile.load();
+    } catch (const refraster::ProfileError& e) {
+        std::cerr << "refraster: " << e.what() << "\n";
+        return kExitBadInput;
+    }
+    bool bad = false;
+    BackendArgs gl = a.against;
+    gl.profile = ProfileArgs{};
+    auto backend = backend_or_report(gl, a.scene, bad);
+    if (!backend) return bad ? kExitBadInput : kExitBackendFailure;
+    try {
+        const auto r = harness::reduce_scene(scene->file, a.scene, profile, *backend, std::cout);
+        auto reduced = r.scene;
+        reduced.description = "Reduced from " + a.scene + " (" + std::to_string(r.primitives_before) + " -> " +
+                              std::to_string(r.primitives_after) + " primitives), keeping a mismatch explained by the " +
+                              r.signature + ".";
+        const std::string text = harness::scene_to_json(reduced);
+        (void)harness::load_scene_text(text, a.output);  // what is written is a valid scene
+        const std::filesystem::path p(a.output);
+        const auto tmp = p.parent_path() / ("." + p.filename().string() + ".partial");
+        std::ofstream(tmp) << text;
+        std::filesystem::rename(tmp, p);
+        std::cout << "wrote " << a.output << "\n";
+        return kExitOk;
+    } catch (const harness::SceneError& e) {
+        std::cerr << "refraster reduce: internal error, the reduced scene is invalid: " << e.what() << "\n";
+        return kExitBackendFailure;
+    } catch (const std::exception& e) {
+        std::cerr << "refraster reduce: " << e.what() << "\n";
+        return kExitBadInput;
+    }
+}
+
 // ---- conformance hashes ------------------------------------------------------------------
 
 // One line per scene, "case hash", of the reference's render (or its status when it does not
@@ -441,6 +488,16 @@ int main(int argc, char** argv) {
     add_driver_options(xcmd, explain.against);
     add_profile_options(xcmd, explain.against.profile);
 
+    ReduceArgs reduce;
+    auto* dcmd = app.add_subcommand("reduce", "Shrink a failing scene while it keeps the same mismatch");
+    dcmd->add_option("scene", reduce.scene, "Scene file that mismatches")->required();
+    dcmd->add_option("-o,--output", reduce.output, "Where to write the reduced scene (.json)")->required();
+    dcmd->add_option("--against", reduce.against.backend, "GL backend")
+        ->check(CLI::IsMember({"osmesa", "egl"}))
+        ->capture_default_str();
+    add_driver_options(dcmd, reduce.against);
+    add_profile_options(dcmd, reduce.against.profile);
+
     ProfileArgs show;
     auto* pcmd = app.add_subcommand("profile", "Print a reference profile as JSON (a profile file)");
     pcmd->add_option("name", show.profile, "Built-in name or profile file")->capture_default_str();
@@ -461,6 +518,7 @@ int main(int argc, char** argv) {
     if (run_cmd->parsed()) return run_conformance(conf);
     if (hash_cmd->parsed()) return run_hashes(hash_scenes, hash_profile);
     if (xcmd->parsed()) return run_explain(explain);
+    if (dcmd->parsed()) return run_reduce(reduce);
     if (pcmd->parsed()) {
         try {
             std::cout << harness::profile_to_json(show.load()) << "\n";

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 #include <fstream>
 #include <map>
+#include <random>
 #include <regex>
 
 #include "harness/image_io.hpp"
@@ -294,6 +295,48 @@ TEST(Explain, AgreementAndSvg) {
                                         "--pixel", "99,2"});
     EXPECT_EQ(bad.exit_code, 3);
     EXPECT_NE(bad.err.find("outside"), std::string::npos);
+}
+
+}  // namespace
+
+namespace {
+
+TEST(Reduce, TwoThousandTrianglesDownToTheSharedEdge) {
+    // 1,998 small triangles away from pixel-centre ties (random float corners), plus two that
+    // share an edge through pixel centres. With the tie rule flipped, the reference parts from
+    // llvmpipe on that edge; reduce must keep the mismatch and end with at most 2 triangles.
+    testutil::TempDir dir;
+    std::mt19937 rng(99);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    nlohmann::json vertices = nlohmann::json::array();
+    for (int i = 0; i < 1998; ++i) {
+        const float cx = 2 + 60 * u(rng), cy = 2 + 60 * u(rng);
+        for (int k = 0; k < 3; ++k) {
+            vertices.push_back({{"position", {cx + 3 * u(rng) - 1.5f, cy + 3 * u(rng) - 1.5f}},
+                                {"color", {u(rng), u(rng), u(rng), 1.0f}}});
+        }
+    }
+    for (auto p : {std::array<float, 2>{8.5f, 20.5f}, {40.5f, 20.5f}, {24.5f, 4.5f}, {40.5f, 20.5f}, {8.5f, 20.5f}, {24.5f, 44.5f}}) {
+        vertices.push_back({{"position", {p[0], p[1]}}, {"color", {1, 1, 1, 1}}});
+    }
+    const nlohmann::json scene = {{"format", "refraster-scene/1"},
+                                  {"target", {{"width", 64}, {"height", 64}}},
+                                  {"clear", {{"color", {0, 0, 0, 1}}}},
+                                  {"draws", {{{"primitive", "triangles"}, {"vertices", vertices}, {"state", {{"shade", "flat"}}}}}}};
+    const auto in = dir.write("big.json", scene.dump());
+    const auto out = dir.path() / "min.json";
+    const auto r = testutil::run_cli({"reduce", in.string(), "--profile-set", "tie_rule=right-top", "-o", out.string()});
+    ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+    EXPECT_NE(r.out.find("signature: a mismatch explained by the tie rule"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("step 1:"), std::string::npos);
+    const auto reduced = nlohmann::json::parse(testutil::read_text(out));
+    std::size_t triangles = 0;
+    for (const auto& d : reduced["draws"]) triangles += d["vertices"].size() / 3;
+    EXPECT_GE(triangles, 1u);
+    EXPECT_LE(triangles, 2u);
+    // The reduced scene is valid and still fails the same way.
+    const auto c = testutil::run_cli({"compare", out.string(), "--profile-set", "tie_rule=right-top"});
+    EXPECT_EQ(c.exit_code, 1) << c.err << c.out;
 }
 
 }  // namespace

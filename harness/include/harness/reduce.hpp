@@ -1,0 +1,37 @@
+// reduce.hpp: delta debugging of a failing scene, and writing scenes back to JSON.
+//
+// Implements: scene_to_json, the inverse of the loader (every value the file held, defaults
+// left out); reduce_scene, which shrinks a scene while it keeps the same mismatch signature
+// (a mismatch against the backend, explained by the same rule at the pixel of largest
+// difference, see explain.hpp): draws become explicit lists of primitives in the order the
+// driver assembles them, then whole draws, then primitives (ddmin: halves, quarters, ... down
+// to single primitives), then state keys and vertex coordinates (rounded to coarser binary
+// grids) are tried one by one, each step printed.
+//
+// Deliberately does not: shrink the target or the viewport (the signature's pixel would
+// move), or reduce below one primitive.
+#pragma once
+
+#include <iosfwd>
+#include <string>
+
+#include "harness/backend.hpp"
+#include "harness/scene.hpp"
+
+namespace harness {
+
+std::string scene_to_json(const SceneFile& s);
+
+struct ReduceResult {
+    SceneFile scene;
+    std::string signature;  // the rule that explains the mismatch
+    std::size_t primitives_before = 0;
+    std::size_t primitives_after = 0;
+    int renders = 0;
+};
+
+// Throws std::runtime_error when the scene does not mismatch to begin with.
+ReduceResult reduce_scene(const SceneFile& scene, const std::string& label, const refraster::Profile& profile,
+                          Backend& backend, std::ostream& log);
+
+}  // namespace harness

@@ -1,0 +1,297 @@
+#include "harness/reduce.hpp"
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <ostream>
+#include <stdexcept>
+
+#include "harness/compare.hpp"
+#include "harness/explain.hpp"
+#include "harness/front_end.hpp"
+#include "refraster/renderer.hpp"
+
+namespace harness {
+
+namespace {
+
+using ojson = nlohmann::ordered_json;
+
+const char* name_of(refraster::CullMode c) {
+    switch (c) {
+        case refraster::CullMode::None: return "none";
+        case refraster::CullMode::Front: return "front";
+        case refraster::CullMode::Back: return "back";
+        case refraster::CullMode::FrontAndBack: return "front_and_back";
+    }
+    return "none";
+}
+
+const char* name_of(refraster::CompareFunc f) {
+    static const char* names[] = {"never", "less", "equal", "lequal", "greater", "notequal", "gequal", "always"};
+    return names[static_cast<int>(f)];
+}
+
+ojson state_json(const refraster::DrawState& s, const refraster::Target& t) {
+    using namespace refraster;
+    const DrawState d;
+    ojson j = ojson::object();
+    const Rect whole{0, 0, static_cast<std::int32_t>(t.width), static_cast<std::int32_t>(t.height)};
+    if (!(s.viewport == whole)) j["viewport"] = {s.viewport.x, s.viewport.y, s.viewport.width, s.viewport.height};
+    if (s.depth_near != d.depth_near || s.depth_far != d.depth_far) j["depth_range"] = {s.depth_near, s.depth_far};
+    if (s.scissor) j["scissor"] = {s.scissor->x, s.scissor->y, s.scissor->width, s.scissor->height};
+    if (s.cull != d.cull) j["cull"] = name_of(s.cull);
+    if (s.front_face != d.front_face) j["front_face"] = "cw";
+    if (s.depth_test) j["depth_test"] = name_of(*s.depth_test);
+    if (!s.depth_write) j["depth_write"] = false;
+    if (s.shade != d.shade) j["shade"] = s.shade == ShadeModel::Flat ? "flat" : "noperspective";
+    if (s.provoking_vertex != d.provoking_vertex) j["provoking_vertex"] = "first";
+    if (s.polygon_mode != d.polygon_mode) j["polygon_mode"] = s.polygon_mode == PolygonMode::Line ? "line" : "point";
+    if (s.polygon_offset) j["polygon_offset"] = {{"factor", s.polygon_offset->factor}, {"units", s.polygon_offset->units}};
+    if (s.line_width != d.line_width) j["line_width"] = s.line_width;
+    if (s.point_size != d.point_size) j["point_size"] = s.point_size;
+    if (s.blend != d.blend) j["blend"] = s.blend == BlendPreset::Alpha ? "alpha" : "add";
+    return j;
+}
+
+// The primitives of a draw as vertex lists in the order the driver assembles them, so that a
+// list primitive with those vertices rasterizes identically.
+std::vector<std::vector<SceneVertex>> primitives_of(const SceneDraw& d) {
+    using refraster::PrimitiveType;
+    const std::size_t n = d.indices ? d.indices->size() : d.vertices.size();
+    const auto v = [&](std::size_t i) { return d.vertices[d.indices ? (*d.indices)[i] : i]; };
+    const bool first = d.state.provoking_vertex == refraster::ProvokingVertex::First;
+    std::vector<std::vector<SceneVertex>> out;
+    switch (d.primitive) {
+        case PrimitiveType::Points:
+            for (std::size_t i = 0; i < n; ++i) out.push_back({v(i)});
+            break;
+        case PrimitiveType::Lines:
+            for (std::size_t i = 0; i + 1 < n; i += 2) out.push_back({v(i), v(i + 1)});
+            break;
+        case PrimitiveType::LineStrip:
+        case PrimitiveType::LineLoop:
+            for (std::size_t i = 0; i + 1 < n; ++i) out.push_back({v(i), v(i + 1)});
+            if (d.primitive == PrimitiveType::LineLoop && n >= 2) out.push_back({v(n - 1), v(0)});
+            break;
+        case PrimitiveType::Triangles:
+            for (std::size_t i = 0; i + 2 < n; i += 3) out.push_back({v(i), v(i + 1), v(i + 2)});
+            break;
+        case PrimitiveType::TriangleStrip:
+            for (std::size_t k = 0; k + 2 < n; ++k) {
+                if (k % 2 == 0) {
+                    out.push_back({v(k), v(k + 1), v(k + 2)});
+                } else if (first) {
+                    out.push_back({v(k), v(k + 2), v(k + 1)});
+                } else {
+                    out.push_back({v(k + 1), v(k), v(k + 2)});
+                }
+            }
+            break;
+        case PrimitiveType::TriangleFan:
+            for (std::size_t k = 0; k + 2 < n; ++k) {
+                if (first) {
+                    out.push_back({v(k + 1), v(k + 2), v(0)});
+                } else {
+                    out.push_back({v(0), v(k + 1), v(k + 2)});
+                }
+            }
+            break;
+    }
+    return out;
+}
+
+refraster::PrimitiveType list_type(refraster::PrimitiveType p) {
+    using refraster::PrimitiveType;
+    switch (p) {
+        case PrimitiveType::Points: return PrimitiveType::Points;
+        case PrimitiveType::Lines:
+        case PrimitiveType::LineStrip:
+        case PrimitiveType::LineLoop: return PrimitiveType::Lines;
+        default: return PrimitiveType::Triangles;
+    }
+}
+
+// The working form: every draw's primitives, each removable on its own.
+struct Piece {
+    std::size_t draw;
+    std::vector<SceneVertex> vertices;
+};
+
+SceneFile assemble(const SceneFile& base, const std::vector<Piece>& pieces) {
+    SceneFile s = base;
+    s.draws.clear();
+    std::size_t current = SIZE_MAX;
+    for (const auto& p : pieces) {
+        if (p.draw != current) {
+            SceneDraw d = base.draws[p.draw];
+            d.primitive = list_type(d.primitive);
+            d.vertices.clear();
+            d.indices.reset();
+            s.draws.push_back(d);
+            current = p.draw;
+        }
+        auto& v = s.draws.back().vertices;
+        v.insert(v.end(), p.vertices.begin(), p.vertices.end());
+    }
+    return s;
+}
+
+class Oracle {
+public:
+    Oracle(const refraster::Profile& p, Backend& b, const std::string& label) : profile_(p), backend_(b), label_(label) {}
+
+    // The mismatch signature, or "" when the scene matches (or cannot be rendered).
+    std::string signature(const SceneFile& f) {
+        ++renders;
+        Scene scene;
+        scene.path = label_;
+        scene.file = f;
+        try {
+            scene.draw_list = run_front_end(f, label_);
+        } catch (const SceneError&) {
+            return "";
+        }
+        refraster::Framebuffer ref;
+        refraster::RenderOptions o;
+        o.profile = profile_;
+        if (refraster::render(scene.draw_list, o, ref).status != refraster::RenderStatus::Ok) return "";
+        const auto gl = backend_.render(scene);
+        if (gl.status != RenderStatus::Ok) return "";
+        const auto c = compare_images(ref, gl.image, scene.draw_list.clear, f.expect);
+        if (c.within_expect || !c.max_color) {
+            if (!c.max_depth || c.within_expect) return "";
+        }
+        const int x = static_cast<int>(c.max_color ? c.max_color->x : c.max_depth->x);
+        const int y = static_cast<int>(c.max_color ? c.max_color->y : c.max_depth->y);
+        const auto e = explain_pixel(scene, profile_, x, y, &backend_);
+        return e.rule;
+    }
+    int renders = 0;
+
+private:
+    const refraster::Profile& profile_;
+    Backend& backend_;
+    std::string label_;
+};
+
+}  // namespace
+
+std::string scene_to_json(const SceneFile& s) {
+    using namespace refraster;
+    ojson j;
+    j["format"] = kSceneFormatV1;
+    if (!s.name.empty()) j["name"] = s.name;
+    if (!s.description.empty()) j["description"] = s.description;
+    if (!s.requires_extensions.empty()) j["requires"] = s.requires_extensions;
+    ojson t = {{"width", s.target.width}, {"height", s.target.height}};
+    if (s.target.color != ColorFormat::Rgba8) t["color"] = "rgba32f";
+    if (s.target.depth != DepthFormat::None) t["depth"] = std::string(to_string(s.target.depth));
+    if (s.target.samples != 1) t["samples"] = s.target.samples;
+    j["target"] = t;
+    j["clear"] = {{"color", s.clear.color}, {"depth", s.clear.depth}};
+    if (s.expect.color_tolerance != 0 || s.expect.max_mismatched_pixels != 0) {
+        j["expect"] = {{"color_tolerance", s.expect.color_tolerance},
+                       {"max_mismatched_pixels", s.expect.max_mismatched_pixels}};
+    }
+    ojson draws = ojson::array();
+    for (const auto& d : s.draws) {
+        ojson dj;
+        dj["primitive"] = std::string(to_string(d.primitive));
+        if (d.space == VertexSpace::Clip) dj["space"] = "clip";
+        if (d.matrix) dj["matrix"] = *d.matrix;
+        ojson vs = ojson::array();
+        for (const auto& v : d.vertices) {
+            ojson p = ojson::array();
+            for (std::uint32_t k = 0; k < v.position_size; ++k) p.push_back(v.position[k]);
+            vs.push_back({{"position", p}, {"color", v.color}});
+        }
+        dj["vertices"] = vs;
+        if (d.indices) dj["indices"] = *d.indices;
+        if (auto st = state_json(d.state, s.target); !st.empty()) dj["state"] = st;
+        draws.push_back(dj);
+    }
+    j["draws"] = draws;
+    return j.dump(1) + "\n";
+}
+
+ReduceResult reduce_scene(const SceneFile& scene, const std::string& label, const refraster::Profile& profile,
+                          Backend& backend, std::ostream& log) {
+    Oracle oracle(profile, backend, label);
+    ReduceResult r;
+    r.signature = oracle.signature(scene);
+    if (r.signature.empty()) throw std::runtime_error(label + ": the scene matches the backend; nothing to reduce");
+    log << "signature: a mismatch explained by the " << r.signature << "\n";
+
+    std::vector<Piece> pieces;
+    for (std::size_t d = 0; d < scene.draws.size(); ++d) {
+        for (auto& p : primitives_of(scene.draws[d])) pieces.push_back({d, std::move(p)});
+    }
+    r.primitives_before = pieces.size();
+    const auto holds = [&](const std::vector<Piece>& ps) {
+        return !ps.empty() && oracle.signature(assemble(scene, ps)) == r.signature;
+    };
+    if (!holds(pieces)) {
+        throw std::runtime_error(label + ": the signature changes when draws become lists of primitives");
+    }
+    log << "step 0: " << pieces.size() << " primitives in " << scene.draws.size() << " draws\n";
+
+    // ddmin over primitives: try dropping each of n chunks, then keeping only one chunk.
+    std::size_t n = 2;
+    int step = 0;
+    while (pieces.size() >= 2) {
+        const std::size_t chunk = (pieces.size() + n - 1) / n;
+        bool reduced = false;
+        for (std::size_t start = 0; start < pieces.size() && !reduced; start += chunk) {
+            const std::size_t end = std::min(pieces.size(), start + chunk);
+            std::vector<Piece> only(pieces.begin() + static_cast<std::ptrdiff_t>(start), pieces.begin() + static_cast<std::ptrdiff_t>(end));
+            if (only.size() < pieces.size() && holds(only)) {
+                pieces = std::move(only);
+                n = 2;
+                reduced = true;
+                break;
+            }
+            std::vector<Piece> rest;
+            rest.insert(rest.end(), pieces.begin(), pieces.begin() + static_cast<std::ptrdiff_t>(start));
+            rest.insert(rest.end(), pieces.begin() + static_cast<std::ptrdiff_t>(end), pieces.end());
+            if (holds(rest)) {
+                pieces = std::move(rest);
+                n = std::max<std::size_t>(n - 1, 2);
+                reduced = true;
+            }
+        }
+        if (reduced) {
+            log << "step " << ++step << ": " << pieces.size() << " primitives\n" << std::flush;
+            continue;
+        }
+        if (n >= pieces.size()) break;
+        n = std::min(pieces.size(), n * 2);
+    }
+
+    // Coordinates to coarser binary grids, one vertex coordinate at a time.
+    SceneFile best = assemble(scene, pieces);
+    for (auto& d : best.draws) {
+        for (auto& v : d.vertices) {
+            for (std::uint32_t k = 0; k < v.position_size; ++k) {
+                for (float grid : {1.0f, 0.5f, 0.25f, 1.0f / 16, 1.0f / 256}) {
+                    const float old = v.position[k];
+                    const float rounded = std::round(old / grid) * grid;
+                    if (rounded == old) break;
+                    v.position[k] = rounded;
+                    if (oracle.signature(best) == r.signature) {
+                        log << "step " << ++step << ": a coordinate " << old << " -> " << rounded << "\n";
+                        break;
+                    }
+                    v.position[k] = old;
+                }
+            }
+        }
+    }
+    r.scene = best;
+    r.primitives_after = pieces.size();
+    r.renders = oracle.renders;
+    log << "done: " << r.primitives_before << " -> " << r.primitives_after << " primitives in " << r.renders
+        << " renders\n";
+    return r;
+}
+
+}  // namespace harness
