@@ -12,6 +12,8 @@ packages=(
   libopenimageio-dev openimageio-tools
   # Mesa: OSMesa, and EGL surfaceless with the llvmpipe/softpipe DRI driver
   libosmesa6-dev libegl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri
+  # the HTML report test opens the report in headless Chromium
+  chromium
 )
 
 missing=()

@@ -340,3 +340,48 @@ TEST(Reduce, TwoThousandTrianglesDownToTheSharedEdge) {
 }
 
 }  // namespace
+
+namespace {
+
+// The HTML report in a real browser: headless Chromium renders the pages (scripts included)
+// and the DOM must hold the summary, the chart, and a failing case's images and numbers.
+std::string dump_dom(const std::filesystem::path& page, const std::filesystem::path& profile_dir) {
+    const std::string cmd = "timeout 120 chromium --headless --no-sandbox --disable-gpu --disable-quic --no-first-run "
+                            "--disable-background-networking --disable-component-update --disable-sync --user-data-dir=" +
+                            testutil::shell_quote(profile_dir.string()) + " --virtual-time-budget=2000 --dump-dom " +
+                            testutil::shell_quote("file://" + page.string()) + " 2>/dev/null";
+    std::string out;
+    FILE* p = ::popen(cmd.c_str(), "r");
+    if (p == nullptr) return out;
+    char buf[4096];
+    for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, p)) > 0;) out.append(buf, n);
+    ::pclose(p);
+    return out;
+}
+
+TEST(HtmlReport, ChromiumShowsSummaryChartImagesAndNumbers) {
+    testutil::TempDir dir;
+    const auto out = dir.path() / "run";
+    const auto r = testutil::run_cli({"conformance", "run", "--cases", "smoke.*,triangles.coverage.square*",
+                                      "--profile-set", "tie_rule=right-top", "--output", out.string()});
+    ASSERT_EQ(r.exit_code, 1) << r.err;  // the flipped tie rule fails the squares
+    const auto index = dump_dom(out / "index.html", dir.path() / "chrome");
+    ASSERT_FALSE(index.empty()) << "chromium produced no DOM (is the chromium package installed?)";
+    EXPECT_NE(index.find("id=\"summary\""), std::string::npos);
+    EXPECT_NE(index.find("id=\"error-chart\""), std::string::npos);
+    EXPECT_NE(index.find("<circle"), std::string::npos);
+    EXPECT_NE(index.find("href=\"cases/triangles.coverage.square_through_centres.html\""), std::string::npos);
+    EXPECT_NE(index.find(">triangles.coverage<"), std::string::npos);  // counts per area
+    const auto page = dump_dom(out / "cases" / "triangles.coverage.square_through_centres.html", dir.path() / "chrome");
+    EXPECT_NE(page.find("id=\"case-status\""), std::string::npos);
+    EXPECT_NE(page.find(">Fail<"), std::string::npos);
+    EXPECT_NE(page.find("id=\"case-numbers\""), std::string::npos);
+    EXPECT_NE(page.find(">38<"), std::string::npos);  // mismatched pixels
+    EXPECT_NE(page.find("src=\"../images/triangles.coverage.square_through_centres.ref.png\""), std::string::npos);
+    EXPECT_NE(page.find("src=\"../images/triangles.coverage.square_through_centres.mask.png\""), std::string::npos);
+    // The zoom script ran and scaled the 32-pixel images eightfold.
+    EXPECT_NE(page.find("width: 256px"), std::string::npos);
+    EXPECT_NE(page.find("refraster explain"), std::string::npos);
+}
+
+}  // namespace
