@@ -371,7 +371,7 @@ GlWorkerBackend::Io GlWorkerBackend::receive(std::uint32_t& type,
     }
 }
 
-RenderResult GlWorkerBackend::render(const Scene& scene) {
+RenderResult GlWorkerBackend::render_frame(const Scene& scene, bool owners) {
     const std::string label = scene_label(scene);
     if (!scene.unsupported_extensions.empty()) {
         std::string list;
@@ -407,8 +407,8 @@ RenderResult GlWorkerBackend::render(const Scene& scene) {
                                                 (detail.empty() ? "" : " (" + detail + ")"));
     };
 
-    Io io = send(static_cast<std::uint32_t>(wire::FrameType::Render), std::move(request),
-                 deadline);
+    Io io = send(static_cast<std::uint32_t>(owners ? wire::FrameType::RenderOwners : wire::FrameType::Render),
+                 std::move(request), deadline);
     if (io == Io::TimedOut) return timed_out();
     if (io == Io::Died) return died("");
 
@@ -450,7 +450,8 @@ RenderResult GlWorkerBackend::render(const Scene& scene) {
         fb.depth_format == t.depth &&
         (t.color == refraster::ColorFormat::Rgba8 ? fb.color8.size() : fb.color32f.size()) ==
             n * 4 &&
-        fb.depth.size() == (t.depth == refraster::DepthFormat::None ? 0 : n);
+        fb.depth.size() == (t.depth == refraster::DepthFormat::None ? 0 : n) &&
+        fb.owner.size() == (owners ? n : 0);
     if (!shape_ok) {
         return failure(RenderStatus::InternalError,
                        who + " returned an image that does not match the target of " + label);

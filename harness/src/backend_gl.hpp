@@ -45,7 +45,8 @@ public:
     // RenderResult::seconds is the round trip to the worker (request sent to reply
     // decoded); starting a worker is not counted. A timeout_seconds <= 0 waits forever;
     // start-up always gets at least 10 s.
-    RenderResult render(const Scene& scene) override;
+    RenderResult render(const Scene& scene) override { return render_frame(scene, false); }
+    RenderResult render_owners(const Scene& scene) override { return render_frame(scene, true); }
 
     const std::filesystem::path& worker_path() const { return worker_path_; }
     // The running worker's process id, -1 when none is running.
@@ -63,6 +64,7 @@ private:
     using Deadline = std::optional<Clock::time_point>;
     enum class Io : std::uint8_t { Ok, Died, TimedOut };
 
+    RenderResult render_frame(const Scene& scene, bool owners);
     std::optional<RenderResult> ensure_worker();
     bool send_debug_frame(std::uint32_t type);
     Io send(std::uint32_t type, std::vector<std::uint8_t> payload, Deadline deadline);

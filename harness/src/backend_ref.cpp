@@ -14,7 +14,11 @@ public:
     BackendKind kind() const override { return BackendKind::Ref; }
     std::string name() const override { return "ref"; }
 
-    RenderResult render(const Scene& scene) override {
+    RenderResult render(const Scene& scene) override { return run(scene, false); }
+    RenderResult render_owners(const Scene& scene) override { return run(scene, true); }
+
+private:
+    RenderResult run(const Scene& scene, bool owners) {
         RenderResult r;
         r.provenance = host_provenance();
         r.provenance["renderer"] = "refraster";
@@ -35,6 +39,7 @@ public:
         const auto t0 = std::chrono::steady_clock::now();
         refraster::RenderOptions ro;
         ro.profile = options_.profile;
+        ro.record_owners = owners;
         const auto outcome = refraster::render(scene.draw_list, ro, r.image);
         r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         if (outcome.status == refraster::RenderStatus::NotSupported) {
@@ -44,7 +49,6 @@ public:
         return r;
     }
 
-private:
     BackendOptions options_;
 };
 

@@ -98,6 +98,18 @@ CaseResult run_case(const Scene& scene, const std::string& case_name, Backend& r
     }
     c.comparison = compare_images(c.reference->image, c.actual->image, scene.draw_list.clear,
                                   scene.file.expect);
+    if (c.comparison->mismatched_pixels > 0 && !c.comparison->size_mismatch) {
+        // Class the mismatch by primitive: a second pass of each side reports which primitive
+        // owns every pixel. Where a side cannot tell, the clear-colour classes stand.
+        auto ro = reference.render_owners(scene);
+        auto ao = actual.render_owners(scene);
+        if (ro.status == RenderStatus::Ok && ao.status == RenderStatus::Ok) {
+            c.reference->image.owner = std::move(ro.image.owner);
+            c.actual->image.owner = std::move(ao.image.owner);
+            c.comparison = compare_images(c.reference->image, c.actual->image, scene.draw_list.clear,
+                                          scene.file.expect);
+        }
+    }
     c.status = c.comparison->within_expect ? CaseStatus::Pass : CaseStatus::Fail;
     if (c.status == CaseStatus::Fail) c.message = c.comparison->summary();
     return c;
@@ -133,6 +145,8 @@ std::string to_json_line(const CaseResult& r) {
         k["extra"] = c.extra;
         k["color_only"] = c.color_only;
         k["depth_only"] = c.depth_only;
+        k["other_primitive"] = c.coverage;
+        k["classified_by"] = c.classified_by_owners ? "primitive owners" : "clear colour";
         if (c.max_color) {
             k["max_color"] = {{"amount", c.max_color->amount},
                               {"x", c.max_color->x},

@@ -43,6 +43,7 @@ std::array<std::uint8_t, 4> mask_color(PixelClass c) {
         case PixelClass::Extra: return {255, 0, 0, 255};
         case PixelClass::ColorOnly: return {255, 255, 0, 255};
         case PixelClass::DepthOnly: return {0, 96, 255, 255};
+        case PixelClass::Coverage: return {255, 140, 0, 255};
     }
     return {0, 0, 0, 255};
 }
@@ -59,6 +60,8 @@ Comparison compare_images(const refraster::Framebuffer& ref, const refraster::Fr
     c.mask = refraster::Framebuffer(ref.width, ref.height, refraster::ColorFormat::Rgba8,
                                     refraster::DepthFormat::None);
     const bool is8 = ref.color_format == refraster::ColorFormat::Rgba8;
+    const bool owners = !ref.owner.empty() && ref.owner.size() == act.owner.size();
+    c.classified_by_owners = owners;
 
     // The clear colour as each format stores it, to tell drawn pixels from untouched ones.
     std::array<std::uint8_t, 4> clear8{};
@@ -112,7 +115,13 @@ Comparison compare_images(const refraster::Framebuffer& ref, const refraster::Fr
                 }
             }
             PixelClass cls = PixelClass::Equal;
-            if (worst > expect.color_tolerance) {
+            if (owners && (worst > expect.color_tolerance || ddepth > 0) && ref.owner[i] != act.owner[i]) {
+                cls = ref.owner[i] == 0   ? PixelClass::Extra
+                      : act.owner[i] == 0 ? PixelClass::Missing
+                                          : PixelClass::Coverage;
+            } else if (worst > expect.color_tolerance && owners) {
+                cls = PixelClass::ColorOnly;
+            } else if (worst > expect.color_tolerance) {
                 const bool ref_clear = is_clear(ref, i);
                 const bool act_clear = is_clear(act, i);
                 cls = act_clear && !ref_clear   ? PixelClass::Missing
@@ -127,6 +136,7 @@ Comparison compare_images(const refraster::Framebuffer& ref, const refraster::Fr
                 case PixelClass::Extra: ++c.extra; break;
                 case PixelClass::ColorOnly: ++c.color_only; break;
                 case PixelClass::DepthOnly: ++c.depth_only; break;
+                case PixelClass::Coverage: ++c.coverage; break;
             }
             if (cls != PixelClass::Equal) ++c.mismatched_pixels;
             const auto mc = mask_color(cls);
@@ -143,8 +153,9 @@ std::string Comparison::summary() const {
     const std::uint64_t total = mask.pixel_count();
     s << mismatched_pixels << " of " << total << " pixels mismatched";
     if (mismatched_pixels > 0) {
-        s << " (missing " << missing << ", extra " << extra << ", colour only " << color_only
-          << ", depth only " << depth_only << ")";
+        s << " (missing " << missing << ", extra " << extra;
+        if (classified_by_owners) s << ", other primitive " << coverage;
+        s << ", colour only " << color_only << ", depth only " << depth_only << ")";
     }
     if (max_color) {
         static const char* names[] = {"R", "G", "B", "A"};

@@ -292,6 +292,7 @@ std::vector<std::uint8_t> encode_result(const harness::RenderResult& r) {
     e.array(fb.color8);
     e.array(fb.color32f);
     e.array(fb.depth);
+    e.array(fb.owner);
     e.u64(r.provenance.size());
     for (const auto& [k, v] : r.provenance) {
         e.string(k);
@@ -314,6 +315,7 @@ harness::RenderResult decode_result(std::span<const std::uint8_t> payload) {
     fb.color8 = d.array<std::uint8_t>();
     fb.color32f = d.array<float>();
     fb.depth = d.array<std::uint32_t>();
+    fb.owner = d.array<std::uint32_t>();
     const std::size_t entries = d.count(16);
     for (std::size_t i = 0; i < entries; ++i) {
         std::string k = d.string();

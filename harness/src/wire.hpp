@@ -33,6 +33,7 @@ enum class FrameType : std::uint32_t {
     Hello = 1,   // worker -> harness once at start-up: a reply without image (status, provenance)
     Render = 2,  // harness -> worker: payload is an encoded DrawList
     Reply = 3,   // worker -> harness: payload is an encoded RenderResult
+    RenderOwners = 4,  // harness -> worker: as Render, plus the primitive-owner attachment
     // Test hooks: the worker aborts, or sleeps forever, on receipt. Empty payload.
     Crash = 0x7e01,
     Hang = 0x7e02,

@@ -186,9 +186,14 @@ GLuint compile_shader(GLenum type, const std::string& source) {
     return sh;
 }
 
-GLuint build_program(refraster::ShadeModel shade) {
+// The owner pass needs gl_PrimitiveID in the fragment shader (GLSL 1.50) and an unsigned
+// integer output; everything else is the colour program's.
+constexpr const char* kGlslOwnerVersion = "#version 150 compatibility\n";
+
+GLuint build_program(refraster::ShadeModel shade, bool owners) {
     const std::string q = qualifier(shade);
-    const std::string vs = std::string(kGlslVersion) +
+    const std::string version = owners ? kGlslOwnerVersion : kGlslVersion;
+    const std::string vs = version +
                            "in vec4 position;\n"
                            "in vec4 color;\n" +
                            q +
@@ -197,12 +202,21 @@ GLuint build_program(refraster::ShadeModel shade) {
                            "    gl_Position = position;\n"
                            "    v_color = color;\n"
                            "}\n";
-    const std::string fs = std::string(kGlslVersion) + q +
-                           " in vec4 v_color;\n"
-                           "out vec4 frag_color;\n"
-                           "void main() {\n"
-                           "    frag_color = v_color;\n"
-                           "}\n";
+    const std::string fs = owners ? version + q +
+                                        " in vec4 v_color;\n"
+                                        "out vec4 frag_color;\n"
+                                        "out uint frag_owner;\n"
+                                        "uniform uint draw_index;\n"
+                                        "void main() {\n"
+                                        "    frag_color = v_color;\n"
+                                        "    frag_owner = (draw_index << 24) | (uint(gl_PrimitiveID + 1) & 0xffffffu);\n"
+                                        "}\n"
+                                  : version + q +
+                                        " in vec4 v_color;\n"
+                                        "out vec4 frag_color;\n"
+                                        "void main() {\n"
+                                        "    frag_color = v_color;\n"
+                                        "}\n";
     const GLuint v = compile_shader(GL_VERTEX_SHADER, vs);
     GLuint f = 0;
     try {
@@ -217,6 +231,7 @@ GLuint build_program(refraster::ShadeModel shade) {
     glBindAttribLocation(p, kPositionLocation, "position");
     glBindAttribLocation(p, kColorLocation, "color");
     glBindFragDataLocation(p, 0, "frag_color");
+    if (owners) glBindFragDataLocation(p, 1, "frag_owner");
     glLinkProgram(p);
     glDeleteShader(v);
     glDeleteShader(f);
@@ -301,7 +316,10 @@ struct TargetObjects {
 
 struct Renderer::Impl {
     harness::Provenance provenance;
-    std::array<GLuint, 3> programs{};  // by ShadeModel, 0 until first use
+    std::array<GLuint, 6> programs{};  // by ShadeModel, then with owners; 0 until first use
+    bool owners = false;               // this render writes the owner attachment
+    GLuint owner_rb = 0;
+    GLuint current_draw = 0;
     GLuint vao = 0;
     GLuint vbo = 0;
     GLuint ibo = 0;
@@ -313,10 +331,12 @@ struct Renderer::Impl {
     std::array<GLfloat, 2> point_size_range{};
 
     GLuint program(refraster::ShadeModel shade) {
-        GLuint& p = programs[static_cast<std::size_t>(shade)];
-        if (p == 0) p = build_program(shade);
+        GLuint& p = programs[static_cast<std::size_t>(shade) + (owners ? 3 : 0)];
+        if (p == 0) p = build_program(shade, owners);
         return p;
     }
+    void attach_owners(const refraster::Target& t);
+    void detach_owners();
 
     void prepare_target(const refraster::Target& t);
     void set_fixed_state(bool multisample);
@@ -516,6 +536,7 @@ void Renderer::Impl::draw(const refraster::Target& t, const refraster::Draw& d) 
     check_gl("setting draw state");
 
     glUseProgram(program(s.shade));
+    if (owners) glUniform1ui(glGetUniformLocation(program(s.shade), "draw_index"), current_draw);
 
     const auto& va = d.vertices;
     const std::uint32_t stride_floats = va.stride();
@@ -559,6 +580,35 @@ void Renderer::Impl::draw(const refraster::Target& t, const refraster::Draw& d) 
         glDrawArrays(mode, 0, static_cast<GLsizei>(count));
     }
     check_gl("drawing");
+}
+
+// The owner attachment: an R32UI renderbuffer at colour attachment 1 of the single-sample
+// FBO, cleared to 0, written by the owner programs alongside the colour.
+void Renderer::Impl::attach_owners(const refraster::Target& t) {
+    if (t.samples != 1) throw Unsupported("primitive owners of a multisampled target");
+    glGenRenderbuffers(1, &owner_rb);
+    glBindRenderbuffer(GL_RENDERBUFFER, owner_rb);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_R32UI, static_cast<GLsizei>(t.width), static_cast<GLsizei>(t.height));
+    glBindFramebuffer(GL_FRAMEBUFFER, target.fbo);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_RENDERBUFFER, owner_rb);
+    const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glDrawBuffers(2, bufs);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+        throw GlFailure("the framebuffer with the owner attachment is incomplete");
+    }
+    const GLuint zero[4] = {0, 0, 0, 0};
+    glClearBufferuiv(GL_COLOR, 1, zero);
+    check_gl("attaching the owner buffer");
+}
+
+void Renderer::Impl::detach_owners() {
+    if (owner_rb == 0) return;
+    glBindFramebuffer(GL_FRAMEBUFFER, target.fbo);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_RENDERBUFFER, 0);
+    const GLenum buf = GL_COLOR_ATTACHMENT0;
+    glDrawBuffers(1, &buf);
+    glDeleteRenderbuffers(1, &owner_rb);
+    owner_rb = 0;
 }
 
 refraster::Framebuffer Renderer::Impl::read_back(const refraster::Target& t) {
@@ -609,6 +659,13 @@ refraster::Framebuffer Renderer::Impl::read_back(const refraster::Target& t) {
         }
     }
     check_gl("reading depth");
+    if (owners) {
+        fb.owner.assign(fb.pixel_count(), 0);
+        glReadBuffer(GL_COLOR_ATTACHMENT1);
+        glReadPixels(0, 0, w, h, GL_RED_INTEGER, GL_UNSIGNED_INT, fb.owner.data());
+        glReadBuffer(GL_COLOR_ATTACHMENT0);
+        check_gl("reading owners");
+    }
     return fb;
 }
 
@@ -648,7 +705,7 @@ Renderer::~Renderer() {
 
 const harness::Provenance& Renderer::provenance() const { return impl_->provenance; }
 
-harness::RenderResult Renderer::render(const refraster::DrawList& list) {
+harness::RenderResult Renderer::render(const refraster::DrawList& list, bool owners) {
     const auto start = std::chrono::steady_clock::now();
     harness::RenderResult r;
     r.provenance = impl_->provenance;
@@ -657,8 +714,15 @@ harness::RenderResult Renderer::render(const refraster::DrawList& list) {
         impl_->prepare_target(list.target);
         impl_->set_fixed_state(list.target.samples == 4);
         impl_->clear(list);
-        for (const auto& d : list.draws) impl_->draw(list.target, d);
+        impl_->owners = owners;
+        if (owners) impl_->attach_owners(list.target);
+        for (std::size_t i = 0; i < list.draws.size(); ++i) {
+            impl_->current_draw = static_cast<GLuint>(i);
+            impl_->draw(list.target, list.draws[i]);
+        }
         r.image = impl_->read_back(list.target);
+        impl_->detach_owners();
+        impl_->owners = false;
     } catch (const Unsupported& e) {
         r.status = harness::RenderStatus::NotSupported;
         r.message = e.what();
@@ -673,6 +737,8 @@ harness::RenderResult Renderer::render(const refraster::DrawList& list) {
         r.message = e.what();
     }
     if (r.status != harness::RenderStatus::Ok) {
+        impl_->detach_owners();
+        impl_->owners = false;
         r.image = refraster::Framebuffer{};
         drain_gl_errors();
     }
@@ -717,11 +783,13 @@ int run_worker(std::string_view backend, std::string_view mesa_package,
 
         while (auto frame = wire::read_frame(in)) {
             switch (static_cast<wire::FrameType>(frame->type)) {
-                case wire::FrameType::Render: {
+                case wire::FrameType::Render:
+                case wire::FrameType::RenderOwners: {
                     if (++scenes == kill_at) ::raise(SIGKILL);
                     harness::RenderResult reply;
                     try {
-                        reply = renderer->render(wire::decode_draw_list(frame->payload));
+                        reply = renderer->render(wire::decode_draw_list(frame->payload),
+                                                 frame->type == static_cast<std::uint32_t>(wire::FrameType::RenderOwners));
                     } catch (const wire::WireError& e) {
                         reply.status = harness::RenderStatus::InternalError;
                         reply.message = std::string("bad request: ") + e.what();

@@ -34,7 +34,9 @@ public:
     Renderer& operator=(const Renderer&) = delete;
 
     // Never throws for a GL-side problem: the status says what went wrong.
-    harness::RenderResult render(const refraster::DrawList& list);
+    // With `owners`, also fills Framebuffer::owner from a second colour attachment written
+    // from gl_PrimitiveID (single-sample targets only).
+    harness::RenderResult render(const refraster::DrawList& list, bool owners = false);
 
     const harness::Provenance& provenance() const;
 

@@ -76,8 +76,9 @@ bool compare(CompareFunc f, std::uint32_t frag, std::uint32_t stored, bool is_fl
 
 }  // namespace
 
-FragmentShader::FragmentShader(const Planes& planes, const Draw& draw, const Target& target, FragmentOptions options)
-    : draw_(draw), target_(target), options_(options), shade_(draw.state.shade), p_(planes) {
+FragmentShader::FragmentShader(const Planes& planes, const Draw& draw, const Target& target, FragmentOptions options,
+                               std::uint32_t owner)
+    : draw_(draw), target_(target), options_(options), shade_(draw.state.shade), p_(planes), owner_(owner) {
     depth_test_ = draw.state.depth_test.has_value() && target.depth != DepthFormat::None;
 }
 
@@ -232,6 +233,7 @@ void FragmentShader::shade_span(int y, int x0, int x1, Framebuffer& fb) const {
         const std::size_t i = fb.index(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y));
         if (depth_test_ && draw_.state.depth_write) fb.depth[i] = r.depth;
         write_fragment_color(draw_, fb, i, r.color);
+        if (!fb.owner.empty()) fb.owner[i] = owner_;
     }
 }
 
@@ -303,7 +305,7 @@ ExactShader::ExactShader(const ExactCoverage& coverage, const std::array<const S
     }
 }
 
-void ExactShader::shade(int x, int y, Framebuffer& fb) const {
+void ExactShader::shade(int x, int y, Framebuffer& fb, std::uint32_t owner) const {
     const auto b = coverage_.weights(x, y);
     const std::size_t i = fb.index(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y));
     if (depth_test_) {
@@ -346,6 +348,7 @@ void ExactShader::shade(int x, int y, Framebuffer& fb) const {
         }
     }
     write_fragment_color(draw_, fb, i, c);
+    if (!fb.owner.empty()) fb.owner[i] = owner;
 }
 
 }  // namespace refraster::detail

@@ -69,7 +69,8 @@ Planes triangle_planes(const std::array<const StageVertex*, 3>& v, const VertexS
 // Everything the per-pixel stage needs for one primitive.
 class FragmentShader {
 public:
-    FragmentShader(const Planes& planes, const Draw& draw, const Target& target, FragmentOptions options);
+    FragmentShader(const Planes& planes, const Draw& draw, const Target& target, FragmentOptions options,
+                   std::uint32_t owner = 0);
 
     // Shades the pixels [x0, x1) of row y into `fb`, with depth test and blending.
     void shade_span(int y, int x0, int x1, Framebuffer& fb) const;
@@ -93,6 +94,7 @@ private:
     ShadeModel shade_;
     bool depth_test_ = false;
     Planes p_;
+    std::uint32_t owner_ = 0;
 };
 
 // The exact oracle's fragments: attributes and depth from the exact homogeneous weights of the
@@ -104,7 +106,7 @@ class ExactShader {
 public:
     ExactShader(const ExactCoverage& coverage, const std::array<const StageVertex*, 3>& v,
                 const VertexStage& stage, const Draw& draw, const Target& target, bool provoking_first);
-    void shade(int x, int y, Framebuffer& fb) const;
+    void shade(int x, int y, Framebuffer& fb, std::uint32_t owner = 0) const;
 
 private:
     const ExactCoverage& coverage_;

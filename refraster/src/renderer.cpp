@@ -139,6 +139,7 @@ public:
 
         std::vector<StageTriangle> staged;
         for (std::size_t p = 0; p < tris.size(); ++p) {
+            owner_ = owner_id(index_, p);
             const auto& at = tris[p];
             const std::array<std::uint32_t, 3> idx{vertex_of(at.element[0]), vertex_of(at.element[1]),
                                                    vertex_of(at.element[2])};
@@ -206,6 +207,7 @@ private:
         const bool first = params_.provoking_first;
         const auto segs = detail::assemble_lines(draw_.primitive, draw_.element_count());
         for (std::size_t p = 0; p < segs.size(); ++p) {
+            owner_ = owner_id(index_, p);
             const std::uint32_t a = draw_.element(segs[p][0]);
             const std::uint32_t b = draw_.element(segs[p][1]);
             [[maybe_unused]] std::conditional_t<kTrace, PrimitiveTrace, NoTrace> pt;
@@ -241,7 +243,7 @@ private:
         if (!setup) return;
         const detail::FragmentShader shader(
             detail::line_planes(v1, v2, stage, draw_, params_.provoking_first, fragment_options()), draw_, target_,
-            fragment_options());
+            fragment_options(), owner_);
         if constexpr (kTrace) {
             SetupTrace s;
             s.window = {v1.window, v2.window};
@@ -260,7 +262,7 @@ private:
         const auto setup = detail::setup_point(v, draw_.state.point_size, params_);
         if (!setup) return;
         const detail::FragmentShader shader(detail::point_planes(v, stage, draw_, fragment_options()), draw_, target_,
-                                            fragment_options());
+                                            fragment_options(), owner_);
         if constexpr (kTrace) {
             SetupTrace s;
             s.window = {v.window};
@@ -274,6 +276,7 @@ private:
     template <bool kTrace>
     void run_points(detail::VertexStage& stage) {
         for (std::size_t p = 0; p < draw_.element_count(); ++p) {
+            owner_ = owner_id(index_, p);
             const std::uint32_t i = draw_.element(p);
             const auto& v = stage.vertex(i);
             if (v.clipmask != 0) continue;
@@ -306,6 +309,7 @@ private:
                                                      profile_.draw_segment_vertices);
         std::vector<StageTriangle> staged;
         for (std::size_t p = 0; p < tris.size(); ++p) {
+            owner_ = owner_id(index_, p);
             const auto& at = tris[p];
             const std::array<std::uint32_t, 3> idx{draw_.element(at.element[0]), draw_.element(at.element[1]),
                                                    draw_.element(at.element[2])};
@@ -443,7 +447,7 @@ private:
                                      &st.v[static_cast<std::size_t>(t.order[1])],
                                      &st.v[static_cast<std::size_t>(t.order[2])]},
                                     stage, draw_, target_, params_.provoking_first, fo),
-            draw_, target_, fo);
+            draw_, target_, fo, owner_);
         if constexpr (kTrace) {
             s.covered = pixel_in_box(t.bbox) && detail::covers_pixel(t, trace_->x, trace_->y);
             pt.covered = pt.covered || s.covered;
@@ -476,7 +480,7 @@ private:
         const PixelRect r = ex.candidates();
         for (int y = r.y0; y <= r.y1; ++y) {
             for (int x = r.x0; x <= r.x1; ++x) {
-                if (ex.covers(x, y)) shader.shade(x, y, fb_);
+                if (ex.covers(x, y)) shader.shade(x, y, fb_, owner_);
             }
         }
         if constexpr (kTrace) {
@@ -505,12 +509,14 @@ private:
     PixelTrace* trace_;
     detail::SetupParams params_;
     bool fma_;
+    std::uint32_t owner_ = 0;  // of the primitive being drawn
 };
 
 }  // namespace
 
 RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebuffer& out) {
     out = Framebuffer(list.target.width, list.target.height, list.target.color, list.target.depth);
+    if (options.record_owners) out.owner.assign(out.pixel_count(), 0);
     if (list.target.samples != 1) {
         return {RenderStatus::NotSupported, "multisampled targets are not implemented yet"};
     }

@@ -49,6 +49,16 @@ public:
     virtual BackendKind kind() const = 0;
     virtual std::string name() const = 0;  // e.g. "ref", "osmesa-llvmpipe"
     virtual RenderResult render(const Scene& scene) = 0;
+    // The same render with Framebuffer::owner filled: which primitive wrote each pixel last
+    // (a second pass for GL backends, with an integer attachment written from
+    // gl_PrimitiveID). NotSupported where the backend cannot tell.
+    virtual RenderResult render_owners(const Scene& scene) {
+        (void)scene;
+        RenderResult r;
+        r.status = RenderStatus::NotSupported;
+        r.message = name() + " cannot report primitive owners";
+        return r;
+    }
 };
 
 struct BackendOptions {

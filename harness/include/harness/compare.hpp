@@ -6,8 +6,10 @@
 // `expect` (tolerance and mismatched-pixel budget), the largest differences with their
 // location and both values, and an error mask image.
 //
-// Deliberately does not: decide which primitive owns a pixel. "Missing" and "extra" are judged
-// against the clear colour: a pixel one image left at the clear value and the other did not.
+// When both images carry primitive owners (Framebuffer::owner), a mismatched pixel is classed
+// by them: drawn by one side only (missing, extra), by different primitives (coverage), or by
+// the same primitive with other bytes (colour only, depth only). Without owners, "missing" and
+// "extra" are judged against the clear colour instead.
 #pragma once
 
 #include <cstdint>
@@ -26,6 +28,7 @@ enum class PixelClass : std::uint8_t {
     Extra,      // red: the other render drew it, the reference left the clear colour
     ColorOnly,  // yellow: both drew it, colours differ beyond tolerance
     DepthOnly,  // blue: colours within tolerance, depth values differ
+    Coverage,   // orange: both drew it, but different primitives own it (owners only)
 };
 
 struct ChannelDifference {
@@ -52,6 +55,8 @@ struct Comparison {
     std::uint64_t extra = 0;
     std::uint64_t color_only = 0;
     std::uint64_t depth_only = 0;
+    std::uint64_t coverage = 0;       // owners only: different primitives own the pixel
+    bool classified_by_owners = false;
     std::optional<ChannelDifference> max_color;  // largest colour difference, if any differs
     std::optional<DepthDifference> max_depth;
     bool within_expect = false;

@@ -24,6 +24,9 @@ struct Framebuffer {
     std::vector<std::uint8_t> color8;   // rgba8: 4 bytes a pixel, row 0 at the bottom
     std::vector<float> color32f;        // rgba32f: 4 floats a pixel, row 0 at the bottom
     std::vector<std::uint32_t> depth;   // one value a pixel when depth_format != None
+    // Which primitive wrote each pixel last, when asked for: (draw index << 24) |
+    // (gl_PrimitiveID + 1), 0 where nothing was drawn. Empty unless requested.
+    std::vector<std::uint32_t> owner;
 
     Framebuffer() = default;
     Framebuffer(std::uint32_t w, std::uint32_t h, ColorFormat cf, DepthFormat df);
@@ -34,6 +37,11 @@ struct Framebuffer {
     }
     friend bool operator==(const Framebuffer&, const Framebuffer&) = default;
 };
+
+// The owner value of primitive `primitive` (GL's gl_PrimitiveID) of draw `draw`.
+constexpr std::uint32_t owner_id(std::size_t draw, std::size_t primitive) {
+    return static_cast<std::uint32_t>((draw << 24) | ((primitive + 1) & 0xffffffu));
+}
 
 // Number of meaningful bits in a depth value of format `f` (z32f: all 32 bits of the float).
 constexpr std::uint32_t depth_bits(DepthFormat f) {

@@ -31,6 +31,8 @@ struct RenderOptions {
     Profile profile;
     // When set, render() records every decision about pixel (trace->x, trace->y).
     PixelTrace* trace = nullptr;
+    // Fill Framebuffer::owner: which primitive wrote each pixel last.
+    bool record_owners = false;
 };
 
 // Number of complete primitives a draw assembles under GL's rules (OpenGL 4.6 compatibility
