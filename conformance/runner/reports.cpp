@@ -164,13 +164,14 @@ std::string case_page(const json& r, const std::filesystem::path& images) {
         figure(name + "." + ref + ext, "reference (" + ref + ")");
         figure(name + "." + act + ext, act);
     }
-    figure(name + ".mask.png", "error mask: magenta missing, red extra, yellow colour only, blue depth only");
+    figure(name + ".mask.png",
+           "error mask: magenta missing, red extra, orange another primitive, yellow colour only, blue depth only");
     h << "</div>";
 
     if (r.contains("comparison")) {
         const auto& c = r["comparison"];
         h << "<h2>Numbers</h2><table id=\"case-numbers\">";
-        for (const char* k : {"mismatched_pixels", "missing", "extra", "color_only", "depth_only"}) {
+        for (const char* k : {"mismatched_pixels", "missing", "extra", "other_primitive", "color_only", "depth_only"}) {
             h << "<tr><th>" << k << "</th><td class=\"num\">" << c.value(k, 0) << "</td></tr>";
         }
         if (c.contains("max_color")) {
@@ -191,6 +192,11 @@ std::string case_page(const json& r, const std::filesystem::path& images) {
         h << "<h2>Explanation</h2><p id=\"case-explanation\">";
         if (c.value("mismatched_pixels", 0) == 0) {
             h << "Every pixel agrees.";
+        } else if (r.contains("explanation")) {
+            const auto& e = r["explanation"];
+            h << "<b>" << esc(e.value("rule", "")) << "</b>: " << esc(e.value("verdict", ""))
+              << ". Every decision at that pixel: <code>refraster explain " << esc(r.value("scene", "")) << " --pixel "
+              << e["pixel"][0].get<int>() << "," << e["pixel"][1].get<int>() << "</code>.";
         } else if (c.contains("max_color")) {
             const auto& m = c["max_color"];
             h << "The largest difference is at pixel (" << m.value("x", 0) << ", " << m.value("y", 0)

@@ -14,6 +14,7 @@
 #include <stdexcept>
 
 #include "harness/case_result.hpp"
+#include "harness/explain.hpp"
 #include "harness/image_io.hpp"
 #include "reports.hpp"
 
@@ -140,7 +141,8 @@ bool judge(harness::CaseResult& r, const std::map<std::string, std::string>* bas
     return true;
 }
 
-harness::CaseResult run_one(const CaseFile& c, harness::Backend& reference, harness::Backend& actual) {
+harness::CaseResult run_one(const CaseFile& c, harness::Backend& reference, harness::Backend& actual,
+                            const refraster::Profile& profile) {
     try {
         const harness::Scene scene = harness::load_scene(c.file);
         auto r = harness::run_case(scene, c.name, reference, actual);
@@ -148,6 +150,22 @@ harness::CaseResult run_one(const CaseFile& c, harness::Backend& reference, harn
             r.status = harness::CaseStatus::InternalError;
             r.message = c.file.string() + ": name \"" + scene.file.name + "\" does not match its path (expected \"" +
                         c.name + "\")";
+        }
+        // A failure is explained at its pixel of largest difference (explain.hpp).
+        if (r.status == harness::CaseStatus::Fail && r.comparison && reference.kind() == harness::BackendKind::Ref) {
+            const auto& cmp = *r.comparison;
+            if (cmp.max_color || cmp.max_depth) {
+                const int x = static_cast<int>(cmp.max_color ? cmp.max_color->x : cmp.max_depth->x);
+                const int y = static_cast<int>(cmp.max_color ? cmp.max_color->y : cmp.max_depth->y);
+                try {
+                    const auto e = harness::explain_pixel(scene, profile, x, y, &actual);
+                    r.explained_pixel = std::array<int, 2>{x, y};
+                    r.explanation = e.verdict;
+                    r.explanation_rule = e.rule;
+                } catch (const std::exception&) {
+                    // The case's result stands without an explanation.
+                }
+            }
         }
         return r;
     } catch (const harness::SceneError& e) {
@@ -255,12 +273,12 @@ RunSummary run_suite(const RunOptions& options, std::ostream& console) {
     const std::size_t resumed = finished;
     for (const auto& c : cases) {
         if (done.count(c.name) != 0) continue;
-        harness::CaseResult r = run_one(c, *reference, *actual);
+        harness::CaseResult r = run_one(c, *reference, *actual, options.reference.profile);
         if (judge(r, options.baseline ? &baseline : nullptr)) {
             // An unexpected result runs once more: the same again is the result, anything
             // else was a flake.
             const std::string first(harness::to_string(r.raw_status.value_or(r.status)));
-            harness::CaseResult again = run_one(c, *reference, *actual);
+            harness::CaseResult again = run_one(c, *reference, *actual, options.reference.profile);
             if (std::string(harness::to_string(again.status)) != first) {
                 r.raw_status = r.raw_status.value_or(r.status);
                 r.status = harness::CaseStatus::Flake;
@@ -290,6 +308,7 @@ RunSummary run_suite(const RunOptions& options, std::ostream& console) {
             if (options.progress) console << "\r\033[K";
             console << to_string(r.status) << " " << r.name;
             if (!r.message.empty()) console << ": " << r.message;
+            if (!r.explanation_rule.empty()) console << " [" << r.explanation_rule << "]";
             console << '\n' << std::flush;
         }
     }

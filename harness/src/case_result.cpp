@@ -189,6 +189,9 @@ std::string to_json_line(const CaseResult& r) {
         }
         j["comparison"] = k;
     }
+    if (r.explained_pixel) {
+        j["explanation"] = {{"pixel", *r.explained_pixel}, {"rule", r.explanation_rule}, {"verdict", r.explanation}};
+    }
     return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 

@@ -46,6 +46,10 @@ struct CaseResult {
     std::optional<RenderResult> reference;
     std::optional<RenderResult> actual;
     std::optional<Comparison> comparison;
+    // For a failure: the pixel of largest difference and the rule that explains it.
+    std::optional<std::array<int, 2>> explained_pixel;
+    std::string explanation;
+    std::string explanation_rule;
 };
 
 // Renders `scene` through both backends and compares actual against reference.
