@@ -22,16 +22,6 @@ std::uint8_t color_to_unorm8(float c) {
 
 namespace {
 
-// Float operations of the reproduced JIT code, with FTZ/DAZ as llvmpipe runs it (lp_rast.c).
-struct Fp {
-    bool flush;
-    float f(float v) const { return flush ? flush_denormal(v) : v; }
-    float add(float a, float b) const { return f(f(a) + f(b)); }
-    float sub(float a, float b) const { return f(f(a) - f(b)); }
-    float mul(float a, float b) const { return f(f(a) * f(b)); }
-    float div(float a, float b) const { return f(f(a) / f(b)); }
-};
-
 // calc_coef4 for one channel (lp_state_setup.c), given the shared setup terms.
 struct SetupTerms {
     float x0c, y0c, dx01o, dy01o, dx20o, dy20o;

@@ -21,20 +21,8 @@ bool nonneg(float x) { return x >= 0; }  // lp_setup_line.c sign()
 
 float fracf(float f) { return f - std::floor(f); }
 
-bool owns(std::int32_t a, std::int32_t b, TieRule rule) {
-    const bool left = rule == TieRule::LeftBottom || rule == TieRule::LeftTop;
-    const bool bottom = rule == TieRule::LeftBottom || rule == TieRule::RightBottom;
-    if (a != 0) return (-a > 0) == left;
-    return (b > 0) == bottom;
-}
-
 EdgeFunction edge(std::int32_t xi, std::int32_t yi, std::int32_t xj, std::int32_t yj, TieRule rule) {
-    EdgeFunction e;
-    e.a = checked_sub(yi, yj);
-    e.b = checked_sub(xi, xj);
-    e.owns_ties = owns(e.a, e.b, rule);
-    e.c = checked_add(checked_sub(wide_mul(e.a, xi), wide_mul(e.b, yi)), std::int64_t{e.owns_ties ? 1 : 0});
-    return e;
+    return make_edge(xi, yi, xj, yj, rule);
 }
 
 int ceil_shift(std::int32_t v, int bits) { return (v + (1 << bits) - 1) >> bits; }
@@ -234,7 +222,7 @@ std::optional<LineSetup> setup_line(const StageVertex& sv1, const StageVertex& s
 Planes line_planes(const StageVertex& v1, const StageVertex& v2, const VertexStage& stage, const Draw& draw,
                    bool provoking_first, FragmentOptions options) {
     // setup_line_coefficients: C arithmetic (no fusion: baseline x86-64), under FTZ.
-    const auto f = [&](float v) { return options.flush_denormals ? flush_denormal(v) : v; };
+    const auto f = [fp = Fp{options.flush_denormals}](float v) { return fp.f(v); };
     const float* a = v1.window.data();
     const float* b = v2.window.data();
     const float dx = f(a[0] - b[0]);
@@ -307,7 +295,7 @@ std::optional<PointSetup> setup_point(const StageVertex& v, float size, const Se
 Planes point_planes(const StageVertex& v, const VertexStage& stage, const Draw& draw, FragmentOptions options) {
     // setup_point_coefficients: every attribute constant; smooth ones premultiplied by 1/w
     // (point_persp_coeff) and divided again per pixel by the constant 1/w plane.
-    const auto f = [&](float x) { return options.flush_denormals ? flush_denormal(x) : x; };
+    const auto f = [fp = Fp{options.flush_denormals}](float x) { return fp.f(x); };
     Planes out;
     out.z.a0 = v.window[2];
     out.w.a0 = v.window[3];

@@ -46,11 +46,8 @@ std::optional<std::int32_t> snap_coordinate(float v, const SetupParams& p) {
     return r;
 }
 
-namespace {
-
-// Whether the tie rule gives an edge the pixel centres lying exactly on it. The interior is
-// where E grows: dE/dx = -a, dE/dy = b. A left edge has the interior to its right (dE/dx > 0);
-// a horizontal bottom edge has it above (dE/dy > 0).
+// The interior is where E grows: dE/dx = -a, dE/dy = b. A left edge has the interior to its
+// right (dE/dx > 0); a horizontal bottom edge has it above (dE/dy > 0).
 bool owns_ties(std::int32_t a, std::int32_t b, TieRule rule) {
     const bool left = rule == TieRule::LeftBottom || rule == TieRule::LeftTop;
     const bool bottom = rule == TieRule::LeftBottom || rule == TieRule::RightBottom;
@@ -58,7 +55,14 @@ bool owns_ties(std::int32_t a, std::int32_t b, TieRule rule) {
     return (b > 0) == bottom;
 }
 
-}  // namespace
+EdgeFunction make_edge(std::int32_t xi, std::int32_t yi, std::int32_t xj, std::int32_t yj, TieRule rule) {
+    EdgeFunction e;
+    e.a = checked_sub(yi, yj);
+    e.b = checked_sub(xi, xj);
+    e.owns_ties = owns_ties(e.a, e.b, rule);
+    e.c = checked_add(checked_sub(wide_mul(e.a, xi), wide_mul(e.b, yi)), std::int64_t{e.owns_ties ? 1 : 0});
+    return e;
+}
 
 SetupOutcome setup_triangle(const std::array<std::array<float, 2>, 3>& w, const SetupParams& p,
                             TriangleSetup& t) {
@@ -90,12 +94,7 @@ SetupOutcome setup_triangle(const std::array<std::array<float, 2>, 3>& w, const 
     }
     for (std::size_t i = 0; i < 3; ++i) {
         const std::size_t j = (i + 1) % 3;
-        EdgeFunction& e = t.edges[i];
-        e.a = checked_sub(t.y[i], t.y[j]);
-        e.b = checked_sub(t.x[i], t.x[j]);
-        e.owns_ties = owns_ties(e.a, e.b, p.tie_rule);
-        e.c = checked_add(checked_sub(wide_mul(e.a, t.x[i]), wide_mul(e.b, t.y[i])),
-                          std::int64_t{e.owns_ties ? 1 : 0});
+        t.edges[i] = make_edge(t.x[i], t.y[i], t.x[j], t.y[j], p.tie_rule);
     }
     // do_triangle_ccw's bounding box: x0 and y0 by arithmetic shift (floor); x1 and y1 from
     // max - 1, which leaves out a column (row) whose centres lie exactly on the rightmost

@@ -101,6 +101,13 @@ struct SetupParams {
 
 SetupParams setup_params(const Profile& profile, const DrawState& state, const Target& target);
 
+// Whether the tie rule gives an edge the pixel centres lying exactly on it (see setup.cpp).
+bool owns_ties(std::int32_t a, std::int32_t b, TieRule rule);
+
+// The edge function of the snapped edge (xi, yi) -> (xj, yj), tie bias included; the
+// interior of a polygon oriented as set-up triangles are is where it is positive.
+EdgeFunction make_edge(std::int32_t xi, std::int32_t yi, std::int32_t xj, std::int32_t yj, TieRule rule);
+
 // Snaps one window coordinate; nullopt when it does not fit the budget above.
 std::optional<std::int32_t> snap_coordinate(float v, const SetupParams& p);
 

@@ -6,23 +6,7 @@
 
 namespace refraster::detail {
 
-float flush_denormal(float v) {
-    return std::fabs(v) < std::numeric_limits<float>::min() ? std::copysign(0.0f, v) : v;
-}
-
 namespace {
-
-// Float operations of the reproduced driver code: each input and result flushed when the
-// driver runs with FTZ/DAZ (draw_pt.c sets them around the whole vertex pipeline).
-struct Fp {
-    bool flush;
-    float f(float v) const { return flush ? flush_denormal(v) : v; }
-    float add(float a, float b) const { return f(f(a) + f(b)); }
-    float sub(float a, float b) const { return f(f(a) - f(b)); }
-    float mul(float a, float b) const { return f(f(a) * f(b)); }
-    float div(float a, float b) const { return f(f(a) / f(b)); }
-    float fma(float a, float b, float c) const { return f(std::fma(f(a), f(b), f(c))); }
-};
 
 // The view-volume planes of draw_context.c (draw->plane[0..5]), as (x, y, z, w) coefficients.
 constexpr float kPlanes[6][4] = {

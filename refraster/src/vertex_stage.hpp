@@ -28,12 +28,10 @@
 #include <vector>
 
 #include "refraster/draw.hpp"
+#include "float_ops.hpp"
 #include "refraster/profile.hpp"
 
 namespace refraster::detail {
-
-// Flushes a denormal to a zero of the same sign (FTZ/DAZ, mesa-22.3-rules.md P6).
-float flush_denormal(float v);
 
 // The viewport of one draw as Mesa stores it (mesa/main/viewport.c,
 // _mesa_get_viewport_xform): float32 scale and translate.

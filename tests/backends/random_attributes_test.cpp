@@ -12,11 +12,6 @@
 
 namespace {
 
-std::uint64_t ci_seed() {
-    const char* s = std::getenv("REFRASTER_TEST_SEED");
-    return s != nullptr && *s != '\0' ? std::strtoull(s, nullptr, 10) : 3;
-}
-
 struct Variant {
     const char* name;
     refraster::DepthFormat depth;
@@ -84,7 +79,7 @@ TEST(RandomAttributesSensitivity, UnfusedInterpolationIsDetected) {
     EXPECT_GT(run_variant(1, v, unfused, false), 0);
 }
 
-INSTANTIATE_TEST_SUITE_P(Seeds, RandomAttributes, ::testing::Values(1u, 2u, ci_seed()));
+INSTANTIATE_TEST_SUITE_P(Seeds, RandomAttributes, ::testing::Values(1u, 2u, testscenes::ci_seed()));
 
 // Every depth format, float colour, every shade model and the fragment state: 2,000
 // triangles each, with a fixed seed.

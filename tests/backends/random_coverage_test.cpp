@@ -19,11 +19,6 @@
 
 namespace {
 
-std::uint64_t ci_seed() {
-    const char* s = std::getenv("REFRASTER_TEST_SEED");
-    return s != nullptr && *s != '\0' ? std::strtoull(s, nullptr, 10) : 3;
-}
-
 class RandomCoverage : public ::testing::TestWithParam<std::uint64_t> {};
 
 TEST_P(RandomCoverage, TenThousandTrianglesMatchLlvmpipe) {
@@ -88,6 +83,6 @@ TEST(RandomCoverageSensitivity, FlippedTieRuleIsDetected) {
     EXPECT_GT(lit, 20u * 16u * 100u);  // the triangles draw plenty: on average over 100 pixels
 }
 
-INSTANTIATE_TEST_SUITE_P(Seeds, RandomCoverage, ::testing::Values(1u, 2u, ci_seed()));
+INSTANTIATE_TEST_SUITE_P(Seeds, RandomCoverage, ::testing::Values(1u, 2u, testscenes::ci_seed()));
 
 }  // namespace

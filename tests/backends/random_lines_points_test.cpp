@@ -15,11 +15,6 @@
 
 namespace {
 
-std::uint64_t ci_seed() {
-    const char* s = std::getenv("REFRASTER_TEST_SEED");
-    return s != nullptr && *s != '\0' ? std::strtoull(s, nullptr, 10) : 3;
-}
-
 struct Counts {
     int lines = 0;
     int points = 0;
@@ -194,6 +189,6 @@ TEST(RandomLinesPointsSensitivity, FlippedTieRuleIsDetected) {
     EXPECT_GT(run(5, 1000, 400, counts, flipped, false), 10);
 }
 
-INSTANTIATE_TEST_SUITE_P(Seeds, RandomLinesPoints, ::testing::Values(1u, 2u, ci_seed()));
+INSTANTIATE_TEST_SUITE_P(Seeds, RandomLinesPoints, ::testing::Values(1u, 2u, testscenes::ci_seed()));
 
 }  // namespace

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdlib>
 #include <cmath>
 #include <bit>
 #include <optional>
@@ -15,6 +16,13 @@
 #include "harness/scene.hpp"
 
 namespace testscenes {
+
+// The third seed of every random backend test: REFRASTER_TEST_SEED (which .ci/run sets per run
+// and prints), 3 without it.
+inline std::uint64_t ci_seed() {
+    const char* s = std::getenv("REFRASTER_TEST_SEED");
+    return s != nullptr && *s != '\0' ? std::strtoull(s, nullptr, 10) : 3;
+}
 
 constexpr int kGrid = 4;
 constexpr int kCell = 64;
