@@ -1,11 +1,13 @@
 // The stage order, per draw (compare Mesa's draw module and llvmpipe):
-//   assemble triangles          assembly.cpp
+//   assemble primitives         assembly.cpp, line_point.cpp
 //   viewport, clip mask, clip   vertex_stage.cpp   (draw module)
 //   float cull (draw pipeline)  vertex_stage.cpp   (draw_pipe_cull.c)
-//   snap, orient, cull, edges   setup.cpp          (lp_setup_tri.c)
+//   [polygon modes: offset, flat copy, unfilled edges or points: run_unfilled below]
+//   snap, orient, cull, edges   setup.cpp          (lp_setup_tri.c), line_point.cpp (lines, points)
 //   covered pixels              traverse.hpp       (lp_rast_tri_tmp.h)
-//   colour write                write_span below
-// or, for the exact profile, assemble -> ExactCoverage -> colour write.
+//   planes, per-pixel values,   fragment.cpp       (lp_state_setup.c, lp_bld_interp.c,
+//   depth, blend, write                             lp_bld_depth.c, lp_bld_blend*.c)
+// or, for the exact profile, assemble -> ExactCoverage -> ExactShader.
 #include "refraster/renderer.hpp"
 
 #include <algorithm>

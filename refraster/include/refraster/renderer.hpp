@@ -1,14 +1,17 @@
 // renderer.hpp: the reference rasterizer's entry point.
 //
 // Implements: clearing the target and drawing every draw of a DrawList in order under a
-// Profile: triangle primitive assembly (triangles, strips, fans, with GL's provoking-vertex
-// conventions in the vertex order Mesa's draw module emits), clipping, culling, coverage
-// (snapped, or exact for the gl-exact profile), and colour writes of constant colours (flat
-// shading, or smooth and noperspective shading of one colour across a draw).
+// Profile, as Mesa 22.3 llvmpipe does in an FBO: triangles, strips and fans (in the vertex order
+// Mesa's draw module emits), lines, strips and loops of any width, points of any size, polygon
+// modes line and point; the draw module's clipper and float cull; llvmpipe's fixed-point
+// setup, tie rule and traversal; attribute planes and per-pixel evaluation (smooth,
+// noperspective, flat, with FMA where the driver fuses); z16, z24 and z32f depth with every
+// compare function and polygon offset; the two blend presets; rgba8 and rgba32f targets. The
+// gl-exact profile decides triangle coverage exactly instead. Optionally a per-pixel trace
+// (trace.hpp) and the owner of every pixel.
 //
 // Deliberately does not (yet), answering RenderStatus::NotSupported instead of a guess:
-// lines and points, non-fill polygon modes, interpolated colours, depth testing, blending,
-// multisampling, and unorm8 clear colours that are not multiples of 1/255.
+// multisampled targets, and anything but filled triangles under the exact profile.
 #pragma once
 
 #include <string>
