@@ -278,6 +278,25 @@ int run_conformance(const ConformanceArgs& a) {
 
 // ---- explain -----------------------------------------------------------------------------
 
+// The reference's profile and the GL backend of `against` (whose own profile options describe
+// the reference). Returns an exit code when either cannot be had, after reporting it.
+std::optional<int> profile_and_backend(const BackendArgs& against, const std::string& scene, bool want_backend,
+                                       refraster::Profile& profile, std::unique_ptr<harness::Backend>& backend) {
+    try {
+        profile = against.profile.load();
+    } catch (const refraster::ProfileError& e) {
+        std::cerr << "refraster: " << e.what() << "\n";
+        return kExitBadInput;
+    }
+    if (!want_backend) return std::nullopt;
+    bool bad = false;
+    BackendArgs gl = against;
+    gl.profile = ProfileArgs{};
+    backend = backend_or_report(gl, scene, bad);
+    if (!backend) return bad ? kExitBadInput : kExitBackendFailure;
+    return std::nullopt;
+}
+
 struct ExplainArgs {
     std::string scene;
     std::string pixel;
@@ -299,20 +318,8 @@ int run_explain(ExplainArgs a) {
         return kExitBadInput;
     }
     refraster::Profile profile;
-    try {
-        profile = a.against.profile.load();
-    } catch (const refraster::ProfileError& e) {
-        std::cerr << "refraster: " << e.what() << "\n";
-        return kExitBadInput;
-    }
     std::unique_ptr<harness::Backend> backend;
-    if (!a.no_backend) {
-        bool bad = false;
-        BackendArgs gl = a.against;
-        gl.profile = ProfileArgs{};
-        backend = backend_or_report(gl, a.scene, bad);
-        if (!backend) return bad ? kExitBadInput : kExitBackendFailure;
-    }
+    if (const auto rc = profile_and_backend(a.against, a.scene, !a.no_backend, profile, backend)) return *rc;
     try {
         const auto e = harness::explain_pixel(*scene, profile, x, y, backend.get());
         std::cout << (a.json ? harness::explanation_json(e) + "\n" : harness::explanation_text(e));
@@ -341,17 +348,8 @@ int run_reduce(const ReduceArgs& a) {
     const auto scene = load_or_report(a.scene);
     if (!scene) return kExitBadInput;
     refraster::Profile profile;
-    try {
-        profile = a.against.profile.load();
-    } catch (const refraster::ProfileError& e) {
-        std::cerr << "refraster: " << e.what() << "\n";
-        return kExitBadInput;
-    }
-    bool bad = false;
-    BackendArgs gl = a.against;
-    gl.profile = ProfileArgs{};
-    auto backend = backend_or_report(gl, a.scene, bad);
-    if (!backend) return bad ? kExitBadInput : kExitBackendFailure;
+    std::unique_ptr<harness::Backend> backend;
+    if (const auto rc = profile_and_backend(a.against, a.scene, true, profile, backend)) return *rc;
     try {
         const auto r = harness::reduce_scene(scene->file, a.scene, profile, *backend, std::cout);
         auto reduced = r.scene;
