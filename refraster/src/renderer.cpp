@@ -362,22 +362,19 @@ private:
     // lp_setup_analyse_triangles (lp_setup_analysis.c), reached from lp_setup_draw_arrays for
     // a non-indexed triangle list of exactly 9 vertices drawn without constant-interpolated
     // inputs and without the draw pipeline: when the last triangle's three window y values are
-    // equal, the function claims the draw; it draws the first two triangles as a rectangle if
-    // they form one, and nothing otherwise.
+    // equal, the function claims the whole draw. It hands the first two triangles to
+    // lp_rect_cw when they form a rectangle and drops them otherwise; measured in an FBO,
+    // neither case draws anything (scenes triangles.coverage.nine_vertex_quirk_*).
     bool nine_vertex_quirk_drops(const detail::VertexStage& stage,
                                  const std::vector<detail::AssembledTriangle>& tris,
                                  const std::vector<bool>& segment_clipped) const {
-        if (!profile_.nine_vertex_quirk || profile_.coverage != CoverageModel::Snapped) return false;
+        // The owner pass reads gl_PrimitiveID, a constant-interpolated input, and so bypasses
+        // the analysis in the driver; the reference's owner pass does the same.
+        if (!profile_.nine_vertex_quirk || profile_.coverage != CoverageModel::Snapped || !fb_.owner.empty()) return false;
         if (draw_.primitive != PrimitiveType::Triangles || draw_.indices || draw_.element_count() != 9) return false;
         if (draw_.state.shade == ShadeModel::Flat || tris.size() != 3 || segment_clipped[0]) return false;
         const auto y = [&](std::uint32_t i) { return stage.vertex(i).window[1]; };
-        if (!(y(8) == y(7) && y(8) == y(6))) return false;
-        const auto x = [&](std::uint32_t i) { return stage.vertex(i).window[0]; };
-        const bool rect = x(0) == x(1) && x(0) == x(5) && x(2) == x(3) && x(2) == x(4) && y(0) == y(3) &&
-                          y(0) == y(5) && y(1) == y(2) && y(1) == y(4);
-        // A rectangle goes to lp_rect_cw; it is drawn here as its two triangles. Only the
-        // triangles are dropped otherwise.
-        return !rect;
+        return y(8) == y(7) && y(8) == y(6);
     }
 
     bool pixel_in_box(const PixelRect& b) const {

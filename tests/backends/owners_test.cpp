@@ -26,7 +26,14 @@ TEST(Owners, SecondPassLeavesImagesUnchangedAndAgreesWithTheReference) {
         const auto with = osmesa->render_owners(scene);
         ASSERT_EQ(plain.status, harness::RenderStatus::Ok) << plain.message;
         ASSERT_EQ(with.status, harness::RenderStatus::Ok) << with.message;
-        EXPECT_EQ(plain.image.color8, with.image.color8);
+        if (e.path().filename().string().starts_with("nine_vertex_quirk")) {
+            // The one known exception: gl_PrimitiveID is a constant-interpolated input, which
+            // makes llvmpipe skip the nine-vertex analysis, so the owner pass draws what the
+            // plain render drops (docs/precision.md). Owners still agree below.
+            EXPECT_NE(plain.image.color8, with.image.color8);
+        } else {
+            EXPECT_EQ(plain.image.color8, with.image.color8);
+        }
         EXPECT_EQ(plain.image.color32f.size(), with.image.color32f.size());
         for (std::size_t i = 0; i < plain.image.color32f.size(); ++i) {
             EXPECT_EQ(std::bit_cast<std::uint32_t>(plain.image.color32f[i]),

@@ -72,8 +72,7 @@ struct Profile {
     bool draw_pipeline_cull = true;
     int draw_segment_vertices = 4096;
     // llvmpipe's lp_setup_analyse_triangles: a non-indexed draw of exactly 9 smooth-shaded
-    // triangle vertices whose last triangle has three equal window y values draws nothing
-    // unless its first two triangles form an axis-aligned rectangle.
+    // triangle vertices whose last triangle has three equal window y values draws nothing.
     bool nine_vertex_quirk = true;
 
     friend bool operator==(const Profile&, const Profile&) = default;
