@@ -95,14 +95,16 @@ std::string scene_label(const Scene& scene) {
 }
 
 // Child environment: ours, with GALLIUM_DRIVER replaced by the driver asked for. The
-// REFRASTER_WORKER_KILL_AT test hook reaches only the first worker, so that a run sees
-// exactly the one crash it asked for, not one per replacement worker.
+// REFRASTER_WORKER_KILL_AT and REFRASTER_WORKER_HANG_AT test hooks reach only the first worker,
+// so that a run sees exactly the one crash or hang it asked for, not one per replacement.
 std::vector<std::string> worker_environment(Driver driver, bool first_worker) {
     std::vector<std::string> env;
     for (char** e = environ; e && *e; ++e) {
         const std::string_view kv(*e);
         if (kv.starts_with("GALLIUM_DRIVER=")) continue;
-        if (!first_worker && kv.starts_with("REFRASTER_WORKER_KILL_AT=")) continue;
+        if (!first_worker && (kv.starts_with("REFRASTER_WORKER_KILL_AT=") || kv.starts_with("REFRASTER_WORKER_HANG_AT="))) {
+            continue;
+        }
         env.emplace_back(kv);
     }
     env.push_back(std::string("GALLIUM_DRIVER=") + driver_name(driver));

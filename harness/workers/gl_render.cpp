@@ -763,6 +763,9 @@ int run_worker(std::string_view backend, std::string_view mesa_package,
     // as an out-of-memory kill would.
     unsigned long kill_at = 0;
     if (const char* k = std::getenv(kKillAtVariable)) kill_at = std::strtoul(k, nullptr, 10);
+    // And the same for a hang: stop answering on the Nth scene, as a driver stuck in a loop would.
+    unsigned long hang_at = 0;
+    if (const char* k = std::getenv("REFRASTER_WORKER_HANG_AT")) hang_at = std::strtoul(k, nullptr, 10);
     unsigned long scenes = 0;
 
     try {
@@ -786,6 +789,9 @@ int run_worker(std::string_view backend, std::string_view mesa_package,
                 case wire::FrameType::Render:
                 case wire::FrameType::RenderOwners: {
                     if (++scenes == kill_at) ::raise(SIGKILL);
+                    if (scenes == hang_at) {
+                        for (;;) ::pause();
+                    }
                     harness::RenderResult reply;
                     try {
                         reply = renderer->render(wire::decode_draw_list(frame->payload),

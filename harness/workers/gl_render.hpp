@@ -56,7 +56,8 @@ public:
 // std::runtime_error with a one-line reason on failure), announces itself with a Hello frame,
 // then answers requests from stdin until end of stream. Returns the process exit code.
 // Test hooks: a Crash frame makes it abort(), a Hang frame makes it sleep forever, and with
-// REFRASTER_WORKER_KILL_AT=N in its environment it SIGKILLs itself on receiving its Nth scene.
+// REFRASTER_WORKER_KILL_AT=N in its environment it SIGKILLs itself on receiving its Nth scene
+// (REFRASTER_WORKER_HANG_AT=N: it stops answering instead).
 int run_worker(std::string_view backend, std::string_view mesa_package,
                const std::function<std::unique_ptr<ContextHolder>()>& make_context);
 

@@ -385,3 +385,40 @@ TEST(HtmlReport, ChromiumShowsSummaryChartImagesAndNumbers) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(ConformanceRun, HungWorkerIsATimeoutAndTheRunGoesOn) {
+    testutil::TempDir dir;
+    const auto out = dir.path() / "run";
+    const std::string cmd = "REFRASTER_WORKER_HANG_AT=2 " + bin() +
+                            " conformance run --cases 'smoke.*' --against osmesa --timeout 1 --output " +
+                            testutil::shell_quote(out.string()) + " > /dev/null 2>&1";
+    EXPECT_EQ(std::system(cmd.c_str()) >> 8, 1);
+    const auto lines = read_jsonl(out / "results.jsonl");
+    ASSERT_EQ(lines.size(), 8u);
+    int timeouts = 0;
+    for (const auto& l : lines) timeouts += l["status"] == "Timeout";
+    EXPECT_EQ(timeouts, 1);
+    EXPECT_EQ(lines[1]["status"], "Timeout");
+    EXPECT_NE(testutil::read_text(out / "failures.csv").find(",Timeout"), std::string::npos);
+}
+
+TEST(ConformanceRun, ProgressLineOnATerminalOnly) {
+    testutil::TempDir dir;
+    // `script` gives the run a terminal.
+    const std::string run = bin() + " conformance run --cases 'smoke.*' --output " + testutil::shell_quote((dir.path() / "a").string());
+    const std::string cmd = "CI= script -qec " + testutil::shell_quote(run) + " /dev/null > " +
+                            testutil::shell_quote((dir.path() / "tty.txt").string()) + " 2>&1";
+    ASSERT_EQ(std::system(cmd.c_str()) >> 8, 0);
+    const auto tty = testutil::read_text(dir.path() / "tty.txt");
+    EXPECT_NE(tty.find("[8/8]"), std::string::npos) << tty;
+    EXPECT_NE(tty.find("ETA"), std::string::npos);
+    EXPECT_NE(tty.find("8 passed, 0 failed, 0 skipped"), std::string::npos);
+    // Not a terminal: one line per case, no progress.
+    const auto plain = testutil::run_cli({"conformance", "run", "--cases", "smoke.*", "--output", (dir.path() / "b").string()});
+    EXPECT_EQ(plain.out.find("ETA"), std::string::npos);
+    EXPECT_NE(plain.out.find("Pass smoke.triangles\n"), std::string::npos);
+}
+
+}  // namespace
