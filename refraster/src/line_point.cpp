@@ -201,8 +201,6 @@ std::optional<LineSetup> setup_line(const StageVertex& sv1, const StageVertex& s
         L.x[i] = *s[i];
         L.y[i] = *s[4 + i];
     }
-    L.draw_start = draw_start;
-    L.draw_end = draw_end;
     for (std::size_t i = 0; i < 4; ++i) {
         const std::size_t j = (i + 1) % 4;
         L.edges[i] = edge(L.x[i], L.y[i], L.x[j], L.y[j], p.tie_rule);

@@ -42,8 +42,6 @@ struct LineSetup {
     std::array<EdgeFunction, 4> edges;
     PixelRect bbox;
     bool x_major = true;
-    bool draw_start = false;  // the diamond-exit decisions, for traces
-    bool draw_end = false;
 };
 
 // nullopt: a zero-length line, or one outside the draw region.
