@@ -408,7 +408,7 @@ TEST(ConformanceRun, ProgressLineOnATerminalOnly) {
     testutil::TempDir dir;
     // `script` gives the run a terminal.
     const std::string run = bin() + " conformance run --cases 'smoke.*' --output " + testutil::shell_quote((dir.path() / "a").string());
-    const std::string cmd = "CI= script -qec " + testutil::shell_quote(run) + " /dev/null > " +
+    const std::string cmd = "CI= script -qec " + testutil::shell_quote(run) + " /dev/null < /dev/null > " +
                             testutil::shell_quote((dir.path() / "tty.txt").string()) + " 2>&1";
     ASSERT_EQ(std::system(cmd.c_str()) >> 8, 0);
     const auto tty = testutil::read_text(dir.path() / "tty.txt");
