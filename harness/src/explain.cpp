@@ -275,9 +275,7 @@ std::string explanation_json(const Explanation& e) {
     return j.dump(1);
 }
 
-std::string explanation_svg(const Scene& scene, const refraster::Profile& profile, const Explanation& e, int radius) {
-    (void)scene;
-    (void)profile;
+std::string explanation_svg(const Explanation& e, int radius) {
     const auto& fb = e.reference_image;
     const int cx = e.trace.x;
     const int cy = e.trace.y;

@@ -326,7 +326,7 @@ int run_explain(ExplainArgs a) {
         if (!a.svg.empty()) {
             const std::filesystem::path p(a.svg);
             const auto tmp = p.parent_path() / ("." + p.filename().string() + ".partial");
-            std::ofstream(tmp) << harness::explanation_svg(*scene, profile, e);
+            std::ofstream(tmp) << harness::explanation_svg(e);
             std::filesystem::rename(tmp, p);
         }
         return e.agree ? kExitOk : kExitMismatch;

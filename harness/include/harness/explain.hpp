@@ -42,6 +42,6 @@ Explanation explain_pixel(const Scene& scene, const refraster::Profile& profile,
 std::string explanation_text(const Explanation& e);
 std::string explanation_json(const Explanation& e);
 // The neighbourhood of the pixel, `radius` pixels around it, drawn from the reference.
-std::string explanation_svg(const Scene& scene, const refraster::Profile& profile, const Explanation& e, int radius = 4);
+std::string explanation_svg(const Explanation& e, int radius = 4);
 
 }  // namespace harness
