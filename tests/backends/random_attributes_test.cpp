@@ -24,12 +24,7 @@ struct Variant {
 // the first few with everything needed to reproduce them.
 int run_variant(std::uint64_t seed, const Variant& v, const refraster::Profile& profile = {}, bool report = true) {
     testscenes::AttributeGenerator gen(seed, v.options);
-    harness::BackendOptions gl;
-    gl.kind = harness::BackendKind::OSMesa;
-    auto osmesa = harness::make_backend(gl);
-    harness::BackendOptions ro;
-    ro.profile = profile;
-    auto ref = harness::make_backend(ro);
+    auto [ref, osmesa] = testscenes::make_renderers(profile);
     std::mt19937 clear_rng(static_cast<std::uint32_t>(seed));
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
     const int per_batch = testscenes::kCells * v.options.triangles_per_cell;

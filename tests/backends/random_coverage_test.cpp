@@ -25,10 +25,7 @@ TEST_P(RandomCoverage, TenThousandTrianglesMatchLlvmpipe) {
     const std::uint64_t seed = GetParam();
     std::cout << "seed " << seed << "\n";
     testscenes::CoverageGenerator gen(seed);
-    harness::BackendOptions gl;
-    gl.kind = harness::BackendKind::OSMesa;
-    auto osmesa = harness::make_backend(gl);
-    auto ref = harness::make_backend({});
+    auto [ref, osmesa] = testscenes::make_renderers();
 
     testscenes::CategoryCounts counts;
     int mismatched_triangles = 0;
@@ -42,7 +39,7 @@ TEST_P(RandomCoverage, TenThousandTrianglesMatchLlvmpipe) {
         const auto c = harness::compare_images(a.image, b.image, scene.draw_list.clear, {});
         if (c.mismatched_pixels == 0) continue;
         for (std::size_t i = 0; i < cells.size(); ++i) {
-            const auto diff = testscenes::cell_mismatches(a.image, b.image, i);
+            const auto diff = testscenes::cell_differences(a.image, b.image, i);
             if (diff == 0) continue;
             if (++mismatched_triangles <= 5) {
                 ADD_FAILURE() << "seed " << seed << " batch " << batch << " cell " << i << ": " << diff
@@ -62,12 +59,9 @@ TEST_P(RandomCoverage, TenThousandTrianglesMatchLlvmpipe) {
 // The comparison can fail: with the tie rule flipped, edges through pixel centres must show.
 TEST(RandomCoverageSensitivity, FlippedTieRuleIsDetected) {
     testscenes::CoverageGenerator gen(7);
-    harness::BackendOptions gl;
-    gl.kind = harness::BackendKind::OSMesa;
-    auto osmesa = harness::make_backend(gl);
-    harness::BackendOptions flipped;
-    flipped.profile.tie_rule = refraster::TieRule::RightTop;
-    auto ref = harness::make_backend(flipped);
+    refraster::Profile flipped;
+    flipped.tie_rule = refraster::TieRule::RightTop;
+    auto [ref, osmesa] = testscenes::make_renderers(flipped);
     testscenes::CategoryCounts counts;
     std::uint64_t mismatched = 0;
     std::uint64_t lit = 0;

@@ -123,12 +123,7 @@ harness::Scene scene_of(std::vector<refraster::Draw> draws) {
 int run(std::uint64_t seed, int lines, int points, Counts& counts, const refraster::Profile& profile = {},
         bool report = true) {
     Generator gen(seed);
-    harness::BackendOptions gl;
-    gl.kind = harness::BackendKind::OSMesa;
-    auto osmesa = harness::make_backend(gl);
-    harness::BackendOptions ro;
-    ro.profile = profile;
-    auto ref = harness::make_backend(ro);
+    auto [ref, osmesa] = testscenes::make_renderers(profile);
     int bad = 0;
     for (int batch = 0; counts.lines < lines || counts.points < points; ++batch) {
         std::vector<refraster::Draw> draws;

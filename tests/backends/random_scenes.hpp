@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <memory>
 #include <cstdlib>
 #include <cmath>
 #include <bit>
@@ -13,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "harness/backend.hpp"
 #include "harness/scene.hpp"
 
 namespace testscenes {
@@ -160,24 +162,6 @@ inline harness::Scene cell_scene(const std::vector<CellTriangle>& cells) {
         s.draw_list.draws.push_back(std::move(d));
     }
     return s;
-}
-
-inline std::uint64_t cell_mismatches(const refraster::Framebuffer& a, const refraster::Framebuffer& b, std::size_t i) {
-    const std::uint32_t cx = static_cast<std::uint32_t>(i % kGrid) * kCell;
-    const std::uint32_t cy = static_cast<std::uint32_t>(i / kGrid) * kCell;
-    std::uint64_t n = 0;
-    for (std::uint32_t y = cy; y < cy + kCell; ++y) {
-        for (std::uint32_t x = cx; x < cx + kCell; ++x) {
-            const std::size_t p = 4 * a.index(x, y);
-            for (std::size_t k = 0; k < 4; ++k) {
-                if (a.color8[p + k] != b.color8[p + k]) {
-                    ++n;
-                    break;
-                }
-            }
-        }
-    }
-    return n;
 }
 
 inline std::string describe(const CellTriangle& t) {
@@ -334,6 +318,21 @@ inline std::string describe(const AttributeCell& c) {
                   c.offset ? (std::to_string(c.offset->factor) + "," + std::to_string(c.offset->units)).c_str() : "none",
                   static_cast<double>(c.depth_range[0]), static_cast<double>(c.depth_range[1]));
     return s + buf;
+}
+
+// The two renderers every random test compares: the reference under `profile`, and OSMesa
+// llvmpipe.
+struct Renderers {
+    std::unique_ptr<harness::Backend> ref;
+    std::unique_ptr<harness::Backend> osmesa;
+};
+
+inline Renderers make_renderers(const refraster::Profile& profile = {}) {
+    harness::BackendOptions gl;
+    gl.kind = harness::BackendKind::OSMesa;
+    harness::BackendOptions ro;
+    ro.profile = profile;
+    return {harness::make_backend(ro), harness::make_backend(gl)};
 }
 
 // Pixels of cell i that differ in colour (rgba8 bytes or rgba32f bits) or depth.
