@@ -46,6 +46,20 @@ double depth_mrd(DepthFormat f) {
     }
 }
 
+// lp_state_fs.c, lp_build_depth_clamp: lp_build_clamp(z, 0, 1), which is lp_build_min(z, 1)
+// then lp_build_max(., 0) (lp_bld_arit.c) with undefined NaN behaviour, lowered to the x86
+// minps/maxps instructions: each returns its second operand unless the first compares less
+// (greater). A NaN depth therefore becomes 1 (the far value, in every depth format), -0 becomes
+// +0, and infinities clamp to the ends.
+inline float x86_min(float a, float b) { return a < b ? a : b; }
+inline float x86_max(float a, float b) { return a > b ? a : b; }
+
+}  // namespace
+
+float clamp_depth(float z) { return x86_max(x86_min(z, 1.0f), 0.0f); }
+
+namespace {
+
 bool compare(CompareFunc f, std::uint32_t frag, std::uint32_t stored, bool is_float) {
     // z32f values are compared as floats (both are in [0, 1], so their bit patterns order the
     // same way, but the intent is kept explicit).
@@ -155,7 +169,7 @@ FragmentShader::PixelResult FragmentShader::evaluate(int x, int y, const Framebu
     PixelResult r;
     if (depth_test_) {
         float z = fp.add(eval_plane(p_.z, px, py), p_.z_offset);
-        z = std::min(std::max(z, 0.0f), 1.0f);  // lp_build_clamp: max then min
+        z = clamp_depth(z);
         r.z = z;
         switch (target_.depth) {
             case DepthFormat::Z16: r.depth = static_cast<std::uint32_t>(std::nearbyint(z * 65535.0f)); break;

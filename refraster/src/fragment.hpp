@@ -15,7 +15,8 @@
 //  - per-pixel evaluation (lp_bld_interp.c, attribs_update_simple) at the pixel's integer
 //    coordinates: fmuladd(dady, py, fmuladd(dadx, px, A0)), fused when FMA is on; smooth
 //    values times 1 / (the 1/w plane's value), a true division.
-//  - depth: z plus the offset, clamped to [0, 1] (lp_build_depth_clamp), quantised
+//  - depth: z plus the offset, clamped to [0, 1] (lp_build_depth_clamp: min with 1, then max
+//    with 0, with x86 minps/maxps semantics, so NaN becomes 1), quantised
 //    RNE(fl(z * (2^n - 1))) for z16 and z24 (lp_build_clamped_float_to_unsigned_norm) or kept
 //    as float for z32f, the eight compare functions on those values, writes when enabled.
 //  - colour output: rgba8 RNE(fl(c * 255)) of the clamped colour (lp_build_conv); rgba32f
@@ -125,6 +126,9 @@ void write_fragment_color(const Draw& draw, Framebuffer& fb, std::size_t i, cons
 // glClearColor into rgba8: float_to_ubyte (util/u_math.h), which util_pack_color uses for
 // R8G8B8A8_UNORM: f * (255/256) + 32768 in float, then the low byte of the float's bits.
 std::uint8_t clear_to_unorm8(float c);
+
+// Fragment depth clamped to [0, 1] as llvmpipe's generated code does it: a NaN becomes 1.
+float clamp_depth(float z);
 
 // Fragment colour into rgba8: clamp to [0, 1], then RNE(fl(c * 255)) (mesa-22.3-rules.md 3.3).
 std::uint8_t color_to_unorm8(float c);
