@@ -11,6 +11,7 @@
 #include "harness/backend.hpp"
 #include "harness/case_result.hpp"
 #include "harness/explain.hpp"
+#include "harness/extreme_scenes.hpp"
 #include "harness/image_hash.hpp"
 #include "harness/image_io.hpp"
 #include "harness/profile_io.hpp"
@@ -501,6 +502,16 @@ int main(int argc, char** argv) {
     pcmd->add_option("name", show.profile, "Built-in name or profile file")->capture_default_str();
     pcmd->add_option("--profile-set", show.overrides, "Override one parameter: key=value (repeatable)");
 
+    // generate extreme --seed N --output DIR: the seeded stiff and extreme scenes
+    // (harness/extreme_scenes.hpp), one DIR/<kind>.json per kind.
+    std::uint64_t gen_seed = 1;
+    std::string gen_output;
+    auto* gen_cmd = app.add_subcommand("generate", "Write generated scenes");
+    gen_cmd->require_subcommand(1);
+    auto* gen_extreme = gen_cmd->add_subcommand("extreme", "Stiff and extreme scenes, one file per kind");
+    gen_extreme->add_option("--seed", gen_seed, "Seed of the generator")->capture_default_str();
+    gen_extreme->add_option("--output", gen_output, "Directory for the scene files")->required();
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -511,6 +522,7 @@ int main(int argc, char** argv) {
         std::cerr << "refraster: " << e.what() << " (see --help)\n";
         return kExitBadInput;
     }
+    if (gen_extreme->parsed()) return harness::write_extreme_scenes(gen_seed, gen_output, std::cerr);
     if (rcmd->parsed()) return run_render(render);
     if (ccmd->parsed()) return run_compare(compare);
     if (run_cmd->parsed()) return run_conformance(conf);
