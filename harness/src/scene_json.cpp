@@ -1,16 +1,20 @@
 // Scene format v1 reader: strict JSON parsing (duplicate keys refused, positions for syntax
 // errors), then a validating walk that turns the document into a SceneFile, naming the JSON
-// path of the first offending value.
+// path of the first offending value, and the work limits of SceneLimits (docs/limits.md).
+// Every message is one line: keys, paths and strings from the file are escaped, numbers are
+// printed short.
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <set>
-#include <sstream>
 #include <system_error>
 
 #include "harness/front_end.hpp"
 #include "harness/scene.hpp"
+#include "refraster/renderer.hpp"
 
 namespace harness {
 
@@ -20,17 +24,70 @@ namespace {
 
 std::string compose_message(const std::string& file, const std::string& path,
                             const std::string& detail, std::size_t line, std::size_t column) {
-    std::string m = file;
+    // A file name may hold a newline too; the path and detail are escaped where they are made.
+    std::string m = escape_for_message(file);
     if (line != 0) m += ":" + std::to_string(line) + ":" + std::to_string(column);
     m += ": ";
     if (!path.empty()) m += path + ": ";
     return m + detail;
 }
 
+// A string as a JSON string literal would hold it, on one line.
+std::string quoted_in_full(std::string_view v) {
+    std::string out = "\"";
+    for (const char c : v) {
+        if (c == '"' || c == '\\') out += '\\';
+        out += c;
+    }
+    return escape_for_message(out) + "\"";
+}
+
+// A key as one path component: .name when it is a plain identifier, otherwise ["escaped"] so
+// that a key holding dots, brackets or newlines still reads as one component on one line.
+std::string key_component(std::string_view k) {
+    const bool plain = !k.empty() && std::all_of(k.begin(), k.end(), [](char c) {
+        return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+               c == '_';
+    });
+    if (plain) return "." + std::string(k);
+    return "[" + quoted_in_full(k) + "]";
+}
+
+// A string from the file inside a message: quoted, escaped, cut after 40 bytes (at a UTF-8
+// character boundary) so that a long value does not drown the message.
+std::string quoted_value(std::string_view v) {
+    constexpr std::size_t kShown = 40;
+    if (v.size() <= kShown) return quoted_in_full(v);
+    std::size_t cut = kShown - 3;
+    while (cut > 0 && (static_cast<unsigned char>(v[cut]) & 0xc0) == 0x80) --cut;
+    std::string q = quoted_in_full(v.substr(0, cut));
+    return q.insert(q.size() - 1, "...");
+}
+
+// A number inside a message: integers exactly, other values in %.9g (enough to tell float32
+// values apart), never the hundreds of digits a file may spell them with.
+std::string number_text(const json& v) {
+    if (v.is_number_unsigned()) return std::to_string(v.get<std::uint64_t>());
+    if (v.is_number_integer()) return std::to_string(v.get<std::int64_t>());
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.9g", v.get<double>());
+    return buf;
+}
+std::string number_text(double d) { return number_text(json(d)); }
+
+// A number token as written, shortened: the parser could not represent it, so no value is
+// left to print in %.9g.
+std::string token_text(std::string_view tok) {
+    constexpr std::size_t kShown = 24;
+    if (tok.size() <= kShown) return escape_for_message(tok);
+    return escape_for_message(tok.substr(0, 12)) + "... (" + std::to_string(tok.size()) +
+           " characters)";
+}
+
 // A JSON path in the scene format's syntax: draws[2].vertices[7].position[1].
 class JsonPath {
 public:
-    void push_key(const std::string& k) { parts_.push_back("." + k); }
+    void push_key(const std::string& k) { parts_.push_back(key_component(k)); }
     void push_index(std::size_t i) { parts_.push_back("[" + std::to_string(i) + "]"); }
     void pop() { parts_.pop_back(); }
     std::string str() const {
@@ -45,7 +102,10 @@ private:
 };
 
 std::string child_path(const std::string& parent, const std::string& key) {
-    return parent == "(root)" ? key : parent + "." + key;
+    std::string c = key_component(key);
+    if (c.front() == '.') c.erase(0, 1);
+    if (parent == "(root)") return c;
+    return parent + (c.front() == '[' ? "" : ".") + c;
 }
 std::string child_path(const std::string& parent, std::size_t index) {
     return (parent == "(root)" ? std::string() : parent) + "[" + std::to_string(index) + "]";
@@ -56,9 +116,8 @@ std::string child_path(const std::string& parent, std::size_t index) {
 // column. nlohmann's own DOM parser keeps the last duplicate silently.
 class StrictSaxBuilder : public nlohmann::json_sax<json> {
 public:
-    static constexpr std::size_t kMaxDepth = 64;
-
-    explicit StrictSaxBuilder(std::string_view text) : text_(text) {}
+    StrictSaxBuilder(std::string_view text, const SceneLimits& limits)
+        : text_(text), limits_(limits) {}
 
     json root;
     std::string error_path;
@@ -71,7 +130,7 @@ public:
     bool number_integer(number_integer_t v) override { return add(json(v)); }
     bool number_unsigned(number_unsigned_t v) override { return add(json(v)); }
     bool number_float(number_float_t v, const string_t& s) override {
-        if (!std::isfinite(v)) return fail_value("number " + s + " is out of range");
+        if (!std::isfinite(v)) return fail_value("number " + token_text(s) + " is out of range");
         return add(json(v));
     }
     bool string(string_t& v) override { return add(json(std::move(v))); }
@@ -87,7 +146,7 @@ public:
             path_.push_key(k);
             error_path = path_.str();
             path_.pop();
-            error_detail = "duplicate key \"" + k + "\"";
+            error_detail = "duplicate key " + quoted_value(k);
             return false;
         }
         obj[k] = nullptr;
@@ -109,7 +168,7 @@ public:
             const auto q = w.find("number overflow parsing '");
             std::string tok = q == std::string::npos ? "" : w.substr(q + 25);
             if (!tok.empty() && tok.back() == '\'') tok.pop_back();
-            return fail_value("number " + tok + " is out of range");
+            return fail_value("number " + token_text(tok) + " is out of range");
         }
         syntax_error = true;
         error_position = position;
@@ -118,7 +177,25 @@ public:
         // column C: " prefix: the caller prints its own line and column.
         const auto col = w.find("column ");
         const auto colon = col == std::string::npos ? std::string::npos : w.find(": ", col);
-        error_detail = colon == std::string::npos ? w : w.substr(colon + 2);
+        std::string detail = colon == std::string::npos ? w : w.substr(colon + 2);
+        // Its "last read" excerpt holds the whole token, which may be a number of a thousand
+        // digits: keep its first characters. It escapes control characters as <U+000A>; DEL
+        // and the like still need escaping.
+        constexpr std::string_view kLastRead = "last read: '";
+        constexpr std::size_t kShown = 40;
+        if (const auto at = detail.find(kLastRead); at != std::string::npos) {
+            const std::size_t from = at + kLastRead.size();
+            const auto quote = detail.find("'; ", from);
+            const std::size_t to = quote == std::string::npos ? detail.size() : quote;
+            if (to - from > kShown) {
+                std::size_t cut = from + kShown - 3;
+                while (cut > from && (static_cast<unsigned char>(detail[cut]) & 0xc0) == 0x80) {
+                    --cut;
+                }
+                detail.replace(cut, to - cut, "...");
+            }
+        }
+        error_detail = escape_for_message(detail);
         return false;
     }
 
@@ -140,6 +217,12 @@ private:
         return p;
     }
     bool add(json v) {
+        // The document in memory costs tens of bytes a value, whatever the file spells it with.
+        if (++values_ > limits_.max_json_values) {
+            return fail_value("the file holds more than " +
+                              std::to_string(limits_.max_json_values) +
+                              " JSON values, the limit of a scene (docs/limits.md)");
+        }
         if (stack_.empty()) {
             root = std::move(v);
             current_ = &root;
@@ -160,9 +243,23 @@ private:
         return true;
     }
     bool open(json* container) {
-        if (stack_.size() >= kMaxDepth) {
-            error_path = path_.str();
-            error_detail = "nesting deeper than " + std::to_string(kMaxDepth) + " levels";
+        // nlohmann's SAX parser is iterative, so depth costs no stack; the limit keeps paths,
+        // messages and the document's recursive destructor and dump small.
+        if (stack_.size() >= limits_.max_nesting_depth) {
+            // The path of the container that goes one level too deep.
+            if (stack_.empty()) {
+                error_path = path_.str();
+            } else {
+                if (current_is_index_) {
+                    path_.push_index(path_index_);
+                } else {
+                    path_.push_key(pending_key_);
+                }
+                error_path = path_.str();
+                path_.pop();
+            }
+            error_detail =
+                "nesting deeper than " + std::to_string(limits_.max_nesting_depth) + " levels";
             return false;
         }
         if (!stack_.empty()) {
@@ -182,6 +279,8 @@ private:
     }
 
     std::string_view text_;
+    const SceneLimits& limits_;
+    std::uint64_t values_ = 0;
     std::vector<json*> stack_;
     JsonPath path_;
     std::string pending_key_;
@@ -209,14 +308,11 @@ std::string describe(const json& v) {
     switch (v.type()) {
         case json::value_t::null: return "null";
         case json::value_t::boolean: return v.get<bool>() ? "true" : "false";
-        case json::value_t::string: {
-            std::string s = v.get<std::string>();
-            if (s.size() > 40) s = s.substr(0, 37) + "...";
-            return "the string \"" + s + "\"";
-        }
+        case json::value_t::string:
+            return "the string " + quoted_value(v.get_ref<const std::string&>());
         case json::value_t::array: return "an array of " + std::to_string(v.size());
         case json::value_t::object: return "an object";
-        default: return v.dump();
+        default: return number_text(v);
     }
 }
 
@@ -242,13 +338,13 @@ public:
                 std::string list;
                 for (auto a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
                 Node(v_.at(k), child_path(path_, k), file_)
-                    .fail("unknown key \"" + k + "\" (allowed: " + list + ")");
+                    .fail("unknown key " + quoted_value(k) + " (allowed: " + list + ")");
             }
         }
     }
     bool has(const std::string& key) const { return v_.contains(key); }
     Node at(const std::string& key) const {
-        if (!v_.contains(key)) fail("missing required key \"" + key + "\"");
+        if (!v_.contains(key)) fail("missing required key " + quoted_value(key));
         return {v_.at(key), child_path(path_, key), file_};
     }
     std::optional<Node> get(const std::string& key) const {
@@ -271,15 +367,14 @@ public:
         if (!v_.is_number()) fail("expected a number, got " + describe(v_));
         const double d = v_.get<double>();
         const float f = static_cast<float>(d);
-        if (!std::isfinite(f)) fail("number " + v_.dump() + " does not fit in float32");
+        if (!std::isfinite(f)) fail("number " + number_text(v_) + " does not fit in float32");
         return f;
     }
     float f32_in(float lo, float hi) const {
         const float f = f32();
         if (!(f >= lo && f <= hi)) {
-            std::ostringstream s;
-            s << "expected a number in [" << lo << ", " << hi << "], got " << v_.dump();
-            fail(s.str());
+            fail("expected a number in [" + number_text(static_cast<double>(lo)) + ", " +
+                 number_text(static_cast<double>(hi)) + "], got " + number_text(v_));
         }
         return f;
     }
@@ -295,7 +390,7 @@ public:
             r = v_.get<std::int64_t>();
         } else if (v_.is_number_float()) {
             const double d = v_.get<double>();
-            if (std::trunc(d) != d) fail("expected an integer, got " + v_.dump());
+            if (std::trunc(d) != d) fail("expected an integer, got " + number_text(v_));
             if (d < -9.0e18 || d > 9.0e18) fail_range(lo, hi);
             r = static_cast<std::int64_t>(d);
         } else {
@@ -321,13 +416,13 @@ public:
         for (const auto& [n, e] : options) {
             if (s == n) return e;
         }
-        fail("expected one of " + list + ", got \"" + s + "\"");
+        fail("expected one of " + list + ", got " + quoted_value(s));
     }
 
 private:
     [[noreturn]] void fail_range(std::int64_t lo, std::int64_t hi) const {
         fail("expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
-             "], got " + v_.dump());
+             "], got " + number_text(v_));
     }
 
     const json& v_;
@@ -423,7 +518,25 @@ refraster::DrawState read_state(const Node& n, const refraster::Target& target) 
     return s;
 }
 
-SceneDraw read_draw(const Node& n, const refraster::Target& target) {
+// What the draws read so far ask for, against SceneLimits.
+struct WorkSoFar {
+    const SceneLimits& limits;
+    std::uint64_t vertices = 0;
+    std::uint64_t indices = 0;
+    std::uint64_t primitives = 0;
+
+    // Adds `count` to `total`; refuses at `where` when that passes `limit`.
+    static void add(const Node& where, std::uint64_t& total, std::uint64_t count,
+                    std::uint64_t limit, const char* what) {
+        total += count;
+        if (total > limit) {
+            where.fail("this brings the scene to " + std::to_string(total) + " " + what +
+                       ", over the limit of " + std::to_string(limit) + " (docs/limits.md)");
+        }
+    }
+};
+
+SceneDraw read_draw(const Node& n, const refraster::Target& target, WorkSoFar& work) {
     using namespace refraster;
     SceneDraw d;
     n.require_object({"primitive", "space", "matrix", "vertices", "indices", "state"});
@@ -450,6 +563,7 @@ SceneDraw read_draw(const Node& n, const refraster::Target& target) {
     const Node verts = n.at("vertices");
     const std::size_t count =
         verts.array_size(0, std::numeric_limits<std::uint32_t>::max(), "an array of vertices");
+    WorkSoFar::add(verts, work.vertices, count, work.limits.max_vertices, "vertices");
     d.vertices.reserve(count);
     for (std::size_t i = 0; i < count; ++i) {
         const Node vn = verts[i];
@@ -464,7 +578,7 @@ SceneDraw read_draw(const Node& n, const refraster::Target& target) {
         sv.position_size = static_cast<std::uint32_t>(p.value().size());
         for (std::size_t c = 0; c < sv.position_size; ++c) sv.position[c] = p[c].f32();
         if (d.space == VertexSpace::Window && sv.position_size == 4 && !(sv.position[3] > 0.0f)) {
-            p[3].fail("expected w > 0 in window space, got " + p[3].value().dump());
+            p[3].fail("expected w > 0 in window space, got " + number_text(p[3].value()));
         }
         if (auto c = vn.get("color")) sv.color = read_color(*c);
         d.vertices.push_back(sv);
@@ -472,6 +586,7 @@ SceneDraw read_draw(const Node& n, const refraster::Target& target) {
     if (auto v = n.get("indices")) {
         const std::size_t ni =
             v->array_size(0, std::numeric_limits<std::uint32_t>::max(), "an array of indices");
+        WorkSoFar::add(*v, work.indices, ni, work.limits.max_indices, "indices");
         std::vector<std::uint32_t> idx(ni);
         for (std::size_t i = 0; i < ni; ++i) {
             const Node e = (*v)[i];
@@ -480,6 +595,10 @@ SceneDraw read_draw(const Node& n, const refraster::Target& target) {
         }
         d.indices = std::move(idx);
     }
+    // Indices may repeat a vertex any number of times: the primitives are what costs.
+    const std::size_t elements = d.indices ? d.indices->size() : d.vertices.size();
+    WorkSoFar::add(n, work.primitives, refraster::primitive_count(d.primitive, elements),
+                   work.limits.max_primitives, "primitives");
     if (auto v = n.get("state")) {
         d.state = read_state(*v, target);
     } else {
@@ -491,6 +610,30 @@ SceneDraw read_draw(const Node& n, const refraster::Target& target) {
 
 }  // namespace
 
+std::string escape_for_message(std::string_view text) {
+    std::string out;
+    out.reserve(text.size());
+    for (const char c : text) {
+        const auto u = static_cast<unsigned char>(c);
+        switch (c) {
+            case '\n': out += "\\n"; break;
+            case '\r': out += "\\r"; break;
+            case '\t': out += "\\t"; break;
+            case '\b': out += "\\b"; break;
+            case '\f': out += "\\f"; break;
+            default:
+                if (u < 0x20 || u == 0x7f) {
+                    char buf[8];
+                    std::snprintf(buf, sizeof buf, "\\u%04x", u);
+                    out += buf;
+                } else {
+                    out += c;
+                }
+        }
+    }
+    return out;
+}
+
 SceneError::SceneError(std::string file, std::string json_path, std::string message,
                        std::size_t line, std::size_t column)
     : std::runtime_error(compose_message(file, json_path, message, line, column)),
@@ -500,9 +643,15 @@ SceneError::SceneError(std::string file, std::string json_path, std::string mess
       line_(line),
       column_(column) {}
 
-SceneFile parse_scene(std::string_view text, const std::string& file_label) {
+SceneFile parse_scene(std::string_view text, const std::string& file_label,
+                      const SceneLimits& limits) {
     using namespace refraster;
-    StrictSaxBuilder sax(text);
+    if (text.size() > limits.max_file_bytes) {
+        throw SceneError(file_label, "", "file of " + std::to_string(text.size()) +
+                                             " bytes exceeds the scene size limit of " +
+                                             std::to_string(limits.max_file_bytes) + " bytes");
+    }
+    StrictSaxBuilder sax(text, limits);
     const bool ok = json::sax_parse(text.begin(), text.end(), &sax, json::input_format_t::json,
                                     /*strict=*/true, /*ignore_comments=*/false);
     if (!ok || sax.syntax_error || !sax.error_detail.empty()) {
@@ -546,13 +695,14 @@ SceneFile parse_scene(std::string_view text, const std::string& file_label) {
     }
     if (auto v = t.get("samples")) {
         const auto n = v->integer(1, 4);
-        if (n != 1 && n != 4) v->fail("expected 1 or 4, got " + v->value().dump());
+        if (n != 1 && n != 4) v->fail("expected 1 or 4, got " + number_text(v->value()));
         s.target.samples = static_cast<std::uint32_t>(n);
     }
-    const std::int64_t area = std::int64_t{s.target.width} * s.target.height * s.target.samples;
-    if (area > kMaxTargetSamplesArea) {
+    const std::uint64_t area =
+        std::uint64_t{s.target.width} * s.target.height * s.target.samples;
+    if (area > limits.max_target_pixels) {
         t.fail("width x height x samples = " + std::to_string(area) + " exceeds the limit of " +
-               std::to_string(kMaxTargetSamplesArea));
+               std::to_string(limits.max_target_pixels));
     }
 
     if (auto c = root.get("clear")) {
@@ -575,22 +725,40 @@ SceneFile parse_scene(std::string_view text, const std::string& file_label) {
     const Node draws = root.at("draws");
     const std::size_t nd =
         draws.array_size(0, std::numeric_limits<std::uint32_t>::max(), "an array of draws");
+    if (nd > limits.max_draws) {
+        draws.fail(std::to_string(nd) + " draws exceed the limit of " +
+                   std::to_string(limits.max_draws) + " draws a scene (docs/limits.md)");
+    }
+    WorkSoFar work{limits};
     s.draws.reserve(nd);
-    for (std::size_t i = 0; i < nd; ++i) s.draws.push_back(read_draw(draws[i], s.target));
+    for (std::size_t i = 0; i < nd; ++i) s.draws.push_back(read_draw(draws[i], s.target, work));
     return s;
 }
 
-Scene load_scene_text(std::string_view text, const std::string& file_label) {
+Scene load_scene_text(std::string_view text, const std::string& file_label,
+                      const SceneLimits& limits) {
     Scene scene;
     scene.path = file_label;
-    scene.file = parse_scene(text, file_label);
+    scene.file = parse_scene(text, file_label, limits);
     scene.draw_list = run_front_end(scene.file, file_label);
+    // The fragment estimate needs clip-space positions, so it follows the front end; nothing
+    // has been drawn yet.
+    std::uint64_t fragments = 0;
+    for (std::size_t d = 0; d < scene.draw_list.draws.size(); ++d) {
+        fragments += estimate_work(scene.draw_list.draws[d], scene.draw_list.target).fragments;
+        if (fragments > limits.max_fragments) {
+            throw SceneError(file_label, "draws[" + std::to_string(d) + "]",
+                             "this brings the scene's estimated fragments to " +
+                                 std::to_string(fragments) + ", over the limit of " +
+                                 std::to_string(limits.max_fragments) + " (docs/limits.md)");
+        }
+    }
     // No extension is implemented yet, so every required one is unsupported.
     scene.unsupported_extensions = scene.file.requires_extensions;
     return scene;
 }
 
-Scene load_scene(const std::filesystem::path& path) {
+Scene load_scene(const std::filesystem::path& path, const SceneLimits& limits) {
     const std::string label = path.string();
     std::error_code ec;
     const auto status = std::filesystem::status(path, ec);
@@ -605,10 +773,11 @@ Scene load_scene(const std::filesystem::path& path) {
     }
     const auto size = std::filesystem::file_size(path, ec);
     if (ec) throw SceneError(label, "", "cannot read its size: " + ec.message());
-    if (size > kMaxSceneFileBytes) {
+    // Checked again on the text; here so that a huge file is not read at all.
+    if (size > limits.max_file_bytes) {
         throw SceneError(label, "", "file of " + std::to_string(size) +
                                         " bytes exceeds the scene size limit of " +
-                                        std::to_string(kMaxSceneFileBytes) + " bytes");
+                                        std::to_string(limits.max_file_bytes) + " bytes");
     }
     std::ifstream in(path, std::ios::binary);
     if (!in) throw SceneError(label, "", "cannot open for reading");
@@ -617,7 +786,7 @@ Scene load_scene(const std::filesystem::path& path) {
     if (static_cast<std::uintmax_t>(in.gcount()) != size) {
         throw SceneError(label, "", "read failed");
     }
-    Scene s = load_scene_text(text, label);
+    Scene s = load_scene_text(text, label, limits);
     s.path = path;
     return s;
 }

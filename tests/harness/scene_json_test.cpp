@@ -25,6 +25,28 @@ std::string tri(const std::string& vertex0, const std::string& more = "") {
            R"(, {"position": [6, 1]}, {"position": [1, 6]}])" + more + "}]";
 }
 
+// `n` draws that draw nothing.
+std::string many_draws(std::size_t n) {
+    std::string d = "[";
+    for (std::size_t i = 0; i < n; ++i) d += R"({"primitive": "points", "vertices": []},)";
+    d.back() = ']';
+    return d;
+}
+// `item` `n` times, comma-separated.
+std::string repeated(const std::string& item, std::size_t n) {
+    std::string s;
+    s.reserve((item.size() + 1) * n);
+    for (std::size_t i = 0; i < n; ++i) s += item + ",";
+    s.pop_back();
+    return s;
+}
+// One draw of `n` triangles, each covering the whole target (clip space).
+std::string fullscreen_triangles(std::size_t n) {
+    return R"([{"primitive": "triangles", "space": "clip", "vertices": [)" +
+           repeated(R"({"position": [-1, -1, 0, 1]}, {"position": [3, -1, 0, 1]}, {"position": [-1, 3, 0, 1]})", n) +
+           "]}]";
+}
+
 struct Malformed {
     std::string name;
     std::string text;  // file contents (ignored by the special cases below)
@@ -121,6 +143,48 @@ std::vector<Malformed> malformed_cases() {
         {"deep_nesting", scene_with(kTarget, "[]", R"("description": )" + std::string(100, '[') +
                                                      std::string(100, ']') + ", "),
          "", "nesting deeper than 64"},
+        // Keys, paths and strings from the file are escaped: the message stays on one line.
+        {"unknown_key_with_newline", scene_with(kTarget, "[]", R"("a\nb": 1, )"), R"(["a\nb"])",
+         R"(unknown key "a\nb" (allowed: format, name)"},
+        {"unknown_nested_key_with_tab", scene_with(kTarget, tri(R"({"position": [1, 1], "x\ty": 0})")),
+         R"(draws[0].vertices[0]["x\ty"])", R"(unknown key "x\ty")"},
+        {"duplicate_key_below_a_newline_key",
+         scene_with(kTarget, "[]", R"("a\nb": {"k": 1, "k": 2}, )"), R"(["a\nb"].k)",
+         R"(duplicate key "k")"},
+        {"enum_with_newline", scene_with(kTarget, R"([{"primitive": "tri\nangles", "vertices": []}])"),
+         "draws[0].primitive", R"(expected one of points, lines, line_strip, line_loop, triangles, triangle_strip, triangle_fan, got "tri\nangles")"},
+        {"enum_with_control_character", scene_with(kTarget, tri(v0, R"(, "state": {"cull": "back\u0001\u007f"})")),
+         "draws[0].state.cull", R"(got "back\u0001\u007f")"},
+        {"format_with_carriage_return",
+         R"({"format": "refraster-scene/1\r", "target": {"width": 8, "height": 8}, "draws": []})",
+         "format", R"(got the string "refraster-scene/1\r")"},
+        {"raw_newline_inside_a_string", "{\"format\": \"a\nb\"}", "", "invalid JSON"},
+        {"syntax_error_after_three_hundred_digits",
+         R"({"format": -1)" + std::string(300, '0') + ")}", "",
+         "last read: '-1" + std::string(35, '0') + "...'"},
+        {"raw_del_and_control_inside_a_key", "{\"a\x7f\x01\": 1}", "", "invalid JSON"},
+        // Numbers print short, however the file spells them.
+        {"line_width_1e308", scene_with(kTarget, tri(v0, R"(, "state": {"line_width": 1e308})")),
+         "draws[0].state.line_width", "number 1e+308 does not fit in float32"},
+        {"line_width_309_digits",
+         scene_with(kTarget, tri(v0, R"(, "state": {"line_width": 1)" + std::string(308, '0') + "}")),
+         "draws[0].state.line_width", "number 1e+308 does not fit in float32"},
+        {"line_width_400_digits",
+         scene_with(kTarget, tri(v0, R"(, "state": {"line_width": 1)" + std::string(399, '0') + "}")),
+         "draws[0].state.line_width", "number 100000000000... (400 characters) is out of range"},
+        {"line_width_above_255", scene_with(kTarget, tri(v0, R"(, "state": {"line_width": 255.00001})")),
+         "draws[0].state.line_width", "expected a number in [1, 255], got 255.00001"},
+        {"integer_1e300", scene_with(R"({"width": 1e300, "height": 8})", "[]"), "target.width",
+         "expected an integer in [1, 16384], got 1e+300"},
+        // Work limits (docs/limits.md), at their default values.
+        {"too_many_draws", scene_with(kTarget, many_draws(4097)), "draws",
+         "4097 draws exceed the limit of 4096 draws a scene"},
+        {"indices_repeat_a_vertex_millions_of_times",
+         scene_with(kTarget, tri(v0, R"(, "indices": [)" + repeated("0", 4'194'305) + "]")),
+         "draws[0].indices", "this brings the scene to 4194305 indices, over the limit of 4194304"},
+        {"estimated_fragments", scene_with(R"({"width": 16384, "height": 4096})", fullscreen_triangles(33)),
+         "draws[0]", "estimated fragments to 2214592512, over the limit of 2147483648"},
+        {"a_million_brackets", std::string(1'000'000, '['), "", "nesting deeper than 64"},
     };
     return c;
 }
@@ -139,6 +203,11 @@ TEST_P(MalformedScene, RefusedWithFileAndPath) {
         EXPECT_EQ(e.file(), file.string());
         EXPECT_EQ(what.rfind(file.string() + ":", 0), 0u) << what;
         EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+        for (const char ch : what) {
+            EXPECT_FALSE(static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f)
+                << "control character " << static_cast<int>(ch) << " in: " << what;
+        }
+        EXPECT_LT(what.size(), file.string().size() + 600) << what;  // short, whatever the input
         EXPECT_NE(e.detail().find(m.detail), std::string::npos) << what;
         if (m.path.empty()) {
             if (m.detail == "invalid JSON") {
@@ -275,6 +344,202 @@ TEST(SceneFiles, UnknownRequiredExtensionIsNotSupportedNotAnError) {
     const auto s = harness::load_scene_text(
         scene_with(kTarget, "[]", R"("requires": ["textures"], )"), "mem.json");
     EXPECT_EQ(s.unsupported_extensions, (std::vector<std::string>{"textures"}));
+}
+
+// A file name with a newline in it still gives a one-line message.
+TEST(SceneMessages, FileLabelIsEscaped) {
+    try {
+        (void)harness::load_scene_text("{", "dir/a\nb.json");
+        FAIL();
+    } catch (const SceneError& e) {
+        const std::string what = e.what();
+        EXPECT_EQ(what.rfind("dir/a\\nb.json:1:", 0), 0u) << what;
+        EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+        EXPECT_EQ(e.file(), "dir/a\nb.json");  // the label itself is kept as given
+    }
+}
+
+// The number in a range message is the short form, not hundreds of digits.
+TEST(SceneMessages, HugeNumbersPrintShort) {
+    const std::string v0 = R"({"position": [1, 1]})";
+    for (const std::string& width : {std::string("1e308"), "1" + std::string(308, '0'),
+                                     "-1" + std::string(308, '0') + ".5"}) {
+        try {
+            (void)harness::load_scene_text(
+                scene_with(kTarget, tri(v0, R"(, "state": {"line_width": )" + width + "}")),
+                "huge.json");
+            FAIL() << width;
+        } catch (const SceneError& e) {
+            const std::string what = e.what();
+            EXPECT_EQ(what.rfind("huge.json: draws[0].state.line_width: number ", 0), 0u) << what;
+            EXPECT_NE(what.find("e+308 does not fit in float32"), std::string::npos) << what;
+            EXPECT_EQ(what.find("0000"), std::string::npos) << what;
+            EXPECT_LT(what.size(), 100u) << what;
+        }
+    }
+}
+
+// The limits docs/limits.md documents.
+TEST(SceneLimits, DefaultsAreTheDocumentedOnes) {
+    const harness::SceneLimits l;
+    EXPECT_EQ(l.max_file_bytes, 268'435'456u);
+    EXPECT_EQ(l.max_nesting_depth, 64u);
+    EXPECT_EQ(l.max_json_values, 8'388'608u);
+    EXPECT_EQ(l.max_target_pixels, 67'108'864u);
+    EXPECT_EQ(l.max_draws, 4'096u);
+    EXPECT_EQ(l.max_vertices, 1'048'576u);
+    EXPECT_EQ(l.max_indices, 4'194'304u);
+    EXPECT_EQ(l.max_primitives, 4'194'304u);
+    EXPECT_EQ(l.max_fragments, 2'147'483'648u);
+}
+
+// Each limit refuses one past it with one line naming the file and the JSON path, and accepts
+// what reaches it exactly. Lowered limits keep the texts small; the code path is the same.
+struct LimitCase {
+    std::string name;
+    harness::SceneLimits limits;
+    std::string at_limit;    // accepted
+    std::string past_limit;  // refused
+    std::string path;
+    std::string detail;
+};
+void PrintTo(const LimitCase& c, std::ostream* os) { *os << c.name; }
+
+harness::SceneLimits with(std::uint64_t harness::SceneLimits::*field, std::uint64_t value) {
+    harness::SceneLimits l;
+    l.*field = value;
+    return l;
+}
+
+std::vector<LimitCase> limit_cases() {
+    using L = harness::SceneLimits;
+    const std::string v = R"({"position": [1, 1]})";
+    const auto points = [&](std::size_t n) {
+        return R"([{"primitive": "points", "vertices": [)" + repeated(v, n) + "]}]";
+    };
+    const auto indexed = [&](std::size_t n) {
+        return R"([{"primitive": "points", "vertices": [)" + v + R"(], "indices": [)" +
+               repeated("0", n) + "]}]";
+    };
+    // Two draws, so that the refusal names the draw whose count crosses the limit.
+    const auto two_draws = [&](const std::string& first, const std::string& second) {
+        return "[" + first.substr(1, first.size() - 2) + ", " + second.substr(1, second.size() - 2) +
+               "]";
+    };
+    harness::SceneLimits depth;
+    depth.max_nesting_depth = 4;
+    return {
+        {"file_bytes", with(&L::max_file_bytes, 200), scene_with(kTarget, "[]"),
+         scene_with(kTarget, "[]") + std::string(200, ' '), "", "bytes exceeds the scene size limit of 200"},
+        {"nesting", depth,
+         scene_with(kTarget, R"([{"primitive": "points", "vertices": [], "state": {}}])"),
+         scene_with(kTarget, R"([{"primitive": "points", "vertices": [], "state": {"polygon_offset": {"factor": 1, "units": 1}}}])"),
+         "draws[0].state.polygon_offset", "nesting deeper than 4 levels"},
+        // The root, format, name, target, width, height and draws: 7 values; with a
+        // description, the draws are the eighth.
+        {"json_values", with(&L::max_json_values, 7), scene_with(kTarget, "[]"),
+         scene_with(kTarget, "[]", R"("description": "d", )"), "draws",
+         "more than 7 JSON values"},
+        {"target_pixels", with(&L::max_target_pixels, 64), scene_with(kTarget, "[]"),
+         scene_with(R"({"width": 8, "height": 9})", "[]"), "target", "exceeds the limit of 64"},
+        {"draws", with(&L::max_draws, 3), scene_with(kTarget, many_draws(3)),
+         scene_with(kTarget, many_draws(4)), "draws", "4 draws exceed the limit of 3"},
+        {"vertices", with(&L::max_vertices, 5), scene_with(kTarget, two_draws(points(2), points(3))),
+         scene_with(kTarget, two_draws(points(2), points(4))), "draws[1].vertices",
+         "this brings the scene to 6 vertices, over the limit of 5"},
+        {"indices", with(&L::max_indices, 5), scene_with(kTarget, two_draws(indexed(2), indexed(3))),
+         scene_with(kTarget, two_draws(indexed(2), indexed(4))), "draws[1].indices",
+         "this brings the scene to 6 indices, over the limit of 5"},
+        // Repeated indices make primitives out of one vertex.
+        {"primitives", with(&L::max_primitives, 5), scene_with(kTarget, two_draws(indexed(3), points(2))),
+         scene_with(kTarget, two_draws(indexed(3), points(3))), "draws[1]",
+         "this brings the scene to 6 primitives, over the limit of 5"},
+        // 8x8 target: each point of size 1 counts 3x3 pixels (a pixel of margin each side).
+        {"fragments", with(&L::max_fragments, 45), scene_with(kTarget, points(5)),
+         scene_with(kTarget, two_draws(points(5), points(1))), "draws[1]",
+         "estimated fragments to 54, over the limit of 45"},
+    };
+}
+
+class SceneLimit : public ::testing::TestWithParam<LimitCase> {};
+
+TEST_P(SceneLimit, RefusesPastTheLimitOnly) {
+    const LimitCase& c = GetParam();
+    EXPECT_NO_THROW((void)harness::load_scene_text(c.at_limit, "limit.json", c.limits));
+    EXPECT_NO_THROW((void)harness::load_scene_text(c.past_limit, "limit.json"))
+        << "the default limits accept it";
+    try {
+        (void)harness::load_scene_text(c.past_limit, "limit.json", c.limits);
+        FAIL() << "accepted: " << c.name;
+    } catch (const SceneError& e) {
+        const std::string what = e.what();
+        EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+        EXPECT_EQ(what.rfind("limit.json: ", 0), 0u) << what;
+        EXPECT_EQ(e.json_path(), c.path) << what;
+        EXPECT_NE(e.detail().find(c.detail), std::string::npos) << what;
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(All, SceneLimit, ::testing::ValuesIn(limit_cases()),
+                         [](const auto& p) { return p.param.name; });
+
+// What the estimate counts, against hand-computed boxes.
+TEST(SceneWork, EstimatesBoundingBoxesClippedToTheRegion) {
+    const auto work = [](const std::string& target, const std::string& draws) {
+        const auto s = harness::load_scene_text(scene_with(target, draws), "w.json");
+        return harness::estimate_work(s.draw_list);
+    };
+    const std::string big = R"({"width": 1024, "height": 1024})";
+    const std::string v0 = R"({"position": [2, 2]})";
+    // tri(): (2, 2) (6, 1) (1, 6); its box [1, 6] x [1, 6] with a pixel of margin is 7 x 7.
+    EXPECT_EQ(work(big, tri(v0)).fragments, 49u);
+    EXPECT_EQ(work(big, tri(v0)).primitives, 1u);
+    EXPECT_EQ(work(big, tri(v0, R"(, "state": {"scissor": [0, 0, 4, 3]})")).fragments, 12u);
+    EXPECT_EQ(work(big, tri(v0, R"(, "state": {"scissor": [0, 0, 0, 3]})")).fragments, 0u);
+    // Polygon mode point: three corners of 4 x 4 (a pixel and a margin each side), two of them
+    // cut by the target's edge: 16 + 12 + 12.
+    EXPECT_EQ(work(big, tri(v0, R"(, "state": {"polygon_mode": "point"})")).fragments, 40u);
+    // A point of size 255: 129 pixels each side of its centre, cut by the target's edge.
+    const auto point = [](const std::string& at) {
+        return R"([{"primitive": "points", "vertices": [{"position": )" + at +
+               R"(}], "state": {"point_size": 255}}])";
+    };
+    EXPECT_EQ(work(big, point("[512, 512]")).fragments, 258u * 258u);
+    EXPECT_EQ(work(big, point("[0, 0]")).fragments, 129u * 129u);
+    // A long diagonal line counts its length times its width, not its box.
+    const auto diagonal = work(
+        big, R"([{"primitive": "lines", "vertices": [{"position": [0, 0.5]}, {"position": [1024, 1024]}]}])");
+    EXPECT_GT(diagonal.fragments, 5'800u);
+    EXPECT_LT(diagonal.fragments, 5'810u);
+    // A vertex behind the eye (w <= 0) has no window position: the whole target counts.
+    EXPECT_EQ(work(big, R"([{"primitive": "triangles", "space": "clip", "vertices": [{"position": [0, 0, 0, 1]}, {"position": [1, 0, 0, 1]}, {"position": [0, 1, 0, -1]}]}])")
+                  .fragments,
+              1024u * 1024u);
+}
+
+// The limits change no shipped scene: each stays far below every one of them.
+TEST(SceneLimits, ShippedScenesStayFarBelow) {
+    const harness::SceneLimits l;
+    int n = 0;
+    for (const auto& e : std::filesystem::recursive_directory_iterator(
+             std::filesystem::path(REFRASTER_SOURCE_DIR) / "conformance/scenes")) {
+        if (e.path().extension() != ".json") continue;
+        const auto s = harness::load_scene(e.path());
+        const auto w = harness::estimate_work(s.draw_list);
+        std::uint64_t vertices = 0;
+        std::uint64_t indices = 0;
+        for (const auto& d : s.draw_list.draws) {
+            vertices += d.vertices.size();
+            indices += d.indices ? d.indices->size() : 0;
+        }
+        EXPECT_LE(s.draw_list.draws.size() * 100, l.max_draws) << e.path();
+        EXPECT_LE(vertices * 100, l.max_vertices) << e.path();
+        EXPECT_LE(indices * 100, l.max_indices) << e.path();
+        EXPECT_LE(w.primitives * 100, l.max_primitives) << e.path();
+        EXPECT_LE(w.fragments * 100, l.max_fragments) << e.path();
+        ++n;
+    }
+    EXPECT_GT(n, 100);
 }
 
 }  // namespace

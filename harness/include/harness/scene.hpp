@@ -14,6 +14,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "refraster/draw.hpp"
@@ -89,13 +90,48 @@ private:
 // Largest scene file read, in bytes; a larger file is refused before it is parsed.
 inline constexpr std::uintmax_t kMaxSceneFileBytes = 256u << 20;
 
+// The work a scene may ask for (docs/limits.md). A valid scene beyond any of them is refused
+// like bad input (SceneError, exit code 2) before anything is drawn, so that no file can make
+// a run exhaust memory or take hours. The defaults are far above every shipped scene; callers
+// may lower them (the renderer fuzzer does) but the CLI uses the defaults.
+struct SceneLimits {
+    std::uint64_t max_file_bytes = kMaxSceneFileBytes;
+    std::uint32_t max_nesting_depth = 64;          // arrays and objects inside each other
+    std::uint64_t max_json_values = 8'388'608;     // every value of the document counts one
+    std::uint64_t max_target_pixels = 67'108'864;  // width x height x samples (format v1)
+    std::uint64_t max_draws = 4'096;
+    std::uint64_t max_vertices = 1'048'576;       // over all draws
+    std::uint64_t max_indices = 4'194'304;        // over all draws
+    std::uint64_t max_primitives = 4'194'304;     // assembled, over all draws
+    std::uint64_t max_fragments = 2'147'483'648;  // estimated (estimate_work), over all draws
+};
+
+// An upper estimate of what rendering a draw list costs. `fragments` sums, over every
+// assembled primitive, the pixels of its window-space bounding box (lines and points widened by
+// their width or size, a pixel of margin) clipped to the target and scissor; a primitive with a
+// vertex at w <= 0 counts the whole clipped region. Polygon modes line and point count each
+// edge or corner. Culling and the depth test are ignored: the estimate never falls short.
+struct SceneWork {
+    std::uint64_t primitives = 0;
+    std::uint64_t fragments = 0;
+};
+SceneWork estimate_work(const refraster::Draw& draw, const refraster::Target& target);
+SceneWork estimate_work(const refraster::DrawList& list);
+
+// `text` with every control character (and DEL) escaped as JSON does (\n, \t, \u0001), so that
+// a message quoting a key, a path or a string from a file stays on one line.
+std::string escape_for_message(std::string_view text);
+
 // Parses and validates text that claims to be a scene file. `file_label` names it in errors.
-SceneFile parse_scene(std::string_view text, const std::string& file_label);
+SceneFile parse_scene(std::string_view text, const std::string& file_label,
+                      const SceneLimits& limits = {});
 
 // Reads, parses, validates and runs the front end. Throws SceneError on any bad input.
-Scene load_scene(const std::filesystem::path& path);
+Scene load_scene(const std::filesystem::path& path, const SceneLimits& limits = {});
 
-// The same from text already in memory (tests, generators).
-Scene load_scene_text(std::string_view text, const std::string& file_label);
+// The same from text already in memory (tests, generators, fuzzers): the one code path that
+// load_scene also takes once it has read the file.
+Scene load_scene_text(std::string_view text, const std::string& file_label,
+                      const SceneLimits& limits = {});
 
 }  // namespace harness
