@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "harness/case_result.hpp"
+#include "harness/files.hpp"
 
 namespace conformance {
 
@@ -42,17 +43,8 @@ std::string fixed(double v, int digits) {
     return o.str();
 }
 
-// Writes through a temporary file and a rename: a report is either whole or absent.
-void write_file(const std::filesystem::path& p, const std::string& text) {
-    const auto tmp = p.parent_path() / ("." + p.filename().string() + ".partial");
-    {
-        std::ofstream o(tmp, std::ios::binary | std::ios::trunc);
-        if (!o) throw std::runtime_error(p.string() + ": cannot write");
-        o << text;
-        if (!o) throw std::runtime_error(p.string() + ": write failed");
-    }
-    std::filesystem::rename(tmp, p);
-}
+// A report is either whole or absent.
+void write_file(const std::filesystem::path& p, const std::string& text) { harness::write_file_atomically(p, text); }
 
 double seconds(const json& r, const char* who) {
     return r.contains(who) ? r[who].value("seconds", 0.0) : 0.0;
@@ -67,6 +59,47 @@ std::string area_of(const std::string& name) {
     if (a == std::string::npos) return name;
     const auto b = name.find('.', a + 1);
     return b == std::string::npos ? name.substr(0, a) : name.substr(0, b);
+}
+
+// deqp-runner's word for a status (its RunnerStatus): NotSupported is Skip, and an internal
+// error of the harness, which deqp-runner has no word for, is a Fail.
+std::string deqp_status(const std::string& status) {
+    if (status == "NotSupported") return "Skip";
+    if (status == "InternalError") return "Fail";
+    return status;
+}
+
+// The command that explains a case's pixel exactly as the run compared it: the same backend
+// and driver, and the same profile (its file and overrides).
+std::string explain_command(const json& r, int x, int y) {
+    const auto quote = [](const std::string& s) {
+        if (!s.empty() && s.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-.,/=+:") ==
+                              std::string::npos) {
+            return s;
+        }
+        std::string q = "'";
+        for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+        return q + "'";
+    };
+    std::string cmd = "refraster explain " + quote(r.value("scene", "")) + " --pixel " + std::to_string(x) + "," +
+                      std::to_string(y);
+    const json none = json::object();
+    const json& act = r.contains("actual") && r["actual"].contains("provenance") ? r["actual"]["provenance"] : none;
+    const json& ref = r.contains("reference") && r["reference"].contains("provenance") ? r["reference"]["provenance"] : none;
+    if (act.contains("backend")) cmd += " --against " + quote(act.value("backend", ""));
+    if (act.contains("driver")) cmd += " --driver " + quote(act.value("driver", ""));
+    const std::string source = ref.value("profile_source", "built-in");
+    if (source != "built-in") {
+        cmd += " --profile " + quote(source);
+    } else if (ref.contains("profile")) {
+        const std::string name = ref.value("profile", "");
+        cmd += " --profile " + quote(name.substr(0, name.find('+')));
+    }
+    std::stringstream overrides(ref.value("profile_overrides", ""));
+    for (std::string o; std::getline(overrides, o, ';');) {
+        if (!o.empty()) cmd += " --profile-set " + quote(o);
+    }
+    return cmd;
 }
 
 bool failed(const std::string& status) {
@@ -194,14 +227,14 @@ std::string case_page(const json& r, const std::filesystem::path& images) {
             h << "Every pixel agrees.";
         } else if (r.contains("explanation")) {
             const auto& e = r["explanation"];
-            h << "<b>" << esc(e.value("rule", "")) << "</b>: " << esc(e.value("verdict", ""))
-              << ". Every decision at that pixel: <code>refraster explain " << esc(r.value("scene", "")) << " --pixel "
-              << e["pixel"][0].get<int>() << "," << e["pixel"][1].get<int>() << "</code>.";
+            h << "<b>" << esc(e.value("difference", "")) << ", " << esc(e.value("rule", "")) << "</b>: "
+              << esc(e.value("verdict", "")) << ". Every decision at that pixel: <code id=\"explain-command\">"
+              << esc(explain_command(r, e["pixel"][0].get<int>(), e["pixel"][1].get<int>())) << "</code>.";
         } else if (c.contains("max_color")) {
             const auto& m = c["max_color"];
             h << "The largest difference is at pixel (" << m.value("x", 0) << ", " << m.value("y", 0)
-              << "). Trace every decision there with <code>refraster explain " << esc(r.value("scene", ""))
-              << " --pixel " << m.value("x", 0) << "," << m.value("y", 0) << "</code>.";
+              << "). Trace every decision there with <code id=\"explain-command\">"
+              << esc(explain_command(r, m.value("x", 0), m.value("y", 0))) << "</code>.";
         }
         h << "</p>";
     }
@@ -240,10 +273,12 @@ void write_reports(const std::filesystem::path& output, std::size_t selected_cas
     // deqp-runner's CSVs.
     std::ostringstream csv, failures;
     for (const auto& r : results) {
-        const std::string line = r.value("case", "") + "," + r.value("status", "") + "," +
+        const std::string line = r.value("case", "") + "," + deqp_status(r.value("status", "")) + "," +
                                  fixed(seconds(r, "reference") + seconds(r, "actual"), 6) + "\n";
         csv << line;
-        if (failed(r.value("status", ""))) failures << r.value("case", "") << "," << r.value("status", "") << "\n";
+        if (failed(r.value("status", ""))) {
+            failures << r.value("case", "") << "," << deqp_status(r.value("status", "")) << "\n";
+        }
     }
     write_file(output / "results.csv", csv.str());
     write_file(output / "failures.csv", failures.str());
@@ -301,6 +336,13 @@ void write_reports(const std::filesystem::path& output, std::size_t selected_cas
           << esc(pv.value("renderer", "")) << ", " << esc(pv.value("gl_version", "")) << ", Mesa package "
           << esc(pv.value("mesa_version", "")) << "; CPU " << esc(pv.value("cpu_flags", "")) << "; commit "
           << esc(pv.value("commit", "")) << ".</p>";
+    }
+    if (!results.empty() && results.front().contains("reference") && results.front()["reference"].contains("provenance")) {
+        const auto& pv = results.front()["reference"]["provenance"];
+        h << "<p id=\"reference-profile\">Reference profile <b>" << esc(pv.value("profile", "")) << "</b> ("
+          << esc(pv.value("profile_source", "built-in"));
+        if (pv.contains("profile_overrides")) h << ", --profile-set " << esc(pv.value("profile_overrides", ""));
+        h << "): <code>" << esc(pv.value("profile_rules", "")) << "</code>.</p>";
     }
     h << "<table id=\"summary\"><tr><th>status</th><th>cases</th></tr>";
     for (const auto& [st, n] : counts) {

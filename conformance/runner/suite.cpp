@@ -72,51 +72,122 @@ std::vector<std::string> read_lines(const std::filesystem::path& file, const cha
 std::vector<std::string> read_caselist(const std::filesystem::path& file) { return read_lines(file, "case list"); }
 
 std::map<std::string, std::string> read_baseline(const std::filesystem::path& file) {
+    std::ifstream in(file);
+    if (!in) throw std::runtime_error(file.string() + ": cannot read the baseline");
     std::map<std::string, std::string> out;
     std::size_t n = 0;
-    for (const auto& line : read_lines(file, "baseline")) {
+    for (std::string line; std::getline(in, line);) {
         ++n;
+        if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
+        const auto b = line.find_first_not_of(" \t\r");
+        if (b == std::string::npos) continue;
+        line = line.substr(b, line.find_last_not_of(" \t\r") - b + 1);
         const auto comma = line.find(',');
-        const std::string status = comma == std::string::npos ? "" : line.substr(comma + 1);
-        const auto st = harness::case_status_from_string(status.substr(0, status.find(',')));
-        if (comma == std::string::npos || !st) {
-            throw std::runtime_error(file.string() + ": line " + std::to_string(n) +
-                                     ": expected name,Status with Status one of Fail, Crash, Timeout, "
-                                     "InternalError, NotSupported, Pass");
+        const std::string status = comma == std::string::npos ? "" : line.substr(comma + 1, line.find(',', comma + 1) - comma - 1);
+        const auto expected = baseline_status(status);
+        if (comma == std::string::npos || !expected) {
+            throw std::runtime_error(file.string() + ":" + std::to_string(n) +
+                                     ": expected name,Status with one of deqp-runner's statuses (Pass, Fail, Skip, "
+                                     "Crash, Timeout, Warn, Flake, Missing, ExpectedFail, UnexpectedPass)");
         }
-        out[line.substr(0, comma)] = std::string(harness::to_string(*st));
+        if (out.count(line.substr(0, comma)) != 0) {
+            throw std::runtime_error(file.string() + ":" + std::to_string(n) + ": " + line.substr(0, comma) +
+                                     " is listed twice");
+        }
+        out[line.substr(0, comma)] = *expected;
     }
     return out;
 }
 
+std::optional<std::string> baseline_status(const std::string& word) {
+    // deqp-runner's words, and this project's own (results.jsonl's), for old baselines.
+    if (word == "Pass" || word == "UnexpectedPass" || word == "Warn") return "Pass";
+    if (word == "Fail" || word == "Missing" || word == "InternalError") return "Fail";
+    if (word == "Crash" || word == "Timeout") return word;
+    if (word == "Skip" || word == "NotSupported") return "NotSupported";
+    if (word == "ExpectedFail") return "ExpectedFail";  // any failure
+    if (word == "Flake") return "Flake";                // any result
+    return std::nullopt;
+}
+
 namespace {
 
-// The results of a killed run: every complete line of results.jsonl; the file is cut back to
-// its last complete line, so that appending continues it cleanly.
-std::map<std::string, nlohmann::json> recover(const std::filesystem::path& jsonl) {
-    std::map<std::string, nlohmann::json> done;
-    if (!std::filesystem::exists(jsonl)) return done;
+// What a killed run left in results.jsonl. Records are appended one whole line at a time and
+// made durable before the next case starts, so a kill can leave at most one torn line, at the
+// end and without its newline. That line is cut off; every complete line stays byte for byte,
+// and the new records are appended after them. Anything else that does not parse (a complete
+// line that is not a record, a case recorded twice) means the file was not written by an
+// interrupted run: resuming refuses rather than guess which records to trust.
+struct Recovered {
+    std::map<std::string, nlohmann::json> records;  // by case name
+    std::size_t torn_bytes = 0;                      // the torn last line that was cut off
+};
+
+Recovered recover(const std::filesystem::path& jsonl) {
+    Recovered r;
+    if (!std::filesystem::exists(jsonl)) return r;
     std::ifstream in(jsonl, std::ios::binary);
     std::stringstream ss;
     ss << in.rdbuf();
+    in.close();
     const std::string text = ss.str();
-    std::size_t good = 0;
     std::size_t start = 0;
+    std::size_t line_no = 0;
     while (start < text.size()) {
         const auto nl = text.find('\n', start);
-        if (nl == std::string::npos) break;  // a half-written last line: dropped
-        try {
-            auto j = nlohmann::json::parse(text.substr(start, nl - start));
-            if (j.contains("case")) done[j["case"].get<std::string>()] = std::move(j);
-            good = nl + 1;
-        } catch (const nlohmann::json::exception&) {
-            break;  // a corrupt line: keep everything before it
+        if (nl == std::string::npos) {
+            r.torn_bytes = text.size() - start;
+            break;
         }
+        ++line_no;
+        const auto where = jsonl.string() + ":" + std::to_string(line_no);
+        nlohmann::json j;
+        try {
+            j = nlohmann::json::parse(text.substr(start, nl - start));
+        } catch (const nlohmann::json::exception&) {
+            throw std::runtime_error(where + ": not a result record; refusing to resume (only a torn last line "
+                                     "is dropped)");
+        }
+        if (!j.is_object() || !j.contains("case") || !j["case"].is_string()) {
+            throw std::runtime_error(where + ": a record without a \"case\" name; refusing to resume");
+        }
+        // The name is read before the record is moved into the map.
+        std::string name = j["case"].get<std::string>();
+        if (r.records.count(name) != 0) {
+            throw std::runtime_error(where + ": case " + name + " is recorded twice; refusing to resume");
+        }
+        r.records.emplace(std::move(name), std::move(j));
         start = nl + 1;
     }
-    in.close();
-    std::filesystem::resize_file(jsonl, good);
-    return done;
+    if (r.torn_bytes > 0) std::filesystem::resize_file(jsonl, text.size() - r.torn_bytes);
+    return r;
+}
+
+// A kept record must come from the same comparison as the run that continues it: the same
+// reference (and profile) and the same backend and driver.
+void check_same_run(const std::map<std::string, nlohmann::json>& records, const std::string& reference,
+                    const std::string& profile, const std::string& actual, const std::filesystem::path& jsonl) {
+    for (const auto& [name, j] : records) {
+        // Records of cases that never rendered (a bad scene file) carry no backends.
+        const auto recorded = [&](const char* side, const char* key, const std::string& otherwise) {
+            if (!j.contains(side) || !j[side].is_object()) return otherwise;
+            const auto& s = j[side];
+            if (std::string(key) == "profile") {
+                return s.contains("provenance") && s["provenance"].is_object()
+                           ? s["provenance"].value("profile", otherwise)
+                           : otherwise;
+            }
+            return s.value(key, otherwise);
+        };
+        const std::string rec_ref = recorded("reference", "backend", reference);
+        const std::string rec_profile = recorded("reference", "profile", profile);
+        const std::string rec_actual = recorded("actual", "backend", actual);
+        if (rec_ref != reference || rec_profile != profile || rec_actual != actual) {
+            throw std::runtime_error(jsonl.string() + ": case " + name + " was run as " + rec_ref + " (" + rec_profile +
+                                     ") against " + rec_actual + "; this run is " + reference + " (" + profile +
+                                     ") against " + actual + ": refusing to resume into it");
+        }
+    }
 }
 
 // Applies the baseline to a case's result: an expected failure becomes ExpectedFail, a pass
@@ -126,19 +197,22 @@ bool judge(harness::CaseResult& r, const std::map<std::string, std::string>* bas
     const auto it = baseline->find(r.name);
     const std::string expected = it == baseline->end() ? "Pass" : it->second;
     const std::string got(harness::to_string(r.status));
-    if (got == expected) {
-        if (r.status != harness::CaseStatus::Pass && r.status != harness::CaseStatus::NotSupported) {
-            r.raw_status = r.status;
-            r.status = harness::CaseStatus::ExpectedFail;
-        }
+    const bool failure = harness::counts_as_failure(r.status);
+    const auto expected_failure = [&] {
+        r.raw_status = r.status;
+        r.status = harness::CaseStatus::ExpectedFail;
         return false;
-    }
+    };
     if (r.status == harness::CaseStatus::NotSupported) return false;  // skipping is never a regression
-    if (r.status == harness::CaseStatus::Pass) {
+    if (expected == "Flake") return failure ? expected_failure() : false;
+    if (expected == "ExpectedFail" && failure) return expected_failure();
+    if (expected == "Fail" && r.status == harness::CaseStatus::InternalError) return expected_failure();
+    if (got == expected) return failure ? expected_failure() : false;
+    if (r.status == harness::CaseStatus::Pass && expected != "NotSupported") {
         r.raw_status = r.status;
         r.status = harness::CaseStatus::UnexpectedPass;
     }
-    return true;
+    return expected != "NotSupported" || failure;
 }
 
 harness::CaseResult run_one(const CaseFile& c, harness::Backend& reference, harness::Backend& actual,
@@ -161,6 +235,7 @@ harness::CaseResult run_one(const CaseFile& c, harness::Backend& reference, harn
                     const auto e = harness::explain_pixel(scene, profile, x, y, &actual);
                     r.explained_pixel = std::array<int, 2>{x, y};
                     r.explanation = e.verdict;
+                    r.explanation_difference = e.difference;
                     r.explanation_rule = e.rule;
                 } catch (const std::exception&) {
                     // The case's result stands without an explanation.
@@ -240,16 +315,23 @@ RunSummary run_suite(const RunOptions& options, std::ostream& console) {
 
     std::filesystem::create_directories(options.output / "images");
     const auto results_path = options.output / "results.jsonl";
+    auto reference = harness::make_backend(options.reference);
+    auto actual = harness::make_backend(options.against);
+
     std::map<std::string, nlohmann::json> done;
     if (options.resume) {
-        done = recover(results_path);
+        auto recovered = recover(results_path);
+        check_same_run(recovered.records, reference->name(), options.reference.profile.name, actual->name(),
+                       results_path);
+        done = std::move(recovered.records);
+        console << "resume: kept " << done.size() << " finished case" << (done.size() == 1 ? "" : "s") << " of "
+                << results_path.string();
+        if (recovered.torn_bytes > 0) console << ", cut a torn last line of " << recovered.torn_bytes << " bytes";
+        console << "\n" << std::flush;
     } else {
         std::ofstream(results_path, std::ios::trunc);
     }
     if (!std::filesystem::exists(results_path)) throw std::runtime_error(results_path.string() + ": cannot write");
-
-    auto reference = harness::make_backend(options.reference);
-    auto actual = harness::make_backend(options.against);
 
     RunSummary s;
     const auto count = [&](harness::CaseStatus st) {

@@ -43,8 +43,15 @@ bool matches_any(const std::string& name, const std::vector<std::string>& globs)
 // Reads a case list: one name or glob per line, '#' starts a comment.
 std::vector<std::string> read_caselist(const std::filesystem::path& file);
 
-// Reads a baseline: "name,Status" lines (deqp-runner's failures.csv), '#' comments.
+// Reads a baseline: "name,Status" lines (deqp-runner's failures.csv or results.csv, whose
+// status words it takes: Pass, Fail, Skip, Crash, Timeout, Warn, Flake, Missing, ExpectedFail,
+// UnexpectedPass; and this project's NotSupported and InternalError), '#' comments. Maps each
+// name to what the run expects: Pass, Fail, Crash, Timeout, NotSupported, ExpectedFail (any
+// failure) or Flake (any result). Throws std::runtime_error naming the file and line.
 std::map<std::string, std::string> read_baseline(const std::filesystem::path& file);
+
+// The expectation a baseline's status word stands for, as read_baseline maps it.
+std::optional<std::string> baseline_status(const std::string& word);
 
 struct RunOptions {
     std::filesystem::path scenes_root;

@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "harness/profile_io.hpp"
 #include "refraster/renderer.hpp"
 
 namespace harness {
@@ -23,6 +24,8 @@ private:
         r.provenance = host_provenance();
         r.provenance["renderer"] = "refraster";
         r.provenance["profile"] = options_.profile.name;
+        r.provenance["profile_source"] = options_.profile_source;
+        r.provenance["profile_rules"] = profile_rules(options_.profile);
         std::string overrides;
         for (const auto& o : options_.profile_overrides) overrides += (overrides.empty() ? "" : ";") + o;
         if (!overrides.empty()) r.provenance["profile_overrides"] = overrides;

@@ -45,26 +45,6 @@ bool counts_as_failure(CaseStatus s) {
 
 namespace {
 
-// An owner buffer is believable when every pixel of the plain render that differs from the
-// clear colour has an owner: something must have written it. A driver that cannot write the
-// integer attachment (softpipe 22.3 leaves it at zero) fails this, and its mismatches keep the
-// clear-colour classes.
-bool owners_plausible(const std::vector<std::uint32_t>& owner, const refraster::Framebuffer& fb,
-                      const refraster::ClearValues& clear) {
-    if (owner.size() != fb.pixel_count()) return false;
-    const bool is8 = fb.color_format == refraster::ColorFormat::Rgba8;
-    for (std::size_t i = 0; i < fb.pixel_count(); ++i) {
-        if (owner[i] != 0) continue;
-        for (std::size_t k = 0; k < 4; ++k) {
-            const bool cleared =
-                is8 ? std::abs(int{fb.color8[4 * i + k]} - static_cast<int>(std::lround(std::clamp(clear.color[k], 0.0f, 1.0f) * 255.0f))) <= 1
-                    : fb.color32f[4 * i + k] == clear.color[k];
-            if (!cleared) return false;
-        }
-    }
-    return true;
-}
-
 // How a backend's non-Ok status becomes the case's status.
 CaseStatus case_status(RenderStatus s) {
     switch (s) {
@@ -190,7 +170,10 @@ std::string to_json_line(const CaseResult& r) {
         j["comparison"] = k;
     }
     if (r.explained_pixel) {
-        j["explanation"] = {{"pixel", *r.explained_pixel}, {"rule", r.explanation_rule}, {"verdict", r.explanation}};
+        j["explanation"] = {{"pixel", *r.explained_pixel},
+                            {"difference", r.explanation_difference},
+                            {"rule", r.explanation_rule},
+                            {"verdict", r.explanation}};
     }
     return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "refraster/renderer.hpp"
+
 namespace harness {
 namespace {
 
@@ -48,6 +50,75 @@ std::array<std::uint8_t, 4> mask_color(PixelClass c) {
     return {0, 0, 0, 255};
 }
 
+PixelClassifier::PixelClassifier(const refraster::Framebuffer& reference, const refraster::Framebuffer& actual,
+                                 const refraster::ClearValues& clear, const Expect& expect)
+    : ref_(reference), act_(actual), expect_(expect) {
+    owners_ = !ref_.owner.empty() && ref_.owner.size() == act_.owner.size();
+    // The clear as the reference stores it (rgba8 clears quantise with Mesa's float_to_ubyte,
+    // depth clears with their own rounding): a one-pixel render of no draws.
+    refraster::DrawList empty;
+    empty.target = {1, 1, reference.color_format, reference.depth_format, 1};
+    empty.clear = clear;
+    (void)refraster::render(empty, refraster::RenderOptions{}, clear_);
+}
+
+bool PixelClassifier::untouched(const refraster::Framebuffer& fb, std::size_t i) const {
+    for (std::size_t k = 0; k < 4; ++k) {
+        const bool same = fb.color_format == refraster::ColorFormat::Rgba8
+                              ? fb.color8[4 * i + k] == clear_.color8[k]
+                              : std::bit_cast<std::uint32_t>(fb.color32f[4 * i + k]) ==
+                                    std::bit_cast<std::uint32_t>(clear_.color32f[k]);
+        if (!same) return false;
+    }
+    return fb.depth_format == refraster::DepthFormat::None || fb.depth[i] == clear_.depth[0];
+}
+
+PixelClassifier::Pixel PixelClassifier::at(std::size_t i) const {
+    Pixel p;
+    const bool is8 = ref_.color_format == refraster::ColorFormat::Rgba8;
+    for (std::uint32_t k = 0; k < 4; ++k) {
+        const std::size_t j = 4 * i + k;
+        const std::uint64_t d = is8 ? static_cast<std::uint64_t>(std::abs(int{ref_.color8[j]} - int{act_.color8[j]}))
+                                    : ulp_distance(ref_.color32f[j], act_.color32f[j]);
+        if (d > p.color_difference) {
+            p.color_difference = d;
+            p.channel = k;
+        }
+    }
+    if (ref_.depth_format != refraster::DepthFormat::None) {
+        p.depth_difference = depth_distance(ref_.depth_format, ref_.depth[i], act_.depth[i]);
+    }
+    const bool color_differs = p.color_difference > expect_.color_tolerance;
+    if (!color_differs && p.depth_difference == 0) return p;
+    if (owners_ && ref_.owner[i] != act_.owner[i]) {
+        p.cls = ref_.owner[i] == 0 ? PixelClass::Extra : act_.owner[i] == 0 ? PixelClass::Missing : PixelClass::Coverage;
+    } else if (untouched(act_, i) != untouched(ref_, i)) {
+        // Also with equal owners: an owner pass can draw what the plain render does not
+        // (llvmpipe's nine-vertex analysis never sees an owner pass).
+        p.cls = untouched(act_, i) ? PixelClass::Missing : PixelClass::Extra;
+    } else {
+        p.cls = color_differs ? PixelClass::ColorOnly : PixelClass::DepthOnly;
+    }
+    return p;
+}
+
+bool owners_plausible(const std::vector<std::uint32_t>& owner, const refraster::Framebuffer& fb,
+                      const refraster::ClearValues& clear) {
+    if (owner.size() != fb.pixel_count()) return false;
+    const PixelClassifier clear_of(fb, fb, clear, Expect{});
+    for (std::size_t i = 0; i < fb.pixel_count(); ++i) {
+        if (owner[i] != 0) continue;
+        for (std::size_t k = 0; k < 4; ++k) {
+            const bool same = fb.color_format == refraster::ColorFormat::Rgba8
+                                  ? fb.color8[4 * i + k] == clear_of.clear_color8(k)
+                                  : std::bit_cast<std::uint32_t>(fb.color32f[4 * i + k]) ==
+                                        std::bit_cast<std::uint32_t>(clear_of.clear_color32f(k));
+            if (!same) return false;
+        }
+    }
+    return true;
+}
+
 Comparison compare_images(const refraster::Framebuffer& ref, const refraster::Framebuffer& act,
                           const refraster::ClearValues& clear, const Expect& expect) {
     Comparison c;
@@ -60,77 +131,29 @@ Comparison compare_images(const refraster::Framebuffer& ref, const refraster::Fr
     c.mask = refraster::Framebuffer(ref.width, ref.height, refraster::ColorFormat::Rgba8,
                                     refraster::DepthFormat::None);
     const bool is8 = ref.color_format == refraster::ColorFormat::Rgba8;
-    const bool owners = !ref.owner.empty() && ref.owner.size() == act.owner.size();
-    c.classified_by_owners = owners;
-
-    // The clear colour as each format stores it, to tell drawn pixels from untouched ones.
-    std::array<std::uint8_t, 4> clear8{};
-    for (std::size_t k = 0; k < 4; ++k) {
-        clear8[k] = static_cast<std::uint8_t>(
-            std::lround(std::clamp(clear.color[k], 0.0f, 1.0f) * 255.0f));
-    }
-    const auto is_clear = [&](const refraster::Framebuffer& fb, std::size_t i) {
-        for (std::size_t k = 0; k < 4; ++k) {
-            if (is8 ? fb.color8[4 * i + k] != clear8[k]
-                    : std::bit_cast<std::uint32_t>(fb.color32f[4 * i + k]) !=
-                          std::bit_cast<std::uint32_t>(clear.color[k])) {
-                return false;
-            }
-        }
-        return true;
-    };
+    const PixelClassifier classify(ref, act, clear, expect);
+    c.classified_by_owners = classify.by_owners();
 
     for (std::uint32_t y = 0; y < ref.height; ++y) {
         for (std::uint32_t x = 0; x < ref.width; ++x) {
             const std::size_t i = ref.index(x, y);
-            std::uint64_t worst = 0;
-            std::uint32_t worst_channel = 0;
-            for (std::uint32_t k = 0; k < 4; ++k) {
-                const std::size_t j = 4 * i + k;
-                const std::uint64_t d =
-                    is8 ? static_cast<std::uint64_t>(std::abs(int{ref.color8[j]} - int{act.color8[j]}))
-                        : ulp_distance(ref.color32f[j], act.color32f[j]);
-                if (d > worst) {
-                    worst = d;
-                    worst_channel = k;
-                }
-            }
-            if (worst > 0 && (!c.max_color || worst > c.max_color->amount)) {
+            const auto px = classify.at(i);
+            if (px.color_difference > 0 && (!c.max_color || px.color_difference > c.max_color->amount)) {
                 ChannelDifference m;
-                m.amount = worst;
+                m.amount = px.color_difference;
                 m.x = x;
                 m.y = y;
-                m.channel = worst_channel;
+                m.channel = px.channel;
                 for (std::size_t k = 0; k < 4; ++k) {
                     m.reference[k] = is8 ? ref.color8[4 * i + k] : double{ref.color32f[4 * i + k]};
                     m.actual[k] = is8 ? act.color8[4 * i + k] : double{act.color32f[4 * i + k]};
                 }
                 c.max_color = m;
             }
-            std::uint64_t ddepth = 0;
-            if (ref.depth_format != refraster::DepthFormat::None) {
-                ddepth = depth_distance(ref.depth_format, ref.depth[i], act.depth[i]);
-                if (ddepth > 0 && (!c.max_depth || ddepth > c.max_depth->amount)) {
-                    c.max_depth = DepthDifference{ddepth, x, y, ref.depth[i], act.depth[i]};
-                }
+            if (px.depth_difference > 0 && (!c.max_depth || px.depth_difference > c.max_depth->amount)) {
+                c.max_depth = DepthDifference{px.depth_difference, x, y, ref.depth[i], act.depth[i]};
             }
-            PixelClass cls = PixelClass::Equal;
-            if (owners && (worst > expect.color_tolerance || ddepth > 0) && ref.owner[i] != act.owner[i]) {
-                cls = ref.owner[i] == 0   ? PixelClass::Extra
-                      : act.owner[i] == 0 ? PixelClass::Missing
-                                          : PixelClass::Coverage;
-            } else if (worst > expect.color_tolerance && owners) {
-                cls = PixelClass::ColorOnly;
-            } else if (worst > expect.color_tolerance) {
-                const bool ref_clear = is_clear(ref, i);
-                const bool act_clear = is_clear(act, i);
-                cls = act_clear && !ref_clear   ? PixelClass::Missing
-                      : ref_clear && !act_clear ? PixelClass::Extra
-                                                : PixelClass::ColorOnly;
-            } else if (ddepth > 0) {
-                cls = PixelClass::DepthOnly;
-            }
-            switch (cls) {
+            switch (px.cls) {
                 case PixelClass::Equal: break;
                 case PixelClass::Missing: ++c.missing; break;
                 case PixelClass::Extra: ++c.extra; break;
@@ -138,8 +161,8 @@ Comparison compare_images(const refraster::Framebuffer& ref, const refraster::Fr
                 case PixelClass::DepthOnly: ++c.depth_only; break;
                 case PixelClass::Coverage: ++c.coverage; break;
             }
-            if (cls != PixelClass::Equal) ++c.mismatched_pixels;
-            const auto mc = mask_color(cls);
+            if (px.cls != PixelClass::Equal) ++c.mismatched_pixels;
+            const auto mc = mask_color(px.cls);
             std::copy(mc.begin(), mc.end(), c.mask.color8.begin() + static_cast<std::ptrdiff_t>(4 * i));
         }
     }

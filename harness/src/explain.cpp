@@ -5,9 +5,12 @@
 #include <cmath>
 #include <cstdlib>
 #include <nlohmann/json.hpp>
+#include <map>
 #include <sstream>
+#include <tuple>
 #include <stdexcept>
 
+#include "harness/profile_io.hpp"
 #include "refraster/renderer.hpp"
 
 namespace harness {
@@ -35,83 +38,369 @@ bool same_color(const std::array<float, 4>& a, const std::array<float, 4>& b) {
     return true;
 }
 
-std::string tie_rule_name(const refraster::Profile& p) { return refraster::to_string(p.tie_rule); }
-
 std::string where(const refraster::PrimitiveTrace& p) {
     return "draws[" + std::to_string(p.draw) + "] " + p.kind + " " + std::to_string(p.primitive);
 }
 
-// The first rule where the reference and the backend can part at this pixel.
-void judge(Explanation& e, const refraster::Profile& profile) {
-    const auto& t = e.trace;
-    const std::string px = "(" + std::to_string(t.x) + ", " + std::to_string(t.y) + ")";
-    if (!e.backend) {
-        e.rule = "none";
-        e.verdict = "reference only at " + px;
-        return;
-    }
-    if (e.agree) {
-        e.rule = "none";
-        e.verdict = "the reference and the backend agree at " + px;
-        return;
-    }
-    // 1. A centre exactly on an edge whose ownership alone decides coverage.
+std::string owner_text(std::uint32_t owner) {
+    if (owner == 0) return "nothing";
+    return "draws[" + std::to_string(owner >> 24) + "] primitive " + std::to_string((owner & 0xffffffu) - 1);
+}
+
+std::string px_text(int x, int y) { return "(" + std::to_string(x) + ", " + std::to_string(y) + ")"; }
+
+// What the trace shows at the pixel, as evidence for a rule.
+struct Evidence {
+    std::string tie;       // a centre exactly on an edge whose ownership alone decides coverage
+    std::string snapping;  // an edge within one subpixel step of the centre
+    std::string nine_vertex;
+    std::string cull;
+    std::string clipper;
+    bool lines_only = true;   // every primitive reaching the pixel is a line
+    bool points_only = true;  // ... a point
+    bool any = false;
+};
+
+Evidence gather(const refraster::PixelTrace& t, const refraster::Profile& profile) {
+    Evidence ev;
     for (const auto& p : t.primitives) {
-        for (const auto& s : p.setups) {
-            for (std::size_t k = 0; k < s.edges.size(); ++k) {
-                if (!s.edges[k].tie) continue;
-                bool others_inside = true;
-                for (std::size_t j = 0; j < s.edges.size(); ++j) {
-                    if (j != k && !(s.edges[j].value > 0)) others_inside = false;
-                }
-                if (!others_inside) continue;
-                e.rule = "tie rule";
-                e.verdict = "tie rule: the centre of pixel " + px + " lies exactly on edge " + std::to_string(k) +
-                            " of " + where(p) + ", and the " + tie_rule_name(profile) + " rule " +
-                            (s.edges[k].owns_ties ? "gives the pixel to it" : "keeps the pixel from it") +
-                            "; the backend decided the tie the other way";
-                return;
-            }
+        ev.any = true;
+        ev.lines_only = ev.lines_only && p.kind == "line";
+        ev.points_only = ev.points_only && p.kind == "point";
+        if (ev.nine_vertex.empty() && p.note.find("nine-vertex") != std::string::npos) {
+            ev.nine_vertex = where(p) + " is in a draw that " + p.note.substr(0, p.note.find(" by ")) +
+                             " by llvmpipe's nine-vertex rectangle analysis";
         }
-    }
-    // 2. An edge within one subpixel step of the centre: snapping decides.
-    for (const auto& p : t.primitives) {
         for (const auto& s : p.setups) {
+            if (ev.cull.empty() && s.outcome.find("cull") != std::string::npos) {
+                ev.cull = where(p) + " was " + s.outcome;
+            }
+            if (ev.clipper.empty() && s.clipped) ev.clipper = where(p) + " was clipped, and its new vertices reach the pixel";
             for (std::size_t k = 0; k < s.edges.size(); ++k) {
                 const auto& ed = s.edges[k];
+                if (ev.tie.empty() && ed.tie) {
+                    bool others_inside = true;
+                    for (std::size_t j = 0; j < s.edges.size(); ++j) {
+                        if (j != k && !(s.edges[j].value > 0)) others_inside = false;
+                    }
+                    if (others_inside) {
+                        ev.tie = "the centre lies exactly on edge " + std::to_string(k) + " of " + where(p) + ", and the " +
+                                 refraster::to_string(profile.tie_rule) + " rule " +
+                                 (ed.owns_ties ? "gives the pixel to it" : "keeps the pixel from it");
+                    }
+                }
                 const std::int64_t raw = ed.value - (ed.owns_ties ? 1 : 0);
-                const std::int64_t step = (std::abs(static_cast<std::int64_t>(ed.a)) + std::abs(static_cast<std::int64_t>(ed.b)));
-                if (step != 0 && std::llabs(raw) <= step) {
-                    e.rule = "snapping";
-                    e.verdict = "snapping: edge " + std::to_string(k) + " of " + where(p) +
-                                " passes within one subpixel step of the centre of pixel " + px +
-                                " (edge value " + std::to_string(raw) + "), so how the vertices snap decides coverage";
-                    return;
+                const std::int64_t step = std::abs(static_cast<std::int64_t>(ed.a)) + std::abs(static_cast<std::int64_t>(ed.b));
+                if (ev.snapping.empty() && step != 0 && std::llabs(raw) <= step) {
+                    ev.snapping = "edge " + std::to_string(k) + " of " + where(p) +
+                                  " passes within one subpixel step of the centre (edge value " + std::to_string(raw) + ")";
                 }
             }
         }
     }
-    // 3. The clipper made the geometry there.
-    for (const auto& p : t.primitives) {
-        for (const auto& s : p.setups) {
-            if (s.clipped) {
-                e.rule = "clipper";
-                e.verdict = "clipper: " + where(p) + " was clipped and its new vertices set the pixel's coverage or "
-                            "attributes at " + px;
-                return;
-            }
+    if (!ev.any) ev.lines_only = ev.points_only = false;
+    return ev;
+}
+
+// The rules explain can try, in the order a tie between candidates is broken when the trace
+// gives no evidence for any of them: the draw module's decisions first, then coverage, then
+// arithmetic.
+const std::vector<std::string>& rule_order() {
+    static const std::vector<std::string> order{"nine-vertex analysis", "cull",    "tie rule", "snapping",
+                                                "clipper",              "fused arithmetic", "denormals"};
+    return order;
+}
+
+// Every alternative of the profile's parameters, as (rule, key=value).
+std::vector<std::pair<std::string, std::string>> alternatives_of(const refraster::Profile& p) {
+    std::vector<std::pair<std::string, std::string>> out;
+    for (const char* r : {"left-bottom", "left-top", "right-bottom", "right-top"}) {
+        if (refraster::to_string(p.tie_rule) != r) out.emplace_back("tie rule", std::string("tie_rule=") + r);
+    }
+    if (p.coverage != refraster::CoverageModel::Snapped) return out;  // the exact oracle has no other parameter
+    for (const char* r : {"nearest-even", "half-away", "truncate"}) {
+        if (refraster::to_string(p.snap_rounding) != r) out.emplace_back("snapping", std::string("snap_rounding=") + r);
+    }
+    for (int bits : {4, 8}) {
+        if (p.subpixel_bits != bits) out.emplace_back("snapping", "subpixel_bits=" + std::to_string(bits));
+    }
+    const bool fused = p.viewport_fma == refraster::FmaMode::On ||
+                       (p.viewport_fma == refraster::FmaMode::Auto && refraster::host_has_fma());
+    out.emplace_back("fused arithmetic", fused ? "viewport_fma=off" : "viewport_fma=on");
+    out.emplace_back("denormals", p.flush_denormals ? "flush_denormals=false" : "flush_denormals=true");
+    out.emplace_back("cull", p.draw_pipeline_cull ? "draw_pipeline_cull=false" : "draw_pipeline_cull=true");
+    out.emplace_back("nine-vertex analysis", p.nine_vertex_quirk ? "nine_vertex_quirk=false" : "nine_vertex_quirk=true");
+    out.emplace_back("clipper", p.clipping == refraster::Clipping::ViewVolume ? "clipping=guard-band" : "clipping=view-volume");
+    return out;
+}
+
+bool is_coverage(PixelClass c) { return c == PixelClass::Missing || c == PixelClass::Extra || c == PixelClass::Coverage; }
+
+std::string difference_of(PixelClass c) {
+    switch (c) {
+        case PixelClass::Equal: return "none";
+        case PixelClass::Missing:
+        case PixelClass::Extra:
+        case PixelClass::Coverage: return "coverage";
+        case PixelClass::ColorOnly: return "colour";
+        case PixelClass::DepthOnly: return "depth";
+    }
+    return "none";
+}
+
+// Whether an alternative render agrees with the backend on what differed: the same coverage
+// for a coverage difference, the same bytes for colour and depth.
+bool resolves(PixelClass before, PixelClass after) {
+    return is_coverage(before) ? !is_coverage(after) : after == PixelClass::Equal;
+}
+
+}  // namespace
+
+struct Explainer::Alternative {
+    std::string rule;
+    std::string change;  // key=value
+    std::size_t reproduced = 0;  // mismatching pixels of the whole image it reproduces
+    std::unique_ptr<refraster::Framebuffer> image;  // held apart: the classifier refers to it
+    std::unique_ptr<PixelClassifier> classifier;
+};
+
+namespace {
+
+// The plain render, and with `owners` the primitive owners from a second pass: recording
+// owners changes what llvmpipe's nine-vertex analysis does (an owner pass is never analysed),
+// so the pixels always come from the plain render, as for the GL backends.
+refraster::RenderOutcome render_reference(const refraster::DrawList& dl, const refraster::Profile& profile, bool owners,
+                                          refraster::Framebuffer& out) {
+    refraster::RenderOptions o;
+    o.profile = profile;
+    const auto r = refraster::render(dl, o, out);
+    if (r.status != refraster::RenderStatus::Ok || !owners) return r;
+    refraster::Framebuffer with_owners;
+    o.record_owners = true;
+    const auto w = refraster::render(dl, o, with_owners);
+    if (w.status == refraster::RenderStatus::Ok) out.owner = std::move(with_owners.owner);
+    return w;
+}
+
+}  // namespace
+
+Explainer::Explainer(const Scene& scene, const refraster::Profile& profile, Backend* backend)
+    : scene_(scene), profile_(profile) {
+    // Owners are wanted only when the backend can report them believably; otherwise coverage
+    // is judged by the clear values on both sides.
+    std::optional<RenderResult> owners;
+    if (backend != nullptr) {
+        backend_result_ = backend->render(scene_);
+        if (backend_result_->status != RenderStatus::Ok) {
+            throw std::runtime_error(backend->name() + ": " + std::string(to_string(backend_result_->status)) + ": " +
+                                     backend_result_->message);
+        }
+        owners = backend->render_owners(scene_);
+        if (owners->status == RenderStatus::Ok &&
+            owners_plausible(owners->image.owner, backend_result_->image, scene_.draw_list.clear)) {
+            backend_result_->image.owner = std::move(owners->image.owner);
+        } else {
+            backend_result_->image.owner.clear();
         }
     }
-    if (same_color(e.reference_color, e.backend_color)) {
-        e.rule = "depth";
-        e.verdict = "depth: coverage and colour agree at " + px + " but the depth values differ (depth plane, "
-                    "polygon offset or quantisation)";
-        return;
+    const bool with_owners = backend_result_ && !backend_result_->image.owner.empty();
+    const auto r = render_reference(scene_.draw_list, profile_, with_owners, reference_);
+    if (r.status != refraster::RenderStatus::Ok) throw std::runtime_error("the reference cannot render it: " + r.message);
+    if (backend_result_) {
+        classifier_ = std::make_unique<PixelClassifier>(reference_, backend_result_->image, scene_.draw_list.clear,
+                                                        scene_.file.expect);
     }
-    e.rule = "colour";
-    e.verdict = "colour: no edge is in doubt at " + px + "; the colours differ (attribute interpolation, output "
-                "conversion or blending)";
 }
+
+Explainer::~Explainer() = default;
+
+void Explainer::render_alternatives() {
+    if (alternatives_ready_) return;
+    alternatives_ready_ = true;
+    const bool owners = !backend_result_->image.owner.empty();
+    for (const auto& [rule, change] : alternatives_of(profile_)) {
+        auto& a = alternatives_.emplace_back();
+        a.rule = rule;
+        a.change = change;
+        refraster::Profile p = profile_;
+        refraster::set_profile_parameter(p, change.substr(0, change.find('=')), change.substr(change.find('=') + 1));
+        a.image = std::make_unique<refraster::Framebuffer>();
+        if (render_reference(scene_.draw_list, p, owners, *a.image).status != refraster::RenderStatus::Ok) {
+            alternatives_.pop_back();
+            continue;
+        }
+        a.classifier = std::make_unique<PixelClassifier>(*a.image, backend_result_->image, scene_.draw_list.clear,
+                                                         scene_.file.expect);
+        for (std::size_t i = 0; i < reference_.pixel_count(); ++i) {
+            const auto before = classifier_->at(i).cls;
+            if (before != PixelClass::Equal && resolves(before, a.classifier->at(i).cls)) ++a.reproduced;
+        }
+    }
+    // Where several alternatives reproduce a pixel, the one that reproduces most of the image
+    // is the better explanation: try them in that order.
+    std::stable_sort(alternatives_.begin(), alternatives_.end(),
+                     [](const Alternative& a, const Alternative& b) { return a.reproduced > b.reproduced; });
+}
+
+Explanation Explainer::explain(int x, int y) {
+    const auto& target = scene_.draw_list.target;
+    if (x < 0 || y < 0 || static_cast<std::uint32_t>(x) >= target.width || static_cast<std::uint32_t>(y) >= target.height) {
+        throw PixelOutsideTarget("pixel " + px_text(x, y) + " is outside the " + std::to_string(target.width) + "x" +
+                                 std::to_string(target.height) + " target");
+    }
+    Explanation e;
+    e.profile = profile_;
+    e.trace.x = x;
+    e.trace.y = y;
+    refraster::RenderOptions o;
+    o.profile = profile_;
+    o.trace = &e.trace;
+    (void)refraster::render(scene_.draw_list, o, e.reference_image);
+    e.reference_color = color_at(reference_, x, y);
+    e.reference_depth = depth_at(reference_, x, y);
+    const std::string px = px_text(x, y);
+    if (!backend_result_) {
+        e.verdict = "reference only at " + px;
+        return e;
+    }
+    e.backend = *backend_result_;
+    e.backend_color = color_at(backend_result_->image, x, y);
+    e.backend_depth = depth_at(backend_result_->image, x, y);
+    const std::size_t i = reference_.index(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y));
+    const auto cls = classifier_->at(i);
+    e.agree = same_color(e.reference_color, e.backend_color) && e.reference_depth == e.backend_depth;
+    if (cls.cls == PixelClass::Equal) {
+        e.verdict = e.agree ? "the reference and the backend agree at " + px
+                            : "the reference and the backend agree at " + px + " within the scene's colour tolerance";
+        return e;
+    }
+
+    // 1. What differs.
+    e.difference = difference_of(cls.cls);
+    const bool owners = classifier_->by_owners();
+    std::string what;
+    switch (cls.cls) {
+        case PixelClass::Missing:
+            what = "the reference draws pixel " + px + (owners ? " (" + owner_text(reference_.owner[i]) + ")" : "") +
+                   " and the backend leaves it untouched";
+            break;
+        case PixelClass::Extra:
+            what = "the backend draws pixel " + px +
+                   (owners ? " (" + owner_text(backend_result_->image.owner[i]) + ")" : "") +
+                   " and the reference leaves it untouched";
+            break;
+        case PixelClass::Coverage:
+            what = "pixel " + px + " comes from " + owner_text(reference_.owner[i]) + " in the reference and from " +
+                   owner_text(backend_result_->image.owner[i]) + " in the backend";
+            break;
+        case PixelClass::ColorOnly:
+            what = "both draw pixel " + px + (owners ? " from " + owner_text(reference_.owner[i]) : "") +
+                   ", and the colours differ by " + std::to_string(cls.color_difference) +
+                   (reference_.color_format == refraster::ColorFormat::Rgba8 ? " unorm8 steps" : " ULPs") +
+                   " in channel " + "RGBA"[cls.channel & 3] +
+                   (cls.depth_difference ? " (depth by " + std::to_string(cls.depth_difference) + ")" : "");
+            break;
+        case PixelClass::DepthOnly:
+            what = "the colours agree at " + px + " and the depth values differ by " +
+                   std::to_string(cls.depth_difference) + " (" + std::to_string(e.reference_depth.value_or(0)) + " vs " +
+                   std::to_string(e.backend_depth.value_or(0)) + ")";
+            break;
+        case PixelClass::Equal: break;
+    }
+
+    // 2. The rule within that class: alternatives that reproduce the backend here, the one that
+    // reproduces most of the image first (one per rule).
+    render_alternatives();
+    std::size_t mismatched = 0;
+    for (std::size_t j = 0; j < reference_.pixel_count(); ++j) mismatched += classifier_->at(j).cls != PixelClass::Equal;
+    std::map<std::string, std::size_t> reproduced;
+    for (const auto& a : alternatives_) {
+        if (reproduced.count(a.rule) == 0 && resolves(cls.cls, a.classifier->at(i).cls)) {
+            e.candidates.emplace_back(a.rule, a.change);
+            reproduced[a.rule] = a.reproduced;
+        }
+    }
+    const Evidence ev = gather(e.trace, profile_);
+    const auto evidence_for = [&](const std::string& rule) -> std::string {
+        if (rule == "tie rule") return ev.tie;
+        if (rule == "snapping") return ev.snapping;
+        if (rule == "nine-vertex analysis") return ev.nine_vertex;
+        if (rule == "cull") return ev.cull;
+        if (rule == "clipper") return ev.clipper;
+        return "";
+    };
+    std::string why;
+    if (!e.candidates.empty()) {
+        // The best-reproducing candidate; among equals, the one the trace shows at work, then
+        // the draw module before coverage before arithmetic.
+        const auto rank = [&](const std::pair<std::string, std::string>& c) {
+            const auto pos = std::find(rule_order().begin(), rule_order().end(), c.first) - rule_order().begin();
+            return std::make_tuple(-static_cast<long>(reproduced[c.first]), evidence_for(c.first).empty() ? 1 : 0, pos);
+        };
+        auto sorted = e.candidates;
+        std::stable_sort(sorted.begin(), sorted.end(), [&](const auto& a, const auto& b) { return rank(a) < rank(b); });
+        const auto& best = sorted.front();
+        const auto tied = [&](const auto& c) {
+            return std::get<0>(rank(c)) == std::get<0>(rank(best)) && std::get<1>(rank(c)) == std::get<1>(rank(best));
+        };
+        if (sorted.size() > 1 && tied(sorted[1])) {
+            // Two rules explain the pixel, and the image, equally well, and the trace favours
+            // neither: no rule can be named.
+            e.rule = "undecided";
+            why = "each of";
+            for (const auto& c : sorted) {
+                if (tied(c)) why += " " + c.first + " (" + c.second + "),";
+            }
+            why.back() = ' ';
+            why += "reproduces the backend here and at " + std::to_string(reproduced[best.first]) + " of the " +
+                   std::to_string(mismatched) + " mismatching pixels";
+        } else {
+            e.rule = best.first;
+            const std::string evidence = evidence_for(best.first);
+            why = (evidence.empty() ? "" : evidence + "; ") + best.second + " reproduces the backend here and at " +
+                  std::to_string(reproduced[best.first]) + " of the " + std::to_string(mismatched) + " mismatching pixels";
+        }
+    }
+    if (e.rule == "none") {
+        if (e.difference == "coverage" && ev.lines_only) {
+            e.rule = "line rule";
+            why = "only lines reach the pixel, and no parameter of the profile reproduces the backend's line coverage";
+        } else if (e.difference == "coverage" && ev.points_only) {
+            e.rule = "point rule";
+            why = "only points reach the pixel, and no parameter of the profile reproduces the backend's point coverage";
+        } else {
+            e.rule = "undecided";
+            why = "no parameter of the profile reproduces the backend here";
+            if (e.difference == "coverage" && !ev.tie.empty()) why += "; " + ev.tie;
+            if (e.difference == "coverage" && ev.tie.empty() && !ev.snapping.empty()) why += "; " + ev.snapping;
+        }
+    }
+    // A coverage rule that reproduces a colour or depth difference exactly: the coverage of a
+    // primitive beneath the last one differs, seen through blending or the depth test.
+    if (e.difference != "coverage" &&
+        (e.rule == "tie rule" || e.rule == "snapping" || e.rule == "cull" || e.rule == "nine-vertex analysis")) {
+        e.difference = "coverage";
+        what += ", because the coverage of a primitive drawn earlier differs (blending or the depth test shows it)";
+    }
+    std::string also;
+    for (const auto& [rule, change] : e.candidates) {
+        if (rule != e.rule) also += (also.empty() ? "" : ", ") + rule + " (" + change + ")";
+    }
+    e.verdict = e.difference + ": " + what + "; " + e.rule + ": " + why + (also.empty() ? "" : "; also reproduced by " + also);
+    return e;
+}
+
+Explanation explain_pixel(const Scene& scene, const refraster::Profile& profile, int x, int y, Backend* backend) {
+    const auto& target = scene.draw_list.target;
+    if (x < 0 || y < 0 || static_cast<std::uint32_t>(x) >= target.width || static_cast<std::uint32_t>(y) >= target.height) {
+        throw PixelOutsideTarget("pixel " + px_text(x, y) + " is outside the " + std::to_string(target.width) + "x" +
+                                 std::to_string(target.height) + " target");
+    }
+    Explainer ex(scene, profile, backend);
+    return ex.explain(x, y);
+}
+
+namespace {
 
 std::string color_text(const std::array<float, 4>& c, bool is8) {
     std::ostringstream o;
@@ -128,41 +417,12 @@ std::string color_text(const std::array<float, 4>& c, bool is8) {
 
 }  // namespace
 
-Explanation explain_pixel(const Scene& scene, const refraster::Profile& profile, int x, int y, Backend* backend) {
-    const auto& target = scene.draw_list.target;
-    if (x < 0 || y < 0 || static_cast<std::uint32_t>(x) >= target.width || static_cast<std::uint32_t>(y) >= target.height) {
-        throw std::runtime_error("pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") is outside the " +
-                                 std::to_string(target.width) + "x" + std::to_string(target.height) + " target");
-    }
-    Explanation e;
-    e.trace.x = x;
-    e.trace.y = y;
-    refraster::RenderOptions o;
-    o.profile = profile;
-    o.trace = &e.trace;
-    const auto r = refraster::render(scene.draw_list, o, e.reference_image);
-    if (r.status != refraster::RenderStatus::Ok) throw std::runtime_error("the reference cannot render it: " + r.message);
-    e.reference_color = color_at(e.reference_image, x, y);
-    e.reference_depth = depth_at(e.reference_image, x, y);
-    if (backend != nullptr) {
-        e.backend = backend->render(scene);
-        if (e.backend->status != RenderStatus::Ok) {
-            throw std::runtime_error(backend->name() + ": " + std::string(to_string(e.backend->status)) + ": " +
-                                     e.backend->message);
-        }
-        e.backend_color = color_at(e.backend->image, x, y);
-        e.backend_depth = depth_at(e.backend->image, x, y);
-        e.agree = same_color(e.reference_color, e.backend_color) && e.reference_depth == e.backend_depth;
-    }
-    judge(e, profile);
-    return e;
-}
-
 std::string explanation_text(const Explanation& e) {
     std::ostringstream o;
     const auto& t = e.trace;
     const bool is8 = e.reference_image.color_format == refraster::ColorFormat::Rgba8;
     o << "pixel (" << t.x << ", " << t.y << "), centre (" << t.x + 0.5 << ", " << t.y + 0.5 << "), profile " << t.profile << "\n";
+    o << "rules: " << profile_rules(e.profile) << "\n";
     if (t.primitives.empty()) o << "  no primitive reaches this pixel\n";
     for (const auto& p : t.primitives) {
         o << "\n" << where(p) << (p.covered ? ": covers the pixel" : ": does not cover the pixel") << "\n";
@@ -223,8 +483,12 @@ std::string explanation_json(const Explanation& e) {
     const auto& t = e.trace;
     j["pixel"] = {t.x, t.y};
     j["profile"] = t.profile;
+    j["profile_rules"] = profile_rules(e.profile);
     j["verdict"] = e.verdict;
+    j["difference"] = e.difference;
     j["rule"] = e.rule;
+    auto& cj = j["candidates"] = nlohmann::ordered_json::array();
+    for (const auto& [rule, change] : e.candidates) cj.push_back({{"rule", rule}, {"alternative", change}});
     j["agree"] = e.agree;
     j["reference"] = {{"color", e.reference_color}};
     if (e.reference_depth) j["reference"]["depth"] = *e.reference_depth;

@@ -7,12 +7,32 @@
 
 namespace harness {
 
-refraster::Profile load_profile(const std::string& name_or_path) {
+namespace {
+
+bool is_builtin(const std::string& name) {
     const auto names = refraster::builtin_profile_names();
-    if (std::find(names.begin(), names.end(), name_or_path) != names.end()) {
-        return refraster::builtin_profile(name_or_path);
+    return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+}  // namespace
+
+void name_by_rules(refraster::Profile& p) {
+    const std::string base = p.name.substr(0, p.name.find('+'));
+    if (!is_builtin(base)) return;  // a name of the user's own: kept as given
+    const auto mine = refraster::profile_parameters(p);
+    const auto theirs = refraster::profile_parameters(refraster::builtin_profile(base));
+    std::string changes;
+    for (std::size_t i = 0; i < mine.size(); ++i) {
+        if (mine[i].first == "name" || mine[i] == theirs[i]) continue;
+        changes += (changes.empty() ? "+" : ",") + mine[i].first + "=" + mine[i].second;
     }
+    p.name = base + changes;
+}
+
+refraster::Profile load_profile(const std::string& name_or_path) {
+    if (is_builtin(name_or_path)) return refraster::builtin_profile(name_or_path);
     if (!std::filesystem::is_regular_file(name_or_path)) {
+        const auto names = refraster::builtin_profile_names();
         std::string list;
         for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
         throw refraster::ProfileError(name_or_path + ": neither a built-in profile (" + list + ") nor a file");
@@ -38,17 +58,29 @@ refraster::Profile load_profile(const std::string& name_or_path) {
             throw refraster::ProfileError(name_or_path + ": " + e.what());
         }
     }
+    name_by_rules(p);
     return p;
 }
 
 void apply_profile_overrides(refraster::Profile& p, const std::vector<std::string>& overrides) {
+    bool named = false;
     for (const auto& o : overrides) {
         const auto eq = o.find('=');
         if (eq == std::string::npos || eq == 0) {
             throw refraster::ProfileError("--profile-set " + o + ": expected key=value");
         }
         refraster::set_profile_parameter(p, o.substr(0, eq), o.substr(eq + 1));
+        named = named || o.substr(0, eq) == "name";
     }
+    if (!named) name_by_rules(p);
+}
+
+std::string profile_rules(const refraster::Profile& p) {
+    std::string out;
+    for (const auto& [k, v] : refraster::profile_parameters(p)) {
+        if (k != "name") out += (out.empty() ? "" : ";") + k + "=" + v;
+    }
+    return out;
 }
 
 std::string profile_to_json(const refraster::Profile& p) {

@@ -138,9 +138,11 @@ SceneFile assemble(const SceneFile& base, const std::vector<Piece>& pieces) {
 
 class Oracle {
 public:
-    Oracle(const refraster::Profile& p, Backend& b, const std::string& label) : profile_(p), backend_(b), label_(label) {}
+    Oracle(const refraster::Profile& p, Backend& b, const std::string& label, const MismatchToKeep& keep)
+        : profile_(p), backend_(b), label_(label), keep_(keep) {}
 
-    // The mismatch signature, or "" when the scene matches (or cannot be rendered).
+    // The mismatch signature, "class: rule", or "" when the scene has no mismatch of the kind
+    // kept (or cannot be rendered).
     std::string signature(const SceneFile& f) {
         ++renders;
         Scene scene;
@@ -151,27 +153,51 @@ public:
         } catch (const SceneError&) {
             return "";
         }
-        refraster::Framebuffer ref;
-        refraster::RenderOptions o;
-        o.profile = profile_;
-        if (refraster::render(scene.draw_list, o, ref).status != refraster::RenderStatus::Ok) return "";
-        const auto gl = backend_.render(scene);
-        if (gl.status != RenderStatus::Ok) return "";
-        const auto c = compare_images(ref, gl.image, scene.draw_list.clear, f.expect);
-        if (c.within_expect || !c.max_color) {
-            if (!c.max_depth || c.within_expect) return "";
+        try {
+            Explainer ex(scene, profile_, &backend_);
+            const auto& ref = ex.reference_image();
+            std::optional<std::array<int, 2>> at = keep_.pixel;
+            if (at) {
+                const auto i = ref.index(static_cast<std::uint32_t>((*at)[0]), static_cast<std::uint32_t>((*at)[1]));
+                if (ex.classifier()->at(i).cls == PixelClass::Equal) return "";
+            } else {
+                // The pixel of largest difference (colour first, then depth), of the kept class.
+                std::pair<std::uint64_t, std::uint64_t> worst{0, 0};
+                for (std::uint32_t y = 0; y < ref.height; ++y) {
+                    for (std::uint32_t x = 0; x < ref.width; ++x) {
+                        const auto px = ex.classifier()->at(ref.index(x, y));
+                        if (px.cls == PixelClass::Equal || !of_class(px.cls)) continue;
+                        const std::pair<std::uint64_t, std::uint64_t> d{px.color_difference, px.depth_difference};
+                        if (!at || d > worst) {
+                            worst = d;
+                            at = std::array<int, 2>{static_cast<int>(x), static_cast<int>(y)};
+                        }
+                    }
+                }
+                if (!at) return "";
+            }
+            const auto e = ex.explain((*at)[0], (*at)[1]);
+            if (!keep_.difference.empty() && e.difference != keep_.difference) return "";
+            return e.difference + ": " + e.rule;
+        } catch (const std::runtime_error&) {
+            return "";
         }
-        const int x = static_cast<int>(c.max_color ? c.max_color->x : c.max_depth->x);
-        const int y = static_cast<int>(c.max_color ? c.max_color->y : c.max_depth->y);
-        const auto e = explain_pixel(scene, profile_, x, y, &backend_);
-        return e.rule;
     }
     int renders = 0;
 
 private:
+    bool of_class(PixelClass c) const {
+        if (keep_.difference.empty()) return true;
+        const bool coverage = c == PixelClass::Missing || c == PixelClass::Extra || c == PixelClass::Coverage;
+        return keep_.difference == "coverage" ? coverage
+               : keep_.difference == "colour" ? c == PixelClass::ColorOnly
+                                              : c == PixelClass::DepthOnly;
+    }
+
     const refraster::Profile& profile_;
     Backend& backend_;
     std::string label_;
+    MismatchToKeep keep_;
 };
 
 }  // namespace
@@ -215,12 +241,12 @@ std::string scene_to_json(const SceneFile& s) {
 }
 
 ReduceResult reduce_scene(const SceneFile& scene, const std::string& label, const refraster::Profile& profile,
-                          Backend& backend, std::ostream& log) {
-    Oracle oracle(profile, backend, label);
+                          Backend& backend, std::ostream& log, const MismatchToKeep& keep) {
+    Oracle oracle(profile, backend, label, keep);
     ReduceResult r;
     r.signature = oracle.signature(scene);
     if (r.signature.empty()) throw std::runtime_error(label + ": the scene matches the backend; nothing to reduce");
-    log << "signature: a mismatch explained by the " << r.signature << "\n";
+    log << "signature: a " << r.signature << " mismatch" << "\n";
 
     std::vector<Piece> pieces;
     for (std::size_t d = 0; d < scene.draws.size(); ++d) {

@@ -12,6 +12,7 @@
 #include "harness/case_result.hpp"
 #include "harness/explain.hpp"
 #include "harness/extreme_scenes.hpp"
+#include "harness/files.hpp"
 #include "harness/image_hash.hpp"
 #include "harness/image_io.hpp"
 #include "harness/profile_io.hpp"
@@ -38,6 +39,10 @@ struct ProfileArgs {
         harness::apply_profile_overrides(p, overrides);
         return p;
     }
+    std::string source() const {
+        const auto names = refraster::builtin_profile_names();
+        return std::find(names.begin(), names.end(), profile) != names.end() ? "built-in" : profile;
+    }
 };
 
 void add_profile_options(CLI::App* cmd, ProfileArgs& a) {
@@ -57,6 +62,7 @@ struct BackendArgs {
     harness::BackendOptions options() const {
         harness::BackendOptions o;
         o.profile = profile.load();
+        o.profile_source = profile.source();
         o.profile_overrides = profile.overrides;
         o.kind = backend == "osmesa" ? harness::BackendKind::OSMesa
                  : backend == "egl"  ? harness::BackendKind::Egl
@@ -193,10 +199,7 @@ int run_compare(CompareArgs a) {
     const harness::CaseResult r = harness::run_case(*scene, name, *ref, *act);
     try {
         if (!a.json.empty()) {
-            const std::filesystem::path p(a.json);
-            const auto tmp = p.parent_path() / ("." + p.filename().string() + ".partial");
-            std::ofstream(tmp) << harness::to_json_line(r) << "\n";
-            std::filesystem::rename(tmp, p);
+            harness::write_file_atomically(a.json, harness::to_json_line(r) + "\n");
         }
         if (!a.diff.empty() && r.comparison && !r.comparison->size_mismatch) {
             write_diff_images(r, a.diff);
@@ -298,6 +301,20 @@ std::optional<int> profile_and_backend(const BackendArgs& against, const std::st
     return std::nullopt;
 }
 
+// "X,Y" as two integers; nullopt when it is not of that form.
+std::optional<std::array<int, 2>> parse_pixel(const std::string& text) {
+    int x = 0;
+    int y = 0;
+    char comma = 0;
+    std::istringstream ps(text);
+    if (!(ps >> x >> comma >> y) || comma != ',' || !ps.eof()) return std::nullopt;
+    return std::array<int, 2>{x, y};
+}
+
+bool inside(const refraster::Target& t, const std::array<int, 2>& p) {
+    return p[0] >= 0 && p[1] >= 0 && static_cast<std::uint32_t>(p[0]) < t.width && static_cast<std::uint32_t>(p[1]) < t.height;
+}
+
 struct ExplainArgs {
     std::string scene;
     std::string pixel;
@@ -310,12 +327,17 @@ struct ExplainArgs {
 int run_explain(ExplainArgs a) {
     const auto scene = load_or_report(a.scene);
     if (!scene) return kExitBadInput;
-    int x = 0;
-    int y = 0;
-    char comma = 0;
-    std::istringstream ps(a.pixel);
-    if (!(ps >> x >> comma >> y) || comma != ',' || !ps.eof()) {
+    const auto pixel = parse_pixel(a.pixel);
+    if (!pixel) {
         std::cerr << "refraster explain: --pixel " << a.pixel << ": expected X,Y\n";
+        return kExitBadInput;
+    }
+    const int x = (*pixel)[0];
+    const int y = (*pixel)[1];
+    const auto& target = scene->draw_list.target;
+    if (!inside(target, *pixel)) {
+        std::cerr << a.scene << ": --pixel " << a.pixel << ": outside the " << target.width << "x" << target.height
+                  << " target\n";
         return kExitBadInput;
     }
     refraster::Profile profile;
@@ -324,12 +346,7 @@ int run_explain(ExplainArgs a) {
     try {
         const auto e = harness::explain_pixel(*scene, profile, x, y, backend.get());
         std::cout << (a.json ? harness::explanation_json(e) + "\n" : harness::explanation_text(e));
-        if (!a.svg.empty()) {
-            const std::filesystem::path p(a.svg);
-            const auto tmp = p.parent_path() / ("." + p.filename().string() + ".partial");
-            std::ofstream(tmp) << harness::explanation_svg(e);
-            std::filesystem::rename(tmp, p);
-        }
+        if (!a.svg.empty()) harness::write_file_atomically(a.svg, harness::explanation_svg(e));
         return e.agree ? kExitOk : kExitMismatch;
     } catch (const std::exception& ex) {
         std::cerr << a.scene << ": " << ex.what() << "\n";
@@ -342,27 +359,46 @@ int run_explain(ExplainArgs a) {
 struct ReduceArgs {
     std::string scene;
     std::string output;
+    std::string pixel;
+    std::string difference;
     BackendArgs against{"osmesa"};
 };
+
 
 int run_reduce(const ReduceArgs& a) {
     const auto scene = load_or_report(a.scene);
     if (!scene) return kExitBadInput;
+    harness::MismatchToKeep keep;
+    keep.difference = a.difference;
+    if (!a.pixel.empty()) {
+        keep.pixel = parse_pixel(a.pixel);
+        if (!keep.pixel) {
+            std::cerr << "refraster reduce: --pixel " << a.pixel << ": expected X,Y\n";
+            return kExitBadInput;
+        }
+        if (!inside(scene->draw_list.target, *keep.pixel)) {
+            std::cerr << a.scene << ": --pixel " << a.pixel << ": outside the " << scene->draw_list.target.width << "x"
+                      << scene->draw_list.target.height << " target\n";
+            return kExitBadInput;
+        }
+    }
     refraster::Profile profile;
     std::unique_ptr<harness::Backend> backend;
     if (const auto rc = profile_and_backend(a.against, a.scene, true, profile, backend)) return *rc;
     try {
-        const auto r = harness::reduce_scene(scene->file, a.scene, profile, *backend, std::cout);
+        const auto r = harness::reduce_scene(scene->file, a.scene, profile, *backend, std::cout, keep);
         auto reduced = r.scene;
+        // The reduced scene is a scene of its own: named after its file, as a scene under
+        // conformance/scenes is named after its path.
+        reduced.name = std::filesystem::path(a.output).stem().string();
         reduced.description = "Reduced from " + a.scene + " (" + std::to_string(r.primitives_before) + " -> " +
-                              std::to_string(r.primitives_after) + " primitives), keeping a mismatch explained by the " +
-                              r.signature + ".";
+                              std::to_string(r.primitives_after) + " primitives), keeping a " + r.signature +
+                              " mismatch" +
+                              (keep.pixel ? " at pixel " + a.pixel : keep.difference.empty() ? "" : " of class " + keep.difference) +
+                              " under profile " + profile.name + ".";
         const std::string text = harness::scene_to_json(reduced);
         (void)harness::load_scene_text(text, a.output);  // what is written is a valid scene
-        const std::filesystem::path p(a.output);
-        const auto tmp = p.parent_path() / ("." + p.filename().string() + ".partial");
-        std::ofstream(tmp) << text;
-        std::filesystem::rename(tmp, p);
+        harness::write_file_atomically(a.output, text);
         std::cout << "wrote " << a.output << "\n";
         return kExitOk;
     } catch (const harness::SceneError& e) {
@@ -490,7 +526,11 @@ int main(int argc, char** argv) {
     ReduceArgs reduce;
     auto* dcmd = app.add_subcommand("reduce", "Shrink a failing scene while it keeps the same mismatch");
     dcmd->add_option("scene", reduce.scene, "Scene file that mismatches")->required();
-    dcmd->add_option("-o,--output", reduce.output, "Where to write the reduced scene (.json)")->required();
+    dcmd->add_option("-o,--output", reduce.output, "Where to write the reduced scene (.json); it is named after the file")
+        ->required();
+    dcmd->add_option("--pixel", reduce.pixel, "Keep the mismatch at this pixel, X,Y (default: the largest difference)");
+    dcmd->add_option("--class", reduce.difference, "Keep the largest mismatch of this class")
+        ->check(CLI::IsMember({"coverage", "colour", "depth"}));
     dcmd->add_option("--against", reduce.against.backend, "GL backend")
         ->check(CLI::IsMember({"osmesa", "egl"}))
         ->capture_default_str();

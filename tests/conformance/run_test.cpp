@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
+#include <algorithm>
 #include <fstream>
 #include <map>
 #include <random>
@@ -151,14 +152,60 @@ TEST(ConformanceRun, SigkillThenResumeGivesTheUninterruptedResults) {
     EXPECT_GE(partial.size(), 20u);
     EXPECT_LT(partial.size(), statuses(full / "results.jsonl").size());
     // Cut the last line in half, as a kill in the middle of a write would.
+    std::string kept;
     {
         const auto text = testutil::read_text(killed / "results.jsonl");
-        std::ofstream(killed / "results.jsonl", std::ios::trunc) << text.substr(0, text.size() - 40);
+        const std::string cut = text.substr(0, text.size() - 40);
+        kept = cut.substr(0, cut.rfind('\n') + 1);
+        std::ofstream(killed / "results.jsonl", std::ios::trunc) << cut;
     }
-    const int rc = std::system((bin() + " conformance run" + sel + testutil::shell_quote(killed.string()) + " --resume > /dev/null").c_str());
+    const std::size_t kept_cases = static_cast<std::size_t>(std::count(kept.begin(), kept.end(), '\n'));
+    const auto out = dir.path() / "resume.txt";
+    const int rc = std::system((bin() + " conformance run" + sel + testutil::shell_quote(killed.string()) + " --resume > " +
+                                testutil::shell_quote(out.string())).c_str());
     EXPECT_EQ(rc >> 8, 0);
+    const auto console = testutil::read_text(out);
+    EXPECT_NE(console.find("resume: kept " + std::to_string(kept_cases) + " finished cases"), std::string::npos) << console;
+    EXPECT_NE(console.find("cut a torn last line"), std::string::npos) << console;
+    // Every finished record is kept byte for byte (same timings, same provenance): the resumed
+    // file starts with exactly the complete lines the killed run wrote; only the rest is new.
+    const auto resumed = testutil::read_text(killed / "results.jsonl");
+    EXPECT_EQ(resumed.substr(0, kept.size()), kept);
+    // The cases the resumed run printed are exactly the ones not kept.
+    std::size_t printed = 0;
+    std::stringstream lines(console);
+    for (std::string l; std::getline(lines, l);) printed += l.rfind("Pass ", 0) == 0 ? 1u : 0u;
+    EXPECT_EQ(printed + kept_cases, statuses(full / "results.jsonl").size());
     EXPECT_EQ(statuses(killed / "results.jsonl"), statuses(full / "results.jsonl"));
     EXPECT_EQ(read_jsonl(killed / "results.jsonl").size(), read_jsonl(full / "results.jsonl").size());  // none twice
+}
+
+TEST(ConformanceRun, ResumeRefusesAFileNoKillCouldLeave) {
+    testutil::TempDir dir;
+    const auto out = dir.path() / "out";
+    const std::vector<std::string> run{"conformance", "run", "--cases", "smoke.*", "--output", out.string()};
+    ASSERT_EQ(testutil::run_cli(run).exit_code, 0);
+    const auto good = testutil::read_text(out / "results.jsonl");
+    auto resume = run;
+    resume.push_back("--resume");
+    // A complete line in the middle that is not a record.
+    std::ofstream(out / "results.jsonl", std::ios::trunc) << "not json\n" << good;
+    auto r = testutil::run_cli(resume);
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("results.jsonl:1: not a result record"), std::string::npos) << r.err;
+    EXPECT_EQ(testutil::read_text(out / "results.jsonl"), "not json\n" + good);  // left alone
+    // A case recorded twice.
+    std::ofstream(out / "results.jsonl", std::ios::trunc) << good << good.substr(0, good.find('\n') + 1);
+    r = testutil::run_cli(resume);
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("recorded twice"), std::string::npos) << r.err;
+    // Records of another comparison: the same scenes under another profile.
+    std::ofstream(out / "results.jsonl", std::ios::trunc) << good;
+    resume.insert(resume.end(), {"--profile-set", "tie_rule=right-top"});
+    r = testutil::run_cli(resume);
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("refusing to resume"), std::string::npos) << r.err;
+    EXPECT_EQ(testutil::read_text(out / "results.jsonl"), good);
 }
 
 TEST(ConformanceRun, BaselineExpectedFailAndUnexpectedPass) {
@@ -187,6 +234,86 @@ TEST(ConformanceRun, BaselineExpectedFailAndUnexpectedPass) {
     const auto junit = testutil::read_text(out / "junit.xml");
     EXPECT_NE(junit.find("<failure type=\"UnexpectedPass\""), std::string::npos);
     EXPECT_NE(junit.find("tests=\"2\" failures=\"1\""), std::string::npos);
+}
+
+// Scenes of our own under DIR/scenes/t: one the reference gets wrong under tie_rule=right-top,
+// one it gets right, one multisampled (NotSupported by the reference).
+std::filesystem::path write_small_suite(const std::filesystem::path& dir) {
+    const auto scenes = dir / "scenes" / "t";
+    std::filesystem::create_directories(scenes);
+    std::ofstream(scenes / "tie.json") << R"({"format": "refraster-scene/1", "name": "t.tie", "description": "d",
+      "target": {"width": 8, "height": 8}, "clear": {"color": [0, 0, 0, 1]},
+      "draws": [{"primitive": "triangles", "vertices": [{"position": [0, 0]}, {"position": [8, 0]}, {"position": [0, 8]}]}]})";
+    std::ofstream(scenes / "plain.json") << R"({"format": "refraster-scene/1", "name": "t.plain", "description": "d",
+      "target": {"width": 8, "height": 8}, "clear": {"color": [0, 0, 0, 1]},
+      "draws": [{"primitive": "triangles", "vertices": [{"position": [0.25, 0.25]}, {"position": [7.25, 0.75]}, {"position": [1.5, 7.75]}]}]})";
+    std::ofstream(scenes / "msaa.json") << R"({"format": "refraster-scene/1", "name": "t.msaa", "description": "d",
+      "target": {"width": 8, "height": 8, "samples": 4}, "draws": []})";
+    return dir / "scenes";
+}
+
+TEST(ConformanceRun, CsvsSpeakDeqpRunnerAndBaselinesAcceptIt) {
+    testutil::TempDir dir;
+    const auto scenes = write_small_suite(dir.path());
+    const auto first = dir.path() / "first";
+    auto r = testutil::run_cli({"conformance", "run", "--scenes", scenes.string(), "--profile-set", "tie_rule=right-top",
+                                "--output", first.string()});
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    const auto csv = testutil::read_text(first / "results.csv");
+    EXPECT_NE(csv.find("t.msaa,Skip,"), std::string::npos) << csv;  // deqp-runner's word for NotSupported
+    EXPECT_EQ(csv.find("NotSupported"), std::string::npos) << csv;
+    EXPECT_NE(csv.find("t.tie,Fail,"), std::string::npos) << csv;
+    EXPECT_EQ(statuses(first / "results.jsonl").at("t.msaa"), "NotSupported");  // the precise status stays
+    EXPECT_EQ(testutil::read_text(first / "failures.csv"), "t.tie,Fail\n");
+    // The run's own results.csv, durations and all, is a baseline: now nothing is unexpected.
+    const auto second = dir.path() / "second";
+    r = testutil::run_cli({"conformance", "run", "--scenes", scenes.string(), "--profile-set", "tie_rule=right-top",
+                           "--baseline", (first / "results.csv").string(), "--output", second.string()});
+    EXPECT_EQ(r.exit_code, 0) << r.err << r.out;
+    EXPECT_EQ(statuses(second / "results.jsonl").at("t.tie"), "ExpectedFail");
+    // deqp-runner's other words: ExpectedFail (any failure), Skip, and a comment.
+    std::ofstream(dir.path() / "b.csv") << "# from an older run\nt.tie,ExpectedFail\nt.msaa,Skip\nt.plain,Pass,0.1\n";
+    const auto third = dir.path() / "third";
+    r = testutil::run_cli({"conformance", "run", "--scenes", scenes.string(), "--profile-set", "tie_rule=right-top",
+                           "--baseline", (dir.path() / "b.csv").string(), "--output", third.string()});
+    EXPECT_EQ(r.exit_code, 0) << r.err << r.out;
+    EXPECT_NE(testutil::read_text(third / "results.csv").find("t.tie,ExpectedFail,"), std::string::npos);
+    // An unknown word names the file and line.
+    std::ofstream(dir.path() / "bad.csv") << "t.tie,Fail\nt.plain,Maybe\n";
+    r = testutil::run_cli({"conformance", "run", "--scenes", scenes.string(), "--baseline",
+                           (dir.path() / "bad.csv").string(), "--output", (dir.path() / "x").string()});
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("bad.csv:2: expected name,Status"), std::string::npos) << r.err;
+}
+
+TEST(ConformanceRun, CasePageExplainCommandReproducesTheCase) {
+    testutil::TempDir dir;
+    const auto scenes = write_small_suite(dir.path());
+    const auto out = dir.path() / "out";
+    const auto r = testutil::run_cli({"conformance", "run", "--scenes", scenes.string(), "--cases", "t.tie", "--against",
+                                      "osmesa", "--driver", "llvmpipe", "--profile-set", "tie_rule=right-top", "--output",
+                                      out.string()});
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    const auto page = testutil::read_text(out / "cases" / "t.tie.html");
+    const std::regex code("<code id=\"explain-command\">([^<]*)</code>");
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(page, m, code)) << page;
+    const std::string cmd = m[1].str();
+    EXPECT_NE(cmd.find("--against osmesa --driver llvmpipe --profile llvmpipe-22.3 --profile-set tie_rule=right-top"),
+              std::string::npos)
+        << cmd;
+    // Run it as printed: it reproduces the failing pixel and names the rule the run named.
+    ASSERT_EQ(cmd.rfind("refraster ", 0), 0u);
+    const auto log = dir.path() / "explain.txt";
+    const int rc = std::system((bin() + cmd.substr(9) + " > " + testutil::shell_quote(log.string())).c_str());
+    EXPECT_EQ(rc >> 8, 1);  // the pixel differs
+    const auto text = testutil::read_text(log);
+    EXPECT_NE(text.find("verdict: coverage: "), std::string::npos) << text;
+    EXPECT_NE(text.find("tie rule: "), std::string::npos) << text;
+    EXPECT_NE(page.find("coverage, tie rule"), std::string::npos);
+    // The index names the profile that ran.
+    EXPECT_NE(testutil::read_text(out / "index.html").find("Reference profile <b>llvmpipe-22.3+tie_rule=right-top</b>"),
+              std::string::npos);
 }
 
 TEST(ConformanceRun, ShardsPartitionTheSelection) {
@@ -293,8 +420,9 @@ TEST(Explain, AgreementAndSvg) {
     EXPECT_NE(text.find("<polygon"), std::string::npos);  // the triangle's snapped edges
     const auto bad = testutil::run_cli({"explain", std::string(REFRASTER_SOURCE_DIR) + "/conformance/scenes/smoke/triangles.json",
                                         "--pixel", "99,2"});
-    EXPECT_EQ(bad.exit_code, 3);
-    EXPECT_NE(bad.err.find("outside"), std::string::npos);
+    EXPECT_EQ(bad.exit_code, 2);  // bad input, like every other
+    EXPECT_EQ(testutil::count_lines(bad.err), 1u);
+    EXPECT_NE(bad.err.find("triangles.json: --pixel 99,2: outside the 8x8 target"), std::string::npos) << bad.err;
 }
 
 }  // namespace
@@ -327,7 +455,7 @@ TEST(Reduce, TwoThousandTrianglesDownToTheSharedEdge) {
     const auto out = dir.path() / "min.json";
     const auto r = testutil::run_cli({"reduce", in.string(), "--profile-set", "tie_rule=right-top", "-o", out.string()});
     ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
-    EXPECT_NE(r.out.find("signature: a mismatch explained by the tie rule"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("signature: a coverage: tie rule mismatch"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("step 1:"), std::string::npos);
     const auto reduced = nlohmann::json::parse(testutil::read_text(out));
     std::size_t triangles = 0;

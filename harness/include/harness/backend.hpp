@@ -68,6 +68,7 @@ struct BackendOptions {
     // The reference's rules (ref only), and the key=value overrides applied to the named
     // profile, recorded with every result.
     refraster::Profile profile;
+    std::string profile_source = "built-in";  // "built-in" or the profile file's path
     std::vector<std::string> profile_overrides;
 };
 

@@ -49,6 +49,7 @@ struct CaseResult {
     // For a failure: the pixel of largest difference and the rule that explains it.
     std::optional<std::array<int, 2>> explained_pixel;
     std::string explanation;
+    std::string explanation_difference;  // coverage, colour, depth, sample
     std::string explanation_rule;
 };
 

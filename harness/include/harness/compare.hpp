@@ -65,6 +65,46 @@ struct Comparison {
     std::string summary() const;  // one line, idiff's vocabulary
 };
 
+// The class of one pixel of two renders of the same target, as compare_images counts it and
+// as explain reasons from it. A pixel is untouched when it holds exactly what the target's
+// clear stores (colour as the reference quantises the clear, and depth), or, when both
+// renders carry owners, when no primitive owns it.
+class PixelClassifier {
+public:
+    // The two framebuffers must have the same size and formats; they are referenced, not
+    // copied.
+    PixelClassifier(const refraster::Framebuffer& reference, const refraster::Framebuffer& actual,
+                    const refraster::ClearValues& clear, const Expect& expect);
+
+    struct Pixel {
+        PixelClass cls = PixelClass::Equal;
+        std::uint64_t color_difference = 0;  // largest channel difference (last-bit units or ULPs)
+        std::uint32_t channel = 0;           // its channel
+        std::uint64_t depth_difference = 0;
+    };
+    Pixel at(std::size_t index) const;
+    bool by_owners() const { return owners_; }
+    // Whether a pixel of either render holds the clear values (colour and depth).
+    bool untouched(const refraster::Framebuffer& fb, std::size_t index) const;
+    // The clear colour as the reference stores it.
+    std::uint8_t clear_color8(std::size_t channel) const { return clear_.color8[channel]; }
+    float clear_color32f(std::size_t channel) const { return clear_.color32f[channel]; }
+
+private:
+    const refraster::Framebuffer& ref_;
+    const refraster::Framebuffer& act_;
+    Expect expect_;
+    bool owners_ = false;
+    refraster::Framebuffer clear_;  // one pixel holding the clear as the reference stores it
+};
+
+// An owner buffer is believable when every pixel of the plain render `fb` that holds anything
+// but the clear colour has an owner: something must have written it. A driver that cannot
+// write the integer attachment (softpipe 22.3 leaves it at zero) fails this, and its
+// mismatches keep the clear-value classes.
+bool owners_plausible(const std::vector<std::uint32_t>& owner, const refraster::Framebuffer& fb,
+                      const refraster::ClearValues& clear);
+
 Comparison compare_images(const refraster::Framebuffer& reference,
                           const refraster::Framebuffer& actual,
                           const refraster::ClearValues& clear, const Expect& expect);

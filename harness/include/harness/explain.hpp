@@ -2,21 +2,35 @@
 // backend part.
 //
 // Implements: running the reference with its trace hook on one pixel, reading the GL
-// backend's bytes there, a one-line verdict naming the first rule where the two can part (the
-// tie rule when the pixel centre lies exactly on an edge whose ownership decides it; snapping
-// when an edge passes within a subpixel step; the clipper when a clipped primitive is
-// involved; depth or colour arithmetic when coverage agrees), and three renderings of it all:
+// backend's bytes there, and a verdict in two steps. First what differs, from the two
+// renders alone: coverage (one side leaves the pixel untouched, or another primitive owns it),
+// colour (the same coverage, other colour bytes), depth (colours agree, depth values differ),
+// sample (per-sample coverage of a multisampled target; the reference refuses those targets
+// today, so it is never reached). Then the rule within that class: every parameter of the
+// profile that can change it is tried in turn on the whole scene (the other tie rules, the
+// other snap roundings and subpixel precisions, fused or unfused arithmetic, denormal
+// flushing, the draw module's float cull, the nine-vertex analysis, the clipper's mode), and a
+// rule is named only when one of its alternatives reproduces the backend at this pixel; where
+// several do, the one the pixel's trace gives direct evidence for (a centre exactly on an edge
+// for the tie rule, an edge within one subpixel step for snapping, ...) is named and the others
+// listed. Coverage that differs only at lines (or points) and that no parameter reproduces is
+// put down to the line (point) rule; anything else is "undecided". Three renderings of it all:
 // text, JSON, and an SVG of the neighbourhood at subpixel zoom (pixel grid, centres, the
 // snapped edges, covered pixels in their colours, tie-breaks ringed) for teaching.
 //
-// Deliberately does not: know which primitive the GL backend drew at the pixel; the verdict
-// reasons from the reference's trace and the two results.
+// Deliberately does not: model the backend. Verdicts come from the two results, the
+// reference's trace and the reference re-run under other rules.
 #pragma once
 
+#include <deque>
+#include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "harness/backend.hpp"
+#include "harness/compare.hpp"
 #include "harness/scene.hpp"
 #include "refraster/trace.hpp"
 
@@ -24,6 +38,7 @@ namespace harness {
 
 struct Explanation {
     refraster::PixelTrace trace;
+    refraster::Profile profile;
     refraster::Framebuffer reference_image;
     std::array<float, 4> reference_color{};
     std::optional<std::uint32_t> reference_depth;
@@ -31,12 +46,53 @@ struct Explanation {
     std::array<float, 4> backend_color{};
     std::optional<std::uint32_t> backend_depth;
     bool agree = true;
+    std::string difference = "none";  // "coverage", "colour", "depth", "sample", "none"
+    std::string rule = "none";        // "tie rule", "snapping", ..., "undecided", "none"
+    // Every rule one of whose alternatives reproduces the backend at the pixel, with that
+    // alternative ("tie rule" -> "tie_rule=right-top").
+    std::vector<std::pair<std::string, std::string>> candidates;
     std::string verdict;
-    std::string rule;  // "tie rule", "snapping", "clipper", "depth", "colour", "none"
 };
 
-// Throws std::runtime_error when the pixel lies outside the target or the reference cannot
-// render the scene.
+// A pixel outside the target (a usage error, not a rendering failure).
+class PixelOutsideTarget : public std::invalid_argument {
+public:
+    using std::invalid_argument::invalid_argument;
+};
+
+// One scene, its renders and its alternative renders, kept for explaining many pixels.
+class Explainer {
+public:
+    // Renders the reference and, when `backend` is given, the backend (each with primitive
+    // owners where the backend can report them believably). Throws std::runtime_error when the
+    // reference or the backend cannot render the scene.
+    Explainer(const Scene& scene, const refraster::Profile& profile, Backend* backend);
+    ~Explainer();
+    Explainer(const Explainer&) = delete;
+    Explainer& operator=(const Explainer&) = delete;
+
+    // Throws PixelOutsideTarget.
+    Explanation explain(int x, int y);
+
+    const refraster::Framebuffer& reference_image() const { return reference_; }
+    const RenderResult* backend_render() const { return backend_result_ ? &*backend_result_ : nullptr; }
+    // The class of every pixel (compare.hpp), for choosing which pixels to explain.
+    const PixelClassifier* classifier() const { return classifier_.get(); }
+
+private:
+    struct Alternative;
+    void render_alternatives();
+
+    const Scene& scene_;
+    refraster::Profile profile_;
+    refraster::Framebuffer reference_;
+    std::optional<RenderResult> backend_result_;
+    std::unique_ptr<PixelClassifier> classifier_;
+    bool alternatives_ready_ = false;
+    std::deque<Alternative> alternatives_;
+};
+
+// One pixel: an Explainer used once.
 Explanation explain_pixel(const Scene& scene, const refraster::Profile& profile, int x, int y, Backend* backend);
 
 std::string explanation_text(const Explanation& e);

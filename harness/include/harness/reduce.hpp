@@ -12,7 +12,9 @@
 // move), or reduce below one primitive.
 #pragma once
 
+#include <array>
 #include <iosfwd>
+#include <optional>
 #include <string>
 
 #include "harness/backend.hpp"
@@ -22,9 +24,15 @@ namespace harness {
 
 std::string scene_to_json(const SceneFile& s);
 
+// Which mismatch a reduction keeps: by default the one at the pixel of largest difference.
+struct MismatchToKeep {
+    std::optional<std::array<int, 2>> pixel;  // the mismatch at this pixel
+    std::string difference;                   // the largest of this class: coverage, colour, depth
+};
+
 struct ReduceResult {
     SceneFile scene;
-    std::string signature;  // the rule that explains the mismatch
+    std::string signature;  // "class: rule" of the kept mismatch
     std::size_t primitives_before = 0;
     std::size_t primitives_after = 0;
     int renders = 0;
@@ -32,6 +40,6 @@ struct ReduceResult {
 
 // Throws std::runtime_error when the scene does not mismatch to begin with.
 ReduceResult reduce_scene(const SceneFile& scene, const std::string& label, const refraster::Profile& profile,
-                          Backend& backend, std::ostream& log);
+                          Backend& backend, std::ostream& log, const MismatchToKeep& keep = {});
 
 }  // namespace harness
