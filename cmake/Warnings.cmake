@@ -12,3 +12,11 @@ if(REFRASTER_SANITIZE)
     -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer)
   target_link_options(refraster_options INTERFACE -fsanitize=address,undefined)
 endif()
+if(REFRASTER_FUZZ)
+  # Every library gets coverage instrumentation and the sanitizers; only the fuzz executables
+  # link libFuzzer's main (fuzz/CMakeLists.txt adds -fsanitize=fuzzer there).
+  target_compile_options(refraster_options INTERFACE
+    -fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=all
+    -fno-omit-frame-pointer)
+  target_link_options(refraster_options INTERFACE -fsanitize=address,undefined)
+endif()

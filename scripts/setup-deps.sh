@@ -1,8 +1,19 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages refraster builds and runs with. Idempotent: when every
 # package is present it installs nothing and does not touch the network.
+#   scripts/setup-deps.sh        what the build, the tests and the conformance run need
+#   scripts/setup-deps.sh fuzz   what the fuzz preset needs (scripts/fuzz.sh): clang,
+#                                libFuzzer's runtime and the two header libraries
 set -euo pipefail
 
+if [[ "${1:-}" == "fuzz" ]]; then
+  packages=(
+    cmake ninja-build git
+    # clang 14 and its runtime libraries (libFuzzer, ASan, UBSan); g++ brings libstdc++
+    clang-14 libclang-rt-14-dev g++
+    nlohmann-json3-dev libglm-dev
+  )
+else
 packages=(
   # toolchain
   g++ cmake ninja-build pkg-config git
@@ -15,6 +26,7 @@ packages=(
   # the HTML report test opens the report in headless Chromium
   chromium
 )
+fi
 
 missing=()
 for p in "${packages[@]}"; do
