@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <nlohmann/json.hpp>
 #include <random>
+#include <set>
 
 #include "harness/scene.hpp"
 #include "test_util.hpp"
@@ -540,6 +542,39 @@ TEST(SceneLimits, ShippedScenesStayFarBelow) {
         ++n;
     }
     EXPECT_GT(n, 100);
+}
+
+// The fuzzers' dictionary holds every key and enum string of the published schema, quoted as
+// in a file, so that it keeps up with the format.
+void collect_words(const nlohmann::json& schema, std::set<std::string>& words) {
+    if (schema.is_object()) {
+        if (schema.contains("properties")) {
+            for (const auto& [k, _] : schema["properties"].items()) words.insert(k);
+        }
+        for (const char* key : {"enum", "const"}) {
+            if (!schema.contains(key)) continue;
+            const auto& v = schema[key];
+            for (const auto& e : v.is_array() ? v : nlohmann::json::array({v})) {
+                if (e.is_string()) words.insert(e.get<std::string>());
+            }
+        }
+        for (const auto& [_, child] : schema.items()) collect_words(child, words);
+    } else if (schema.is_array()) {
+        for (const auto& child : schema) collect_words(child, words);
+    }
+}
+
+TEST(FuzzDictionary, HoldsEveryKeyAndEnumStringOfTheSchema) {
+    const std::filesystem::path source = REFRASTER_SOURCE_DIR;
+    std::set<std::string> words;
+    collect_words(
+        nlohmann::json::parse(testutil::read_text(source / "conformance/schema/scene.schema.json")),
+        words);
+    const std::string dict = testutil::read_text(source / "fuzz/scene.dict");
+    EXPECT_GT(words.size(), 60u);
+    for (const auto& w : words) {
+        EXPECT_NE(dict.find("\"\\\"" + w + "\\\"\"\n"), std::string::npos) << w;
+    }
 }
 
 }  // namespace
