@@ -84,6 +84,20 @@ FragmentShader::FragmentShader(const Planes& planes, const Draw& draw, const Tar
                                std::uint32_t owner)
     : draw_(draw), target_(target), options_(options), shade_(draw.state.shade), p_(planes), owner_(owner) {
     depth_test_ = draw.state.depth_test.has_value() && target.depth != DepthFormat::None;
+    if (options_.flush_denormals) {
+        // The per-pixel code runs under DAZ (lp_rast.c): a plane term that setup left subnormal
+        // (setup without FTZ, see the renderer) counts as zero in every operation that reads it.
+        // Flat values are only moved and keep their bits.
+        const auto daz = [](Plane& q) {
+            q.a0 = flush_denormal(q.a0);
+            q.dadx = flush_denormal(q.dadx);
+            q.dady = flush_denormal(q.dady);
+        };
+        daz(p_.z);
+        daz(p_.w);
+        for (auto& c : p_.color) daz(c);
+        p_.z_offset = flush_denormal(p_.z_offset);
+    }
 }
 
 Planes triangle_planes(const std::array<const StageVertex*, 3>& v, const VertexStage& stage, const Draw& draw,
@@ -191,7 +205,8 @@ FragmentShader::PixelResult FragmentShader::evaluate(int x, int y, const Framebu
     return r;
 }
 
-void write_fragment_color(const Draw& draw, Framebuffer& fb, std::size_t i, const std::array<float, 4>& c) {
+void write_fragment_color(const Draw& draw, Framebuffer& fb, std::size_t i, const std::array<float, 4>& c,
+                          bool flush_denormals) {
     const BlendPreset blend = draw.state.blend;
     if (fb.color_format == ColorFormat::Rgba8) {
         std::uint8_t* d = fb.color8.data() + 4 * i;
@@ -214,17 +229,21 @@ void write_fragment_color(const Draw& draw, Framebuffer& fb, std::size_t i, cons
                 break;
         }
     } else {
+        // The blend runs in the rasterizer's threads under FTZ/DAZ (lp_rast.c), so a subnormal
+        // source, alpha or destination counts as zero there; without blending the colour is
+        // only moved and keeps its bits.
+        const Fp fp{flush_denormals};
         float* d = fb.color32f.data() + 4 * i;
         switch (blend) {
             case BlendPreset::None: std::copy(c.begin(), c.end(), d); break;
             case BlendPreset::Alpha: {
                 const float a = c[3];
-                const float inv = 1.0f - a;
-                for (std::size_t k = 0; k < 4; ++k) d[k] = c[k] * a + d[k] * inv;
+                const float inv = fp.sub(1.0f, a);
+                for (std::size_t k = 0; k < 4; ++k) d[k] = fp.add(fp.mul(c[k], a), fp.mul(d[k], inv));
                 break;
             }
             case BlendPreset::Add:
-                for (std::size_t k = 0; k < 4; ++k) d[k] = c[k] + d[k];
+                for (std::size_t k = 0; k < 4; ++k) d[k] = fp.add(c[k], d[k]);
                 break;
         }
     }
@@ -236,7 +255,7 @@ void FragmentShader::shade_span(int y, int x0, int x1, Framebuffer& fb) const {
         if (!r.depth_pass) continue;
         const std::size_t i = fb.index(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y));
         if (depth_test_ && draw_.state.depth_write) fb.depth[i] = r.depth;
-        write_fragment_color(draw_, fb, i, r.color);
+        write_fragment_color(draw_, fb, i, r.color, options_.flush_denormals);
         if (!fb.owner.empty()) fb.owner[i] = owner_;
     }
 }
@@ -264,7 +283,7 @@ FragmentTrace FragmentShader::trace_pixel(int x, int y, const Framebuffer& fb_be
             t.destination[k] = one.color32f[k];
         }
     }
-    if (r.depth_pass) write_fragment_color(draw_, one, 0, r.color);
+    if (r.depth_pass) write_fragment_color(draw_, one, 0, r.color, options_.flush_denormals);
     for (std::size_t k = 0; k < 4; ++k) {
         t.written[k] = fb_before.color_format == ColorFormat::Rgba8 ? one.color8[k] : one.color32f[k];
     }
@@ -351,7 +370,7 @@ void ExactShader::shade(int x, int y, Framebuffer& fb, std::uint32_t owner) cons
             }
         }
     }
-    write_fragment_color(draw_, fb, i, c);
+    write_fragment_color(draw_, fb, i, c, true);
     if (!fb.owner.empty()) fb.owner[i] = owner;
 }
 

@@ -120,8 +120,10 @@ private:
     bool depth_test_ = false;
 };
 
-// The output merge shared by both models: conversion, blending and the colour write.
-void write_fragment_color(const Draw& draw, Framebuffer& fb, std::size_t i, const std::array<float, 4>& c);
+// The output merge shared by both models: conversion, blending and the colour write; float
+// blending flushes denormals when `flush_denormals` is set, as llvmpipe's rasterizer does.
+void write_fragment_color(const Draw& draw, Framebuffer& fb, std::size_t i, const std::array<float, 4>& c,
+                          bool flush_denormals);
 
 // glClearColor into rgba8: float_to_ubyte (util/u_math.h), which util_pack_color uses for
 // R8G8B8A8_UNORM: f * (255/256) + 32768 in float, then the low byte of the float's bits.

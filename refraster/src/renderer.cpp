@@ -139,6 +139,8 @@ public:
             return;
         }
 
+        const std::vector<bool> setup_ftz = pipeline_setup_ftz(stage, tris, segment_clipped);
+        std::size_t pipeline_output = 0;  // the pipeline's output triangles so far, in order
         std::vector<StageTriangle> staged;
         for (std::size_t p = 0; p < tris.size(); ++p) {
             owner_ = owner_id(index_, p);
@@ -170,7 +172,10 @@ public:
                     if (staged.empty()) pt.note = "clipped away entirely";
                 }
                 for (const auto& st : staged) {
-                    draw_snapped<kTrace>(stage, st, segment_clipped[at.segment], pt);
+                    const bool in_pipeline = segment_clipped[at.segment];
+                    const bool ftz = !in_pipeline || setup_ftz.empty() || setup_ftz[pipeline_output];
+                    pipeline_output += in_pipeline;
+                    draw_snapped<kTrace>(stage, st, in_pipeline, ftz, pt);
                 }
             }
             if constexpr (kTrace) {
@@ -377,6 +382,65 @@ private:
         return y(8) == y(7) && y(8) == y(6);
     }
 
+    // Whether llvmpipe sets up each output triangle of the draw pipeline, in order, with
+    // denormals flushed. The pipeline's last stage (draw_pipe_vbuf.c, vbuf_tri and check_space)
+    // collects triangles and hands them to setup when the next one might not fit (vertices + 3
+    // > 128: lp_setup_vbuf.c's 4096-byte buffer over 32-byte vertices of position and colour;
+    // or indices + 3 > 1024), when a segment that skips the pipeline is emitted (draw_pt_emit.c
+    // flushes first), and otherwise after draw_vbo has returned. draw_vbo (draw_pt.c) sets
+    // FTZ/DAZ for its own duration only, so a draw's last batch is set up without them. A
+    // vertex counts once per batch: the segment's own vertices are shared between its
+    // triangles, the clipper's new ones between the triangles of one polygon. Empty when no
+    // triangle needs telling apart (no pipeline segment, or no flushing at all).
+    std::vector<bool> pipeline_setup_ftz(detail::VertexStage& stage, const std::vector<detail::AssembledTriangle>& tris,
+                                         const std::vector<bool>& segment_clipped) const {
+        constexpr std::size_t kMaxVertices = 4096 / 32;
+        constexpr std::size_t kMaxIndices = 1024;
+        std::vector<bool> out;
+        if (!profile_.flush_denormals || profile_.coverage != CoverageModel::Snapped ||
+            std::find(segment_clipped.begin(), segment_clipped.end(), true) == segment_clipped.end()) {
+            return out;
+        }
+        std::size_t vertices = 0, indices = 0;
+        std::vector<std::size_t> pending;  // indices into `out` of the triangles not yet set up
+        std::vector<std::uint64_t> emitted;
+        const auto flush = [&](bool ftz) {
+            for (const auto i : pending) out[i] = ftz;
+            pending.clear();
+            vertices = indices = 0;
+            emitted.clear();
+        };
+        std::vector<StageTriangle> staged;
+        for (const auto& at : tris) {
+            if (!segment_clipped[at.segment]) {
+                if (!pending.empty()) flush(true);
+                continue;
+            }
+            staged.clear();
+            stage.clip_triangle({draw_.element(at.element[0]), draw_.element(at.element[1]), draw_.element(at.element[2])},
+                                params_.provoking_first, staged, nullptr);
+            for (const auto& st : staged) {
+                if (profile_.draw_pipeline_cull && !detail::passes_draw_cull(st, draw_.state.cull, params_.front_ccw)) {
+                    out.push_back(true);  // never reaches setup
+                    continue;
+                }
+                if (vertices + 3 > kMaxVertices || indices + 3 > kMaxIndices) flush(true);
+                for (const auto& v : st.v) {
+                    const std::uint64_t key = (std::uint64_t{at.segment} << 32) | v.attributes;
+                    if (std::find(emitted.begin(), emitted.end(), key) == emitted.end()) {
+                        emitted.push_back(key);
+                        ++vertices;
+                    }
+                }
+                indices += 3;
+                pending.push_back(out.size());
+                out.push_back(true);
+            }
+        }
+        flush(false);
+        return out;
+    }
+
     bool pixel_in_box(const PixelRect& b) const {
         return trace_->x >= b.x0 && trace_->x <= b.x1 && trace_->y >= b.y0 && trace_->y <= b.y1;
     }
@@ -398,7 +462,8 @@ private:
     }
 
     template <bool kTrace, class PT>
-    void draw_snapped(const detail::VertexStage& stage, const StageTriangle& st, bool in_pipeline, PT& pt) {
+    void draw_snapped(const detail::VertexStage& stage, const StageTriangle& st, bool in_pipeline, bool setup_ftz,
+                      PT& pt) {
         [[maybe_unused]] std::conditional_t<kTrace, SetupTrace, NoTrace> s;
         if constexpr (kTrace) {
             for (std::size_t k = 0; k < 3; ++k) s.window.push_back(st.v[k].window);
@@ -441,11 +506,12 @@ private:
         }
         // Attribute setup sees the vertices in setup's order, after the orientation swap.
         const detail::FragmentOptions fo{fma_, profile_.flush_denormals};
+        const detail::FragmentOptions setup_fo{fma_, profile_.flush_denormals && setup_ftz};
         const detail::FragmentShader shader(
             detail::triangle_planes({&st.v[static_cast<std::size_t>(t.order[0])],
                                      &st.v[static_cast<std::size_t>(t.order[1])],
                                      &st.v[static_cast<std::size_t>(t.order[2])]},
-                                    stage, draw_, target_, params_.provoking_first, fo),
+                                    stage, draw_, target_, params_.provoking_first, setup_fo),
             draw_, target_, fo, owner_);
         if constexpr (kTrace) {
             s.covered = pixel_in_box(t.bbox) && detail::covers_pixel(t, trace_->x, trace_->y);
