@@ -499,9 +499,51 @@ SceneFile colours(const std::string& kind, Rng& r, ColorFormat color, BlendPrese
             const float w = tiny_w ? std::fabs(r.magnitude(-30, -8)) : r.uniform(0.5f, 2.0f);
             std::array<float, 4> c{};
             for (auto& ch : c) ch = extreme_value();
-            // Subnormal and near-subnormal colours stay inside the view volume: a clipped
-            // triangle's setup may run outside llvmpipe's flush-to-zero window (docs/precision.md).
-            clip_vertex(d, inside(r, w, tiny_w ? 1.1f : 0.9f), c);
+            clip_vertex(d, inside(r, w, 1.1f), c);
+        }
+        s.draws.push_back(std::move(d));
+    }
+    return s;
+}
+
+// Clipped triangles whose attribute planes have subnormal terms (vertex colours near the
+// smallest normal float), in draws of different lengths: llvmpipe sets up the draw pipeline's
+// triangles in batches of at most 128 vertices, the last batch of a draw after draw_vbo has
+// restored the caller's floating-point state, so with denormals kept.
+SceneFile subnormal_setup(const std::string& kind, Rng& r) {
+    SceneFile s = base(kind,
+                       "Draws that start with one clipped triangle whose vertex colours lie near the smallest "
+                       "normal float (noperspective or smooth, into rgba32f), followed by none or by 70 to 100 "
+                       "ordinary triangles, clipped or not: the draw pipeline hands its triangles to llvmpipe's setup in "
+                       "batches of at most 128 vertices, and a draw's last batch is set up after draw_vbo has "
+                       "restored the floating-point state, so without flushing denormals.",
+                       32, 32, ColorFormat::Rgba32f, DepthFormat::None);
+    const auto tiny = [&]() -> float {
+        switch (r.integer(0, 2)) {
+            case 0: return r.sign() * kNormMin;
+            case 1: return r.subnormal();
+            default: return r.uniform(-1, 1);
+        }
+    };
+    for (int dn = 0; dn < 16; ++dn) {
+        SceneDraw d = draw_of(s, PrimitiveType::Triangles, VertexSpace::Clip);
+        d.state.shade = r.chance(0.5f) ? ShadeModel::NoPerspective : ShadeModel::Smooth;
+        for (int k = 0; k < 3; ++k) {
+            auto p = inside(r, r.uniform(0.5f, 2.0f), 1.4f);
+            if (k == 0) p[0] = 1.2f * p[3];  // outside x = w: the draw goes through the pipeline
+            clip_vertex(d, p, {tiny(), tiny(), tiny(), r.uniform(0, 1)});
+        }
+        // Followers, clipped ones (four vertices after clipping) or unclipped ones (three), in
+        // the corner at NDC (-1, -1): none, so that the first triangle is in the draw's last
+        // batch, or enough that it is not, whatever the vertex size (the owner pass of
+        // docs/conformance.md adds an attribute, and so shrinks the batches).
+        const bool clipped = r.chance(0.5f);
+        const int n = r.pick({0, 0, 70, 100});
+        for (int t = 0; t < n; ++t) {
+            const std::array<float, 4> c{r.uniform(0, 1), r.uniform(0, 1), r.uniform(0, 1), 1.0f};
+            clip_vertex(d, {clipped ? -1.5f : -0.8f, -1.0f, 0.0f, 1.0f}, c);
+            clip_vertex(d, {clipped ? -0.9f : -0.7f, -1.0f, 0.0f, 1.0f}, c);
+            clip_vertex(d, {clipped ? -0.9f : -0.7f, -0.9f, 0.0f, 1.0f}, c);
         }
         s.draws.push_back(std::move(d));
     }
@@ -637,6 +679,7 @@ const std::vector<std::pair<std::string, Maker>>& makers() {
                 }
             }
         }
+        v.emplace_back("subnormal_setup_batches", [](Rng& r) { return subnormal_setup("subnormal_setup_batches", r); });
         v.emplace_back("lines_255_across_clip", [](Rng& r) { return wide_lines("lines_255_across_clip", r, PrimitiveType::Lines); });
         v.emplace_back("line_loops_255_across_clip",
                        [](Rng& r) { return wide_lines("line_loops_255_across_clip", r, PrimitiveType::LineLoop); });
