@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <nlohmann/json.hpp>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <tuple>
@@ -71,10 +72,12 @@ Evidence gather(const refraster::PixelTrace& t, const refraster::Profile& profil
             ev.nine_vertex = where(p) + " is in a draw that " + p.note.substr(0, p.note.find(" by ")) +
                              " by llvmpipe's nine-vertex rectangle analysis";
         }
+        if (ev.cull.empty() && p.in_draw_pipeline && p.kind == "triangle") {
+            ev.cull = where(p) + " is in a vertex segment that goes through the draw pipeline, whose float cull "
+                                 "decides before setup's fixed-point one";
+        }
         for (const auto& s : p.setups) {
-            if (ev.cull.empty() && s.outcome.find("cull") != std::string::npos) {
-                ev.cull = where(p) + " was " + s.outcome;
-            }
+            if (s.outcome.find("cull") != std::string::npos) ev.cull = where(p) + " was " + s.outcome;
             if (ev.clipper.empty() && s.clipped) ev.clipper = where(p) + " was clipped, and its new vertices reach the pixel";
             for (std::size_t k = 0; k < s.edges.size(); ++k) {
                 const auto& ed = s.edges[k];
@@ -160,6 +163,8 @@ struct Explainer::Alternative {
     std::string rule;
     std::string change;  // key=value
     std::size_t reproduced = 0;  // mismatching pixels of the whole image it reproduces
+    std::size_t broken = 0;      // agreeing pixels it makes differ
+    long net() const { return static_cast<long>(reproduced) - static_cast<long>(broken); }
     std::unique_ptr<refraster::Framebuffer> image;  // held apart: the classifier refers to it
     std::unique_ptr<PixelClassifier> classifier;
 };
@@ -233,16 +238,22 @@ void Explainer::render_alternatives() {
                                                          scene_.file.expect);
         for (std::size_t i = 0; i < reference_.pixel_count(); ++i) {
             const auto before = classifier_->at(i).cls;
-            if (before != PixelClass::Equal && resolves(before, a.classifier->at(i).cls)) ++a.reproduced;
+            const auto after = a.classifier->at(i).cls;
+            if (before != PixelClass::Equal && resolves(before, after)) ++a.reproduced;
+            if (before == PixelClass::Equal && after != PixelClass::Equal) ++a.broken;
         }
     }
-    // Where several alternatives reproduce a pixel, the one that reproduces most of the image
-    // is the better explanation: try them in that order.
+    for (std::size_t i = 0; i < reference_.pixel_count(); ++i) {
+        mismatched_ += classifier_->at(i).cls != PixelClass::Equal;
+    }
+    // Where several alternatives reproduce a pixel, the one that brings most of the image into
+    // agreement (pixels reproduced less pixels it breaks) is the better explanation: try them in
+    // that order.
     std::stable_sort(alternatives_.begin(), alternatives_.end(),
-                     [](const Alternative& a, const Alternative& b) { return a.reproduced > b.reproduced; });
+                     [](const Alternative& a, const Alternative& b) { return a.net() > b.net(); });
 }
 
-Explanation Explainer::explain(int x, int y) {
+Explanation Explainer::explain(int x, int y, bool full) {
     const auto& target = scene_.draw_list.target;
     if (x < 0 || y < 0 || static_cast<std::uint32_t>(x) >= target.width || static_cast<std::uint32_t>(y) >= target.height) {
         throw PixelOutsideTarget("pixel " + px_text(x, y) + " is outside the " + std::to_string(target.width) + "x" +
@@ -252,10 +263,16 @@ Explanation Explainer::explain(int x, int y) {
     e.profile = profile_;
     e.trace.x = x;
     e.trace.y = y;
-    refraster::RenderOptions o;
-    o.profile = profile_;
-    o.trace = &e.trace;
-    (void)refraster::render(scene_.draw_list, o, e.reference_image);
+    bool traced = false;
+    const auto trace = [&] {
+        if (traced) return;
+        traced = true;
+        refraster::RenderOptions o;
+        o.profile = profile_;
+        o.trace = &e.trace;
+        (void)refraster::render(scene_.draw_list, o, e.reference_image);
+    };
+    if (full) trace();
     e.reference_color = color_at(reference_, x, y);
     e.reference_depth = depth_at(reference_, x, y);
     const std::string px = px_text(x, y);
@@ -311,22 +328,46 @@ Explanation Explainer::explain(int x, int y) {
     // 2. The rule within that class: alternatives that reproduce the backend here, the one that
     // reproduces most of the image first (one per rule).
     render_alternatives();
-    std::size_t mismatched = 0;
-    for (std::size_t j = 0; j < reference_.pixel_count(); ++j) mismatched += classifier_->at(j).cls != PixelClass::Equal;
-    std::map<std::string, std::size_t> reproduced;
+    const auto extent = [&](const Alternative& a) {
+        return " and at " + std::to_string(a.reproduced) + " of the " + std::to_string(mismatched_) +
+               " mismatching pixels" + (a.broken ? ", changing " + std::to_string(a.broken) + " that agree" : "");
+    };
+    std::map<std::string, const Alternative*> chosen;  // the best alternative of each rule
     for (const auto& a : alternatives_) {
-        if (reproduced.count(a.rule) == 0 && resolves(cls.cls, a.classifier->at(i).cls)) {
+        if (chosen.count(a.rule) == 0 && resolves(cls.cls, a.classifier->at(i).cls)) {
             e.candidates.emplace_back(a.rule, a.change);
-            reproduced[a.rule] = a.reproduced;
+            chosen[a.rule] = &a;
         }
     }
-    const Evidence ev = gather(e.trace, profile_);
+    // The trace is evidence only where the alternatives leave a choice (two candidates that
+    // reproduce equally much) or none (which primitives reach the pixel); a verdict-only
+    // explanation renders it just then.
+    Evidence ev;
+    bool gathered = false;
+    const auto evidence = [&]() -> const Evidence& {
+        if (!gathered) {
+            trace();
+            ev = gather(e.trace, profile_);
+            gathered = true;
+        }
+        return ev;
+    };
+    if (full) (void)evidence();
     const auto evidence_for = [&](const std::string& rule) -> std::string {
-        if (rule == "tie rule") return ev.tie;
-        if (rule == "snapping") return ev.snapping;
-        if (rule == "nine-vertex analysis") return ev.nine_vertex;
-        if (rule == "cull") return ev.cull;
-        if (rule == "clipper") return ev.clipper;
+        if (!gathered) {
+            // Needed only to break a tie in the image brought into agreement.
+            long best = std::numeric_limits<long>::min();
+            std::size_t ties = 0;
+            for (const auto& c : e.candidates) best = std::max(best, chosen[c.first]->net());
+            for (const auto& c : e.candidates) ties += chosen[c.first]->net() == best;
+            if (ties < 2) return "";
+        }
+        const Evidence& ev_ = evidence();
+        if (rule == "tie rule") return ev_.tie;
+        if (rule == "snapping") return ev_.snapping;
+        if (rule == "nine-vertex analysis") return ev_.nine_vertex;
+        if (rule == "cull") return ev_.cull;
+        if (rule == "clipper") return ev_.clipper;
         return "";
     };
     std::string why;
@@ -335,7 +376,7 @@ Explanation Explainer::explain(int x, int y) {
         // the draw module before coverage before arithmetic.
         const auto rank = [&](const std::pair<std::string, std::string>& c) {
             const auto pos = std::find(rule_order().begin(), rule_order().end(), c.first) - rule_order().begin();
-            return std::make_tuple(-static_cast<long>(reproduced[c.first]), evidence_for(c.first).empty() ? 1 : 0, pos);
+            return std::make_tuple(-chosen[c.first]->net(), evidence_for(c.first).empty() ? 1 : 0, pos);
         };
         auto sorted = e.candidates;
         std::stable_sort(sorted.begin(), sorted.end(), [&](const auto& a, const auto& b) { return rank(a) < rank(b); });
@@ -352,16 +393,16 @@ Explanation Explainer::explain(int x, int y) {
                 if (tied(c)) why += " " + c.first + " (" + c.second + "),";
             }
             why.back() = ' ';
-            why += "reproduces the backend here and at " + std::to_string(reproduced[best.first]) + " of the " +
-                   std::to_string(mismatched) + " mismatching pixels";
+            why += "reproduces the backend here" + extent(*chosen[best.first]);
         } else {
             e.rule = best.first;
-            const std::string evidence = evidence_for(best.first);
-            why = (evidence.empty() ? "" : evidence + "; ") + best.second + " reproduces the backend here and at " +
-                  std::to_string(reproduced[best.first]) + " of the " + std::to_string(mismatched) + " mismatching pixels";
+            const std::string shown = evidence_for(best.first);
+            why = (shown.empty() ? "" : shown + "; ") + best.second + " reproduces the backend here" +
+                  extent(*chosen[best.first]);
         }
     }
     if (e.rule == "none") {
+        if (e.difference == "coverage") (void)evidence();  // which primitives reach the pixel
         if (e.difference == "coverage" && ev.lines_only) {
             e.rule = "line rule";
             why = "only lines reach the pixel, and no parameter of the profile reproduces the backend's line coverage";

@@ -245,7 +245,11 @@ ReduceResult reduce_scene(const SceneFile& scene, const std::string& label, cons
     Oracle oracle(profile, backend, label, keep);
     ReduceResult r;
     r.signature = oracle.signature(scene);
-    if (r.signature.empty()) throw std::runtime_error(label + ": the scene matches the backend; nothing to reduce");
+    if (r.signature.empty()) {
+        throw std::runtime_error(label + (keep.pixel || !keep.difference.empty()
+                                              ? ": no mismatch of the kind asked for; nothing to reduce"
+                                              : ": the scene matches the backend; nothing to reduce"));
+    }
     log << "signature: a " << r.signature << " mismatch" << "\n";
 
     std::vector<Piece> pieces;

@@ -22,10 +22,6 @@ namespace {
 std::vector<std::filesystem::path> shipped_scenes() {
     std::vector<std::filesystem::path> out;
     for (const auto& e : std::filesystem::recursive_directory_iterator(std::string(REFRASTER_SOURCE_DIR) + "/conformance/scenes")) {
-        // The generated extreme scenes (conformance/scenes/extreme) have their own test
-        // (random_extreme_test.cpp); against softpipe and mutated profiles they mismatch on
-        // hundreds of thousands of pixels, beyond this test's time budget.
-        if (e.path().parent_path().filename() == "extreme") continue;
         if (e.is_regular_file() && e.path().extension() == ".json") out.push_back(e.path());
     }
     std::sort(out.begin(), out.end());
@@ -93,7 +89,7 @@ void check_every_pixel(harness::Backend& backend, const refraster::Profile& prof
                 const std::size_t i = ref.index(x, y);
                 const auto cls = ex.classifier()->at(i).cls;
                 if (cls == harness::PixelClass::Equal) continue;
-                const auto e = ex.explain(static_cast<int>(x), static_cast<int>(y));
+                const auto e = ex.explain(static_cast<int>(x), static_cast<int>(y), false);
                 const std::string at = file.filename().string() + " (" + std::to_string(x) + ", " + std::to_string(y) +
                                        "): " + e.verdict;
                 ++tally.pixels;
@@ -190,13 +186,11 @@ TEST_P(ExplainVerdictsMutated, EveryPixelNamesTheMutatedRule) {
     Tally t;
     check_every_pixel(*backend, profile, GetParam().rule, t);
     print(GetParam().change, t);
-    // The mutated rule is named at most pixels; "undecided" only where another rule reproduces
-    // the backend exactly as well (a point that the tie rule and a coarser grid both move).
+    // The mutated rule is named at nearly every pixel; "undecided" only where another rule
+    // brings the image into agreement exactly as well (a point that the tie rule and a coarser
+    // grid both move).
     EXPECT_LE(t.by_verdict["coverage/undecided"] + t.by_verdict["colour/undecided"] + t.by_verdict["depth/undecided"],
-              t.pixels / 4);
-    if (t.pixels == 0 && std::string(GetParam().rule) == "cull") {
-        GTEST_SKIP() << "no shipped scene has a sliver whose float and fixed-point areas disagree where it is clipped";
-    }
+              t.pixels / 100);
     EXPECT_GT(t.pixels, 0u) << "the mutation changes no pixel of the suite";
 }
 

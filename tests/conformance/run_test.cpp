@@ -467,6 +467,56 @@ TEST(Reduce, TwoThousandTrianglesDownToTheSharedEdge) {
     EXPECT_EQ(c.exit_code, 1) << c.err << c.out;
 }
 
+TEST(Reduce, KeepsTheChosenPixelAndIsNamedAfterItsFile) {
+    // Two triangles apart, each with a diagonal through pixel centres: under a flipped tie rule
+    // both mismatch. Keeping a pixel of the second must keep the second triangle, whatever the
+    // pixel of largest difference; the scene is named after its output file.
+    testutil::TempDir dir;
+    const std::string scene = R"({"format": "refraster-scene/1", "name": "two.triangles",
+      "target": {"width": 32, "height": 16}, "clear": {"color": [0, 0, 0, 1]},
+      "draws": [{"primitive": "triangles", "vertices": [
+        {"position": [0, 0]}, {"position": [8, 0]}, {"position": [0, 8]},
+        {"position": [16, 0]}, {"position": [32, 0]}, {"position": [16, 16]}]}]})";
+    const auto in = dir.write("two.json", scene);
+    const auto out = dir.path() / "second_only.json";
+    // A pixel where the second triangle mismatches, from the error mask.
+    const auto cmp = testutil::run_cli({"compare", in.string(), "--profile-set", "tie_rule=right-top", "--diff",
+                                        (dir.path() / "m.png").string()});
+    ASSERT_EQ(cmp.exit_code, 1) << cmp.err;
+    const auto mask = harness::read_color_image(dir.path() / "m.png");
+    int px = -1, py = -1;
+    for (std::uint32_t y = 0; y < mask.height && px < 0; ++y) {
+        for (std::uint32_t x = 16; x < mask.width; ++x) {
+            if (mask.color8[4 * mask.index(x, y)] == 255) {
+                px = static_cast<int>(x);
+                py = static_cast<int>(y);
+                break;
+            }
+        }
+    }
+    ASSERT_GE(px, 16) << "the second triangle mismatches somewhere";
+    const std::string pixel = std::to_string(px) + "," + std::to_string(py);
+    auto r = testutil::run_cli({"reduce", in.string(), "--profile-set", "tie_rule=right-top", "--pixel", pixel, "-o",
+                                out.string()});
+    ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+    const auto reduced = nlohmann::json::parse(testutil::read_text(out));
+    EXPECT_EQ(reduced["name"], "second_only");
+    ASSERT_EQ(reduced["draws"].size(), 1u);
+    ASSERT_EQ(reduced["draws"][0]["vertices"].size(), 3u);
+    EXPECT_GE(reduced["draws"][0]["vertices"][0]["position"][0].get<float>(), 16.0f);  // the second triangle
+    const auto e = testutil::run_cli({"explain", out.string(), "--pixel", pixel, "--profile-set", "tie_rule=right-top", "--json"});
+    EXPECT_EQ(e.exit_code, 1) << e.err;
+    EXPECT_EQ(nlohmann::json::parse(e.out)["rule"], "tie rule");
+    // A class the scene does not show cannot be kept; bad pixels are bad input.
+    r = testutil::run_cli({"reduce", in.string(), "--profile-set", "tie_rule=right-top", "--class", "depth", "-o",
+                           (dir.path() / "d.json").string()});
+    EXPECT_EQ(r.exit_code, 2) << r.out;
+    EXPECT_FALSE(std::filesystem::exists(dir.path() / "d.json"));
+    r = testutil::run_cli({"reduce", in.string(), "--pixel", "40,1", "-o", (dir.path() / "p.json").string()});
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("outside the 32x16 target"), std::string::npos) << r.err;
+}
+
 }  // namespace
 
 namespace {

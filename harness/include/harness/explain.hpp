@@ -11,9 +11,12 @@
 // other snap roundings and subpixel precisions, fused or unfused arithmetic, denormal
 // flushing, the draw module's float cull, the nine-vertex analysis, the clipper's mode), and a
 // rule is named only when one of its alternatives reproduces the backend at this pixel; where
-// several do, the one the pixel's trace gives direct evidence for (a centre exactly on an edge
-// for the tie rule, an edge within one subpixel step for snapping, ...) is named and the others
-// listed. Coverage that differs only at lines (or points) and that no parameter reproduces is
+// several do, the one that brings most of the image into agreement is named, then the one the
+// pixel's trace gives direct evidence for (a centre exactly on an edge for the tie rule, an
+// edge within one subpixel step for snapping, ...), and the others are listed; two that stay
+// equal make it "undecided". A coverage rule that reproduces a colour or depth difference
+// reclasses it as coverage (a primitive beneath differs, seen through blending or depth).
+// Coverage that differs only at lines (or points) and that no parameter reproduces is
 // put down to the line (point) rule; anything else is "undecided". Three renderings of it all:
 // text, JSON, and an SVG of the neighbourhood at subpixel zoom (pixel grid, centres, the
 // snapped edges, covered pixels in their colours, tie-breaks ringed) for teaching.
@@ -71,8 +74,10 @@ public:
     Explainer(const Explainer&) = delete;
     Explainer& operator=(const Explainer&) = delete;
 
-    // Throws PixelOutsideTarget.
-    Explanation explain(int x, int y);
+    // Throws PixelOutsideTarget. With `full` false the verdict is the same but the pixel's
+    // trace is rendered only when the decision needs it (explaining a whole image is then
+    // linear in its pixels), so the trace and the evidence in the verdict's text may be missing.
+    Explanation explain(int x, int y, bool full = true);
 
     const refraster::Framebuffer& reference_image() const { return reference_; }
     const RenderResult* backend_render() const { return backend_result_ ? &*backend_result_ : nullptr; }
@@ -89,6 +94,7 @@ private:
     std::optional<RenderResult> backend_result_;
     std::unique_ptr<PixelClassifier> classifier_;
     bool alternatives_ready_ = false;
+    std::size_t mismatched_ = 0;  // pixels of the image that differ
     std::deque<Alternative> alternatives_;
 };
 
