@@ -390,10 +390,18 @@ SceneFile segments(const std::string& kind, Rng& r, PrimitiveType prim, bool fir
     if (prim == PrimitiveType::Triangles) {
         for (std::size_t t = 0; t < n / 3; ++t) {
             const float y = static_cast<float>(r.integer(0, 63)) + 0.5f;
-            const float x0 = static_cast<float>(r.integer(0, 240)) + static_cast<float>(r.integer(0, 7)) / 8.0f;
+            // Inside the viewport (x0 + L < 256): only the vertices chosen below leave it.
+            const float x0 = static_cast<float>(r.integer(0, 230)) + static_cast<float>(r.integer(0, 7)) / 8.0f;
             const float L = static_cast<float>(r.integer(2, 16));
             std::array<std::array<float, 2>, 3> p{{{x0, y + jitter()}, {x0 + L, y + jitter()},
                                                    {x0 + static_cast<float>(r.integer(1, 7)) * L / 8.0f, y + jitter()}}};
+            if (r.chance(0.5f)) {
+                // A sliver whose orientation flips in snapping: ends 3/1024 px above and below the
+                // row (snapped to +1 and -1 subpixel), the third vertex a quarter along, 2/1024 px
+                // up: above the float line (1.5/1024 there) but snapped (2049.5 -> 2048, even) below
+                // the snapped one.
+                p = {{{x0, y + 3.0f / 1024.0f}, {x0 + L, y - 3.0f / 1024.0f}, {x0 + L / 4.0f, y + 2.0f / 1024.0f}}};
+            }
             if (r.chance(0.5f)) std::swap(p[0], p[1]);
             for (std::size_t k = 0; k < 3; ++k) {
                 float x = p[k][0];
