@@ -94,20 +94,29 @@ std::string scene_label(const Scene& scene) {
     return "an unnamed scene";
 }
 
-// Child environment: ours, with GALLIUM_DRIVER replaced by the driver asked for. The
-// REFRASTER_WORKER_KILL_AT and REFRASTER_WORKER_HANG_AT test hooks reach only the first worker,
-// so that a run sees exactly the one crash or hang it asked for, not one per replacement.
-std::vector<std::string> worker_environment(Driver driver, bool first_worker) {
+// Child environment: ours, with GALLIUM_DRIVER replaced by the driver asked for and the
+// options' own variables (LP_NUM_THREADS=0, ...) replacing ours. The REFRASTER_WORKER_KILL_AT
+// and REFRASTER_WORKER_HANG_AT test hooks reach only the first worker, so that a run sees
+// exactly the one crash or hang it asked for, not one per replacement.
+std::vector<std::string> worker_environment(Driver driver, const std::vector<std::string>& extra, bool first_worker) {
     std::vector<std::string> env;
+    const auto overridden = [&](std::string_view kv) {
+        for (const auto& x : extra) {
+            const auto name = x.substr(0, x.find('=') + 1);
+            if (kv.starts_with(name)) return true;
+        }
+        return false;
+    };
     for (char** e = environ; e && *e; ++e) {
         const std::string_view kv(*e);
-        if (kv.starts_with("GALLIUM_DRIVER=")) continue;
+        if (kv.starts_with("GALLIUM_DRIVER=") || overridden(kv)) continue;
         if (!first_worker && (kv.starts_with("REFRASTER_WORKER_KILL_AT=") || kv.starts_with("REFRASTER_WORKER_HANG_AT="))) {
             continue;
         }
         env.emplace_back(kv);
     }
     env.push_back(std::string("GALLIUM_DRIVER=") + driver_name(driver));
+    env.insert(env.end(), extra.begin(), extra.end());
     return env;
 }
 
@@ -254,7 +263,7 @@ std::optional<RenderResult> GlWorkerBackend::ensure_worker() {
 
         std::string program = worker_path_.string();
         std::vector<char*> argv{program.data(), nullptr};
-        std::vector<std::string> env = worker_environment(options_.driver, workers_started_ == 0);
+        std::vector<std::string> env = worker_environment(options_.driver, options_.environment, workers_started_ == 0);
         std::vector<char*> envp;
         envp.reserve(env.size() + 1);
         for (auto& e : env) envp.push_back(e.data());

@@ -9,6 +9,7 @@
 #include <iostream>
 
 #include "harness/backend.hpp"
+#include "harness/bench.hpp"
 #include "harness/case_result.hpp"
 #include "harness/explain.hpp"
 #include "harness/extreme_scenes.hpp"
@@ -440,6 +441,53 @@ int run_hashes(const std::string& scenes, const ProfileArgs& profile) {
     }
 }
 
+// ---- bench -------------------------------------------------------------------------------
+
+struct BenchArgs {
+    std::string scenes;
+    int rounds = 5;
+    double scale = 1.0;
+    std::uint64_t seed = 1;
+    bool no_gl = false;
+    std::string json;
+    ProfileArgs profile;
+};
+
+int run_bench(const BenchArgs& a) {
+    harness::BenchOptions o;
+    try {
+        o.profile = a.profile.load();
+    } catch (const refraster::ProfileError& e) {
+        std::cerr << "refraster: " << e.what() << "\n";
+        return kExitBadInput;
+    }
+    o.scenes = split_globs(a.scenes);
+    o.rounds = a.rounds;
+    o.scale = a.scale;
+    o.seed = a.seed;
+    o.gl = !a.no_gl;
+    std::vector<harness::BenchRow> rows;
+    try {
+        rows = harness::run_bench(o, std::cerr);
+    } catch (const std::invalid_argument& e) {
+        std::cerr << "refraster bench: " << e.what() << "\n";
+        return kExitBadInput;
+    } catch (const std::exception& e) {
+        std::cerr << "refraster bench: " << e.what() << "\n";
+        return kExitBackendFailure;
+    }
+    std::cout << harness::bench_table(rows);
+    if (!a.json.empty()) {
+        try {
+            harness::write_file_atomically(a.json, harness::bench_json(rows));
+        } catch (const std::exception& e) {
+            std::cerr << e.what() << "\n";
+            return kExitBadInput;
+        }
+    }
+    return kExitOk;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -537,6 +585,23 @@ int main(int argc, char** argv) {
     add_driver_options(dcmd, reduce.against);
     add_profile_options(dcmd, reduce.against.profile);
 
+    BenchArgs bench;
+    auto* bcmd = app.add_subcommand(
+        "bench", "Time the reference against OSMesa llvmpipe (one thread, default threads) and softpipe");
+    bcmd->add_option("--scenes", bench.scenes,
+                     "Comma-separated workloads (default all): tiny-flat, tiny-smooth, medium-flat, medium-smooth, "
+                     "full-flat, full-smooth, medium-perspective, full-perspective");
+    bcmd->add_option("--rounds", bench.rounds, "Interleaved rounds; medians are reported")
+        ->check(CLI::Range(1, 1000))
+        ->capture_default_str();
+    bcmd->add_option("--scale", bench.scale, "Fraction of each workload's triangles, for quick runs")
+        ->check(CLI::Range(1e-6, 1.0))
+        ->capture_default_str();
+    bcmd->add_option("--seed", bench.seed, "Seed of the generated workloads")->capture_default_str();
+    bcmd->add_flag("--no-gl", bench.no_gl, "Time the reference alone");
+    bcmd->add_option("--json", bench.json, "Write the results as JSON here");
+    add_profile_options(bcmd, bench.profile);
+
     ProfileArgs show;
     auto* pcmd = app.add_subcommand("profile", "Print a reference profile as JSON (a profile file)");
     pcmd->add_option("name", show.profile, "Built-in name or profile file")->capture_default_str();
@@ -569,6 +634,7 @@ int main(int argc, char** argv) {
     if (hash_cmd->parsed()) return run_hashes(hash_scenes, hash_profile);
     if (xcmd->parsed()) return run_explain(explain);
     if (dcmd->parsed()) return run_reduce(reduce);
+    if (bcmd->parsed()) return run_bench(bench);
     if (pcmd->parsed()) {
         try {
             std::cout << harness::profile_to_json(show.load()) << "\n";

@@ -105,14 +105,16 @@ struct NoTrace {};
 class DrawRasterizer {
 public:
     DrawRasterizer(std::size_t draw_index, const Draw& d, const Target& target, const Profile& profile,
-                   Framebuffer& fb, PixelTrace* trace)
+                   Framebuffer& fb, PixelTrace* trace, RenderStage stop_after = RenderStage::Fragment)
         : index_(draw_index), draw_(d), target_(target), profile_(profile), fb_(fb), trace_(trace),
           params_(detail::setup_params(profile, d.state, target)),
-          fma_(profile.viewport_fma == FmaMode::On || (profile.viewport_fma == FmaMode::Auto && host_has_fma())) {}
+          fma_(profile.viewport_fma == FmaMode::On || (profile.viewport_fma == FmaMode::Auto && host_has_fma())),
+          stop_(stop_after) {}
 
     template <bool kTrace>
     void run() {
         detail::VertexStage stage(draw_, {fma_, profile_.flush_denormals, profile_.clipping == Clipping::GuardBand});
+        if (stop_ == RenderStage::Load) return;
         if (draw_.primitive == PrimitiveType::Points) return run_points<kTrace>(stage);
         if (!is_triangle(draw_.primitive)) return run_lines<kTrace>(stage);
         if (draw_.state.polygon_mode != PolygonMode::Fill) return run_unfilled<kTrace>(stage);
@@ -260,6 +262,11 @@ private:
             trace_edges<kTrace>(pt, s, *setup, shader);
             pt.setups.push_back(s);
         }
+        if (stop_ == RenderStage::Setup) return;
+        if (stop_ == RenderStage::Raster) {
+            detail::traverse_convex(*setup, [&](int, int x0, int x1) { fragments_ += static_cast<std::uint64_t>(x1 - x0); });
+            return;
+        }
         detail::traverse_convex(*setup, [&](int y, int x0, int x1) { shader.shade_span(y, x0, x1, fb_); });
     }
 
@@ -275,6 +282,11 @@ private:
             s.window = {v.window};
             trace_edges<kTrace>(pt, s, *setup, shader);
             pt.setups.push_back(s);
+        }
+        if (stop_ == RenderStage::Setup) return;
+        if (stop_ == RenderStage::Raster) {
+            detail::traverse_convex(*setup, [&](int, int x0, int x1) { fragments_ += static_cast<std::uint64_t>(x1 - x0); });
+            return;
         }
         detail::traverse_convex(*setup, [&](int y, int x0, int x1) { shader.shade_span(y, x0, x1, fb_); });
     }
@@ -521,6 +533,11 @@ private:
                 s.fragment = shader.trace_pixel(trace_->x, trace_->y, fb_);
             }
         }
+        if (stop_ == RenderStage::Setup) return;
+        if (stop_ == RenderStage::Raster) {
+            detail::traverse_triangle(t, [&](int, int x0, int x1) { fragments_ += static_cast<std::uint64_t>(x1 - x0); });
+            return;
+        }
         detail::traverse_triangle(t, [&](int y, int x0, int x1) { shader.shade_span(y, x0, x1, fb_); });
         finish("drawn");
     }
@@ -574,7 +591,11 @@ private:
     PixelTrace* trace_;
     detail::SetupParams params_;
     bool fma_;
+    RenderStage stop_;
     std::uint32_t owner_ = 0;  // of the primitive being drawn
+
+public:
+    std::uint64_t fragments_ = 0;  // covered pixels, counted when stopping after traversal
 };
 
 }  // namespace
@@ -598,15 +619,17 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
             return {RenderStatus::NotSupported, why + " (draws[" + std::to_string(i) + "])"};
         }
     }
+    RenderOutcome outcome;
     for (std::size_t i = 0; i < list.draws.size(); ++i) {
         const Draw& d = list.draws[i];
         if (primitive_count(d.primitive, d.element_count()) == 0) continue;
-        DrawRasterizer r(i, d, list.target, options.profile, out, trace);
+        DrawRasterizer r(i, d, list.target, options.profile, out, trace, options.stop_after);
         if (trace != nullptr) {
             r.run<true>();
         } else {
             r.run<false>();
         }
+        outcome.fragments += r.fragments_;
     }
     if (trace != nullptr && trace->x >= 0 && trace->y >= 0 && static_cast<std::uint32_t>(trace->x) < out.width &&
         static_cast<std::uint32_t>(trace->y) < out.height) {
@@ -615,7 +638,7 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
             trace->final_color[k] = out.color_format == ColorFormat::Rgba8 ? out.color8[i + k] : out.color32f[i + k];
         }
     }
-    return {};
+    return outcome;
 }
 
 }  // namespace refraster

@@ -316,6 +316,35 @@ TEST(ConformanceRun, CasePageExplainCommandReproducesTheCase) {
               std::string::npos);
 }
 
+TEST(Bench, TablesJsonAndRefusesWrongPixels) {
+    // A small fraction of every workload, one round: the table, the JSON of
+    // docs/performance.md, and the comparison with llvmpipe that makes a wrong reference fail.
+    testutil::TempDir dir;
+    const auto json_path = dir.path() / "bench.json";
+    auto r = testutil::run_cli({"bench", "--scale", "0.002", "--rounds", "2", "--json", json_path.string()});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("| full-perspective |"), std::string::npos) << r.out;
+    const auto j = json::parse(testutil::read_text(json_path));
+    ASSERT_EQ(j["scenes"].size(), 8u);
+    for (const auto& s : j["scenes"]) {
+        for (const char* k : {"ref_ms", "llvmpipe_t0_ms", "llvmpipe_ms", "softpipe_ms", "speedup_vs_llvmpipe_t0"}) {
+            EXPECT_GT(s[k].get<double>(), 0.0) << s["name"] << " " << k;
+        }
+        EXPECT_GT(s["ref_heap_peak_mb"].get<double>(), 4.0) << s["name"];  // at least the 1024x1024 colour buffer
+        double split = 0;
+        for (const char* k : {"load", "setup", "raster", "fragment"}) split += s["split_ms"][k].get<double>();
+        EXPECT_GT(split, 0.0) << s["name"];
+        EXPECT_GT(s["pixels"].get<double>(), 0.0) << s["name"];
+    }
+    r = testutil::run_cli({"bench", "--scenes", "medium-flat", "--scale", "0.01", "--rounds", "1", "--profile-set",
+                           "snap_rounding=truncate"});
+    EXPECT_EQ(r.exit_code, 3);
+    EXPECT_NE(r.err.find("differs from llvmpipe's"), std::string::npos) << r.err;
+    r = testutil::run_cli({"bench", "--scenes", "huge-flat"});
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("unknown bench scene \"huge-flat\""), std::string::npos) << r.err;
+}
+
 TEST(ConformanceRun, ShardsPartitionTheSelection) {
     testutil::TempDir dir;
     std::map<std::string, std::string> all;

@@ -100,3 +100,81 @@ TEST(Render, ExactProfileRefusesLines) {
 }
 
 }  // namespace
+
+namespace {
+
+// A few overlapping triangles and a line and points: every stage has work.
+refraster::DrawList staged_list() {
+    refraster::DrawList l;
+    l.target = {64, 48, refraster::ColorFormat::Rgba8, refraster::DepthFormat::Z24, 1};
+    l.clear.color = {0.0f, 0.0f, 0.0f, 1.0f};
+    const auto add = [&](refraster::PrimitiveType p, std::vector<std::array<float, 4>> pos) {
+        refraster::Draw d;
+        d.primitive = p;
+        d.state.viewport = {0, 0, 64, 48};
+        d.state.depth_test = refraster::CompareFunc::Less;
+        d.state.point_size = 3.0f;
+        d.vertices.attributes = {{"color", 4}};
+        for (const auto& v : pos) d.vertices.data.insert(d.vertices.data.end(), {v[0], v[1], v[2], v[3], 1, 0.5f, 0.25f, 1});
+        l.draws.push_back(d);
+    };
+    add(refraster::PrimitiveType::Triangles, {{-0.9f, -0.8f, 0.1f, 1}, {0.7f, -0.6f, 0.2f, 1}, {-0.2f, 0.9f, 0.3f, 1},
+                                              {-0.5f, -0.9f, -0.5f, 1}, {2.0f, 0.1f, 0.5f, 1}, {0.1f, 3.0f, 0.0f, 2}});
+    add(refraster::PrimitiveType::Lines, {{-1, -1, 0, 1}, {1, 0.5f, 0, 1}});
+    add(refraster::PrimitiveType::Points, {{0, 0, -0.9f, 1}, {0.5f, -0.5f, -0.9f, 1}});
+    return l;
+}
+
+TEST(Render, StopsAfterEachStageWithoutDrawing) {
+    const auto list = staged_list();
+    refraster::Framebuffer full;
+    ASSERT_EQ(refraster::render(list, full).status, refraster::RenderStatus::Ok);
+    refraster::Framebuffer cleared;
+    refraster::DrawList empty = list;
+    empty.draws.clear();
+    (void)refraster::render(empty, cleared);
+    ASSERT_NE(full, cleared);
+    for (auto stage : {refraster::RenderStage::Load, refraster::RenderStage::Setup, refraster::RenderStage::Raster}) {
+        refraster::RenderOptions o;
+        o.stop_after = stage;
+        refraster::Framebuffer fb;
+        const auto r = refraster::render(list, o, fb);
+        ASSERT_EQ(r.status, refraster::RenderStatus::Ok);
+        EXPECT_EQ(fb, cleared) << static_cast<int>(stage);  // nothing shaded
+        EXPECT_EQ(r.fragments == 0, stage != refraster::RenderStage::Raster) << static_cast<int>(stage);
+    }
+}
+
+TEST(Render, TraversalCountsEveryCoveredPixel) {
+    // One draw per primitive on a fresh target, depth test off: the covered pixels are exactly
+    // the pixels the full render changes, for triangles, lines and points alike.
+    const auto list = staged_list();
+    for (std::size_t d = 0; d < list.draws.size(); ++d) {
+        refraster::DrawList one = list;
+        one.draws = {list.draws[d]};
+        one.draws[0].state.depth_test.reset();
+        refraster::RenderOptions o;
+        o.stop_after = refraster::RenderStage::Raster;
+        refraster::Framebuffer scratch, drawn;
+        const auto counted = refraster::render(one, o, scratch).fragments;
+        // Draw each primitive alone and count the pixels it changes.
+        std::uint64_t changed = 0;
+        const auto n = refraster::primitive_count(one.draws[0].primitive, one.draws[0].vertices.size());
+        const std::size_t per = one.draws[0].primitive == refraster::PrimitiveType::Triangles ? 3
+                                : one.draws[0].primitive == refraster::PrimitiveType::Lines  ? 2
+                                                                                              : 1;
+        for (std::size_t p = 0; p < n; ++p) {
+            refraster::DrawList single = one;
+            auto& data = single.draws[0].vertices.data;
+            const std::size_t stride = single.draws[0].vertices.stride();
+            data.assign(one.draws[0].vertices.data.begin() + static_cast<std::ptrdiff_t>(p * per * stride),
+                        one.draws[0].vertices.data.begin() + static_cast<std::ptrdiff_t>((p + 1) * per * stride));
+            ASSERT_EQ(refraster::render(single, drawn).status, refraster::RenderStatus::Ok);
+            for (std::size_t i = 0; i < drawn.pixel_count(); ++i) changed += drawn.color8[4 * i] == 255;
+        }
+        EXPECT_EQ(counted, changed) << "draw " << d;
+        EXPECT_GT(counted, 0u) << "draw " << d;
+    }
+}
+
+}  // namespace

@@ -65,6 +65,9 @@ struct BackendOptions {
     BackendKind kind = BackendKind::Ref;
     Driver driver = Driver::Llvmpipe;
     double timeout_seconds = 60.0;  // per scene, GL backends only
+    // NAME=value variables for a GL worker's environment (LP_NUM_THREADS=0), recorded in its
+    // provenance like the driver's own.
+    std::vector<std::string> environment;
     // The reference's rules (ref only), and the key=value overrides applied to the named
     // profile, recorded with every result.
     refraster::Profile profile;

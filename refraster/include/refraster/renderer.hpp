@@ -14,6 +14,7 @@
 // multisampled targets, and anything but filled triangles under the exact profile.
 #pragma once
 
+#include <cstdint>
 #include <string>
 
 #include "refraster/draw.hpp"
@@ -28,7 +29,15 @@ enum class RenderStatus : std::uint8_t { Ok, NotSupported };
 struct RenderOutcome {
     RenderStatus status = RenderStatus::Ok;
     std::string message;  // why, when status != Ok
+    std::uint64_t fragments = 0;  // pixels traversal found covered, counted with RenderStage::Raster
 };
+
+// Where a render may stop, for measuring what each stage costs (`refraster bench`): after
+// the vertex stage (fetch, viewport transform, clip masks), after setup (assembly, clipping,
+// culling, snapping, edges and attribute planes), after traversal (coverage, counted in
+// RenderOutcome::fragments, nothing shaded), or never. A stopped render leaves the target
+// cleared but not drawn. The exact oracle's triangles stop only after the vertex stage.
+enum class RenderStage : std::uint8_t { Load, Setup, Raster, Fragment };
 
 struct RenderOptions {
     Profile profile;
@@ -36,6 +45,7 @@ struct RenderOptions {
     PixelTrace* trace = nullptr;
     // Fill Framebuffer::owner: which primitive wrote each pixel last.
     bool record_owners = false;
+    RenderStage stop_after = RenderStage::Fragment;
 };
 
 // Number of complete primitives a draw assembles under GL's rules (OpenGL 4.6 compatibility
