@@ -425,7 +425,7 @@ int run_hashes(const std::string& scenes, const ProfileArgs& profile) {
         auto backend = harness::make_backend(ref.options());
         const auto root = scenes.empty() ? default_scenes_root() : std::filesystem::path(scenes);
         std::cout << "# refraster reference image hashes (FNV-1a 64 of decoded colour and depth), profile "
-                  << ref.profile.load().name << " with viewport_fma=on\n"
+                  << ref.profile.load().name << "\n"
                   << "# regenerate: build/bin/refraster conformance hashes > conformance/expectations/ref-hashes.txt\n";
         for (const auto& c : conformance::discover_cases(root)) {
             const auto r = backend->render(harness::load_scene(c.file));
