@@ -519,7 +519,8 @@ TEST(SceneWork, EstimatesBoundingBoxesClippedToTheRegion) {
               1024u * 1024u);
 }
 
-// The limits change no shipped scene: each stays far below every one of them.
+// The limits change no shipped scene: each stays below a tenth of every one of them (the
+// extreme scenes included, which reach the largest targets the format allows).
 TEST(SceneLimits, ShippedScenesStayFarBelow) {
     const harness::SceneLimits l;
     int n = 0;
@@ -534,11 +535,11 @@ TEST(SceneLimits, ShippedScenesStayFarBelow) {
             vertices += d.vertices.size();
             indices += d.indices ? d.indices->size() : 0;
         }
-        EXPECT_LE(s.draw_list.draws.size() * 100, l.max_draws) << e.path();
-        EXPECT_LE(vertices * 100, l.max_vertices) << e.path();
-        EXPECT_LE(indices * 100, l.max_indices) << e.path();
-        EXPECT_LE(w.primitives * 100, l.max_primitives) << e.path();
-        EXPECT_LE(w.fragments * 100, l.max_fragments) << e.path();
+        EXPECT_LE(s.draw_list.draws.size() * 10, l.max_draws) << e.path();
+        EXPECT_LE(vertices * 10, l.max_vertices) << e.path();
+        EXPECT_LE(indices * 10, l.max_indices) << e.path();
+        EXPECT_LE(w.primitives * 10, l.max_primitives) << e.path();
+        EXPECT_LE(w.fragments * 10, l.max_fragments) << e.path();
         ++n;
     }
     EXPECT_GT(n, 100);
