@@ -1,7 +1,7 @@
 // gl_render.hpp: renders a refraster::DrawList with the current OpenGL context, and the
 // request loop every GL worker process runs.
 //
-// Implements the rules of shared/spec/scene-format.md, "How GL backends must render a scene":
+// Implements the rules of docs/scene-format.md, "How a GL backend draws a scene":
 // a framebuffer object with the target's formats and always a depth attachment, a 4x target
 // resolved with glBlitFramebuffer, a clear with scissor off and every mask on, a pass-through
 // shader per interpolation qualifier, all fixed-function state set from each draw's own

@@ -1,6 +1,6 @@
 // scene.hpp: a scene file (format v1) as the harness holds it, and how to load one.
 //
-// Implements: the parsed, validated content of a scene file (shared/spec/scene-format.md), in
+// Implements: the parsed, validated content of a scene file (docs/scene-format.md), in
 // two layers. `SceneFile` keeps what the file says (positions as written, their space and
 // matrix); `Scene` adds the API-neutral draw list the front end computes from it, identical
 // for every backend.

@@ -2,7 +2,7 @@
 //
 // Implements: the render target description, the clear values, and an ordered list of draws,
 // each with clip-space float32 vertices (produced once by the harness front end), optional
-// indices and the fixed-function state of scene format v1 (shared/spec/scene-format.md).
+// indices and the fixed-function state of scene format v1 (docs/scene-format.md).
 //
 // Deliberately does not: parse files, transform vertices, or validate ranges. Whoever builds a
 // DrawList (harness/front_end) guarantees what the scene format guarantees: finite clip
