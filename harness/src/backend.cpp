@@ -43,7 +43,7 @@ Provenance host_provenance() {
     std::string flags;
 #if defined(__x86_64__) || defined(__i386__)
     __builtin_cpu_init();
-    // Mesa's gallivm fuses llvm.fmuladd iff the CPU has FMA (mesa-22.3-rules.md 9.4).
+    // Mesa's gallivm fuses llvm.fmuladd iff the CPU has FMA (gallivm passes +fma to LLVM exactly then; docs/precision.md "Viewport transform").
     if (__builtin_cpu_supports("fma")) flags += "fma ";
     if (__builtin_cpu_supports("avx")) flags += "avx ";
     if (__builtin_cpu_supports("avx2")) flags += "avx2 ";

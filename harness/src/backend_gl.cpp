@@ -386,7 +386,7 @@ RenderResult GlWorkerBackend::render_frame(const Scene& scene, bool owners) {
     const std::string label = scene_label(scene);
     if (!scene.unsupported_extensions.empty()) {
         std::string list;
-        for (const auto& e : scene.unsupported_extensions) list += (list.empty() ? "" : ", ") + e;
+        for (const auto& e : scene.unsupported_extensions) list += (list.empty() ? "" : ", ") + escape_for_message(e);
         return failure(RenderStatus::NotSupported, label + ": requires unsupported extension(s) " +
                                                        list);
     }

@@ -35,7 +35,7 @@ private:
                                   : "off";
         if (!scene.unsupported_extensions.empty()) {
             r.status = RenderStatus::NotSupported;
-            r.message = "requires extension \"" + scene.unsupported_extensions.front() +
+            r.message = "requires extension \"" + escape_for_message(scene.unsupported_extensions.front()) +
                         "\", which the reference does not implement";
             return r;
         }

@@ -2,7 +2,7 @@
 //
 // Implements: flushing denormals to zero (FTZ on results, DAZ on inputs), which llvmpipe
 // enables around its vertex pipeline and rasterizer (draw_pt.c, lp_rast.c:
-// util_fpstate_set_denorms_to_zero; mesa-22.3-rules.md P6), and the four operations plus a
+// util_fpstate_set_denorms_to_zero; docs/precision.md "Denormals"), and the four operations plus a
 // fused multiply-add under that mode. Each operation rounds once, as IEEE float32 does; the
 // project compiles with -ffp-contract=off so that nothing else fuses.
 //

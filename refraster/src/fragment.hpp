@@ -21,8 +21,8 @@
 //    as float for z32f, the eight compare functions on those values, writes when enabled.
 //  - colour output: rgba8 RNE(fl(c * 255)) of the clamped colour (lp_build_conv); rgba32f
 //    unclamped; blending per scene format's presets: on rgba8 in 8-bit fixed point with
-//    M(x, y) = (x*y + ((x*y) >> 8) + 128) >> 8 and saturating adds (lp_bld_blend, measured in
-//    mesa-22.3-rules-2.md 5.2); on rgba32f in float, unfused.
+//    M(x, y) = (x*y + ((x*y) >> 8) + 128) >> 8 and saturating adds (lp_bld_blend; measured, docs/precision.md
+//    "Colour output and blending"); on rgba32f in float, unfused.
 //
 // Deliberately does not: multisampling, stencil, colour masks, blend equations other than
 // the two presets.
@@ -132,7 +132,8 @@ std::uint8_t clear_to_unorm8(float c);
 // Fragment depth clamped to [0, 1] as llvmpipe's generated code does it: a NaN becomes 1.
 float clamp_depth(float z);
 
-// Fragment colour into rgba8: clamp to [0, 1], then RNE(fl(c * 255)) (mesa-22.3-rules.md 3.3).
+// Fragment colour into rgba8: clamp to [0, 1], then RNE(fl(c * 255)) (lp_build_conv; docs/precision.md
+// "Colour output and blending").
 std::uint8_t color_to_unorm8(float c);
 
 // llvmpipe's 8-bit product (lp_build_mul_norm): (x*y + ((x*y) >> 8) + 128) >> 8.

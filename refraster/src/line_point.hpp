@@ -4,17 +4,17 @@
 //  - line assembly for lines, line_strip and line_loop, in the order llvmpipe's vbuf path
 //    emits segments (lp_setup_vbuf.c): the closing segment of a loop is (v[n-1], v[0]), and
 //    the provoking vertex is a segment's second vertex (first with the first-vertex
-//    convention) (mesa-22.3-rules-2.md 6.4);
+//    convention) (docs/precision.md "Lines");
 //  - line coverage (lp_setup_line.c, try_setup_line, the non-rectangular path GL uses): a
 //    four-plane parallelogram around the line, its width util_iround(width) pixels in the
 //    minor axis, its ends moved by half a pixel by the driver's diamond-exit heuristics
 //    (including its quirk for y2diff == -0.5 with dy < 0), positions snapped with util_iround
-//    (half away from zero), then the triangle plane and tie rules (mesa-22.3-rules.md 5.1-5.2);
+//    (half away from zero), then the triangle plane and tie rules (docs/precision.md "Lines");
 //  - line attribute planes (setup_line_coefficients, linear_coef, perspective_coef): plain C
 //    float arithmetic, the gradient only along the major axis, scaled by 1 + slope^2;
 //  - points as quads (lp_setup_point.c, try_setup_point with point sprites on): a square of
 //    side max(1, util_iround(256 * size) / 256) around the snapped centre, left and bottom
-//    edges inclusive (mesa-22.3-rules.md 6.2); attributes constant over the point
+//    edges inclusive (docs/precision.md "Points"); attributes constant over the point
 //    (constant_coef, point_persp_coeff).
 //
 // Deliberately does not: smooth (antialiased) lines, stipple, legacy (non-sprite) points,

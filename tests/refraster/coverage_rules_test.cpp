@@ -1,5 +1,6 @@
 // Coverage rules, each checked on pixels derived by hand from the rule it states
-// (mesa-22.3-rules.md 1.1, 1.4, 1.5; the exact oracle; culling; clipping).
+// (docs/precision.md "Snapping", "Edge functions and the tie rule"; the exact oracle;
+// culling; clipping).
 #include <gtest/gtest.h>
 
 #include <set>
