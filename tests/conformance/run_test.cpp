@@ -208,11 +208,10 @@ TEST(ConformanceRun, ResumeRefusesAFileNoKillCouldLeave) {
     EXPECT_EQ(testutil::read_text(out / "results.jsonl"), good);
 }
 
-TEST(ConformanceRun, BaselineExpectedFailAndUnexpectedPass) {
-    testutil::TempDir dir;
-    // Scenes of our own: one the reference gets wrong on purpose (tie rule flipped by profile)
-    // and one it gets right.
-    const auto scenes = dir.path() / "scenes" / "t";
+// Scenes of our own under DIR/scenes/t: one the reference gets wrong under tie_rule=right-top,
+// one it gets right, and with `msaa` one multisampled (NotSupported by the reference).
+std::filesystem::path write_small_suite(const std::filesystem::path& dir, bool msaa = true) {
+    const auto scenes = dir / "scenes" / "t";
     std::filesystem::create_directories(scenes);
     std::ofstream(scenes / "tie.json") << R"({"format": "refraster-scene/1", "name": "t.tie", "description": "d",
       "target": {"width": 8, "height": 8}, "clear": {"color": [0, 0, 0, 1]},
@@ -220,6 +219,16 @@ TEST(ConformanceRun, BaselineExpectedFailAndUnexpectedPass) {
     std::ofstream(scenes / "plain.json") << R"({"format": "refraster-scene/1", "name": "t.plain", "description": "d",
       "target": {"width": 8, "height": 8}, "clear": {"color": [0, 0, 0, 1]},
       "draws": [{"primitive": "triangles", "vertices": [{"position": [0.25, 0.25]}, {"position": [7.25, 0.75]}, {"position": [1.5, 7.75]}]}]})";
+    if (msaa) std::ofstream(scenes / "msaa.json") << R"({"format": "refraster-scene/1", "name": "t.msaa", "description": "d",
+      "target": {"width": 8, "height": 8, "samples": 4}, "draws": []})";
+    return dir / "scenes";
+}
+
+TEST(ConformanceRun, BaselineExpectedFailAndUnexpectedPass) {
+    testutil::TempDir dir;
+    // Scenes of our own: one the reference gets wrong on purpose (tie rule flipped by profile)
+    // and one it gets right.
+    write_small_suite(dir.path(), false);
     std::ofstream(dir.path() / "baseline.csv") << "# known failures\nt.tie,Fail\nt.plain,Fail\n";
     const auto out = dir.path() / "out";
     const auto r = testutil::run_cli({"conformance", "run", "--scenes", (dir.path() / "scenes").string(), "--baseline",
@@ -234,22 +243,6 @@ TEST(ConformanceRun, BaselineExpectedFailAndUnexpectedPass) {
     const auto junit = testutil::read_text(out / "junit.xml");
     EXPECT_NE(junit.find("<failure type=\"UnexpectedPass\""), std::string::npos);
     EXPECT_NE(junit.find("tests=\"2\" failures=\"1\""), std::string::npos);
-}
-
-// Scenes of our own under DIR/scenes/t: one the reference gets wrong under tie_rule=right-top,
-// one it gets right, one multisampled (NotSupported by the reference).
-std::filesystem::path write_small_suite(const std::filesystem::path& dir) {
-    const auto scenes = dir / "scenes" / "t";
-    std::filesystem::create_directories(scenes);
-    std::ofstream(scenes / "tie.json") << R"({"format": "refraster-scene/1", "name": "t.tie", "description": "d",
-      "target": {"width": 8, "height": 8}, "clear": {"color": [0, 0, 0, 1]},
-      "draws": [{"primitive": "triangles", "vertices": [{"position": [0, 0]}, {"position": [8, 0]}, {"position": [0, 8]}]}]})";
-    std::ofstream(scenes / "plain.json") << R"({"format": "refraster-scene/1", "name": "t.plain", "description": "d",
-      "target": {"width": 8, "height": 8}, "clear": {"color": [0, 0, 0, 1]},
-      "draws": [{"primitive": "triangles", "vertices": [{"position": [0.25, 0.25]}, {"position": [7.25, 0.75]}, {"position": [1.5, 7.75]}]}]})";
-    std::ofstream(scenes / "msaa.json") << R"({"format": "refraster-scene/1", "name": "t.msaa", "description": "d",
-      "target": {"width": 8, "height": 8, "samples": 4}, "draws": []})";
-    return dir / "scenes";
 }
 
 TEST(ConformanceRun, CsvsSpeakDeqpRunnerAndBaselinesAcceptIt) {
