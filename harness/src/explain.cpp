@@ -50,6 +50,13 @@ std::string owner_text(std::uint32_t owner) {
 
 std::string px_text(int x, int y) { return "(" + std::to_string(x) + ", " + std::to_string(y) + ")"; }
 
+void require_inside(const refraster::Target& target, int x, int y) {
+    if (x < 0 || y < 0 || static_cast<std::uint32_t>(x) >= target.width || static_cast<std::uint32_t>(y) >= target.height) {
+        throw PixelOutsideTarget("pixel " + px_text(x, y) + " is outside the " + std::to_string(target.width) + "x" +
+                                 std::to_string(target.height) + " target");
+    }
+}
+
 // What the trace shows at the pixel, as evidence for a rule.
 struct Evidence {
     std::string tie;       // a centre exactly on an edge whose ownership alone decides coverage
@@ -254,11 +261,7 @@ void Explainer::render_alternatives() {
 }
 
 Explanation Explainer::explain(int x, int y, bool full) {
-    const auto& target = scene_.draw_list.target;
-    if (x < 0 || y < 0 || static_cast<std::uint32_t>(x) >= target.width || static_cast<std::uint32_t>(y) >= target.height) {
-        throw PixelOutsideTarget("pixel " + px_text(x, y) + " is outside the " + std::to_string(target.width) + "x" +
-                                 std::to_string(target.height) + " target");
-    }
+    require_inside(scene_.draw_list.target, x, y);
     Explanation e;
     e.profile = profile_;
     e.trace.x = x;
@@ -432,11 +435,7 @@ Explanation Explainer::explain(int x, int y, bool full) {
 }
 
 Explanation explain_pixel(const Scene& scene, const refraster::Profile& profile, int x, int y, Backend* backend) {
-    const auto& target = scene.draw_list.target;
-    if (x < 0 || y < 0 || static_cast<std::uint32_t>(x) >= target.width || static_cast<std::uint32_t>(y) >= target.height) {
-        throw PixelOutsideTarget("pixel " + px_text(x, y) + " is outside the " + std::to_string(target.width) + "x" +
-                                 std::to_string(target.height) + " target");
-    }
+    require_inside(scene.draw_list.target, x, y);  // before the backend renders anything
     Explainer ex(scene, profile, backend);
     return ex.explain(x, y);
 }
