@@ -1,6 +1,7 @@
 #include "setup.hpp"
 
 #include <algorithm>
+#include <cstdint>
 
 namespace refraster::detail {
 
@@ -20,6 +21,7 @@ SetupParams setup_params(const Profile& profile, const DrawState& state, const T
     p.provoking_first = state.provoking_vertex == ProvokingVertex::First;
     // lp_setup.c: the draw region is the framebuffer, intersected with the scissor.
     p.draw_region = {0, 0, static_cast<int>(target.width) - 1, static_cast<int>(target.height) - 1};
+    p.framebuffer = p.draw_region;
     if (profile.clipping == Clipping::GuardBand) {
         // With the guard band the viewport is applied as a scissor (lp_setup.c, draw_regions).
         const auto& v = state.viewport;
@@ -64,6 +66,46 @@ EdgeFunction make_edge(std::int32_t xi, std::int32_t yi, std::int32_t xj, std::i
     return e;
 }
 
+namespace {
+
+// lp_setup_tri.c, lp_setup_bin_triangle: a box (x0 and y0 clamped to 0, x1 and y1 not) that
+// crosses no 64-pixel boundary is binned as one tile with every plane in its mask (the
+// 4x4 and 16x16 commands of a triangle too large for the 32-bit rasterizer go the same way),
+// so lp_rast_tri_tmp.h tests even the edges that are positive over the whole tile. Its
+// RASTER_64 block tests keep (c >> FIXED_ORDER) in int32, and an edge whose value there
+// leaves int32 wraps: whole blocks are rejected or filled. Modelled only where every other
+// step is exact: no scissor plane (the box inside the draw region, which is the
+// framebuffer), dcdx, dcdy and eo still fit 32 bits after the << FIXED_ORDER of
+// do_triangle_ccw.
+void mark_wrapped_tile(const PixelRect& raw, const SetupParams& p, TriangleSetup& t) {
+    if (p.bits != 8 || !(p.draw_region == p.framebuffer)) return;
+    const int x0 = std::max(raw.x0, 0);
+    const int y0 = std::max(raw.y0, 0);
+    if (((x0 ^ raw.x1) | (y0 ^ raw.y1)) >= 64) return;
+    const PixelRect& d = p.draw_region;
+    if (x0 < d.x0 || raw.x1 > d.x1 || y0 < d.y0 || raw.y1 > d.y1) return;
+    const int tx = x0 & ~63;
+    const int ty = y0 & ~63;
+    bool wraps = false;
+    for (const EdgeFunction& e : t.edges) {
+        const std::int64_t a = e.a;
+        const std::int64_t b = e.b;
+        const std::int64_t eo = (a < 0 ? -a : 0) + (b > 0 ? b : 0);
+        const std::int64_t lim = std::int64_t{1} << 23;
+        if (a <= -lim || a >= lim || b <= -lim || b >= lim || eo >= lim) return;
+        const std::int64_t q = e.at(tx, ty, p.bits) >> p.bits;
+        const std::int64_t reach = 128 * ((a < 0 ? -a : a) + (b < 0 ? -b : b));
+        if (q - reach <= INT32_MIN || q + reach >= INT32_MAX) wraps = true;
+    }
+    if (!wraps) return;
+    t.wrapped_tile = true;
+    t.tile_x = tx;
+    t.tile_y = ty;
+    t.tile_clip = d;
+}
+
+}  // namespace
+
 SetupOutcome setup_triangle(const std::array<std::array<float, 2>, 3>& w, const SetupParams& p,
                             TriangleSetup& t) {
     t.bits = p.bits;
@@ -104,10 +146,12 @@ SetupOutcome setup_triangle(const std::array<std::array<float, 2>, 3>& w, const 
     const auto [ymin, ymax] = std::minmax({t.y[0], t.y[1], t.y[2]});
     const bool owns_right = p.tie_rule == TieRule::RightBottom || p.tie_rule == TieRule::RightTop;
     const bool owns_top = p.tie_rule == TieRule::LeftTop || p.tie_rule == TieRule::RightTop;
-    t.bbox = intersect({xmin >> p.bits, ymin >> p.bits, (xmax - (owns_right ? 0 : 1)) >> p.bits,
-                        (ymax - (owns_top ? 0 : 1)) >> p.bits},
-                       p.draw_region);
-    return t.bbox.empty() ? SetupOutcome::Outside : SetupOutcome::Ok;
+    const PixelRect raw{xmin >> p.bits, ymin >> p.bits, (xmax - (owns_right ? 0 : 1)) >> p.bits,
+                        (ymax - (owns_top ? 0 : 1)) >> p.bits};
+    t.bbox = intersect(raw, p.draw_region);
+    if (t.bbox.empty()) return SetupOutcome::Outside;
+    mark_wrapped_tile(raw, p, t);
+    return SetupOutcome::Ok;
 }
 
 }  // namespace refraster::detail

@@ -84,6 +84,13 @@ struct TriangleSetup {
     bool front_facing = true;
     std::array<EdgeFunction, 3> edges;
     PixelRect bbox;  // do_triangle_ccw's box, already intersected with the draw region
+    // Set when llvmpipe rasterizes the triangle as one tile with every edge tested and an
+    // edge value there leaves int32 (see setup.cpp): the tile at (tile_x, tile_y) is then
+    // walked with llvmpipe's wrapping block tests, clipped to the draw region.
+    bool wrapped_tile = false;
+    int tile_x = 0;
+    int tile_y = 0;
+    PixelRect tile_clip;
 };
 
 enum class SetupOutcome : std::uint8_t { Ok, ZeroArea, Culled, Outside, OutOfRange };
@@ -97,6 +104,7 @@ struct SetupParams {
     bool front_ccw = false;  // gallium's rasterizer front_ccw (FBO: flipped from GL)
     bool provoking_first = false;
     PixelRect draw_region;  // framebuffer, intersected with the scissor
+    PixelRect framebuffer;
 };
 
 SetupParams setup_params(const Profile& profile, const DrawState& state, const Target& target);

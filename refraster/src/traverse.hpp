@@ -134,8 +134,131 @@ void traverse_convex(const Setup& t, Visit&& visit) {
     }
 }
 
+// The one-tile walk of lp_rast_tri_tmp.h (TAG(lp_rast_triangle), do_block_16, do_block_4,
+// RASTER_64) for a triangle with `wrapped_tile` set: every level tests all three edges, with
+// the edge value at the block shifted down by FIXED_ORDER and then held in int32, so each
+// test is the sign of a value taken modulo 2^32. A block whose corner tests all pass for
+// every edge is filled without looking further.
+namespace wrapped {
+
+inline std::int32_t narrow(std::int64_t v) { return static_cast<std::int32_t>(v); }
+
+// Bit j * 4 + i: the sub-block (i, j) of a block of 4x4 sub-blocks `step` pixels wide.
+inline void block_masks(const TriangleSetup& t, const std::int64_t* c, int step, unsigned& out,
+                        unsigned& part) {
+    out = 0;
+    part = 0;
+    for (std::size_t k = 0; k < 3; ++k) {
+        const EdgeFunction& e = t.edges[k];
+        const std::int64_t a = e.a;
+        const std::int64_t b = e.b;
+        const std::int64_t eo = (a < 0 ? -a : 0) + (b > 0 ? b : 0);
+        const std::int64_t q = c[k] >> 8;
+        const std::int64_t q1 = (c[k] - 1) >> 8;
+        for (int j = 0; j < 4; ++j) {
+            for (int i = 0; i < 4; ++i) {
+                const std::int64_t d = step * (b * j - a * i);
+                const unsigned bit = 1u << (j * 4 + i);
+                if (narrow(q + eo * step + d) < 0) out |= bit;
+                if (narrow(q1 + (b - a - eo) * step + d) < 0) part |= bit;
+            }
+        }
+    }
+}
+
+inline std::int64_t shifted(const EdgeFunction& e, std::int64_t c, int ix, int iy) {
+    return c - std::int64_t{e.a} * 256 * ix + std::int64_t{e.b} * 256 * iy;
+}
+
+template <class Fill>
+void block_4(const TriangleSetup& t, const std::int64_t* c, int x, int y, Fill& fill) {
+    unsigned mask = 0xffff;
+    for (std::size_t k = 0; k < 3; ++k) {
+        const std::int32_t q = narrow((c[k] - 1) >> 8);
+        const std::int64_t a = t.edges[k].a;
+        const std::int64_t b = t.edges[k].b;
+        for (int j = 0; j < 4; ++j) {
+            for (int i = 0; i < 4; ++i) {
+                if (narrow(q - a * i + b * j) < 0) mask &= ~(1u << (j * 4 + i));
+            }
+        }
+    }
+    for (int j = 0; j < 4; ++j) {
+        for (int i = 0; i < 4; ++i) {
+            if (mask & (1u << (j * 4 + i))) fill(x + i, y + j, 1);
+        }
+    }
+}
+
+template <class Fill>
+void block_16(const TriangleSetup& t, const std::int64_t* c, int x, int y, Fill& fill) {
+    unsigned out = 0;
+    unsigned part = 0;
+    block_masks(t, c, 4, out, part);
+    if (out == 0xffff) return;
+    for (int s = 0; s < 16; ++s) {
+        const unsigned bit = 1u << s;
+        const int ix = (s & 3) * 4;
+        const int iy = (s >> 2) * 4;
+        if ((part & bit) && !(out & bit)) {
+            std::int64_t cx[3];
+            for (std::size_t k = 0; k < 3; ++k) cx[k] = shifted(t.edges[k], c[k], ix, iy);
+            block_4(t, cx, x + ix, y + iy, fill);
+        } else if (!(part & bit)) {
+            fill(x + ix, y + iy, 4);
+        }
+    }
+}
+
+template <class Visit>
+void tile(const TriangleSetup& t, Visit&& visit) {
+    std::uint64_t rows[kTileSize] = {};
+    const PixelRect& clip = t.tile_clip;
+    auto fill = [&](int x, int y, int n) {
+        for (int yy = std::max(y, clip.y0); yy <= std::min(y + n - 1, clip.y1); ++yy) {
+            for (int xx = std::max(x, clip.x0); xx <= std::min(x + n - 1, clip.x1); ++xx) {
+                rows[yy - t.tile_y] |= std::uint64_t{1} << (xx - t.tile_x);
+            }
+        }
+    };
+    std::int64_t c[3];
+    for (std::size_t k = 0; k < 3; ++k) c[k] = t.edges[k].at(t.tile_x, t.tile_y, t.bits);
+    unsigned out = 0;
+    unsigned part = 0;
+    block_masks(t, c, 16, out, part);
+    if (out != 0xffff) {
+        for (int s = 0; s < 16; ++s) {
+            const unsigned bit = 1u << s;
+            const int ix = (s & 3) * 16;
+            const int iy = (s >> 2) * 16;
+            if ((part & bit) && !(out & bit)) {
+                std::int64_t cx[3];
+                for (std::size_t k = 0; k < 3; ++k) cx[k] = shifted(t.edges[k], c[k], ix, iy);
+                block_16(t, cx, t.tile_x + ix, t.tile_y + iy, fill);
+            } else if (!(part & bit)) {
+                fill(t.tile_x + ix, t.tile_y + iy, 16);
+            }
+        }
+    }
+    for (int r = 0; r < kTileSize; ++r) {
+        std::uint64_t m = rows[r];
+        while (m != 0) {
+            const int start = std::countr_zero(m);
+            const int len = std::countr_one(m >> start);
+            visit(t.tile_y + r, t.tile_x + start, t.tile_x + start + len);
+            m = start + len >= 64 ? 0 : m & ~((std::uint64_t{1} << (start + len)) - 1);
+        }
+    }
+}
+
+}  // namespace wrapped
+
 template <class Visit>
 void traverse_triangle(const TriangleSetup& t, Visit&& visit) {
+    if (t.wrapped_tile) {
+        wrapped::tile(t, std::forward<Visit>(visit));
+        return;
+    }
     traverse_convex(t, std::forward<Visit>(visit));
 }
 
