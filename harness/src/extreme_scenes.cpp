@@ -434,6 +434,67 @@ SceneFile segments(const std::string& kind, Rng& r, PrimitiveType prim, bool fir
     return s;
 }
 
+// A triangle fan whose split into the draw module's segments is visible: vertex 0 sits 3/1024 px
+// above a row of pixel centres; rim vertices alternate between the end of a horizontal sliver
+// (3/1024 px below the row) and its quarter point (2/1024 px above), so consecutive triangles are
+// one sliver in both orientations, and the one llvmpipe's fixed-point setup keeps is back-facing
+// by the float determinant. Such runs lie across the fan splits after triangles 1,022 (to the
+// right of vertex 0) and 2,044 (to the left); every other triangle is degenerate. One rim vertex
+// past the far plane, at vertex 0's window position, lies in the second segment only: its
+// triangles take the draw pipeline's float cull, the others llvmpipe's fixed-point cull alone.
+// A fan of more than 4,096 vertices is split; one of at most 4,096 is a single segment.
+SceneFile segments_fan_split(const std::string& kind, Rng& r, bool first, std::size_t n) {
+    SceneFile s = base(kind,
+                       "Culling on, a triangle fan of " + std::to_string(n) + " vertices, runs of slivers in both orientations "
+                       "across the draw module's fan splits after 1,022 and 2,044 triangles, and one vertex "
+                       "beyond the far plane in the second segment only: only its slivers take the draw "
+                       "pipeline's float cull, which drops the ones the fixed-point cull keeps (a fan of at "
+                           "most 4,096 vertices is one segment)." +
+                           std::string(first ? " First-vertex convention." : ""),
+                       256, 64);
+    SceneDraw d = draw_of(s, PrimitiveType::TriangleFan, VertexSpace::Window);
+    d.state.cull = r.pick({CullMode::Back, CullMode::Front});
+    d.state.front_face = r.chance(0.5f) ? refraster::FrontFace::Ccw : refraster::FrontFace::Cw;
+    d.state.shade = ShadeModel::Flat;
+    if (first) d.state.provoking_vertex = refraster::ProvokingVertex::First;
+    const auto colour_of = [](std::size_t i) {
+        return std::array<float, 4>{static_cast<float>(i % 251) / 255.0f, static_cast<float>((i / 251) % 251) / 255.0f,
+                                    static_cast<float>((i * 7) % 256) / 255.0f, 1.0f};
+    };
+    const float cx = static_cast<float>(r.integer(100, 155)) + 0.5f;
+    const float cy = static_cast<float>(r.integer(8, 55)) + 0.5f;
+    const float right = static_cast<float>(r.integer(24, 96));
+    const float left = -static_cast<float>(r.integer(24, 96));
+    const std::array<float, 3> centre{cx, cy + 3.0f / 1024.0f, 0.0f};
+    const auto end_of = [&](float L) { return std::array<float, 3>{cx + L, cy - 3.0f / 1024.0f, 0.0f}; };
+    const auto quarter_of = [&](float L) { return std::array<float, 3>{cx + L / 4.0f, cy + 2.0f / 1024.0f, 0.0f}; };
+    constexpr std::size_t half_run = 12;  // sliver triangles on either side of a split
+    // Triangle k of the fan is (0, k + 1, k + 2): rim vertex i belongs to triangles i - 2 and i - 1.
+    std::vector<std::array<float, 3>> rim(n);
+    rim[0] = centre;
+    for (std::size_t i = 1; i < n; ++i) {
+        const bool second = i > 1500;  // after the far-plane vertex: the run at the second split
+        const float L = second ? left : right;
+        const std::size_t split = second ? 2044 : 1022;
+        const std::size_t lo = split - half_run + 1;
+        const std::size_t hi = split + half_run + 1;
+        if (i >= lo && i <= hi) {
+            rim[i] = (i - lo) % 2 == 0 ? end_of(L) : quarter_of(L);
+        } else if (i < lo) {
+            rim[i] = second ? centre : end_of(L);
+        } else {
+            rim[i] = rim[hi];
+        }
+    }
+    // From the first run's last vertex to the second run through vertex 0's position, and the
+    // vertex beyond the far plane there (all its triangles degenerate in window x and y).
+    for (std::size_t i = 1022 + half_run + 2; i <= 1500; ++i) rim[i] = i < 1400 ? rim[1022 + half_run + 1] : centre;
+    rim[1450 + 50] = {cx, cy + 3.0f / 1024.0f, 1.5f};
+    for (std::size_t i = 0; i < n; ++i) window_vertex(d, rim[i][0], rim[i][1], rim[i][2], colour_of(i));
+    s.draws.push_back(std::move(d));
+    return s;
+}
+
 SceneFile depth_limits(const std::string& kind, Rng& r, DepthFormat depth) {
     SceneFile s = base(kind,
                        "Triangles at window depth exactly 0 and 1 (depth ranges [0, 1] and [1, 0]), with polygon "
@@ -697,6 +758,10 @@ const std::vector<std::pair<std::string, Maker>>& makers() {
         v.emplace_back("perspective_w_ratio_1e8", [](Rng& r) { return perspective("perspective_w_ratio_1e8", r, false); });
         v.emplace_back("perspective_w_ratio_1e8_clipped",
                        [](Rng& r) { return perspective("perspective_w_ratio_1e8_clipped", r, true); });
+        v.emplace_back("segments_fan_split_visible",
+                       [](Rng& r) { return segments_fan_split("segments_fan_split_visible", r, false, 4200); });
+        v.emplace_back("segments_fan_split_visible_first",
+                       [](Rng& r) { return segments_fan_split("segments_fan_split_visible_first", r, true, 4200); });
         return v;
     }();
     return m;

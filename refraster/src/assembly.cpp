@@ -9,8 +9,8 @@ std::vector<AssembledTriangle> assemble_triangles(PrimitiveType p, std::size_t c
     std::vector<AssembledTriangle> out;
     const auto u = [](std::size_t v) { return static_cast<std::uint32_t>(v); };
     // Triangles per segment (draw_split_tmp.h): lists split at a multiple of 3 vertices,
-    // strips at the full segment with two vertices of overlap, fans at vsplit's segment size
-    // (at most 1024 vertices) with the centre repeated.
+    // strips at the full segment with two vertices of overlap, fans longer than the segment at
+    // vsplit's segment size (at most 1024 vertices) with the centre repeated.
     const auto seg = static_cast<std::size_t>(std::max(segment_vertices, 3));
     switch (p) {
         case PrimitiveType::Triangles: {
@@ -36,11 +36,16 @@ std::vector<AssembledTriangle> assemble_triangles(PrimitiveType p, std::size_t c
             break;
         }
         case PrimitiveType::TriangleFan: {
+            // Mesa's draw_split_tmp.h (FUNC, as vsplit_run_linear of draw_pt_vsplit_tmp.h):
+            // a draw of at most max_count_simple = max_vertices vertices is one segment
+            // ("no splitting required"); a longer fan splits at max_count_fan = segment_size
+            // = MIN2(SEGMENT_SIZE 1024, max_vertices) vertices, rolling back two.
+            const bool split = count > seg;
             const std::size_t per = std::min<std::size_t>(seg, 1024) - 2;
             for (std::size_t k = 0; k + 2 < count; ++k) {
                 const auto e = provoking_first ? std::array<std::uint32_t, 3>{u(k + 1), u(k + 2), 0}
                                                : std::array<std::uint32_t, 3>{0, u(k + 1), u(k + 2)};
-                out.push_back({e, u(k / per)});
+                out.push_back({e, split ? u(k / per) : 0u});
             }
             break;
         }
