@@ -54,7 +54,7 @@ using detail::StageTriangle;
 using detail::StageVertex;
 
 // glClearDepth stores RNE(double(z) * (2^bits - 1)), computed in double: measured for z24
-// (mesa-22.3-rules.md 11.1), the same packing for z16 (util_pack_z in
+// (docs/precision.md, "Depth"), the same packing for z16 (util_pack_z in
 // gallium/auxiliary/util/u_pack_color.h). z32f stores the float itself.
 std::uint32_t clear_depth_value(DepthFormat f, float z) {
     const double zd = static_cast<double>(z);

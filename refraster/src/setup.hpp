@@ -13,8 +13,8 @@
 //    pixel is covered iff E > 0 for all three edges (do_triangle_ccw, generic branch);
 //  - the bounding box of do_triangle_ccw, intersected with the draw region.
 //
-// Window coordinates are those of an FBO: gallium y equals GL y (mesa-22.3-rules.md 0.1), so
-// llvmpipe's bottom_edge_rule is 0 and the tie rule maps to GL terms directly.
+// Window coordinates are those of an FBO: gallium y equals GL y (docs/precision.md,
+// "Coordinate spaces"), so llvmpipe's bottom_edge_rule is 0 and the tie rule maps to GL terms directly.
 //
 // Deliberately does not: multisample setup (pixel_offset 0), or attribute planes.
 #pragma once
