@@ -14,6 +14,7 @@ Profile gl_exact_profile() {
     // meaningful when its coverage model is switched.
     p.draw_pipeline_cull = false;
     p.nine_vertex_quirk = false;
+    p.wrapping_arithmetic = false;
     return p;
 }
 
@@ -112,6 +113,7 @@ std::vector<std::pair<std::string, std::string>> profile_parameters(const Profil
         {"draw_pipeline_cull", bool_text(p.draw_pipeline_cull)},
         {"draw_segment_vertices", std::to_string(p.draw_segment_vertices)},
         {"nine_vertex_quirk", bool_text(p.nine_vertex_quirk)},
+        {"wrapping_arithmetic", bool_text(p.wrapping_arithmetic)},
     };
 }
 
@@ -152,6 +154,8 @@ void set_profile_parameter(Profile& p, const std::string& key, const std::string
         p.draw_segment_vertices = parse_int(key, value, 3, 1 << 20);
     } else if (key == "nine_vertex_quirk") {
         p.nine_vertex_quirk = parse_bool(key, value);
+    } else if (key == "wrapping_arithmetic") {
+        p.wrapping_arithmetic = parse_bool(key, value);
     } else {
         std::string keys;
         for (const auto& [k, _] : profile_parameters(Profile{})) keys += (keys.empty() ? "" : ", ") + k;

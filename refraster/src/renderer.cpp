@@ -527,8 +527,8 @@ private:
             draw_, target_, fo, owner_);
         if constexpr (kTrace) {
             s.covered = pixel_in_box(t.bbox) && detail::covers_pixel(t, trace_->x, trace_->y);
-            if (t.wrapped_tile) {
-                // llvmpipe's wrapping one-tile walk decides instead (traverse.hpp).
+            if (t.llvmpipe_walk) {
+                // llvmpipe's own walk decides instead (llvmpipe_walk.hpp).
                 s.covered = false;
                 detail::traverse_triangle(t, [&](int y, int x0, int x1) {
                     s.covered = s.covered || (y == trace_->y && trace_->x >= x0 && trace_->x < x1);

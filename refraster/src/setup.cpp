@@ -15,6 +15,7 @@ SetupParams setup_params(const Profile& profile, const DrawState& state, const T
     p.rounding = profile.snap_rounding;
     p.pixel_center_offset = profile.pixel_center_offset;
     p.tie_rule = profile.tie_rule;
+    p.wrapping = profile.wrapping_arithmetic;
     p.cull = state.cull;
     // st_atom_rasterizer.c: front_ccw = (FrontFace == GL_CCW), flipped for an FBO.
     p.front_ccw = state.front_face != FrontFace::Ccw;
@@ -38,16 +39,6 @@ SetupParams setup_params(const Profile& profile, const DrawState& state, const T
     return p;
 }
 
-std::optional<std::int32_t> snap_coordinate(float v, const SetupParams& p) {
-    // lp_setup_tri.c calc_fixed_position: (v - pixel_offset) * FIXED_ONE in float, then the
-    // conversion. Both float operations are exact for window coordinates below 2^16 except
-    // the subtraction's rounding of far-out values, which is part of the rule.
-    const float scaled = (v - p.pixel_center_offset) * static_cast<float>(1 << p.bits);
-    const auto r = round_scaled<std::int32_t>(scaled, p.rounding);
-    if (!r || *r <= -(1 << kSnappedBits) || *r >= (1 << kSnappedBits)) return std::nullopt;
-    return r;
-}
-
 // The interior is where E grows: dE/dx = -a, dE/dy = b. A left edge has the interior to its
 // right (dE/dx > 0); a horizontal bottom edge has it above (dE/dy > 0).
 bool owns_ties(std::int32_t a, std::int32_t b, TieRule rule) {
@@ -68,40 +59,121 @@ EdgeFunction make_edge(std::int32_t xi, std::int32_t yi, std::int32_t xj, std::i
 
 namespace {
 
-// lp_setup_tri.c, lp_setup_bin_triangle: a box (x0 and y0 clamped to 0, x1 and y1 not) that
-// crosses no 64-pixel boundary is binned as one tile with every plane in its mask (the
-// 4x4 and 16x16 commands of a triangle too large for the 32-bit rasterizer go the same way),
-// so lp_rast_tri_tmp.h tests even the edges that are positive over the whole tile. Its
-// RASTER_64 block tests keep (c >> FIXED_ORDER) in int32, and an edge whose value there
-// leaves int32 wraps: whole blocks are rejected or filled. Modelled only where every other
-// step is exact: no scissor plane (the box inside the draw region, which is the
-// framebuffer), dcdx, dcdy and eo still fit 32 bits after the << FIXED_ORDER of
-// do_triangle_ccw.
-void mark_wrapped_tile(const PixelRect& raw, const SetupParams& p, TriangleSetup& t) {
-    if (p.bits != 8 || !(p.draw_region == p.framebuffer)) return;
+constexpr std::int32_t kIndefinite = INT32_MIN;  // cvtps2dq of NaN or of a value outside int32
+
+// A window coordinate converted as calc_fixed_position's cvtps2dq does it; `beyond` is set
+// when the result leaves the 24.8 budget of setup.hpp (kSnappedBits).
+std::int32_t convert_coordinate(float v, const SetupParams& p, bool& beyond) {
+    const float scaled = (v - p.pixel_center_offset) * static_cast<float>(1 << p.bits);
+    const auto r = round_scaled<std::int32_t>(scaled, p.rounding);
+    if (!r) {
+        beyond = true;
+        return kIndefinite;
+    }
+    if (*r <= -(1 << kSnappedBits) || *r >= (1 << kSnappedBits)) beyond = true;
+    return *r;
+}
+
+bool culled(const SetupParams& p, bool front_facing) {
+    return p.cull == CullMode::FrontAndBack || (p.cull == CullMode::Front && front_facing) ||
+           (p.cull == CullMode::Back && !front_facing);
+}
+
+// The orientation swap of triangle_both / triangle_cw: rotate_fixed_position_12 with the
+// first-vertex convention, _01 otherwise, so that the provoking vertex keeps its place.
+void swap_to_ccw(const SetupParams& p, TriangleSetup& t) {
+    const std::size_t i = p.provoking_first ? 1 : 0;
+    std::swap(t.x[i], t.x[i + 1]);
+    std::swap(t.y[i], t.y[i + 1]);
+    std::swap(t.order[i], t.order[i + 1]);
+}
+
+// do_triangle_ccw's bounding box: x0 and y0 by arithmetic shift (floor); x1 and y1 from
+// max - 1 (a 32-bit subtraction), which leaves out a column (row) whose centres lie exactly
+// on the rightmost (topmost) extent: only a rule owning right (top) edges could cover those,
+// and then the box keeps them. For llvmpipe's left-bottom rule in an FBO this is the
+// driver's box.
+PixelRect raw_box(const SetupParams& p, const TriangleSetup& t) {
+    const auto [xmin, xmax] = std::minmax({t.x[0], t.x[1], t.x[2]});
+    const auto [ymin, ymax] = std::minmax({t.y[0], t.y[1], t.y[2]});
+    const bool owns_right = p.tie_rule == TieRule::RightBottom || p.tie_rule == TieRule::RightTop;
+    const bool owns_top = p.tie_rule == TieRule::LeftTop || p.tie_rule == TieRule::RightTop;
+    return {xmin >> p.bits, ymin >> p.bits, lp::sub32(xmax, owns_right ? 0 : 1) >> p.bits,
+            lp::sub32(ymax, owns_top ? 0 : 1) >> p.bits};
+}
+
+// do_triangle_ccw: the 32-bit rasterizer takes boxes of at most MAX_FIXED_LENGTH32 pixels,
+// measured before x0 and y0 are clamped to the framebuffer.
+bool uses_32bit_rasterizer(const PixelRect& raw) {
+    const std::int32_t size = lp::sub32(raw.x1, raw.x0 & ~3) | lp::sub32(raw.y1, raw.y0 & ~3);
+    return size <= lp::kMaxFixedLength32;
+}
+
+// llvmpipe's planes for the oriented positions in `t`, its box and draw-region planes.
+void build_walk(const PixelRect& raw, const SetupParams& p, TriangleSetup& t) {
+    lp::Triangle& w = t.walk;
+    w.count = 0;
+    for (std::size_t i = 0; i < 3; ++i) {
+        const std::size_t j = (i + 1) % 3;
+        const std::int32_t a = lp::sub32(t.y[i], t.y[j]);
+        const std::int32_t b = lp::sub32(t.x[i], t.x[j]);
+        w.planes[static_cast<std::size_t>(w.count++)] =
+            lp::edge_plane(t.x[i], t.y[i], t.x[j], t.y[j], owns_ties(a, b, p.tie_rule));
+    }
+    w.box = {std::max(raw.x0, 0), std::max(raw.y0, 0), raw.x1, raw.y1};
+    w.draw_region = p.draw_region;
+    w.framebuffer = p.framebuffer;
+    lp::add_region_planes(w);
+    t.llvmpipe_walk = true;
+}
+
+// Whether llvmpipe's integer widths change the pixels of a triangle whose positions fit the
+// budget: an edge delta whose << FIXED_ORDER leaves int32 (spans of 2^15 pixels, which only
+// a guard band reaches), or the one-tile case: lp_setup_bin_triangle bins a box (x0 and y0
+// clamped to 0, x1 and y1 not) that crosses no 64-pixel boundary as one tile with every
+// plane in its mask (the 4x4 and 16x16 commands of a triangle too large for the 32-bit
+// rasterizer go the same way), so lp_rast_tri_tmp.h tests even the edges that are positive
+// over the whole tile; its RASTER_64 block tests keep (c >> FIXED_ORDER) in int32, and an
+// edge whose value there leaves int32 wraps: whole blocks are rejected or filled.
+bool widths_matter(const PixelRect& raw, const TriangleSetup& t) {
+    const std::int64_t lim = std::int64_t{1} << 23;
+    for (const EdgeFunction& e : t.edges) {
+        const std::int64_t eo = (e.a < 0 ? -std::int64_t{e.a} : 0) + (e.b > 0 ? e.b : 0);
+        if (e.a <= -lim || e.a >= lim || e.b <= -lim || e.b >= lim || eo >= lim) return true;
+    }
     const int x0 = std::max(raw.x0, 0);
     const int y0 = std::max(raw.y0, 0);
-    if (((x0 ^ raw.x1) | (y0 ^ raw.y1)) >= 64) return;
-    const PixelRect& d = p.draw_region;
-    if (x0 < d.x0 || raw.x1 > d.x1 || y0 < d.y0 || raw.y1 > d.y1) return;
+    if (((x0 ^ raw.x1) | (y0 ^ raw.y1)) >= 64) return false;
     const int tx = x0 & ~63;
     const int ty = y0 & ~63;
-    bool wraps = false;
     for (const EdgeFunction& e : t.edges) {
-        const std::int64_t a = e.a;
-        const std::int64_t b = e.b;
-        const std::int64_t eo = (a < 0 ? -a : 0) + (b > 0 ? b : 0);
-        const std::int64_t lim = std::int64_t{1} << 23;
-        if (a <= -lim || a >= lim || b <= -lim || b >= lim || eo >= lim) return;
-        const std::int64_t q = e.at(tx, ty, p.bits) >> p.bits;
-        const std::int64_t reach = 128 * ((a < 0 ? -a : a) + (b < 0 ? -b : b));
-        if (q - reach <= INT32_MIN || q + reach >= INT32_MAX) wraps = true;
+        const std::int64_t q = e.at(tx, ty, t.bits) >> t.bits;
+        const std::int64_t reach = 128 * ((e.a < 0 ? -std::int64_t{e.a} : e.a) + (e.b < 0 ? -std::int64_t{e.b} : e.b));
+        if (q - reach <= INT32_MIN || q + reach >= INT32_MAX) return true;
     }
-    if (!wraps) return;
-    t.wrapped_tile = true;
-    t.tile_x = tx;
-    t.tile_y = ty;
-    t.tile_clip = d;
+    return false;
+}
+
+// A triangle with a position outside the budget, set up as llvmpipe does it: the area from
+// wrapping 32-bit differences in wrapping 64-bit arithmetic (calc_fixed_position, whose sign
+// is bit 63), then the same orientation, culling and box as in range, and llvmpipe's walk.
+SetupOutcome setup_beyond_budget(const SetupParams& p, TriangleSetup& t) {
+    const std::int32_t dx01 = lp::sub32(t.x[0], t.x[1]);
+    const std::int32_t dy01 = lp::sub32(t.y[0], t.y[1]);
+    const std::int32_t dx20 = lp::sub32(t.x[2], t.x[0]);
+    const std::int32_t dy20 = lp::sub32(t.y[2], t.y[0]);
+    t.area = lp::sub64(std::int64_t{dx01} * dy20, std::int64_t{dx20} * dy01);
+    if (t.area == 0) return SetupOutcome::ZeroArea;
+    t.front_facing = (t.area > 0) == p.front_ccw;
+    if (culled(p, t.front_facing)) return SetupOutcome::Culled;
+    if (t.area < 0) swap_to_ccw(p, t);
+    const PixelRect raw = raw_box(p, t);
+    t.bbox = intersect(raw, p.draw_region);
+    if (t.bbox.empty()) return SetupOutcome::Outside;
+    // Wrapped positions always span more than 128 pixels; anything else is not modelled.
+    if (uses_32bit_rasterizer(raw)) return SetupOutcome::OutOfRange;
+    build_walk(raw, p, t);
+    return SetupOutcome::Ok;
 }
 
 }  // namespace
@@ -109,48 +181,30 @@ void mark_wrapped_tile(const PixelRect& raw, const SetupParams& p, TriangleSetup
 SetupOutcome setup_triangle(const std::array<std::array<float, 2>, 3>& w, const SetupParams& p,
                             TriangleSetup& t) {
     t.bits = p.bits;
+    bool beyond = false;
     for (std::size_t i = 0; i < 3; ++i) {
-        const auto x = snap_coordinate(w[i][0], p);
-        const auto y = snap_coordinate(w[i][1], p);
-        if (!x || !y) return SetupOutcome::OutOfRange;
-        t.x[i] = *x;
-        t.y[i] = *y;
+        t.x[i] = convert_coordinate(w[i][0], p, beyond);
+        t.y[i] = convert_coordinate(w[i][1], p, beyond);
     }
     t.order = {0, 1, 2};
+    // llvmpipe's arithmetic is reproduced for its own precision and rounding only.
+    const bool llvmpipe_widths = p.wrapping && p.bits == lp::kFixedOrder && p.rounding == SnapRounding::NearestEven;
+    if (beyond) return llvmpipe_widths ? setup_beyond_budget(p, t) : SetupOutcome::OutOfRange;
     t.area = checked_sub(wide_mul(checked_sub(t.x[0], t.x[1]), checked_sub(t.y[2], t.y[0])),
                          wide_mul(checked_sub(t.x[2], t.x[0]), checked_sub(t.y[0], t.y[1])));
     if (t.area == 0) return SetupOutcome::ZeroArea;
     // triangle_both / _cw / _ccw: area > 0 is gallium's counter-clockwise.
     t.front_facing = (t.area > 0) == p.front_ccw;
-    const bool culled = p.cull == CullMode::FrontAndBack ||
-                        (p.cull == CullMode::Front && t.front_facing) ||
-                        (p.cull == CullMode::Back && !t.front_facing);
-    if (culled) return SetupOutcome::Culled;
-    if (t.area < 0) {
-        // rotate_fixed_position_12 with the first-vertex convention, _01 otherwise: the
-        // provoking vertex keeps its place.
-        const std::size_t i = p.provoking_first ? 1 : 0;
-        std::swap(t.x[i], t.x[i + 1]);
-        std::swap(t.y[i], t.y[i + 1]);
-        std::swap(t.order[i], t.order[i + 1]);
-    }
+    if (culled(p, t.front_facing)) return SetupOutcome::Culled;
+    if (t.area < 0) swap_to_ccw(p, t);
     for (std::size_t i = 0; i < 3; ++i) {
         const std::size_t j = (i + 1) % 3;
         t.edges[i] = make_edge(t.x[i], t.y[i], t.x[j], t.y[j], p.tie_rule);
     }
-    // do_triangle_ccw's bounding box: x0 and y0 by arithmetic shift (floor); x1 and y1 from
-    // max - 1, which leaves out a column (row) whose centres lie exactly on the rightmost
-    // (topmost) extent: only a rule owning right (top) edges could cover those, and then the
-    // box keeps them. For llvmpipe's left-bottom rule in an FBO this is the driver's box.
-    const auto [xmin, xmax] = std::minmax({t.x[0], t.x[1], t.x[2]});
-    const auto [ymin, ymax] = std::minmax({t.y[0], t.y[1], t.y[2]});
-    const bool owns_right = p.tie_rule == TieRule::RightBottom || p.tie_rule == TieRule::RightTop;
-    const bool owns_top = p.tie_rule == TieRule::LeftTop || p.tie_rule == TieRule::RightTop;
-    const PixelRect raw{xmin >> p.bits, ymin >> p.bits, (xmax - (owns_right ? 0 : 1)) >> p.bits,
-                        (ymax - (owns_top ? 0 : 1)) >> p.bits};
+    const PixelRect raw = raw_box(p, t);
     t.bbox = intersect(raw, p.draw_region);
     if (t.bbox.empty()) return SetupOutcome::Outside;
-    mark_wrapped_tile(raw, p, t);
+    if (llvmpipe_widths && !uses_32bit_rasterizer(raw) && widths_matter(raw, t)) build_walk(raw, p, t);
     return SetupOutcome::Ok;
 }
 

@@ -26,6 +26,8 @@
 #include "refraster/draw.hpp"
 #include "refraster/fixed.hpp"
 #include "refraster/profile.hpp"
+#include "llvmpipe_walk.hpp"
+#include "pixel_rect.hpp"
 
 namespace refraster::detail {
 
@@ -51,16 +53,6 @@ static_assert(kEdgeValueBits < 63, "edge values must fit int64");
 
 using Subpixel = Fixed<kMaxSubpixelBits, std::int32_t>;
 
-// An inclusive rectangle of pixels; empty when x0 > x1 or y0 > y1.
-struct PixelRect {
-    int x0 = 0;
-    int y0 = 0;
-    int x1 = -1;
-    int y1 = -1;
-    bool empty() const { return x0 > x1 || y0 > y1; }
-    friend bool operator==(const PixelRect&, const PixelRect&) = default;
-};
-PixelRect intersect(const PixelRect& a, const PixelRect& b);
 
 struct EdgeFunction {
     std::int32_t a = 0;  // dE/dpx = -a << bits
@@ -84,13 +76,12 @@ struct TriangleSetup {
     bool front_facing = true;
     std::array<EdgeFunction, 3> edges;
     PixelRect bbox;  // do_triangle_ccw's box, already intersected with the draw region
-    // Set when llvmpipe rasterizes the triangle as one tile with every edge tested and an
-    // edge value there leaves int32 (see setup.cpp): the tile at (tile_x, tile_y) is then
-    // walked with llvmpipe's wrapping block tests, clipped to the draw region.
-    bool wrapped_tile = false;
-    int tile_x = 0;
-    int tile_y = 0;
-    PixelRect tile_clip;
+    // Set when llvmpipe's integer widths decide the pixels (setup.cpp): a position outside
+    // the budget above, an edge whose shifted deltas leave int32, or a one-tile walk in
+    // which an edge value leaves int32. `walk` then holds llvmpipe's planes and
+    // llvmpipe_walk.hpp decides coverage; `edges` stay zero.
+    bool llvmpipe_walk = false;
+    lp::Triangle walk;
 };
 
 enum class SetupOutcome : std::uint8_t { Ok, ZeroArea, Culled, Outside, OutOfRange };
@@ -105,6 +96,9 @@ struct SetupParams {
     bool provoking_first = false;
     PixelRect draw_region;  // framebuffer, intersected with the scissor
     PixelRect framebuffer;
+    // Profile.wrapping_arithmetic: reproduce llvmpipe's conversion of out-of-range
+    // positions and its 32-bit wrapping (llvmpipe_walk.hpp) instead of refusing them.
+    bool wrapping = true;
 };
 
 SetupParams setup_params(const Profile& profile, const DrawState& state, const Target& target);
@@ -115,9 +109,6 @@ bool owns_ties(std::int32_t a, std::int32_t b, TieRule rule);
 // The edge function of the snapped edge (xi, yi) -> (xj, yj), tie bias included; the
 // interior of a polygon oriented as set-up triangles are is where it is positive.
 EdgeFunction make_edge(std::int32_t xi, std::int32_t yi, std::int32_t xj, std::int32_t yj, TieRule rule);
-
-// Snaps one window coordinate; nullopt when it does not fit the budget above.
-std::optional<std::int32_t> snap_coordinate(float v, const SetupParams& p);
 
 SetupOutcome setup_triangle(const std::array<std::array<float, 2>, 3>& window, const SetupParams& p,
                             TriangleSetup& out);

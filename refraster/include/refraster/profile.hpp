@@ -74,6 +74,11 @@ struct Profile {
     // llvmpipe's lp_setup_analyse_triangles: a non-indexed draw of exactly 9 smooth-shaded
     // triangle vertices whose last triangle has three equal window y values draws nothing.
     bool nine_vertex_quirk = true;
+    // llvmpipe's integer widths where they change the pixels: a window position that is not
+    // finite or leaves the 24.8 range converts to 0x80000000 (cvtps2dq) and setup and the
+    // tile walk wrap in 32 bits (lp_setup_tri.c, lp_rast_tri_tmp.h); false refuses such a
+    // triangle and walks in-range triangles exactly.
+    bool wrapping_arithmetic = true;
 
     friend bool operator==(const Profile&, const Profile&) = default;
 };

@@ -1,0 +1,19 @@
+// pixel_rect.hpp: an inclusive rectangle of pixels, the unit of boxes and draw regions.
+//
+// Deliberately does not: know about subpixels or tiles.
+#pragma once
+
+namespace refraster::detail {
+
+// An inclusive rectangle of pixels; empty when x0 > x1 or y0 > y1.
+struct PixelRect {
+    int x0 = 0;
+    int y0 = 0;
+    int x1 = -1;
+    int y1 = -1;
+    bool empty() const { return x0 > x1 || y0 > y1; }
+    friend bool operator==(const PixelRect&, const PixelRect&) = default;
+};
+PixelRect intersect(const PixelRect& a, const PixelRect& b);
+
+}  // namespace refraster::detail
