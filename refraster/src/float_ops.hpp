@@ -19,14 +19,59 @@ inline float flush_denormal(float v) {
     return std::fabs(v) < std::numeric_limits<float>::min() ? std::copysign(0.0f, v) : v;
 }
 
+// x86's flush-to-zero replaces a result that underflows, and SSE judges underflow on the
+// result rounded to 24 bits with an unbounded exponent (Intel SDM vol. 1, 4.9.1.5, "tiny after
+// rounding"). A product or quotient whose exact value lies just below FLT_MIN can round up to
+// FLT_MIN on float's subnormal grid and still be tiny: it is flushed. Below FLT_MIN the grid
+// of the unbounded rounding is 2^-150, so the exact value is tiny iff it is less than
+// FLT_MIN - 2^-151 (the midpoint rounds to FLT_MIN, the even neighbour). Sums are exact there
+// (any float sum below FLT_MIN is a multiple of 2^-149), so only *, / and fma need the test.
+inline constexpr double kTinyBelow = 0x1p-126 - 0x1p-151;
+static_assert(kTinyBelow < static_cast<double>(std::numeric_limits<float>::min()), "the tininess threshold");
+
+inline float flush_if_tiny(float rounded, bool tiny) { return tiny ? std::copysign(0.0f, rounded) : rounded; }
+
 struct Fp {
     bool flush;
     float f(float v) const { return flush ? flush_denormal(v) : v; }
     float add(float a, float b) const { return f(f(a) + f(b)); }
     float sub(float a, float b) const { return f(f(a) - f(b)); }
-    float mul(float a, float b) const { return f(f(a) * f(b)); }
-    float div(float a, float b) const { return f(f(a) / f(b)); }
-    float fma(float a, float b, float c) const { return f(std::fma(f(a), f(b), f(c))); }
+    float mul(float a, float b) const {
+        const float x = f(a);
+        const float y = f(b);
+        const float r = x * y;
+        if (!flush) return r;
+        if (std::fabs(r) != std::numeric_limits<float>::min()) return flush_denormal(r);
+        // The double product of two floats is exact.
+        return flush_if_tiny(r, std::fabs(static_cast<double>(x) * static_cast<double>(y)) < kTinyBelow);
+    }
+    float div(float a, float b) const {
+        const float x = f(a);
+        const float y = f(b);
+        const float r = x / y;
+        if (!flush) return r;
+        if (std::fabs(r) != std::numeric_limits<float>::min()) return flush_denormal(r);
+        const double q = static_cast<double>(x) / static_cast<double>(y);
+        bool tiny = std::fabs(q) < kTinyBelow;
+        if (std::fabs(q) == kTinyBelow) {
+            // The remainder of a correctly rounded quotient is exact: it says on which side of
+            // q the exact quotient lies.
+            const double rem = std::fma(-q, static_cast<double>(y), static_cast<double>(x));
+            tiny = rem != 0.0 && (std::signbit(rem) != std::signbit(y)) != std::signbit(q);
+        }
+        return flush_if_tiny(r, tiny);
+    }
+    float fma(float a, float b, float c) const {
+        const float x = f(a);
+        const float y = f(b);
+        const float z = f(c);
+        const float r = std::fma(x, y, z);
+        if (!flush) return r;
+        if (std::fabs(r) != std::numeric_limits<float>::min()) return flush_denormal(r);
+        // One rounding to 53 bits; it can only mislead within 2^-53 of the threshold itself.
+        const double d = std::fma(static_cast<double>(x), static_cast<double>(y), static_cast<double>(z));
+        return flush_if_tiny(r, std::fabs(d) < kTinyBelow);
+    }
 };
 
 }  // namespace refraster::detail

@@ -171,7 +171,7 @@ Planes triangle_planes(const std::array<const StageVertex*, 3>& v, const VertexS
 float FragmentShader::eval_plane(const Plane& p, float px, float py) const {
     const Fp fp{options_.flush_denormals};
     if (options_.fma) {
-        return fp.f(std::fma(p.dady, py, fp.f(std::fma(p.dadx, px, p.a0))));
+        return fp.fma(p.dady, py, fp.fma(p.dadx, px, p.a0));
     }
     return fp.add(fp.mul(p.dady, py), fp.add(fp.mul(p.dadx, px), p.a0));
 }

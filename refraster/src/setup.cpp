@@ -109,8 +109,10 @@ bool uses_32bit_rasterizer(const PixelRect& raw) {
     return size <= lp::kMaxFixedLength32;
 }
 
-// llvmpipe's planes for the oriented positions in `t`, its box and draw-region planes.
-void build_walk(const PixelRect& raw, const SetupParams& p, TriangleSetup& t) {
+}  // namespace
+
+void attach_llvmpipe_walk(const SetupParams& p, TriangleSetup& t) {
+    const PixelRect raw = raw_box(p, t);
     lp::Triangle& w = t.walk;
     w.count = 0;
     for (std::size_t i = 0; i < 3; ++i) {
@@ -126,6 +128,8 @@ void build_walk(const PixelRect& raw, const SetupParams& p, TriangleSetup& t) {
     lp::add_region_planes(w);
     t.llvmpipe_walk = true;
 }
+
+namespace {
 
 // Whether llvmpipe's integer widths change the pixels of a triangle whose positions fit the
 // budget: an edge delta whose << FIXED_ORDER leaves int32 (spans of 2^15 pixels, which only
@@ -172,7 +176,7 @@ SetupOutcome setup_beyond_budget(const SetupParams& p, TriangleSetup& t) {
     if (t.bbox.empty()) return SetupOutcome::Outside;
     // Wrapped positions always span more than 128 pixels; anything else is not modelled.
     if (uses_32bit_rasterizer(raw)) return SetupOutcome::OutOfRange;
-    build_walk(raw, p, t);
+    attach_llvmpipe_walk(p, t);
     return SetupOutcome::Ok;
 }
 
@@ -204,7 +208,7 @@ SetupOutcome setup_triangle(const std::array<std::array<float, 2>, 3>& w, const 
     const PixelRect raw = raw_box(p, t);
     t.bbox = intersect(raw, p.draw_region);
     if (t.bbox.empty()) return SetupOutcome::Outside;
-    if (llvmpipe_widths && !uses_32bit_rasterizer(raw) && widths_matter(raw, t)) build_walk(raw, p, t);
+    if (llvmpipe_widths && !uses_32bit_rasterizer(raw) && widths_matter(raw, t)) attach_llvmpipe_walk(p, t);
     return SetupOutcome::Ok;
 }
 

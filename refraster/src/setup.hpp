@@ -110,6 +110,11 @@ bool owns_ties(std::int32_t a, std::int32_t b, TieRule rule);
 // interior of a polygon oriented as set-up triangles are is where it is positive.
 EdgeFunction make_edge(std::int32_t xi, std::int32_t yi, std::int32_t xj, std::int32_t yj, TieRule rule);
 
+// Gives `t` (oriented positions set) llvmpipe's planes and walk (llvmpipe_walk.hpp), which
+// setup_triangle does itself where llvmpipe's integer widths matter. In range the walk
+// covers exactly the pixels the edge functions cover (a property the tests check).
+void attach_llvmpipe_walk(const SetupParams& p, TriangleSetup& t);
+
 SetupOutcome setup_triangle(const std::array<std::array<float, 2>, 3>& window, const SetupParams& p,
                             TriangleSetup& out);
 

@@ -17,14 +17,6 @@
 
 namespace {
 
-// Kinds whose scenes for an arbitrary seed can reach behaviour the reference does not model
-// yet (docs/precision.md, "NaN, infinity and denormals", the UNCERTAIN entries); their seed-1
-// scenes are in the conformance suite, where they match.
-bool seed_sensitive(const std::string& kind) {
-    return kind == "beyond_guard_band_x" || kind == "subnormal_coordinates_w" || kind == "huge_coordinates_w" ||
-           kind == "colour_overflow_rgba32f";
-}
-
 // Pixels whose colour differs from the clear colour: the scene drew something.
 std::uint64_t drawn(const refraster::Framebuffer& f, const refraster::Framebuffer& cleared) {
     std::uint64_t n = 0;
@@ -46,7 +38,6 @@ TEST_P(RandomExtreme, EveryKindMatchesLlvmpipe) {
     int drawing_kinds = 0;
     std::uint64_t pixels = 0;
     for (const auto& kind : harness::extreme_kinds()) {
-        if (seed != 1 && seed_sensitive(kind)) continue;
         const auto file = harness::extreme_scene(kind, seed);
         ASSERT_EQ(file.name, "extreme." + kind);
         ASSERT_FALSE(file.description.empty());
