@@ -140,6 +140,7 @@ std::vector<std::pair<std::string, std::string>> alternatives_of(const refraster
     out.emplace_back("denormals", p.flush_denormals ? "flush_denormals=false" : "flush_denormals=true");
     out.emplace_back("cull", p.draw_pipeline_cull ? "draw_pipeline_cull=false" : "draw_pipeline_cull=true");
     out.emplace_back("nine-vertex analysis", p.nine_vertex_quirk ? "nine_vertex_quirk=false" : "nine_vertex_quirk=true");
+    out.emplace_back("integer widths", p.wrapping_arithmetic ? "wrapping_arithmetic=false" : "wrapping_arithmetic=true");
     out.emplace_back("clipper", p.clipping == refraster::Clipping::ViewVolume ? "clipping=guard-band" : "clipping=view-volume");
     return out;
 }

@@ -202,7 +202,8 @@ INSTANTIATE_TEST_SUITE_P(Profiles, ExplainVerdictsMutated,
                                            Mutation{"subpixel_bits=4", "snapping"},
                                            Mutation{"nine_vertex_quirk=false", "nine-vertex analysis"},
                                            Mutation{"draw_pipeline_cull=false", "cull"},
-                                           Mutation{"viewport_fma=off", "fused arithmetic"}),
+                                           Mutation{"viewport_fma=off", "fused arithmetic"},
+                                           Mutation{"wrapping_arithmetic=false", "integer widths"}),
                          [](const auto& p) {
                              std::string n = p.param.change;
                              for (auto& c : n) c = std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
