@@ -362,16 +362,18 @@ SceneFile nan_planes(const std::string& kind, Rng& r, DepthFormat depth, ColorFo
 // draw module's float cull and llvmpipe's fixed-point cull disagree on some of them; vertices
 // outside the view volume in some segments only, so that only those segments go through the
 // draw pipeline's float cull.
-SceneFile segments(const std::string& kind, Rng& r, PrimitiveType prim, bool first) {
+SceneFile segments(const std::string& kind, Rng& r, PrimitiveType prim, bool first, bool indexed = false) {
     const char* what = prim == PrimitiveType::Triangles       ? "a triangle list of 4,800 vertices"
                        : prim == PrimitiveType::TriangleStrip ? "a triangle strip of 9,000 vertices"
                                                               : "a triangle fan of 9,000 vertices";
     SceneFile s = base(kind,
                        std::string("Culling on, ") + what +
                            " of slivers whose float and fixed-point orientation disagree now and then, and "
-                           "vertices outside the view volume in some of the draw module's 4,096-vertex "
-                           "segments only: the float cull of the draw pipeline applies to exactly those "
-                           "segments." +
+                           "vertices outside the view volume in some of the draw module's " +
+                           (indexed ? std::string("segments only, drawn with 32-bit indices, which split at "
+                                                  "vsplit's 1,024-vertex segment size")
+                                    : std::string("4,096-vertex segments only")) +
+                           ": the float cull of the draw pipeline applies to exactly those segments." +
                            (first ? " First-vertex convention." : ""),
                        256, 64);
     SceneDraw d = draw_of(s, prim, VertexSpace::Window);
@@ -381,7 +383,10 @@ SceneFile segments(const std::string& kind, Rng& r, PrimitiveType prim, bool fir
     if (first) d.state.provoking_vertex = refraster::ProvokingVertex::First;
     const std::size_t n = prim == PrimitiveType::Triangles ? 4800 : 9000;
     // Which of the vertices are pushed out of the view volume (past the right edge).
-    const std::size_t out_at = static_cast<std::size_t>(r.integer(4200, static_cast<int>(n) - 40));
+    // Indexed: inside the second 1,024-vertex segment, so that only its triangles take the
+    // float cull (one 4,096-vertex segment would put the whole start of the draw there).
+    const std::size_t out_at = static_cast<std::size_t>(indexed ? r.integer(1100, 1900)
+                                                                : r.integer(4200, static_cast<int>(n) - 40));
     const auto colour_of = [](std::size_t i) {
         return std::array<float, 4>{static_cast<float>(i % 251) / 255.0f, static_cast<float>((i / 251) % 251) / 255.0f,
                                     static_cast<float>((i * 7) % 256) / 255.0f, 1.0f};
@@ -430,6 +435,11 @@ SceneFile segments(const std::string& kind, Rng& r, PrimitiveType prim, bool fir
             window_vertex(d, xr, 30.5f + jitter() + static_cast<float>(r.integer(-2, 2)) / 256.0f, 0, colour_of(k));
         }
     }
+    if (indexed) {
+        std::vector<std::uint32_t> identity(n);
+        for (std::size_t i = 0; i < n; ++i) identity[i] = static_cast<std::uint32_t>(i);
+        d.indices = std::move(identity);
+    }
     s.draws.push_back(std::move(d));
     return s;
 }
@@ -443,9 +453,11 @@ SceneFile segments(const std::string& kind, Rng& r, PrimitiveType prim, bool fir
 // past the far plane, at vertex 0's window position, lies in the second segment only: its
 // triangles take the draw pipeline's float cull, the others llvmpipe's fixed-point cull alone.
 // A fan of more than 4,096 vertices is split; one of at most 4,096 is a single segment.
-SceneFile segments_fan_split(const std::string& kind, Rng& r, bool first, std::size_t n) {
+SceneFile segments_fan_split(const std::string& kind, Rng& r, bool first, std::size_t n, bool indexed = false) {
     SceneFile s = base(kind,
-                       "Culling on, a triangle fan of " + std::to_string(n) + " vertices, runs of slivers in both orientations "
+                       "Culling on, a triangle fan of " + std::to_string(n) + " vertices" +
+                           std::string(indexed ? " drawn with 32-bit indices (which split a fan of more than 1,024)" : "") +
+                           ", runs of slivers in both orientations "
                        "across the draw module's fan splits after 1,022 and 2,044 triangles, and one vertex "
                        "beyond the far plane in the second segment only: only its slivers take the draw "
                        "pipeline's float cull, which drops the ones the fixed-point cull keeps (a fan of at "
@@ -491,6 +503,11 @@ SceneFile segments_fan_split(const std::string& kind, Rng& r, bool first, std::s
     for (std::size_t i = 1022 + half_run + 2; i <= 1500; ++i) rim[i] = i < 1400 ? rim[1022 + half_run + 1] : centre;
     rim[1450 + 50] = {cx, cy + 3.0f / 1024.0f, 1.5f};
     for (std::size_t i = 0; i < n; ++i) window_vertex(d, rim[i][0], rim[i][1], rim[i][2], colour_of(i));
+    if (indexed) {
+        std::vector<std::uint32_t> identity(n);
+        for (std::size_t i = 0; i < n; ++i) identity[i] = static_cast<std::uint32_t>(i);
+        d.indices = std::move(identity);
+    }
     s.draws.push_back(std::move(d));
     return s;
 }
@@ -733,6 +750,15 @@ const std::vector<std::pair<std::string, Maker>>& makers() {
                        [](Rng& r) { return segments("segments_strip_clip_cull_first", r, PrimitiveType::TriangleStrip, true); });
         v.emplace_back("segments_fan_clip_cull",
                        [](Rng& r) { return segments("segments_fan_clip_cull", r, PrimitiveType::TriangleFan, false); });
+        v.emplace_back("segments_list_indexed", [](Rng& r) {
+            return segments("segments_list_indexed", r, PrimitiveType::Triangles, false, true);
+        });
+        v.emplace_back("segments_strip_indexed", [](Rng& r) {
+            return segments("segments_strip_indexed", r, PrimitiveType::TriangleStrip, false, true);
+        });
+        v.emplace_back("segments_fan_indexed", [](Rng& r) {
+            return segments_fan_split("segments_fan_indexed", r, false, 4096, true);
+        });
         v.emplace_back("segments_fan_clip_cull_first",
                        [](Rng& r) { return segments("segments_fan_clip_cull_first", r, PrimitiveType::TriangleFan, true); });
         v.emplace_back("depth_limits_offset_z16", [](Rng& r) { return depth_limits("depth_limits_offset_z16", r, DepthFormat::Z16); });

@@ -4,24 +4,35 @@
 
 namespace refraster::detail {
 
-std::vector<AssembledTriangle> assemble_triangles(PrimitiveType p, std::size_t count,
-                                                  bool provoking_first, int segment_vertices) {
+std::vector<AssembledTriangle> assemble_triangles(PrimitiveType p, std::size_t count, bool provoking_first,
+                                                  int segment_vertices, bool indexed) {
     std::vector<AssembledTriangle> out;
     const auto u = [](std::size_t v) { return static_cast<std::uint32_t>(v); };
-    // Triangles per segment (draw_split_tmp.h): lists split at a multiple of 3 vertices,
-    // strips at the full segment with two vertices of overlap, fans longer than the segment at
-    // vsplit's segment size (at most 1024 vertices) with the centre repeated.
-    const auto seg = static_cast<std::size_t>(std::max(segment_vertices, 3));
+    // draw_pt_vsplit.c: segment_size = MIN2(SEGMENT_SIZE 1024, max_vertices). FUNC of
+    // draw_split_tmp.h runs a draw of at most max_count_simple vertices as one segment; that is
+    // max_vertices for an unindexed draw (vsplit_run_linear) and segment_size for 32-bit
+    // indices (vsplit_run_uint: the index buffer cannot be used directly, and
+    // vsplit_primitive_uint gives up on more than segment_size indices). A longer draw splits
+    // at seg_max = MIN2(max_count_simple, count) trimmed to whole primitives: lists at a
+    // multiple of 3, strips with two vertices of overlap (seg_max one less when it would
+    // flush an odd number of triangles), fans at max_count_fan = segment_size with the centre
+    // repeated.
+    const auto max_vertices = static_cast<std::size_t>(std::max(segment_vertices, 3));
+    const std::size_t segment_size = std::max<std::size_t>(std::min<std::size_t>(1024, max_vertices), 3);
+    const std::size_t simple = indexed ? segment_size : max_vertices;
+    const bool split = count > simple;
     switch (p) {
         case PrimitiveType::Triangles: {
-            const std::size_t per = std::max<std::size_t>(seg / 3, 1);
+            const std::size_t per = std::max<std::size_t>(simple / 3, 1);
             for (std::size_t i = 0; i + 2 < count; i += 3) {
-                out.push_back({{u(i), u(i + 1), u(i + 2)}, u((i / 3) / per)});
+                out.push_back({{u(i), u(i + 1), u(i + 2)}, split ? u((i / 3) / per) : 0u});
             }
             break;
         }
         case PrimitiveType::TriangleStrip: {
-            const std::size_t per = seg - 2;
+            std::size_t seg_max = simple;
+            if (((seg_max - 3) & 1) == 0) --seg_max;  // an even number of triangles per segment
+            const std::size_t per = std::max<std::size_t>(seg_max - 2, 1);
             for (std::size_t k = 0; k + 2 < count; ++k) {
                 std::array<std::uint32_t, 3> e;
                 if (k % 2 == 0) {
@@ -31,17 +42,12 @@ std::vector<AssembledTriangle> assemble_triangles(PrimitiveType p, std::size_t c
                 } else {
                     e = {u(k + 1), u(k), u(k + 2)};
                 }
-                out.push_back({e, u(k / per)});
+                out.push_back({e, split ? u(k / per) : 0u});
             }
             break;
         }
         case PrimitiveType::TriangleFan: {
-            // Mesa's draw_split_tmp.h (FUNC, as vsplit_run_linear of draw_pt_vsplit_tmp.h):
-            // a draw of at most max_count_simple = max_vertices vertices is one segment
-            // ("no splitting required"); a longer fan splits at max_count_fan = segment_size
-            // = MIN2(SEGMENT_SIZE 1024, max_vertices) vertices, rolling back two.
-            const bool split = count > seg;
-            const std::size_t per = std::min<std::size_t>(seg, 1024) - 2;
+            const std::size_t per = segment_size - 2;
             for (std::size_t k = 0; k + 2 < count; ++k) {
                 const auto e = provoking_first ? std::array<std::uint32_t, 3>{u(k + 1), u(k + 2), 0}
                                                : std::array<std::uint32_t, 3>{0, u(k + 1), u(k + 2)};

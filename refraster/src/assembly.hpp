@@ -27,7 +27,9 @@ struct AssembledTriangle {
     std::uint32_t segment = 0;             // the draw module's vertex segment
 };
 
-std::vector<AssembledTriangle> assemble_triangles(PrimitiveType p, std::size_t count,
-                                                  bool provoking_first, int segment_vertices);
+// `segment_vertices` is the draw module's max_vertices; `indexed` draws (glDrawElements with
+// 32-bit indices) split at vsplit's segment size instead (draw_pt_vsplit_tmp.h).
+std::vector<AssembledTriangle> assemble_triangles(PrimitiveType p, std::size_t count, bool provoking_first,
+                                                  int segment_vertices, bool indexed = false);
 
 }  // namespace refraster::detail

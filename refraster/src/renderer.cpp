@@ -120,7 +120,7 @@ public:
         if (draw_.state.polygon_mode != PolygonMode::Fill) return run_unfilled<kTrace>(stage);
         const bool first = params_.provoking_first;
         const auto tris = detail::assemble_triangles(draw_.primitive, draw_.element_count(), first,
-                                                     profile_.draw_segment_vertices);
+                                                     profile_.draw_segment_vertices, draw_.indices.has_value());
         const auto vertex_of = [&](std::uint32_t e) { return draw_.element(e); };
 
         // Segments with any vertex outside the view volume go through the draw pipeline.
@@ -325,7 +325,7 @@ private:
     void run_unfilled(detail::VertexStage& stage) {
         const bool first = params_.provoking_first;
         const auto tris = detail::assemble_triangles(draw_.primitive, draw_.element_count(), first,
-                                                     profile_.draw_segment_vertices);
+                                                     profile_.draw_segment_vertices, draw_.indices.has_value());
         std::vector<StageTriangle> staged;
         for (std::size_t p = 0; p < tris.size(); ++p) {
             owner_ = owner_id(index_, p);
