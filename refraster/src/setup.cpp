@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstdint>
 
+#include "rules.hpp"
+
 namespace refraster::detail {
 
 PixelRect intersect(const PixelRect& a, const PixelRect& b) {
@@ -51,10 +53,8 @@ std::optional<std::int32_t> snap_coordinate(float v, const SetupParams& p) {
 // The interior is where E grows: dE/dx = -a, dE/dy = b. A left edge has the interior to its
 // right (dE/dx > 0); a horizontal bottom edge has it above (dE/dy > 0).
 bool owns_ties(std::int32_t a, std::int32_t b, TieRule rule) {
-    const bool left = rule == TieRule::LeftBottom || rule == TieRule::LeftTop;
-    const bool bottom = rule == TieRule::LeftBottom || rule == TieRule::RightBottom;
-    if (a != 0) return (-a > 0) == left;
-    return (b > 0) == bottom;
+    if (a != 0) return (-a > 0) == owns_left_edges(rule);
+    return (b > 0) == owns_bottom_edges(rule);
 }
 
 EdgeFunction make_edge(std::int32_t xi, std::int32_t yi, std::int32_t xj, std::int32_t yj, TieRule rule) {
@@ -122,10 +122,7 @@ SetupOutcome setup_triangle(const std::array<std::array<float, 2>, 3>& w, const 
     if (t.area == 0) return SetupOutcome::ZeroArea;
     // triangle_both / _cw / _ccw: area > 0 is gallium's counter-clockwise.
     t.front_facing = (t.area > 0) == p.front_ccw;
-    const bool culled = p.cull == CullMode::FrontAndBack ||
-                        (p.cull == CullMode::Front && t.front_facing) ||
-                        (p.cull == CullMode::Back && !t.front_facing);
-    if (culled) return SetupOutcome::Culled;
+    if (is_culled(p.cull, t.front_facing)) return SetupOutcome::Culled;
     if (t.area < 0) {
         // rotate_fixed_position_12 with the first-vertex convention, _01 otherwise: the
         // provoking vertex keeps its place.
@@ -144,8 +141,8 @@ SetupOutcome setup_triangle(const std::array<std::array<float, 2>, 3>& w, const 
     // box keeps them. For llvmpipe's left-bottom rule in an FBO this is the driver's box.
     const auto [xmin, xmax] = std::minmax({t.x[0], t.x[1], t.x[2]});
     const auto [ymin, ymax] = std::minmax({t.y[0], t.y[1], t.y[2]});
-    const bool owns_right = p.tie_rule == TieRule::RightBottom || p.tie_rule == TieRule::RightTop;
-    const bool owns_top = p.tie_rule == TieRule::LeftTop || p.tie_rule == TieRule::RightTop;
+    const bool owns_right = owns_right_edges(p.tie_rule);
+    const bool owns_top = owns_top_edges(p.tie_rule);
     const PixelRect raw{xmin >> p.bits, ymin >> p.bits, (xmax - (owns_right ? 0 : 1)) >> p.bits,
                         (ymax - (owns_top ? 0 : 1)) >> p.bits};
     t.bbox = intersect(raw, p.draw_region);
