@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "refraster/assert.hpp"
 #include "rules.hpp"
 
 namespace refraster::detail {
@@ -95,6 +96,7 @@ FragmentShader::FragmentShader(const Planes& planes, const Draw& draw, const Tar
 
 Planes triangle_planes(const std::array<const StageVertex*, 3>& v, const VertexStage& stage, const Draw& draw,
                        const Target& target, bool provoking_first, FragmentOptions options) {
+    REFRASTER_ASSERT(stage.attribute_floats() >= 4, "a colour of four components");
     const Fp fp{options.flush_denormals};
     Planes out;
     const auto& p0 = v[0]->window;
@@ -243,6 +245,9 @@ void FragmentShader::shade_span(int y, int x0, int x1, Framebuffer& fb) const {
 }
 
 FragmentTrace FragmentShader::trace_pixel(int x, int y, const Framebuffer& fb_before) const {
+    REFRASTER_ASSERT(x >= 0 && y >= 0 && static_cast<std::uint32_t>(x) < fb_before.width &&
+                         static_cast<std::uint32_t>(y) < fb_before.height,
+                     "a covered pixel, inside the framebuffer");
     FragmentTrace t;
     t.z_plane = {p_.z.a0, p_.z.dadx, p_.z.dady};
     t.w_plane = {p_.w.a0, p_.w.dadx, p_.w.dady};
@@ -279,6 +284,7 @@ namespace refraster::detail {
 ExactShader::ExactShader(const ExactCoverage& coverage, const std::array<const StageVertex*, 3>& v,
                          const VertexStage& stage, const Draw& draw, const Target& target, bool provoking_first)
     : coverage_(coverage), v_(v), stage_(stage), draw_(draw), target_(target), provoking_first_(provoking_first) {
+    REFRASTER_ASSERT(stage.attribute_floats() >= 4, "a colour of four components");
     depth_test_ = draw.state.depth_test.has_value() && target.depth != DepthFormat::None;
     if (draw.state.polygon_offset && depth_test_) {
         // The slope of window z over window x and y: z is linear in window space. Only

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "refraster/assert.hpp"
 #include "rules.hpp"
 
 namespace refraster::detail {
@@ -218,6 +219,7 @@ std::optional<LineSetup> setup_line(const StageVertex& sv1, const StageVertex& s
 
 Planes line_planes(const StageVertex& v1, const StageVertex& v2, const VertexStage& stage, const Draw& draw,
                    bool provoking_first, FragmentOptions options) {
+    REFRASTER_ASSERT(stage.attribute_floats() >= 4, "a colour of four components");
     // setup_line_coefficients: C arithmetic (no fusion: baseline x86-64), under FTZ.
     const auto f = [fp = Fp{options.flush_denormals}](float v) { return fp.f(v); };
     const float* a = v1.window.data();
@@ -290,6 +292,7 @@ std::optional<PointSetup> setup_point(const StageVertex& v, float size, const Se
 }
 
 Planes point_planes(const StageVertex& v, const VertexStage& stage, const Draw& draw, FragmentOptions options) {
+    REFRASTER_ASSERT(stage.attribute_floats() >= 4, "a colour of four components");
     // setup_point_coefficients: every attribute constant; smooth ones premultiplied by 1/w
     // (point_persp_coeff) and divided again per pixel by the constant 1/w plane.
     const auto f = [fp = Fp{options.flush_denormals}](float x) { return fp.f(x); };

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdint>
 
+#include "refraster/assert.hpp"
 #include "rules.hpp"
 
 namespace refraster::detail {
@@ -12,6 +13,11 @@ PixelRect intersect(const PixelRect& a, const PixelRect& b) {
 }
 
 SetupParams setup_params(const Profile& profile, const DrawState& state, const Target& target) {
+    REFRASTER_ASSERT(profile.subpixel_bits >= 0 && profile.subpixel_bits <= kMaxSubpixelBits,
+                     "subpixel bits within the snapped path's budget");
+    REFRASTER_ASSERT(
+        target.width <= (1u << kFramebufferBits) && target.height <= (1u << kFramebufferBits),
+        "a target within the edge functions' budget");
     SetupParams p;
     p.bits = profile.subpixel_bits;
     p.rounding = profile.snap_rounding;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "refraster/assert.hpp"
 #include "rules.hpp"
 
 namespace refraster::detail {
@@ -38,13 +39,18 @@ VertexStage::VertexStage(const Draw& draw, VertexStageOptions options)
     : draw_(draw), options_(options), vp_(viewport_transform(draw.state)) {
     const Fp fp{options_.flush_denormals};
     attribute_floats_ = draw.vertices.stride() - VertexArray::kPositionComponents;
+    REFRASTER_ASSERT(draw.vertices.data.size() % draw.vertices.stride() == 0,
+                     "whole vertex records");
     const std::size_t n = draw.vertices.size();
     vertices_.resize(n);
     pool_.reserve(n * attribute_floats_ * 2);
     for (std::size_t i = 0; i < n; ++i) {
         const auto src = draw.vertices.vertex(i);
         StageVertex& v = vertices_[i];
-        for (std::size_t k = 0; k < 4; ++k) v.clip[k] = fp.f(src[k]);
+        for (std::size_t k = 0; k < 4; ++k) {
+            REFRASTER_ASSERT(std::isfinite(src[k]), "finite clip coordinates");
+            v.clip[k] = fp.f(src[k]);
+        }
         const auto& c = v.clip;
         if (options_.guard_band) {
             // draw_cliptest_tmp.h, DO_CLIP_XY_GUARD_BAND: -0.50 * x + w >= 0 and friends, in
