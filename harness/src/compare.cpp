@@ -3,10 +3,11 @@
 #include <algorithm>
 #include <array>
 #include <bit>
-#include <limits>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
+#include "refraster/assert.hpp"
 #include "refraster/renderer.hpp"
 
 namespace harness {
@@ -53,6 +54,10 @@ std::array<std::uint8_t, 4> mask_color(PixelClass c) {
 PixelClassifier::PixelClassifier(const refraster::Framebuffer& reference, const refraster::Framebuffer& actual,
                                  const refraster::ClearValues& clear, const Expect& expect)
     : ref_(reference), act_(actual), expect_(expect) {
+    REFRASTER_ASSERT(ref_.width == act_.width && ref_.height == act_.height &&
+                         ref_.color_format == act_.color_format &&
+                         ref_.depth_format == act_.depth_format,
+                     "two renders of the same target");
     owners_ = !ref_.owner.empty() && ref_.owner.size() == act_.owner.size();
     // The clear as the reference stores it (rgba8 clears quantise with Mesa's float_to_ubyte,
     // depth clears with their own rounding): a one-pixel render of no draws.

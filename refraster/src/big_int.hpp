@@ -13,6 +13,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include "refraster/assert.hpp"
+
 namespace refraster::detail {
 
 class BigInt {
@@ -34,6 +36,7 @@ public:
     }
     // f * 2^149, exactly (f finite).
     static BigInt from_scaled_float(float f) {
+        REFRASTER_ASSERT(std::isfinite(f), "a finite float");
         if (f == 0.0f) return {};
         int e = 0;
         const double m = std::frexp(static_cast<double>(f), &e);  // f = m * 2^e, |m| in [0.5, 1)

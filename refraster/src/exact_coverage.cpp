@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "big_int.hpp"
+#include "rules.hpp"
 
 namespace refraster::detail {
 
@@ -52,8 +53,8 @@ ExactCoverage::ExactCoverage(const std::array<std::array<float, 4>, 3>& clip, co
     }
     t.det = x[0] * t.A[0] + y[0] * t.B[0] + w[0] * t.C[0];
     t.det_sign = t.det.sign();
-    const bool left = tie_rule == TieRule::LeftBottom || tie_rule == TieRule::LeftTop;
-    const bool bottom = tie_rule == TieRule::LeftBottom || tie_rule == TieRule::RightBottom;
+    const bool left = owns_left_edges(tie_rule);
+    const bool bottom = owns_bottom_edges(tie_rule);
     for (std::size_t k = 0; k < 3; ++k) {
         // The interior side of edge k is where b_k > 0; its gradient over window (x, y) has the
         // signs of (A_k, B_k) * sign(det), the viewport scale being positive.

@@ -5,6 +5,9 @@
 #include <cmath>
 #include <cstring>
 
+#include "refraster/assert.hpp"
+#include "rules.hpp"
+
 namespace refraster::detail {
 
 std::uint8_t clear_to_unorm8(float c) {
@@ -35,15 +38,6 @@ Plane calc_coef(const Fp& fp, const SetupTerms& s, float a0, float a1, float a2)
     p.dady = fp.sub(fp.mul(da20, s.dx01o), fp.mul(da01, s.dx20o));
     p.a0 = fp.sub(a0, fp.add(fp.mul(p.dadx, s.x0c), fp.mul(p.dady, s.y0c)));
     return p;
-}
-
-double depth_mrd(DepthFormat f) {
-    // util_get_depth_format_mrd: the minimum resolvable difference of a fixed-point format.
-    switch (f) {
-        case DepthFormat::Z16: return 1.0 / 65535.0;
-        case DepthFormat::Z24: return 1.0 / 16777215.0;
-        default: return 0.0;
-    }
 }
 
 // lp_state_fs.c, lp_build_depth_clamp: lp_build_clamp(z, 0, 1), which is lp_build_min(z, 1)
@@ -102,6 +96,7 @@ FragmentShader::FragmentShader(const Planes& planes, const Draw& draw, const Tar
 
 Planes triangle_planes(const std::array<const StageVertex*, 3>& v, const VertexStage& stage, const Draw& draw,
                        const Target& target, bool provoking_first, FragmentOptions options) {
+    REFRASTER_ASSERT(stage.attribute_floats() >= 4, "a colour of four components");
     const Fp fp{options.flush_denormals};
     Planes out;
     const auto& p0 = v[0]->window;
@@ -128,17 +123,11 @@ Planes triangle_planes(const std::array<const StageVertex*, 3>& v, const VertexS
         const float mult = fp.mul(max_slope, draw.state.polygon_offset->factor);
         const float units = draw.state.polygon_offset->units;
         if (target.depth == DepthFormat::Z32f) {
-            // units * 2^(exponent(max |z_i|) - 23), the exponent taken from the float's bits
-            // and clamped at zero.
+            // units * 2^(exponent(max |z_i|) - 23).
             const float maxz = std::max(std::fabs(p2[2]), std::max(std::fabs(p0[2]), std::fabs(p1[2])));
-            std::int32_t ebits = static_cast<std::int32_t>(std::bit_cast<std::uint32_t>(maxz) & (0xffu << 23)) - (23 << 23);
-            ebits = std::max(ebits, 0);
-            const float scale = std::bit_cast<float>(static_cast<std::uint32_t>(ebits));
-            out.z_offset = fp.add(fp.mul(scale, units), mult);
+            out.z_offset = fp.add(fp.mul(z32f_offset_scale(maxz), units), mult);
         } else {
-            // lp_make_setup_variant_key: (float)(offset_units * mrd * 2), in double.
-            const auto units_fixed = static_cast<float>(static_cast<double>(units) * depth_mrd(target.depth) * 2);
-            out.z_offset = fp.add(units_fixed, mult);
+            out.z_offset = fp.add(fixed_depth_offset_units(units, target.depth), mult);
         }
     }
 
@@ -185,12 +174,7 @@ FragmentShader::PixelResult FragmentShader::evaluate(int x, int y, const Framebu
         float z = fp.add(eval_plane(p_.z, px, py), p_.z_offset);
         z = clamp_depth(z);
         r.z = z;
-        switch (target_.depth) {
-            case DepthFormat::Z16: r.depth = static_cast<std::uint32_t>(std::nearbyint(z * 65535.0f)); break;
-            case DepthFormat::Z24: r.depth = static_cast<std::uint32_t>(std::nearbyint(z * 16777215.0f)); break;
-            case DepthFormat::Z32f: r.depth = std::bit_cast<std::uint32_t>(z); break;
-            case DepthFormat::None: break;
-        }
+        r.depth = quantise_depth(z, target_.depth);
         const std::uint32_t stored = fb.depth[fb.index(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y))];
         r.depth_pass = compare(*draw_.state.depth_test, r.depth, stored, target_.depth == DepthFormat::Z32f);
     }
@@ -261,6 +245,9 @@ void FragmentShader::shade_span(int y, int x0, int x1, Framebuffer& fb) const {
 }
 
 FragmentTrace FragmentShader::trace_pixel(int x, int y, const Framebuffer& fb_before) const {
+    REFRASTER_ASSERT(x >= 0 && y >= 0 && static_cast<std::uint32_t>(x) < fb_before.width &&
+                         static_cast<std::uint32_t>(y) < fb_before.height,
+                     "a covered pixel, inside the framebuffer");
     FragmentTrace t;
     t.z_plane = {p_.z.a0, p_.z.dadx, p_.z.dady};
     t.w_plane = {p_.w.a0, p_.w.dadx, p_.w.dady};
@@ -297,6 +284,7 @@ namespace refraster::detail {
 ExactShader::ExactShader(const ExactCoverage& coverage, const std::array<const StageVertex*, 3>& v,
                          const VertexStage& stage, const Draw& draw, const Target& target, bool provoking_first)
     : coverage_(coverage), v_(v), stage_(stage), draw_(draw), target_(target), provoking_first_(provoking_first) {
+    REFRASTER_ASSERT(stage.attribute_floats() >= 4, "a colour of four components");
     depth_test_ = draw.state.depth_test.has_value() && target.depth != DepthFormat::None;
     if (draw.state.polygon_offset && depth_test_) {
         // The slope of window z over window x and y: z is linear in window space. Only
@@ -318,11 +306,9 @@ ExactShader::ExactShader(const ExactCoverage& coverage, const std::array<const S
         double r = 0.0;
         if (target.depth == DepthFormat::Z32f) {
             const double maxz = std::max({std::fabs(p[0][2]), std::fabs(p[1][2]), std::fabs(p[2][2])});
-            int e = 0;
-            (void)std::frexp(maxz, &e);
-            r = std::ldexp(1.0, e - 1 - 23);
+            r = exact_z32f_offset_scale(maxz);
         } else {
-            r = 1.0 / (target.depth == DepthFormat::Z16 ? 65535.0 : 16777215.0);
+            r = depth_mrd(target.depth);
         }
         offset_ = m * double{draw.state.polygon_offset->factor} + r * double{draw.state.polygon_offset->units};
     }
@@ -338,13 +324,7 @@ void ExactShader::shade(int x, int y, Framebuffer& fb, std::uint32_t owner) cons
         const double f = draw_.state.depth_far;
         double z = zn * 0.5 * (f - n) + 0.5 * (n + f) + offset_;
         z = std::min(std::max(z, 0.0), 1.0);
-        std::uint32_t q = 0;
-        switch (target_.depth) {
-            case DepthFormat::Z16: q = static_cast<std::uint32_t>(std::nearbyint(z * 65535.0)); break;
-            case DepthFormat::Z24: q = static_cast<std::uint32_t>(std::nearbyint(z * 16777215.0)); break;
-            case DepthFormat::Z32f: q = std::bit_cast<std::uint32_t>(static_cast<float>(z)); break;
-            case DepthFormat::None: break;
-        }
+        const std::uint32_t q = quantise_depth(z, target_.depth);
         if (!compare(*draw_.state.depth_test, q, fb.depth[i], target_.depth == DepthFormat::Z32f)) return;
         if (draw_.state.depth_write) fb.depth[i] = q;
     }

@@ -63,7 +63,8 @@ struct Planes {
 };
 
 // Triangle planes (lp_state_setup.c); `v` in setup's order, after the orientation swap; the
-// colour is each vertex's first four attribute values.
+// colour is each vertex's first four attribute values (so a vertex must have at least four, as
+// for line_planes, point_planes and ExactShader).
 Planes triangle_planes(const std::array<const StageVertex*, 3>& v, const VertexStage& stage, const Draw& draw,
                        const Target& target, bool provoking_first, FragmentOptions options);
 
@@ -76,7 +77,8 @@ public:
     // Shades the pixels [x0, x1) of row y into `fb`, with depth test and blending.
     void shade_span(int y, int x0, int x1, Framebuffer& fb) const;
 
-    // The same decisions for one pixel, recorded (the pixel must be covered).
+    // The same decisions for one pixel, recorded (the pixel must be covered, so inside
+    // `fb_before`).
     FragmentTrace trace_pixel(int x, int y, const Framebuffer& fb_before) const;
 
 private:

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "refraster/assert.hpp"
+#include "rules.hpp"
+
 namespace refraster::detail {
 
 namespace {
@@ -26,9 +29,6 @@ EdgeFunction edge(std::int32_t xi, std::int32_t yi, std::int32_t xj, std::int32_
 }
 
 int ceil_shift(std::int32_t v, int bits) { return (v + (1 << bits) - 1) >> bits; }
-
-bool owns_right(TieRule r) { return r == TieRule::RightBottom || r == TieRule::RightTop; }
-bool owns_top(TieRule r) { return r == TieRule::LeftTop || r == TieRule::RightTop; }
 
 }  // namespace
 
@@ -210,8 +210,8 @@ std::optional<LineSetup> setup_line(const StageVertex& sv1, const StageVertex& s
     // the pixel on the maximum.
     const auto [xmin, xmax] = std::minmax_element(L.x.begin(), L.x.end());
     const auto [ymin, ymax] = std::minmax_element(L.y.begin(), L.y.end());
-    const int x1 = owns_right(p.tie_rule) ? (*xmax >> p.bits) : ceil_shift(*xmax, p.bits) - 1;
-    const int y1 = owns_top(p.tie_rule) ? (*ymax >> p.bits) : ceil_shift(*ymax, p.bits) - 1;
+    const int x1 = owns_right_edges(p.tie_rule) ? (*xmax >> p.bits) : ceil_shift(*xmax, p.bits) - 1;
+    const int y1 = owns_top_edges(p.tie_rule) ? (*ymax >> p.bits) : ceil_shift(*ymax, p.bits) - 1;
     L.bbox = intersect({ceil_shift(*xmin, p.bits), ceil_shift(*ymin, p.bits), x1, y1}, p.draw_region);
     if (L.bbox.empty()) return std::nullopt;
     return L;
@@ -219,6 +219,7 @@ std::optional<LineSetup> setup_line(const StageVertex& sv1, const StageVertex& s
 
 Planes line_planes(const StageVertex& v1, const StageVertex& v2, const VertexStage& stage, const Draw& draw,
                    bool provoking_first, FragmentOptions options) {
+    REFRASTER_ASSERT(stage.attribute_floats() >= 4, "a colour of four components");
     // setup_line_coefficients: C arithmetic (no fusion: baseline x86-64), under FTZ.
     const auto f = [fp = Fp{options.flush_denormals}](float v) { return fp.f(v); };
     const float* a = v1.window.data();
@@ -283,14 +284,15 @@ std::optional<PointSetup> setup_point(const StageVertex& v, float size, const Se
     // planes of try_setup_point, with the tie rule's +1 on the owned sides.
     s.edges = {edge(x0, y0, x0, y1, p.tie_rule), edge(x1, y1, x1, y0, p.tie_rule),
                edge(x1, y0, x0, y0, p.tie_rule), edge(x0, y1, x1, y1, p.tie_rule)};
-    const int bx1 = owns_right(p.tie_rule) ? (x1 >> p.bits) : ceil_shift(x1, p.bits) - 1;
-    const int by1 = owns_top(p.tie_rule) ? (y1 >> p.bits) : ceil_shift(y1, p.bits) - 1;
+    const int bx1 = owns_right_edges(p.tie_rule) ? (x1 >> p.bits) : ceil_shift(x1, p.bits) - 1;
+    const int by1 = owns_top_edges(p.tie_rule) ? (y1 >> p.bits) : ceil_shift(y1, p.bits) - 1;
     s.bbox = intersect({x0 >> p.bits, y0 >> p.bits, bx1, by1}, p.draw_region);
     if (s.bbox.empty()) return std::nullopt;
     return s;
 }
 
 Planes point_planes(const StageVertex& v, const VertexStage& stage, const Draw& draw, FragmentOptions options) {
+    REFRASTER_ASSERT(stage.attribute_floats() >= 4, "a colour of four components");
     // setup_point_coefficients: every attribute constant; smooth ones premultiplied by 1/w
     // (point_persp_coeff) and divided again per pixel by the constant 1/w plane.
     const auto f = [fp = Fp{options.flush_denormals}](float x) { return fp.f(x); };

@@ -19,6 +19,7 @@
 #include "exact_coverage.hpp"
 #include "fragment.hpp"
 #include "line_point.hpp"
+#include "rules.hpp"
 #include "setup.hpp"
 #include "traverse.hpp"
 #include "vertex_stage.hpp"
@@ -57,14 +58,7 @@ using detail::StageVertex;
 // (docs/precision.md, "Depth"), the same packing for z16 (util_pack_z in
 // gallium/auxiliary/util/u_pack_color.h). z32f stores the float itself.
 std::uint32_t clear_depth_value(DepthFormat f, float z) {
-    const double zd = static_cast<double>(z);
-    switch (f) {
-        case DepthFormat::Z16: return static_cast<std::uint32_t>(std::nearbyint(zd * 65535.0));
-        case DepthFormat::Z24: return static_cast<std::uint32_t>(std::nearbyint(zd * 16777215.0));
-        case DepthFormat::Z32f: return std::bit_cast<std::uint32_t>(z);
-        case DepthFormat::None: return 0;
-    }
-    return 0;
+    return detail::quantise_depth(static_cast<double>(z), f);
 }
 
 // Clears the whole target (scissor off, every mask on): unorm8 colours through
@@ -559,8 +553,7 @@ private:
             return;
         }
         const bool front = ex.front_facing() == (draw_.state.front_face == FrontFace::Ccw);
-        const auto cull = draw_.state.cull;
-        if (cull == CullMode::FrontAndBack || (cull == CullMode::Front && front) || (cull == CullMode::Back && !front)) {
+        if (detail::is_culled(draw_.state.cull, front)) {
             if constexpr (kTrace) pt.note = "culled";
             return;
         }

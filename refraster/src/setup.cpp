@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cstdint>
 
+#include "refraster/assert.hpp"
+#include "rules.hpp"
+
 namespace refraster::detail {
 
 PixelRect intersect(const PixelRect& a, const PixelRect& b) {
@@ -10,6 +13,11 @@ PixelRect intersect(const PixelRect& a, const PixelRect& b) {
 }
 
 SetupParams setup_params(const Profile& profile, const DrawState& state, const Target& target) {
+    REFRASTER_ASSERT(profile.subpixel_bits >= 0 && profile.subpixel_bits <= kMaxSubpixelBits,
+                     "subpixel bits within the snapped path's budget");
+    REFRASTER_ASSERT(
+        target.width <= (1u << kFramebufferBits) && target.height <= (1u << kFramebufferBits),
+        "a target within the edge functions' budget");
     SetupParams p;
     p.bits = profile.subpixel_bits;
     p.rounding = profile.snap_rounding;
@@ -42,10 +50,8 @@ SetupParams setup_params(const Profile& profile, const DrawState& state, const T
 // The interior is where E grows: dE/dx = -a, dE/dy = b. A left edge has the interior to its
 // right (dE/dx > 0); a horizontal bottom edge has it above (dE/dy > 0).
 bool owns_ties(std::int32_t a, std::int32_t b, TieRule rule) {
-    const bool left = rule == TieRule::LeftBottom || rule == TieRule::LeftTop;
-    const bool bottom = rule == TieRule::LeftBottom || rule == TieRule::RightBottom;
-    if (a != 0) return (-a > 0) == left;
-    return (b > 0) == bottom;
+    if (a != 0) return (-a > 0) == owns_left_edges(rule);
+    return (b > 0) == owns_bottom_edges(rule);
 }
 
 EdgeFunction make_edge(std::int32_t xi, std::int32_t yi, std::int32_t xj, std::int32_t yj, TieRule rule) {
@@ -74,11 +80,6 @@ std::int32_t convert_coordinate(float v, const SetupParams& p, bool& beyond) {
     return *r;
 }
 
-bool culled(const SetupParams& p, bool front_facing) {
-    return p.cull == CullMode::FrontAndBack || (p.cull == CullMode::Front && front_facing) ||
-           (p.cull == CullMode::Back && !front_facing);
-}
-
 // The orientation swap of triangle_both / triangle_cw: rotate_fixed_position_12 with the
 // first-vertex convention, _01 otherwise, so that the provoking vertex keeps its place.
 void swap_to_ccw(const SetupParams& p, TriangleSetup& t) {
@@ -96,8 +97,8 @@ void swap_to_ccw(const SetupParams& p, TriangleSetup& t) {
 PixelRect raw_box(const SetupParams& p, const TriangleSetup& t) {
     const auto [xmin, xmax] = std::minmax({t.x[0], t.x[1], t.x[2]});
     const auto [ymin, ymax] = std::minmax({t.y[0], t.y[1], t.y[2]});
-    const bool owns_right = p.tie_rule == TieRule::RightBottom || p.tie_rule == TieRule::RightTop;
-    const bool owns_top = p.tie_rule == TieRule::LeftTop || p.tie_rule == TieRule::RightTop;
+    const bool owns_right = owns_right_edges(p.tie_rule);
+    const bool owns_top = owns_top_edges(p.tie_rule);
     return {xmin >> p.bits, ymin >> p.bits, lp::sub32(xmax, owns_right ? 0 : 1) >> p.bits,
             lp::sub32(ymax, owns_top ? 0 : 1) >> p.bits};
 }
@@ -169,7 +170,7 @@ SetupOutcome setup_beyond_budget(const SetupParams& p, TriangleSetup& t) {
     t.area = lp::sub64(std::int64_t{dx01} * dy20, std::int64_t{dx20} * dy01);
     if (t.area == 0) return SetupOutcome::ZeroArea;
     t.front_facing = (t.area > 0) == p.front_ccw;
-    if (culled(p, t.front_facing)) return SetupOutcome::Culled;
+    if (is_culled(p.cull, t.front_facing)) return SetupOutcome::Culled;
     if (t.area < 0) swap_to_ccw(p, t);
     const PixelRect raw = raw_box(p, t);
     t.bbox = intersect(raw, p.draw_region);
@@ -199,7 +200,7 @@ SetupOutcome setup_triangle(const std::array<std::array<float, 2>, 3>& w, const 
     if (t.area == 0) return SetupOutcome::ZeroArea;
     // triangle_both / _cw / _ccw: area > 0 is gallium's counter-clockwise.
     t.front_facing = (t.area > 0) == p.front_ccw;
-    if (culled(p, t.front_facing)) return SetupOutcome::Culled;
+    if (is_culled(p.cull, t.front_facing)) return SetupOutcome::Culled;
     if (t.area < 0) swap_to_ccw(p, t);
     for (std::size_t i = 0; i < 3; ++i) {
         const std::size_t j = (i + 1) % 3;

@@ -101,6 +101,8 @@ struct SetupParams {
     bool wrapping = true;
 };
 
+// The profile's subpixel bits must be at most kMaxSubpixelBits and the target at most
+// 2^kFramebufferBits pixels a side: the bit budget above rests on both.
 SetupParams setup_params(const Profile& profile, const DrawState& state, const Target& target);
 
 // Whether the tie rule gives an edge the pixel centres lying exactly on it (see setup.cpp).

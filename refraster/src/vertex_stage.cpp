@@ -4,6 +4,9 @@
 #include <cmath>
 #include <limits>
 
+#include "refraster/assert.hpp"
+#include "rules.hpp"
+
 namespace refraster::detail {
 
 namespace {
@@ -36,13 +39,18 @@ VertexStage::VertexStage(const Draw& draw, VertexStageOptions options)
     : draw_(draw), options_(options), vp_(viewport_transform(draw.state)) {
     const Fp fp{options_.flush_denormals};
     attribute_floats_ = draw.vertices.stride() - VertexArray::kPositionComponents;
+    REFRASTER_ASSERT(draw.vertices.data.size() % draw.vertices.stride() == 0,
+                     "whole vertex records");
     const std::size_t n = draw.vertices.size();
     vertices_.resize(n);
     pool_.reserve(n * attribute_floats_ * 2);
     for (std::size_t i = 0; i < n; ++i) {
         const auto src = draw.vertices.vertex(i);
         StageVertex& v = vertices_[i];
-        for (std::size_t k = 0; k < 4; ++k) v.clip[k] = fp.f(src[k]);
+        for (std::size_t k = 0; k < 4; ++k) {
+            REFRASTER_ASSERT(std::isfinite(src[k]), "finite clip coordinates");
+            v.clip[k] = fp.f(src[k]);
+        }
         const auto& c = v.clip;
         if (options_.guard_band) {
             // draw_cliptest_tmp.h, DO_CLIP_XY_GUARD_BAND: -0.50 * x + w >= 0 and friends, in
@@ -284,13 +292,11 @@ void apply_draw_offset(StageTriangle& t, float det, const PolygonOffset& o, Dept
     float zoffset = 0.0f;
     if (depth == DepthFormat::Z32f) {
         const float maxz = std::max(std::max(std::fabs(v0[2]), std::fabs(v1[2])), std::fabs(v2[2]));
-        std::int32_t bits = static_cast<std::int32_t>(std::bit_cast<std::uint32_t>(maxz) & (0xffu << 23)) - (23 << 23);
-        bits = std::max(bits, 0);
-        zoffset = fp.add(fp.mul(o.units, std::bit_cast<float>(static_cast<std::uint32_t>(bits))), mult);
+        zoffset = fp.add(fp.mul(o.units, z32f_offset_scale(maxz)), mult);
     } else {
-        // offset_first_tri: (float)(offset_units * mrd * 2), in double.
-        const double mrd = depth == DepthFormat::Z16 ? 1.0 / 65535.0 : 1.0 / 16777215.0;
-        zoffset = fp.add(static_cast<float>(static_cast<double>(o.units) * mrd * 2), mult);
+        // Without a depth buffer z is never read; z24's step stands in.
+        const DepthFormat fixed = depth == DepthFormat::Z16 ? DepthFormat::Z16 : DepthFormat::Z24;
+        zoffset = fp.add(fixed_depth_offset_units(o.units, fixed), mult);
     }
     for (auto& v : t.v) {
         const float z = fp.add(v.window[2], zoffset);
@@ -309,16 +315,9 @@ bool passes_draw_cull(const StageTriangle& t, CullMode cull, bool front_ccw) {
     const float fx = t.v[1].window[0] - t.v[2].window[0];
     const float fy = t.v[1].window[1] - t.v[2].window[1];
     const float det = flush_denormal(flush_denormal(ex * fy) - flush_denormal(ey * fx));
-    if (det == 0.0f) return cull != CullMode::Back && cull != CullMode::FrontAndBack;
+    if (det == 0.0f) return !is_culled(cull, false);  // zero area counts as back-facing
     const bool ccw = det < 0.0f;
-    const bool front = ccw == front_ccw;
-    switch (cull) {
-        case CullMode::None: return true;
-        case CullMode::Front: return !front;
-        case CullMode::Back: return front;
-        case CullMode::FrontAndBack: return false;
-    }
-    return true;
+    return !is_culled(cull, ccw == front_ccw);
 }
 
 }  // namespace refraster::detail

@@ -1,4 +1,5 @@
-// Helpers shared by the harness tests: temporary directories and running the CLI.
+// Helpers shared by the harness, tool and conformance tests: temporary directories and running
+// the CLI.
 #pragma once
 
 #include <sys/wait.h>

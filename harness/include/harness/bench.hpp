@@ -76,7 +76,7 @@ std::string bench_table(const std::vector<BenchRow>& rows);
 std::string bench_json(const std::vector<BenchRow>& rows);
 
 // The heap high-water mark since the last reset, in bytes above what was in use then. The CLI
-// reports every allocation and release here (harness/tools/heap_meter.cpp replaces the global
+// reports every allocation and release here (tool/heap_meter.cpp replaces the global
 // operator new and delete); a program without that reads 0.
 void reset_heap_peak();
 std::size_t heap_peak_bytes();

@@ -6,7 +6,8 @@
 //
 // Deliberately does not: parse files, transform vertices, or validate ranges. Whoever builds a
 // DrawList (harness/front_end) guarantees what the scene format guarantees: finite clip
-// coordinates, indices within the vertex count, sizes within the documented limits.
+// coordinates, indices within the vertex count, sizes within the documented limits. Those are
+// the renderer's preconditions, asserted in debug and checked builds (assert.hpp).
 //
 // Coordinates are those of OpenGL: clip space as gl_Position, window space with its origin at
 // the bottom-left corner of the target.
@@ -18,6 +19,8 @@
 #include <span>
 #include <string>
 #include <vector>
+
+#include "refraster/assert.hpp"
 
 namespace refraster {
 
@@ -135,7 +138,10 @@ struct Draw {
     // The vertex count the primitive assembler sees.
     std::size_t element_count() const { return indices ? indices->size() : vertices.size(); }
     std::uint32_t element(std::size_t i) const {
-        return indices ? (*indices)[i] : static_cast<std::uint32_t>(i);
+        REFRASTER_ASSERT(i < element_count(), "an element of the draw");
+        const std::uint32_t e = indices ? (*indices)[i] : static_cast<std::uint32_t>(i);
+        REFRASTER_ASSERT(e < vertices.size(), "indices within the vertex count");
+        return e;
     }
     friend bool operator==(const Draw&, const Draw&) = default;
 };

@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "refraster/assert.hpp"
 #include "refraster/draw.hpp"
 
 namespace refraster {
@@ -32,7 +33,9 @@ struct Framebuffer {
     Framebuffer(std::uint32_t w, std::uint32_t h, ColorFormat cf, DepthFormat df);
 
     std::size_t pixel_count() const { return std::size_t{width} * height; }
+    // The position of pixel (x, y) in the per-pixel arrays; (x, y) must lie inside.
     std::size_t index(std::uint32_t x, std::uint32_t y) const {
+        REFRASTER_ASSERT(x < width && y < height, "a pixel inside the framebuffer");
         return std::size_t{y} * width + x;
     }
     friend bool operator==(const Framebuffer&, const Framebuffer&) = default;

@@ -1,4 +1,4 @@
-#include "reports.hpp"
+#include "conformance/reports.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "suite.hpp"
+#include "conformance/suite.hpp"
 
 #include <fcntl.h>
 #include <fnmatch.h>
@@ -13,10 +13,10 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "conformance/reports.hpp"
 #include "harness/case_result.hpp"
 #include "harness/explain.hpp"
 #include "harness/image_io.hpp"
-#include "reports.hpp"
 
 namespace conformance {
 

@@ -19,7 +19,7 @@
 #include "harness/profile_io.hpp"
 #include "harness/reduce.hpp"
 #include "harness/scene.hpp"
-#include "suite.hpp"
+#include "conformance/suite.hpp"
 
 namespace {
 
