@@ -7,9 +7,7 @@
 #include "backend_gl.hpp"
 #endif
 
-#ifndef REFRASTER_GIT_COMMIT
-#define REFRASTER_GIT_COMMIT "unknown"
-#endif
+#include "refraster_git_commit.hpp"  // generated at build time (cmake/GitCommit.cmake)
 
 namespace harness {
 
