@@ -15,8 +15,8 @@ if [[ "${1:-}" == "fuzz" ]]; then
   )
 else
 packages=(
-  # toolchain
-  g++ cmake ninja-build pkg-config git
+  # toolchain; clang-format-14 checks the sources' layout (scripts/format.sh)
+  g++ cmake ninja-build pkg-config git clang-format-14
   # libraries (harness and tests)
   nlohmann-json3-dev libcli11-dev libglm-dev libgtest-dev libgmock-dev libbenchmark-dev
   # image files; OpenImageIO's exported CMake targets name the tools' binaries, so both
