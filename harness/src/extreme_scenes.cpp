@@ -1,5 +1,7 @@
 #include "harness/extreme_scenes.hpp"
 
+#include "harness/files.hpp"
+
 #include <array>
 #include <bit>
 #include <cmath>
@@ -823,19 +825,10 @@ int write_extreme_scenes(std::uint64_t seed, const std::filesystem::path& dir, s
     }
     for (const auto& kind : extreme_kinds()) {
         const auto path = dir / (kind + ".json");
-        const auto tmp = dir / (kind + ".json.tmp");
-        {
-            std::ofstream out(tmp, std::ios::binary);
-            out << extreme_scene_json(extreme_scene(kind, seed));
-            if (!out) {
-                err << "refraster generate extreme: cannot write " << tmp.string() << "\n";
-                std::filesystem::remove(tmp, ec);
-                return 2;
-            }
-        }
-        std::filesystem::rename(tmp, path, ec);
-        if (ec) {
-            err << "refraster generate extreme: " << path.string() << ": " << ec.message() << "\n";
+        try {
+            write_file_atomically(path, extreme_scene_json(extreme_scene(kind, seed)));
+        } catch (const std::exception& e) {
+            err << "refraster generate extreme: " << e.what() << "\n";
             return 2;
         }
     }

@@ -1,5 +1,7 @@
 #include "harness/image_io.hpp"
 
+#include "harness/files.hpp"
+
 #include <OpenImageIO/imageio.h>
 #include <unistd.h>
 
@@ -21,39 +23,30 @@ void write_color_image(const refraster::Framebuffer& fb, const std::filesystem::
                            " target is written as " + std::string(image_extension(fb.color_format)) +
                            ", not " + (ext.empty() ? "a file without extension" : ext));
     }
-    // Write beside the destination and rename, so a failure never leaves a partial image.
-    const auto tmp = path.parent_path() /
-                     ("." + path.stem().string() + ".partial-" + std::to_string(::getpid()) + ext);
-    auto out = OIIO::ImageOutput::create(tmp.string());
-    if (!out) throw ImageIoError(path.string() + ": cannot create an image writer for " + ext);
-    const OIIO::TypeDesc type = is8 ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT;
-    OIIO::ImageSpec spec(static_cast<int>(fb.width), static_cast<int>(fb.height), 4, type);
-    // Pixels are stored as rendered: PNG alpha is unassociated, and without this attribute
-    // OpenImageIO would divide the colour by alpha on the way out.
-    spec.attribute("oiio:UnassociatedAlpha", 1);
-    if (!out->open(tmp.string(), spec)) {
-        throw ImageIoError(path.string() + ": cannot write: " + out->geterror());
-    }
-    // Image files store the top row first: file row 0 is window row height-1.
-    const std::size_t row_floats = std::size_t{fb.width} * 4;
-    bool ok = true;
-    for (std::uint32_t row = 0; ok && row < fb.height; ++row) {
-        const std::uint32_t src = fb.height - 1 - row;
-        const void* data = is8 ? static_cast<const void*>(fb.color8.data() + src * row_floats)
-                               : static_cast<const void*>(fb.color32f.data() + src * row_floats);
-        ok = out->write_scanline(static_cast<int>(row), 0, type, data);
-    }
-    ok = out->close() && ok;
-    std::error_code ec;
-    if (!ok) {
-        std::filesystem::remove(tmp, ec);
-        throw ImageIoError(path.string() + ": cannot write: " + out->geterror());
-    }
-    std::filesystem::rename(tmp, path, ec);
-    if (ec) {
-        std::filesystem::remove(tmp, ec);
-        throw ImageIoError(path.string() + ": cannot move the image into place: " + ec.message());
-    }
+    // Written beside the destination and moved into place (files.hpp): never a partial image.
+    write_atomically(path, [&](const std::filesystem::path& tmp) {
+        auto out = OIIO::ImageOutput::create(tmp.string());
+        if (!out) throw ImageIoError(path.string() + ": cannot create an image writer for " + ext);
+        const OIIO::TypeDesc type = is8 ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT;
+        OIIO::ImageSpec spec(static_cast<int>(fb.width), static_cast<int>(fb.height), 4, type);
+        // Pixels are stored as rendered: PNG alpha is unassociated, and without this attribute
+        // OpenImageIO would divide the colour by alpha on the way out.
+        spec.attribute("oiio:UnassociatedAlpha", 1);
+        if (!out->open(tmp.string(), spec)) {
+            throw ImageIoError(path.string() + ": cannot write: " + out->geterror());
+        }
+        // Image files store the top row first: file row 0 is window row height-1.
+        const std::size_t row_floats = std::size_t{fb.width} * 4;
+        bool ok = true;
+        for (std::uint32_t row = 0; ok && row < fb.height; ++row) {
+            const std::uint32_t src = fb.height - 1 - row;
+            const void* data = is8 ? static_cast<const void*>(fb.color8.data() + src * row_floats)
+                                   : static_cast<const void*>(fb.color32f.data() + src * row_floats);
+            ok = out->write_scanline(static_cast<int>(row), 0, type, data);
+        }
+        ok = out->close() && ok;
+        if (!ok) throw ImageIoError(path.string() + ": cannot write: " + out->geterror());
+    });
 }
 
 refraster::Framebuffer read_color_image(const std::filesystem::path& path) {
