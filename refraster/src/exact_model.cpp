@@ -14,7 +14,7 @@ void ExactModel::setup(VertexStage& stage, Observer& obs, const ListSink<List>& 
     const Draw& d = ctx_.draw;
     const bool first = ctx_.params.provoking_first;
     const auto tris = assemble_triangles(d.primitive, d.element_count(), first,
-                                         ctx_.profile.draw_segment_vertices);
+                                         ctx_.profile.quirks.draw_segment_vertices);
     // Only for the trace: whether the triangle's vertex segment would go through the draw
     // pipeline (the oracle itself has no pipeline).
     std::vector<bool> segment_clipped;
@@ -38,7 +38,7 @@ void ExactModel::setup(VertexStage& stage, Observer& obs, const ListSink<List>& 
         auto ex = std::make_unique<ExactCoverage>(
             std::array<std::array<float, 4>, 3>{
                 stage.vertex(idx[0]).clip, stage.vertex(idx[1]).clip, stage.vertex(idx[2]).clip},
-            d.state, ctx_.params.draw_region, ctx_.profile.tie_rule);
+            d.state, ctx_.params.draw_region, ctx_.profile.gl.tie_rule);
         if (ex->degenerate()) {
             obs.note("degenerate (det = 0)");
             obs.end_primitive(KeepRecord::CoveredOrNear);

@@ -340,19 +340,20 @@ struct Kernel {
                 const float px = static_cast<float>(x);
                 const float py = static_cast<float>(y);
                 const std::size_t i = fb.index(x, y);
+                const std::size_t s0 = fb.sample_index(x, y, 0);
                 if constexpr (D != DepthFormat::None) {
                     float z = 0.0f;
                     const std::uint32_t value =
                         depth_value(planes, prim.z_offset, px, py, k, fp, z);
                     if ((k.depth_pass &
-                         depth_outcome<D == DepthFormat::Z32f>(value, fb.depth[i])) == 0)
+                         depth_outcome<D == DepthFormat::Z32f>(value, fb.depth[s0])) == 0)
                         continue;
-                    if (k.depth_write) fb.depth[i] = value;
+                    if (k.depth_write) fb.depth[s0] = value;
                 }
                 if constexpr (S == ShadeModel::Flat) {
-                    store_color<C, B>(fb, i, flat_source, fp);
+                    store_color<C, B>(fb, s0, flat_source, fp);
                 } else {
-                    store_color<C, B>(fb, i, source_color<C>(color(planes, flat, px, py, k, fp)),
+                    store_color<C, B>(fb, s0, source_color<C>(color(planes, flat, px, py, k, fp)),
                                       fp);
                 }
                 if (owners) fb.owner[i] = prim.owner;
@@ -369,7 +370,7 @@ struct Kernel {
         const float px = static_cast<float>(x);
         const float py = static_cast<float>(y);
         const std::size_t i =
-            fb_before.index(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y));
+            fb_before.sample_index(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y), 0);
         FragmentTrace t;
         const Plane& zp = planes[kZPlane];
         const Plane& wp = planes[kWPlane];

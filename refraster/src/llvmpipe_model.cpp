@@ -72,7 +72,7 @@ void LlvmpipeModel::triangles(VertexStage& stage, Observer& obs) {
     const Draw& d = ctx_.draw;
     const bool first = ctx_.params.provoking_first;
     const auto tris = assemble_triangles(d.primitive, d.element_count(), first,
-                                         ctx_.profile.draw_segment_vertices);
+                                         ctx_.profile.quirks.draw_segment_vertices);
 
     // Segments with any vertex outside the view volume go through the draw pipeline.
     std::vector<bool> segment_clipped;
@@ -115,7 +115,7 @@ void LlvmpipeModel::snapped_triangle(const VertexStage& stage, const StageTriang
     const Draw& d = ctx_.draw;
     const SetupParams& params = ctx_.params;
     obs.triangle_start(st, params.bits);
-    if (in_pipeline && ctx_.profile.draw_pipeline_cull &&
+    if (in_pipeline && ctx_.profile.quirks.draw_pipeline_cull &&
         !passes_draw_cull(st, d.state.cull, params.front_ccw)) {
         return obs.triangle_outcome("culled by the draw module's float cull");
     }
@@ -226,7 +226,7 @@ void LlvmpipeModel::unfilled(VertexStage& stage, Observer& obs) {
     const SetupParams& params = ctx_.params;
     const bool first = params.provoking_first;
     const auto tris = assemble_triangles(d.primitive, d.element_count(), first,
-                                         ctx_.profile.draw_segment_vertices);
+                                         ctx_.profile.quirks.draw_segment_vertices);
     const char* kind =
         d.state.polygon_mode == PolygonMode::Line ? "polygon edges" : "polygon vertices";
     std::vector<StageTriangle> staged;
@@ -241,9 +241,9 @@ void LlvmpipeModel::unfilled(VertexStage& stage, Observer& obs) {
         for (auto t : staged) {
             if (!passes_draw_cull(t, d.state.cull, params.front_ccw)) continue;
             if (d.state.polygon_offset) {
-                apply_draw_offset(t, draw_determinant(t, ctx_.profile.flush_denormals),
+                apply_draw_offset(t, draw_determinant(t, ctx_.profile.gl.flush_denormals),
                                   *d.state.polygon_offset, ctx_.target.depth,
-                                  ctx_.profile.flush_denormals);
+                                  ctx_.profile.gl.flush_denormals);
             }
             if (d.state.shade == ShadeModel::Flat) {
                 const StageVertex prov = t.v[first ? 0 : 2];
@@ -280,7 +280,7 @@ bool LlvmpipeModel::nine_vertex_quirk_drops(const VertexStage& stage,
     // The owner pass reads gl_PrimitiveID, a constant-interpolated input, and so bypasses
     // the analysis in the driver; the reference's owner pass does the same.
     const Draw& d = ctx_.draw;
-    if (!ctx_.profile.nine_vertex_quirk || ctx_.record_owners) return false;
+    if (!ctx_.profile.quirks.nine_vertex_quirk || ctx_.record_owners) return false;
     if (d.primitive != PrimitiveType::Triangles || d.indices || d.element_count() != 9)
         return false;
     if (d.state.shade == ShadeModel::Flat || tris.size() != 3 || segment_clipped[0]) return false;
@@ -305,7 +305,7 @@ std::vector<bool> LlvmpipeModel::pipeline_setup_ftz(
     constexpr std::size_t kMaxIndices = 1024;
     const Draw& d = ctx_.draw;
     std::vector<bool> out;
-    if (!ctx_.profile.flush_denormals ||
+    if (!ctx_.profile.gl.flush_denormals ||
         std::find(segment_clipped.begin(), segment_clipped.end(), true) == segment_clipped.end()) {
         return out;
     }
@@ -329,7 +329,7 @@ std::vector<bool> LlvmpipeModel::pipeline_setup_ftz(
             {d.element(at.element[0]), d.element(at.element[1]), d.element(at.element[2])},
             ctx_.params.provoking_first, staged, nullptr);
         for (const auto& st : staged) {
-            if (ctx_.profile.draw_pipeline_cull &&
+            if (ctx_.profile.quirks.draw_pipeline_cull &&
                 !passes_draw_cull(st, d.state.cull, ctx_.params.front_ccw)) {
                 out.push_back(true);  // never reaches setup
                 continue;

@@ -34,9 +34,9 @@ struct DrawContext {
     bool record_owners = false;  // Framebuffer::owner is filled
 
     VertexStageOptions vertex_options() const {
-        return {fma, profile.flush_denormals, profile.clipping == Clipping::GuardBand};
+        return {fma, profile.gl.flush_denormals, profile.gl.clipping == Clipping::GuardBand};
     }
-    FragmentOptions fragment_options() const { return {fma, profile.flush_denormals}; }
+    FragmentOptions fragment_options() const { return {fma, profile.gl.flush_denormals}; }
 };
 
 // Receives each full list of set-up primitives, and the last one, in API order.

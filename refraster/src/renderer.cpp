@@ -108,7 +108,7 @@ bool is_triangle(PrimitiveType p) {
 
 std::string unsupported(const Draw& d, const Profile& profile) {
     if ((!is_triangle(d.primitive) || d.state.polygon_mode != PolygonMode::Fill) &&
-        profile.coverage == CoverageModel::Exact) {
+        profile.model == CoverageModel::Exact) {
         return "the exact profile covers filled triangles only";
     }
     return {};
@@ -145,7 +145,7 @@ template <class Observer>
 std::uint64_t draw_with(const detail::DrawContext& ctx, Observer& obs, RenderStage stop,
                         Framebuffer& fb) {
     // The model, chosen once per draw.
-    if (ctx.profile.coverage == CoverageModel::Exact)
+    if (ctx.profile.model == CoverageModel::Exact)
         return draw<detail::ExactModel>(ctx, obs, stop, fb);
     return draw<detail::LlvmpipeModel>(ctx, obs, stop, fb);
 }
@@ -171,7 +171,7 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
             return {RenderStatus::NotSupported, why + " (draws[" + std::to_string(i) + "])"};
         }
     }
-    const FmaMode fma_mode = options.profile.viewport_fma;
+    const FmaMode fma_mode = options.profile.gl.viewport_fma;
     const bool fma = fma_mode == FmaMode::On || (fma_mode == FmaMode::Auto && host_has_fma());
     RenderOutcome outcome;
     for (std::size_t i = 0; i < list.draws.size(); ++i) {
