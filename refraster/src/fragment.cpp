@@ -132,7 +132,8 @@ void PlaneWriter::constant(float v) {
 
 void triangle_planes(const std::array<const StageVertex*, 3>& v, const VertexStage& stage,
                      const Draw& draw, const Target& target, bool provoking_first,
-                     FragmentOptions options, bool daz, SetupList& list, SetupPrimitive& prim) {
+                     FragmentOptions options, bool daz, PlaneNeeds needs, SetupList& list,
+                     SetupPrimitive& prim) {
     const Fp fp{options.flush_denormals};
     PlaneWriter out(list, prim, daz);
     float z_offset = 0.0f;
@@ -149,7 +150,7 @@ void triangle_planes(const std::array<const StageVertex*, 3>& v, const VertexSta
     const float f = fp.mul(d01[1], d20[0]);
     const float ooa = fp.div(1.0f, fp.sub(e, f));
 
-    if (draw.state.polygon_offset) {
+    if (draw.state.polygon_offset && needs.depth) {
         // lp_do_offset_tri: res12 = (dz20*dy01 - dy20*dz01, dx20*dz01 - dz20*dx01), times ooa.
         const float res1 = fp.sub(fp.mul(d20[2], d01[1]), fp.mul(d20[1], d01[2]));
         const float res2 = fp.sub(fp.mul(d20[0], d01[2]), fp.mul(d20[2], d01[0]));
@@ -185,8 +186,8 @@ void triangle_planes(const std::array<const StageVertex*, 3>& v, const VertexSta
     s.dy20o = fp.mul(d20[1], ooa);
     s.dx01o = fp.mul(d01[0], ooa);
     s.dy01o = fp.mul(d01[1], ooa);
-    out.depth(calc_coef(fp, s, p0[2], p1[2], p2[2]), calc_coef(fp, s, p0[3], p1[3], p2[3]),
-              z_offset);
+    out.depth(needs.depth ? calc_coef(fp, s, p0[2], p1[2], p2[2]) : Plane{},
+              needs.w ? calc_coef(fp, s, p0[3], p1[3], p2[3]) : Plane{}, z_offset);
 
     const auto c0 = stage.attributes(*v[0]);
     const auto c1 = stage.attributes(*v[1]);

@@ -76,9 +76,18 @@ class PlaneWriter {
 // Triangle planes (lp_state_setup.c); `v` in setup's order, after the orientation swap; one
 // plane (or constant) per attribute float of the draw. `options` are setup's (its FTZ may be
 // off, see the llvmpipe model), `daz` the per-pixel stage's.
+//
+// Planes no reader needs are left out (stored as zero): window z and the polygon offset
+// unless the draw tests depth, 1/w unless it is smooth-shaded, unless an observer records
+// them (PlaneNeeds).
+struct PlaneNeeds {
+    bool depth = true;  // the z plane and the polygon offset
+    bool w = true;      // the 1/w plane
+};
 void triangle_planes(const std::array<const StageVertex*, 3>& v, const VertexStage& stage,
                      const Draw& draw, const Target& target, bool provoking_first,
-                     FragmentOptions options, bool daz, SetupList& list, SetupPrimitive& prim);
+                     FragmentOptions options, bool daz, PlaneNeeds needs, SetupList& list,
+                     SetupPrimitive& prim);
 
 // The draw's state as a fragment kernel reads it at run time.
 struct KernelState {

@@ -37,6 +37,16 @@ void copy_quad_coverage(const Setup& s, SetupPrimitive& p) {
 
 }  // namespace
 
+// What the draw's fragment kernel reads (choose_fragment_kernel), or everything for an observer
+// that records every plane.
+template <class Observer>
+PlaneNeeds LlvmpipeModel::plane_needs() const {
+    const Draw& d = ctx_.draw;
+    const bool depth = d.state.depth_test.has_value() && ctx_.target.depth != DepthFormat::None;
+    return {depth || Observer::kReadsEveryPlane,
+            d.state.shade == ShadeModel::Smooth || Observer::kReadsEveryPlane};
+}
+
 template <class Observer>
 void LlvmpipeModel::setup(VertexStage& stage, Observer& obs, const ListSink<List>& sink) {
     sink_ = &sink;
@@ -147,7 +157,8 @@ void LlvmpipeModel::snapped_triangle(const VertexStage& stage, const StageTriang
     triangle_planes(
         {&st.v[static_cast<std::size_t>(t.order[0])], &st.v[static_cast<std::size_t>(t.order[1])],
          &st.v[static_cast<std::size_t>(t.order[2])]},
-        stage, d, ctx_.target, params.provoking_first, setup_fo, fo.flush_denormals, list_, prim);
+        stage, d, ctx_.target, params.provoking_first, setup_fo, fo.flush_denormals,
+        plane_needs<Observer>(), list_, prim);
     obs.triangle_drawn(t, list_.primitives.size() - 1);
 }
 

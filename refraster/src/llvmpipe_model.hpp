@@ -72,6 +72,8 @@ class LlvmpipeModel {
     std::vector<bool> pipeline_setup_ftz(VertexStage& stage,
                                          const std::vector<AssembledTriangle>& tris,
                                          const std::vector<bool>& segment_clipped) const;
+    template <class Observer>
+    PlaneNeeds plane_needs() const;
     // Starts the next API primitive: hands a full list on first.
     template <class Observer>
     void next_primitive(std::size_t p, Observer& obs);

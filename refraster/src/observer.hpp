@@ -35,6 +35,10 @@ enum class SetupOutcome : std::uint8_t;
 enum class KeepRecord : std::uint8_t { Always, CoveredOrNear, Covered };
 
 struct NoObserver {
+    // Whether the observer reads planes no fragment kernel of the draw needs (fragment.hpp,
+    // PlaneNeeds): setup leaves those out otherwise.
+    static constexpr bool kReadsEveryPlane = false;
+
     void begin_primitive(std::string_view, std::size_t, std::size_t, std::span<const std::uint32_t>,
                          const VertexStage&, bool = false) {}
     void note(const char*) {}

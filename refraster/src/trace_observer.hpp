@@ -20,6 +20,8 @@ namespace refraster::detail {
 
 class TraceObserver {
   public:
+    static constexpr bool kReadsEveryPlane = true;  // the trace shows the z and 1/w planes
+
     explicit TraceObserver(PixelTrace& trace) : trace_(trace) {}
 
     void begin_primitive(std::string_view kind, std::size_t draw, std::size_t primitive,
