@@ -2,7 +2,7 @@
 //
 // Implements: DrawContext, the draw, its target and profile and the values derived from them
 // once per draw (setup parameters, whether the viewport transform fuses), and the shape every
-// model has, which the stage-order loop (renderer.cpp) relies on:
+// model has, which the stage order (pipeline.hpp) relies on:
 //   Model(const DrawContext&)
 //   setup(VertexStage&, Observer&, sink)  set-up primitives in API order, a List at a time
 //   traverse(primitive, emit)             quad packets of the pixels it covers, a tile at a time
@@ -10,7 +10,7 @@
 //                                         quads, framebuffer) and trace(list, primitive, x, y, fb)
 // Models today: LlvmpipeModel (llvmpipe_model.hpp) and ExactModel (exact_model.hpp).
 //
-// Deliberately does not: choose the model (renderer.cpp does, once per draw).
+// Deliberately does not: choose the model (pipeline.hpp does, once per draw).
 #pragma once
 
 #include <cstddef>

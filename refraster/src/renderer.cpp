@@ -1,33 +1,17 @@
-// The stage order of a render, per draw, in the spirit of Mesa's softpipe quad pipeline
-// (sp_quad_pipe.c): every stage is a call below, in the order the data flows.
-//   assembly                    refraster/assembly.hpp
-//   vertex stage: viewport,     vertex_stage.cpp   (draw module: draw_llvm.c generate_viewport,
-//     clip masks                                    generate_clipmask)
-//   model, chosen once a draw:  llvmpipe_model.cpp (clipper, float cull, polygon modes,
-//     setup into set-up         setup.cpp lp_setup_tri.c, line_point.cpp lp_setup_line.c and
-//     primitives in API order   lp_setup_point.c, fragment.cpp lp_state_setup.c planes)
-//                               or exact_model.cpp (the exact oracle)
-//   traversal into quad         traverse.hpp       (lp_rast_tri_tmp.h), quad.hpp
-//     packets
-//   fragment kernel, chosen     fragment.cpp       (lp_bld_interp.c, lp_bld_depth.c,
-//     once a draw                                   lp_bld_blend*.c)
-// An observer watches every stage: TraceObserver for `explain`, NoObserver (nothing at all)
-// otherwise.
+// render(): clears the target, checks what the profile can draw, and runs every draw through
+// the pipeline (pipeline.hpp, the stage order) with the observer the options ask for.
 #include "refraster/renderer.hpp"
 
 #include <algorithm>
 #include <array>
 #include <bit>
 #include <cmath>
-#include <span>
 
-#include "exact_model.hpp"
 #include "fragment.hpp"
-#include "llvmpipe_model.hpp"
-#include "model.hpp"
 #include "observer.hpp"
+#include "pipeline.hpp"
+#include "setup.hpp"
 #include "trace_observer.hpp"
-#include "vertex_stage.hpp"
 
 namespace refraster {
 
@@ -114,42 +98,6 @@ std::string unsupported(const Draw& d, const Profile& profile) {
     return {};
 }
 
-// One draw through every stage; returns the pixels traversal found covered when the render
-// stops after traversal.
-template <class Model, class Observer>
-std::uint64_t draw(const detail::DrawContext& ctx, Observer& obs, RenderStage stop,
-                   Framebuffer& fb) {
-    detail::VertexStage stage(ctx.draw, ctx.vertex_options());
-    if (stop == RenderStage::Load) return 0;
-    Model model(ctx);
-    const auto kernel = model.kernel();
-    std::uint64_t fragments = 0;
-    model.setup(stage, obs, [&](const typename Model::List& list) {
-        if (stop == RenderStage::Setup) return;
-        for (std::size_t i = 0; i < list.primitives.size(); ++i) {
-            const auto& prim = list.primitives[i];
-            obs.before_fragments(i, list, prim, kernel, fb);
-            Model::traverse(prim, [&](std::span<const detail::QuadPacket> quads) {
-                if (stop == RenderStage::Raster) {
-                    fragments += static_cast<std::uint64_t>(detail::covered_pixels(quads));
-                } else {
-                    kernel.shade(list, prim, quads, fb);
-                }
-            });
-        }
-    });
-    return fragments;
-}
-
-template <class Observer>
-std::uint64_t draw_with(const detail::DrawContext& ctx, Observer& obs, RenderStage stop,
-                        Framebuffer& fb) {
-    // The model, chosen once per draw.
-    if (ctx.profile.model == CoverageModel::Exact)
-        return draw<detail::ExactModel>(ctx, obs, stop, fb);
-    return draw<detail::LlvmpipeModel>(ctx, obs, stop, fb);
-}
-
 }  // namespace
 
 RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebuffer& out) {
@@ -186,10 +134,10 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
                                       !out.owner.empty()};
         if (trace != nullptr) {
             detail::TraceObserver obs(*trace);
-            outcome.fragments += draw_with(ctx, obs, options.stop_after, out);
+            outcome.fragments += detail::run_draw(ctx, obs, options.stop_after, out);
         } else {
             detail::NoObserver obs;
-            outcome.fragments += draw_with(ctx, obs, options.stop_after, out);
+            outcome.fragments += detail::run_draw(ctx, obs, options.stop_after, out);
         }
     }
     if (trace != nullptr && trace->x >= 0 && trace->y >= 0 &&
