@@ -29,7 +29,7 @@ private:
         std::string overrides;
         for (const auto& o : options_.profile_overrides) overrides += (overrides.empty() ? "" : ";") + o;
         if (!overrides.empty()) r.provenance["profile_overrides"] = overrides;
-        const auto fma = options_.profile.viewport_fma;
+        const auto fma = options_.profile.gl.viewport_fma;
         r.provenance["fma"] = fma == refraster::FmaMode::On || (fma == refraster::FmaMode::Auto && refraster::host_has_fma())
                                   ? "on"
                                   : "off";

@@ -95,7 +95,7 @@ Evidence gather(const refraster::PixelTrace& t, const refraster::Profile& profil
                     }
                     if (others_inside) {
                         ev.tie = "the centre lies exactly on edge " + std::to_string(k) + " of " + where(p) + ", and the " +
-                                 refraster::to_string(profile.tie_rule) + " rule " +
+                                 refraster::to_string(profile.gl.tie_rule) + " rule " +
                                  (ed.owns_ties ? "gives the pixel to it" : "keeps the pixel from it");
                     }
                 }
@@ -125,23 +125,23 @@ const std::vector<std::string>& rule_order() {
 std::vector<std::pair<std::string, std::string>> alternatives_of(const refraster::Profile& p) {
     std::vector<std::pair<std::string, std::string>> out;
     for (const char* r : {"left-bottom", "left-top", "right-bottom", "right-top"}) {
-        if (refraster::to_string(p.tie_rule) != r) out.emplace_back("tie rule", std::string("tie_rule=") + r);
+        if (refraster::to_string(p.gl.tie_rule) != r) out.emplace_back("tie rule", std::string("tie_rule=") + r);
     }
-    if (p.coverage != refraster::CoverageModel::Snapped) return out;  // the exact oracle has no other parameter
+    if (p.model != refraster::CoverageModel::Snapped) return out;  // the exact oracle has no other parameter
     for (const char* r : {"nearest-even", "half-away", "truncate"}) {
-        if (refraster::to_string(p.snap_rounding) != r) out.emplace_back("snapping", std::string("snap_rounding=") + r);
+        if (refraster::to_string(p.gl.snap_rounding) != r) out.emplace_back("snapping", std::string("snap_rounding=") + r);
     }
     for (int bits : {4, 8}) {
-        if (p.subpixel_bits != bits) out.emplace_back("snapping", "subpixel_bits=" + std::to_string(bits));
+        if (p.gl.subpixel_bits != bits) out.emplace_back("snapping", "subpixel_bits=" + std::to_string(bits));
     }
-    const bool fused = p.viewport_fma == refraster::FmaMode::On ||
-                       (p.viewport_fma == refraster::FmaMode::Auto && refraster::host_has_fma());
+    const bool fused = p.gl.viewport_fma == refraster::FmaMode::On ||
+                       (p.gl.viewport_fma == refraster::FmaMode::Auto && refraster::host_has_fma());
     out.emplace_back("fused arithmetic", fused ? "viewport_fma=off" : "viewport_fma=on");
-    out.emplace_back("denormals", p.flush_denormals ? "flush_denormals=false" : "flush_denormals=true");
-    out.emplace_back("cull", p.draw_pipeline_cull ? "draw_pipeline_cull=false" : "draw_pipeline_cull=true");
-    out.emplace_back("nine-vertex analysis", p.nine_vertex_quirk ? "nine_vertex_quirk=false" : "nine_vertex_quirk=true");
-    out.emplace_back("integer widths", p.wrapping_arithmetic ? "wrapping_arithmetic=false" : "wrapping_arithmetic=true");
-    out.emplace_back("clipper", p.clipping == refraster::Clipping::ViewVolume ? "clipping=guard-band" : "clipping=view-volume");
+    out.emplace_back("denormals", p.gl.flush_denormals ? "flush_denormals=false" : "flush_denormals=true");
+    out.emplace_back("cull", p.quirks.draw_pipeline_cull ? "draw_pipeline_cull=false" : "draw_pipeline_cull=true");
+    out.emplace_back("nine-vertex analysis", p.quirks.nine_vertex_quirk ? "nine_vertex_quirk=false" : "nine_vertex_quirk=true");
+    out.emplace_back("integer widths", p.quirks.wrapping_arithmetic ? "wrapping_arithmetic=false" : "wrapping_arithmetic=true");
+    out.emplace_back("clipper", p.gl.clipping == refraster::Clipping::ViewVolume ? "clipping=guard-band" : "clipping=view-volume");
     return out;
 }
 

@@ -8,6 +8,7 @@
 #include "harness/compare.hpp"
 #include "harness/explain.hpp"
 #include "harness/front_end.hpp"
+#include "refraster/assembly.hpp"
 #include "refraster/renderer.hpp"
 
 namespace harness {
@@ -18,16 +19,21 @@ using ojson = nlohmann::ordered_json;
 
 const char* name_of(refraster::CullMode c) {
     switch (c) {
-        case refraster::CullMode::None: return "none";
-        case refraster::CullMode::Front: return "front";
-        case refraster::CullMode::Back: return "back";
-        case refraster::CullMode::FrontAndBack: return "front_and_back";
+        case refraster::CullMode::None:
+            return "none";
+        case refraster::CullMode::Front:
+            return "front";
+        case refraster::CullMode::Back:
+            return "back";
+        case refraster::CullMode::FrontAndBack:
+            return "front_and_back";
     }
     return "none";
 }
 
 const char* name_of(refraster::CompareFunc f) {
-    static const char* names[] = {"never", "less", "equal", "lequal", "greater", "notequal", "gequal", "always"};
+    static const char* names[] = {"never",   "less",     "equal",  "lequal",
+                                  "greater", "notequal", "gequal", "always"};
     return names[static_cast<int>(f)];
 }
 
@@ -36,8 +42,10 @@ ojson state_json(const refraster::DrawState& s, const refraster::Target& t) {
     const DrawState d;
     ojson j = ojson::object();
     const Rect whole{0, 0, static_cast<std::int32_t>(t.width), static_cast<std::int32_t>(t.height)};
-    if (!(s.viewport == whole)) j["viewport"] = {s.viewport.x, s.viewport.y, s.viewport.width, s.viewport.height};
-    if (s.depth_near != d.depth_near || s.depth_far != d.depth_far) j["depth_range"] = {s.depth_near, s.depth_far};
+    if (!(s.viewport == whole))
+        j["viewport"] = {s.viewport.x, s.viewport.y, s.viewport.width, s.viewport.height};
+    if (s.depth_near != d.depth_near || s.depth_far != d.depth_far)
+        j["depth_range"] = {s.depth_near, s.depth_far};
     if (s.scissor) j["scissor"] = {s.scissor->x, s.scissor->y, s.scissor->width, s.scissor->height};
     if (s.cull != d.cull) j["cull"] = name_of(s.cull);
     if (s.front_face != d.front_face) j["front_face"] = "cw";
@@ -45,57 +53,28 @@ ojson state_json(const refraster::DrawState& s, const refraster::Target& t) {
     if (!s.depth_write) j["depth_write"] = false;
     if (s.shade != d.shade) j["shade"] = s.shade == ShadeModel::Flat ? "flat" : "noperspective";
     if (s.provoking_vertex != d.provoking_vertex) j["provoking_vertex"] = "first";
-    if (s.polygon_mode != d.polygon_mode) j["polygon_mode"] = s.polygon_mode == PolygonMode::Line ? "line" : "point";
-    if (s.polygon_offset) j["polygon_offset"] = {{"factor", s.polygon_offset->factor}, {"units", s.polygon_offset->units}};
+    if (s.polygon_mode != d.polygon_mode)
+        j["polygon_mode"] = s.polygon_mode == PolygonMode::Line ? "line" : "point";
+    if (s.polygon_offset)
+        j["polygon_offset"] = {{"factor", s.polygon_offset->factor},
+                               {"units", s.polygon_offset->units}};
     if (s.line_width != d.line_width) j["line_width"] = s.line_width;
     if (s.point_size != d.point_size) j["point_size"] = s.point_size;
     if (s.blend != d.blend) j["blend"] = s.blend == BlendPreset::Alpha ? "alpha" : "add";
     return j;
 }
 
-// The primitives of a draw as vertex lists in the order the driver assembles them, so that a
-// list primitive with those vertices rasterizes identically.
+// The primitives of a draw as vertex lists in the order the driver assembles them
+// (refraster/assembly.hpp), so that a list primitive with those vertices rasterizes
+// identically.
 std::vector<std::vector<SceneVertex>> primitives_of(const SceneDraw& d) {
-    using refraster::PrimitiveType;
     const std::size_t n = d.indices ? d.indices->size() : d.vertices.size();
     const auto v = [&](std::size_t i) { return d.vertices[d.indices ? (*d.indices)[i] : i]; };
     const bool first = d.state.provoking_vertex == refraster::ProvokingVertex::First;
     std::vector<std::vector<SceneVertex>> out;
-    switch (d.primitive) {
-        case PrimitiveType::Points:
-            for (std::size_t i = 0; i < n; ++i) out.push_back({v(i)});
-            break;
-        case PrimitiveType::Lines:
-            for (std::size_t i = 0; i + 1 < n; i += 2) out.push_back({v(i), v(i + 1)});
-            break;
-        case PrimitiveType::LineStrip:
-        case PrimitiveType::LineLoop:
-            for (std::size_t i = 0; i + 1 < n; ++i) out.push_back({v(i), v(i + 1)});
-            if (d.primitive == PrimitiveType::LineLoop && n >= 2) out.push_back({v(n - 1), v(0)});
-            break;
-        case PrimitiveType::Triangles:
-            for (std::size_t i = 0; i + 2 < n; i += 3) out.push_back({v(i), v(i + 1), v(i + 2)});
-            break;
-        case PrimitiveType::TriangleStrip:
-            for (std::size_t k = 0; k + 2 < n; ++k) {
-                if (k % 2 == 0) {
-                    out.push_back({v(k), v(k + 1), v(k + 2)});
-                } else if (first) {
-                    out.push_back({v(k), v(k + 2), v(k + 1)});
-                } else {
-                    out.push_back({v(k + 1), v(k), v(k + 2)});
-                }
-            }
-            break;
-        case PrimitiveType::TriangleFan:
-            for (std::size_t k = 0; k + 2 < n; ++k) {
-                if (first) {
-                    out.push_back({v(k + 1), v(k + 2), v(0)});
-                } else {
-                    out.push_back({v(0), v(k + 1), v(k + 2)});
-                }
-            }
-            break;
+    for (const auto& elements : refraster::assemble_primitives(d.primitive, n, first)) {
+        auto& prim = out.emplace_back();
+        for (const auto e : elements) prim.push_back(v(e));
     }
     return out;
 }
@@ -103,11 +82,14 @@ std::vector<std::vector<SceneVertex>> primitives_of(const SceneDraw& d) {
 refraster::PrimitiveType list_type(refraster::PrimitiveType p) {
     using refraster::PrimitiveType;
     switch (p) {
-        case PrimitiveType::Points: return PrimitiveType::Points;
+        case PrimitiveType::Points:
+            return PrimitiveType::Points;
         case PrimitiveType::Lines:
         case PrimitiveType::LineStrip:
-        case PrimitiveType::LineLoop: return PrimitiveType::Lines;
-        default: return PrimitiveType::Triangles;
+        case PrimitiveType::LineLoop:
+            return PrimitiveType::Lines;
+        default:
+            return PrimitiveType::Triangles;
     }
 }
 
@@ -137,8 +119,9 @@ SceneFile assemble(const SceneFile& base, const std::vector<Piece>& pieces) {
 }
 
 class Oracle {
-public:
-    Oracle(const refraster::Profile& p, Backend& b, const std::string& label, const MismatchToKeep& keep)
+  public:
+    Oracle(const refraster::Profile& p, Backend& b, const std::string& label,
+           const MismatchToKeep& keep)
         : profile_(p), backend_(b), label_(label), keep_(keep) {}
 
     // The mismatch signature, "class: rule", or "" when the scene has no mismatch of the kind
@@ -158,7 +141,8 @@ public:
             const auto& ref = ex.reference_image();
             std::optional<std::array<int, 2>> at = keep_.pixel;
             if (at) {
-                const auto i = ref.index(static_cast<std::uint32_t>((*at)[0]), static_cast<std::uint32_t>((*at)[1]));
+                const auto i = ref.index(static_cast<std::uint32_t>((*at)[0]),
+                                         static_cast<std::uint32_t>((*at)[1]));
                 if (ex.classifier()->at(i).cls == PixelClass::Equal) return "";
             } else {
                 // The pixel of largest difference (colour first, then depth), of the kept class.
@@ -167,7 +151,8 @@ public:
                     for (std::uint32_t x = 0; x < ref.width; ++x) {
                         const auto px = ex.classifier()->at(ref.index(x, y));
                         if (px.cls == PixelClass::Equal || !of_class(px.cls)) continue;
-                        const std::pair<std::uint64_t, std::uint64_t> d{px.color_difference, px.depth_difference};
+                        const std::pair<std::uint64_t, std::uint64_t> d{px.color_difference,
+                                                                        px.depth_difference};
                         if (!at || d > worst) {
                             worst = d;
                             at = std::array<int, 2>{static_cast<int>(x), static_cast<int>(y)};
@@ -185,10 +170,11 @@ public:
     }
     int renders = 0;
 
-private:
+  private:
     bool of_class(PixelClass c) const {
         if (keep_.difference.empty()) return true;
-        const bool coverage = c == PixelClass::Missing || c == PixelClass::Extra || c == PixelClass::Coverage;
+        const bool coverage =
+            c == PixelClass::Missing || c == PixelClass::Extra || c == PixelClass::Coverage;
         return keep_.difference == "coverage" ? coverage
                : keep_.difference == "colour" ? c == PixelClass::ColorOnly
                                               : c == PixelClass::DepthOnly;
@@ -240,17 +226,20 @@ std::string scene_to_json(const SceneFile& s) {
     return j.dump(1) + "\n";
 }
 
-ReduceResult reduce_scene(const SceneFile& scene, const std::string& label, const refraster::Profile& profile,
-                          Backend& backend, std::ostream& log, const MismatchToKeep& keep) {
+ReduceResult reduce_scene(const SceneFile& scene, const std::string& label,
+                          const refraster::Profile& profile, Backend& backend, std::ostream& log,
+                          const MismatchToKeep& keep) {
     Oracle oracle(profile, backend, label, keep);
     ReduceResult r;
     r.signature = oracle.signature(scene);
     if (r.signature.empty()) {
-        throw std::runtime_error(label + (keep.pixel || !keep.difference.empty()
-                                              ? ": no mismatch of the kind asked for; nothing to reduce"
-                                              : ": the scene matches the backend; nothing to reduce"));
+        throw std::runtime_error(label +
+                                 (keep.pixel || !keep.difference.empty()
+                                      ? ": no mismatch of the kind asked for; nothing to reduce"
+                                      : ": the scene matches the backend; nothing to reduce"));
     }
-    log << "signature: a " << r.signature << " mismatch" << "\n";
+    log << "signature: a " << r.signature << " mismatch"
+        << "\n";
 
     std::vector<Piece> pieces;
     for (std::size_t d = 0; d < scene.draws.size(); ++d) {
@@ -261,7 +250,8 @@ ReduceResult reduce_scene(const SceneFile& scene, const std::string& label, cons
         return !ps.empty() && oracle.signature(assemble(scene, ps)) == r.signature;
     };
     if (!holds(pieces)) {
-        throw std::runtime_error(label + ": the signature changes when draws become lists of primitives");
+        throw std::runtime_error(label +
+                                 ": the signature changes when draws become lists of primitives");
     }
     log << "step 0: " << pieces.size() << " primitives in " << scene.draws.size() << " draws\n";
 
@@ -273,7 +263,8 @@ ReduceResult reduce_scene(const SceneFile& scene, const std::string& label, cons
         bool reduced = false;
         for (std::size_t start = 0; start < pieces.size() && !reduced; start += chunk) {
             const std::size_t end = std::min(pieces.size(), start + chunk);
-            std::vector<Piece> only(pieces.begin() + static_cast<std::ptrdiff_t>(start), pieces.begin() + static_cast<std::ptrdiff_t>(end));
+            std::vector<Piece> only(pieces.begin() + static_cast<std::ptrdiff_t>(start),
+                                    pieces.begin() + static_cast<std::ptrdiff_t>(end));
             if (only.size() < pieces.size() && holds(only)) {
                 pieces = std::move(only);
                 n = 2;
@@ -281,8 +272,10 @@ ReduceResult reduce_scene(const SceneFile& scene, const std::string& label, cons
                 break;
             }
             std::vector<Piece> rest;
-            rest.insert(rest.end(), pieces.begin(), pieces.begin() + static_cast<std::ptrdiff_t>(start));
-            rest.insert(rest.end(), pieces.begin() + static_cast<std::ptrdiff_t>(end), pieces.end());
+            rest.insert(rest.end(), pieces.begin(),
+                        pieces.begin() + static_cast<std::ptrdiff_t>(start));
+            rest.insert(rest.end(), pieces.begin() + static_cast<std::ptrdiff_t>(end),
+                        pieces.end());
             if (holds(rest)) {
                 pieces = std::move(rest);
                 n = std::max<std::size_t>(n - 1, 2);
@@ -308,7 +301,8 @@ ReduceResult reduce_scene(const SceneFile& scene, const std::string& label, cons
                     if (rounded == old) break;
                     v.position[k] = rounded;
                     if (oracle.signature(best) == r.signature) {
-                        log << "step " << ++step << ": a coordinate " << old << " -> " << rounded << "\n";
+                        log << "step " << ++step << ": a coordinate " << old << " -> " << rounded
+                            << "\n";
                         break;
                     }
                     v.position[k] = old;
@@ -319,8 +313,8 @@ ReduceResult reduce_scene(const SceneFile& scene, const std::string& label, cons
     r.scene = best;
     r.primitives_after = pieces.size();
     r.renders = oracle.renders;
-    log << "done: " << r.primitives_before << " -> " << r.primitives_after << " primitives in " << r.renders
-        << " renders\n";
+    log << "done: " << r.primitives_before << " -> " << r.primitives_after << " primitives in "
+        << r.renders << " renders\n";
     return r;
 }
 

@@ -1,8 +1,8 @@
-#include "assembly.hpp"
+#include "refraster/assembly.hpp"
 
 #include <algorithm>
 
-namespace refraster::detail {
+namespace refraster {
 
 std::vector<AssembledTriangle> assemble_triangles(PrimitiveType p, std::size_t count, bool provoking_first,
                                                   int segment_vertices, bool indexed) {
@@ -49,15 +49,59 @@ std::vector<AssembledTriangle> assemble_triangles(PrimitiveType p, std::size_t c
         case PrimitiveType::TriangleFan: {
             const std::size_t per = segment_size - 2;
             for (std::size_t k = 0; k + 2 < count; ++k) {
-                const auto e = provoking_first ? std::array<std::uint32_t, 3>{u(k + 1), u(k + 2), 0}
-                                               : std::array<std::uint32_t, 3>{0, u(k + 1), u(k + 2)};
+                const auto e = provoking_first
+                                   ? std::array<std::uint32_t, 3>{u(k + 1), u(k + 2), 0}
+                                   : std::array<std::uint32_t, 3>{0, u(k + 1), u(k + 2)};
                 out.push_back({e, split ? u(k / per) : 0u});
             }
             break;
         }
-        default: break;
+        default:
+            break;
     }
     return out;
 }
 
-}  // namespace refraster::detail
+std::vector<std::array<std::uint32_t, 2>> assemble_lines(PrimitiveType p, std::size_t count) {
+    std::vector<std::array<std::uint32_t, 2>> out;
+    const auto u = [](std::size_t v) { return static_cast<std::uint32_t>(v); };
+    switch (p) {
+        case PrimitiveType::Lines:
+            for (std::size_t i = 0; i + 1 < count; i += 2) out.push_back({u(i), u(i + 1)});
+            break;
+        case PrimitiveType::LineStrip:
+        case PrimitiveType::LineLoop:
+            for (std::size_t i = 0; i + 1 < count; ++i) out.push_back({u(i), u(i + 1)});
+            if (p == PrimitiveType::LineLoop && count >= 2) out.push_back({u(count - 1), 0});
+            break;
+        default:
+            break;
+    }
+    return out;
+}
+
+std::vector<std::vector<std::uint32_t>> assemble_primitives(PrimitiveType p, std::size_t count,
+                                                            bool provoking_first) {
+    std::vector<std::vector<std::uint32_t>> out;
+    switch (p) {
+        case PrimitiveType::Points:
+            for (std::size_t i = 0; i < count; ++i) out.push_back({static_cast<std::uint32_t>(i)});
+            break;
+        case PrimitiveType::Lines:
+        case PrimitiveType::LineStrip:
+        case PrimitiveType::LineLoop:
+            for (const auto& s : assemble_lines(p, count)) out.push_back({s[0], s[1]});
+            break;
+        case PrimitiveType::Triangles:
+        case PrimitiveType::TriangleStrip:
+        case PrimitiveType::TriangleFan:
+            // Segments change nothing about the vertices: one segment covering the draw.
+            for (const auto& t : assemble_triangles(p, count, provoking_first, 1 << 30)) {
+                out.push_back({t.element[0], t.element[1], t.element[2]});
+            }
+            break;
+    }
+    return out;
+}
+
+}  // namespace refraster

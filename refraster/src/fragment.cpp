@@ -4,6 +4,7 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <type_traits>
 
 #include "refraster/assert.hpp"
 #include "rules.hpp"
@@ -45,60 +46,88 @@ Plane calc_coef(const Fp& fp, const SetupTerms& s, float a0, float a1, float a2)
 // minps/maxps instructions: each returns its second operand unless the first compares less
 // (greater). A NaN depth therefore becomes 1 (the far value, in every depth format), -0 becomes
 // +0, and infinities clamp to the ends.
-inline float x86_min(float a, float b) { return a < b ? a : b; }
-inline float x86_max(float a, float b) { return a > b ? a : b; }
+inline float x86_min(float a, float b) {
+    return a < b ? a : b;
+}
+inline float x86_max(float a, float b) {
+    return a > b ? a : b;
+}
 
 }  // namespace
 
-float clamp_depth(float z) { return x86_max(x86_min(z, 1.0f), 0.0f); }
+float clamp_depth(float z) {
+    return x86_max(x86_min(z, 1.0f), 0.0f);
+}
 
 namespace {
 
-bool compare(CompareFunc f, std::uint32_t frag, std::uint32_t stored, bool is_float) {
-    // z32f values are compared as floats (both are in [0, 1], so their bit patterns order the
-    // same way, but the intent is kept explicit).
-    const auto lt = [&] { return is_float ? std::bit_cast<float>(frag) < std::bit_cast<float>(stored) : frag < stored; };
-    const auto eq = [&] { return is_float ? std::bit_cast<float>(frag) == std::bit_cast<float>(stored) : frag == stored; };
-    switch (f) {
-        case CompareFunc::Never: return false;
-        case CompareFunc::Less: return lt();
-        case CompareFunc::Equal: return eq();
-        case CompareFunc::Lequal: return lt() || eq();
-        case CompareFunc::Greater: return !lt() && !eq();
-        case CompareFunc::NotEqual: return !eq();
-        case CompareFunc::Gequal: return !lt();
-        case CompareFunc::Always: return true;
+// GL's encoding of the compare functions is a mask of the outcomes that pass: 1 less, 2 equal,
+// 4 greater (GL_NEVER 0x200 ... GL_ALWAYS 0x207); the enum keeps that order.
+static_assert(
+    static_cast<int>(CompareFunc::Never) == 0 && static_cast<int>(CompareFunc::Less) == 1 &&
+    static_cast<int>(CompareFunc::Equal) == 2 && static_cast<int>(CompareFunc::Lequal) == 3 &&
+    static_cast<int>(CompareFunc::Greater) == 4 && static_cast<int>(CompareFunc::NotEqual) == 5 &&
+    static_cast<int>(CompareFunc::Gequal) == 6 && static_cast<int>(CompareFunc::Always) == 7);
+
+// The outcome of comparing a fragment's depth with the stored one. z32f values are compared as
+// floats (both are in [0, 1], so their bit patterns order the same way, but the intent is kept
+// explicit); neither less nor equal counts as greater, as GREATER, NOTEQUAL and GEQUAL are
+// decided (!lt && !eq, !eq, !lt).
+template <bool kFloat>
+unsigned depth_outcome(std::uint32_t frag, std::uint32_t stored) {
+    if constexpr (kFloat) {
+        const float f = std::bit_cast<float>(frag);
+        const float s = std::bit_cast<float>(stored);
+        return f < s ? 1u : f == s ? 2u : 4u;
+    } else {
+        return frag < stored ? 1u : frag == stored ? 2u : 4u;
     }
-    return true;
+}
+
+bool compare(CompareFunc f, std::uint32_t frag, std::uint32_t stored, bool is_float) {
+    const unsigned outcome =
+        is_float ? depth_outcome<true>(frag, stored) : depth_outcome<false>(frag, stored);
+    return (static_cast<unsigned>(f) & outcome) != 0;
 }
 
 }  // namespace
 
-FragmentShader::FragmentShader(const Planes& planes, const Draw& draw, const Target& target, FragmentOptions options,
-                               std::uint32_t owner)
-    : draw_(draw), target_(target), options_(options), shade_(draw.state.shade), p_(planes), owner_(owner) {
-    depth_test_ = draw.state.depth_test.has_value() && target.depth != DepthFormat::None;
-    if (options_.flush_denormals) {
-        // The per-pixel code runs under DAZ (lp_rast.c): a plane term that setup left subnormal
-        // (setup without FTZ, see the renderer) counts as zero in every operation that reads it.
-        // Flat values are only moved and keep their bits.
-        const auto daz = [](Plane& q) {
-            q.a0 = flush_denormal(q.a0);
-            q.dadx = flush_denormal(q.dadx);
-            q.dady = flush_denormal(q.dady);
-        };
-        daz(p_.z);
-        daz(p_.w);
-        for (auto& c : p_.color) daz(c);
-        p_.z_offset = flush_denormal(p_.z_offset);
-    }
+PlaneWriter::PlaneWriter(SetupList& list, SetupPrimitive& prim, bool daz)
+    : list_(list), prim_(prim), daz_(daz) {
+    prim_.planes = static_cast<std::uint32_t>(list_.planes.size());
+    prim_.flat = static_cast<std::uint32_t>(list_.flat.size());
 }
 
-Planes triangle_planes(const std::array<const StageVertex*, 3>& v, const VertexStage& stage, const Draw& draw,
-                       const Target& target, bool provoking_first, FragmentOptions options) {
-    REFRASTER_ASSERT(stage.attribute_floats() >= 4, "a colour of four components");
+Plane PlaneWriter::daz(Plane p) const {
+    if (daz_) {
+        p.a0 = flush_denormal(p.a0);
+        p.dadx = flush_denormal(p.dadx);
+        p.dady = flush_denormal(p.dady);
+    }
+    return p;
+}
+
+void PlaneWriter::depth(const Plane& z, const Plane& w, float z_offset) {
+    list_.planes.push_back(daz(z));
+    list_.planes.push_back(daz(w));
+    prim_.z_offset = daz_ ? flush_denormal(z_offset) : z_offset;
+}
+
+void PlaneWriter::attribute(const Plane& p) {
+    list_.planes.push_back(daz(p));
+}
+
+void PlaneWriter::constant(float v) {
+    list_.flat.push_back(v);
+}
+
+void triangle_planes(const std::array<const StageVertex*, 3>& v, const VertexStage& stage,
+                     const Draw& draw, const Target& target, bool provoking_first,
+                     FragmentOptions options, bool daz, PlaneNeeds needs, SetupList& list,
+                     SetupPrimitive& prim) {
     const Fp fp{options.flush_denormals};
-    Planes out;
+    PlaneWriter out(list, prim, daz);
+    float z_offset = 0.0f;
     const auto& p0 = v[0]->window;
     const auto& p1 = v[1]->window;
     const auto& p2 = v[2]->window;
@@ -112,7 +141,7 @@ Planes triangle_planes(const std::array<const StageVertex*, 3>& v, const VertexS
     const float f = fp.mul(d01[1], d20[0]);
     const float ooa = fp.div(1.0f, fp.sub(e, f));
 
-    if (draw.state.polygon_offset) {
+    if (draw.state.polygon_offset && needs.depth) {
         // lp_do_offset_tri: res12 = (dz20*dy01 - dy20*dz01, dx20*dz01 - dz20*dx01), times ooa.
         const float res1 = fp.sub(fp.mul(d20[2], d01[1]), fp.mul(d20[1], d01[2]));
         const float res2 = fp.sub(fp.mul(d20[0], d01[2]), fp.mul(d20[2], d01[0]));
@@ -124,10 +153,11 @@ Planes triangle_planes(const std::array<const StageVertex*, 3>& v, const VertexS
         const float units = draw.state.polygon_offset->units;
         if (target.depth == DepthFormat::Z32f) {
             // units * 2^(exponent(max |z_i|) - 23).
-            const float maxz = std::max(std::fabs(p2[2]), std::max(std::fabs(p0[2]), std::fabs(p1[2])));
-            out.z_offset = fp.add(fp.mul(z32f_offset_scale(maxz), units), mult);
+            const float maxz =
+                std::max(std::fabs(p2[2]), std::max(std::fabs(p0[2]), std::fabs(p1[2])));
+            z_offset = fp.add(fp.mul(z32f_offset_scale(maxz), units), mult);
         } else {
-            out.z_offset = fp.add(fixed_depth_offset_units(units, target.depth), mult);
+            z_offset = fp.add(fixed_depth_offset_units(units, target.depth), mult);
         }
     }
 
@@ -138,143 +168,291 @@ Planes triangle_planes(const std::array<const StageVertex*, 3>& v, const VertexS
     s.dy20o = fp.mul(d20[1], ooa);
     s.dx01o = fp.mul(d01[0], ooa);
     s.dy01o = fp.mul(d01[1], ooa);
-    out.z = calc_coef(fp, s, p0[2], p1[2], p2[2]);
-    out.w = calc_coef(fp, s, p0[3], p1[3], p2[3]);
+    out.depth(needs.depth ? calc_coef(fp, s, p0[2], p1[2], p2[2]) : Plane{},
+              needs.w ? calc_coef(fp, s, p0[3], p1[3], p2[3]) : Plane{}, z_offset);
 
     const auto c0 = stage.attributes(*v[0]);
     const auto c1 = stage.attributes(*v[1]);
     const auto c2 = stage.attributes(*v[2]);
     const auto& prov = provoking_first ? c0 : c2;
-    for (std::size_t k = 0; k < 4; ++k) {
-        out.flat[k] = prov[k];
-        if (draw.state.shade == ShadeModel::Smooth) {
-            // apply_perspective_corr: each vertex value times its own 1/w.
-            out.color[k] = calc_coef(fp, s, fp.mul(c0[k], p0[3]), fp.mul(c1[k], p1[3]), fp.mul(c2[k], p2[3]));
-        } else if (draw.state.shade == ShadeModel::NoPerspective) {
-            out.color[k] = calc_coef(fp, s, c0[k], c1[k], c2[k]);
+    for (std::size_t k = 0; k < c0.size(); ++k) {
+        switch (draw.state.shade) {
+            case ShadeModel::Flat:
+                out.constant(prov[k]);
+                break;  // emit_constant_coef4
+            case ShadeModel::Smooth:
+                // apply_perspective_corr: each vertex value times its own 1/w.
+                out.attribute(calc_coef(fp, s, fp.mul(c0[k], p0[3]), fp.mul(c1[k], p1[3]),
+                                        fp.mul(c2[k], p2[3])));
+                break;
+            case ShadeModel::NoPerspective:
+                out.attribute(calc_coef(fp, s, c0[k], c1[k], c2[k]));
+                break;
         }
     }
-    return out;
 }
 
-float FragmentShader::eval_plane(const Plane& p, float px, float py) const {
-    const Fp fp{options_.flush_denormals};
-    if (options_.fma) {
-        return fp.fma(p.dady, py, fp.fma(p.dadx, px, p.a0));
-    }
-    return fp.add(fp.mul(p.dady, py), fp.add(fp.mul(p.dadx, px), p.a0));
-}
+namespace {
 
-FragmentShader::PixelResult FragmentShader::evaluate(int x, int y, const Framebuffer& fb) const {
-    const Fp fp{options_.flush_denormals};
-    const float px = static_cast<float>(x);
-    const float py = static_cast<float>(y);
-    PixelResult r;
-    if (depth_test_) {
-        float z = fp.add(eval_plane(p_.z, px, py), p_.z_offset);
-        z = clamp_depth(z);
-        r.z = z;
-        r.depth = quantise_depth(z, target_.depth);
-        const std::uint32_t stored = fb.depth[fb.index(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y))];
-        r.depth_pass = compare(*draw_.state.depth_test, r.depth, stored, target_.depth == DepthFormat::Z32f);
-    }
-    if (shade_ == ShadeModel::Flat) {
-        r.color = p_.flat;
-    } else if (shade_ == ShadeModel::NoPerspective) {
-        for (std::size_t k = 0; k < 4; ++k) r.color[k] = eval_plane(p_.color[k], px, py);
-    } else {
-        const float w = fp.div(1.0f, eval_plane(p_.w, px, py));  // lp_build_rcp: a true division
-        for (std::size_t k = 0; k < 4; ++k) r.color[k] = fp.mul(eval_plane(p_.color[k], px, py), w);
-    }
-    return r;
-}
+// The source colour as the output merge receives it: rgba8 bytes (lp_build_conv) or floats.
+template <ColorFormat C>
+using SourceColor =
+    std::conditional_t<C == ColorFormat::Rgba8, std::array<std::uint8_t, 4>, std::array<float, 4>>;
 
-void write_fragment_color(const Draw& draw, Framebuffer& fb, std::size_t i, const std::array<float, 4>& c,
-                          bool flush_denormals) {
-    const BlendPreset blend = draw.state.blend;
-    if (fb.color_format == ColorFormat::Rgba8) {
-        std::uint8_t* d = fb.color8.data() + 4 * i;
-        std::array<std::uint8_t, 4> s{};
+template <ColorFormat C>
+SourceColor<C> source_color(const std::array<float, 4>& c) {
+    if constexpr (C == ColorFormat::Rgba8) {
+        SourceColor<C> s{};
         for (std::size_t k = 0; k < 4; ++k) s[k] = color_to_unorm8(c[k]);
-        switch (blend) {
-            case BlendPreset::None: std::memcpy(d, s.data(), 4); break;
-            case BlendPreset::Alpha: {
-                const std::uint32_t a = s[3];
-                for (std::size_t k = 0; k < 4; ++k) {
-                    const std::uint32_t v = std::uint32_t{unorm8_mul(s[k], a)} + unorm8_mul(d[k], 255 - a);
-                    d[k] = static_cast<std::uint8_t>(std::min<std::uint32_t>(v, 255));
-                }
-                break;
+        return s;
+    } else {
+        return c;
+    }
+}
+
+// Blending and the colour write of pixel `i` (lp_bld_blend; docs/precision.md "Colour output
+// and blending").
+template <ColorFormat C, BlendPreset B>
+void store_color(Framebuffer& fb, std::size_t i, const SourceColor<C>& s, const Fp& fp) {
+    if constexpr (C == ColorFormat::Rgba8) {
+        std::uint8_t* d = fb.color8.data() + 4 * i;
+        if constexpr (B == BlendPreset::None) {
+            std::memcpy(d, s.data(), 4);
+        } else if constexpr (B == BlendPreset::Alpha) {
+            const std::uint32_t a = s[3];
+            for (std::size_t k = 0; k < 4; ++k) {
+                const std::uint32_t v =
+                    std::uint32_t{unorm8_mul(s[k], a)} + unorm8_mul(d[k], 255 - a);
+                d[k] = static_cast<std::uint8_t>(std::min<std::uint32_t>(v, 255));
             }
-            case BlendPreset::Add:
-                for (std::size_t k = 0; k < 4; ++k) {
-                    d[k] = static_cast<std::uint8_t>(std::min<std::uint32_t>(std::uint32_t{s[k]} + d[k], 255));
-                }
-                break;
+        } else {
+            for (std::size_t k = 0; k < 4; ++k) {
+                d[k] = static_cast<std::uint8_t>(
+                    std::min<std::uint32_t>(std::uint32_t{s[k]} + d[k], 255));
+            }
         }
     } else {
         // The blend runs in the rasterizer's threads under FTZ/DAZ (lp_rast.c), so a subnormal
         // source, alpha or destination counts as zero there; without blending the colour is
         // only moved and keeps its bits.
-        const Fp fp{flush_denormals};
         float* d = fb.color32f.data() + 4 * i;
-        switch (blend) {
-            case BlendPreset::None: std::copy(c.begin(), c.end(), d); break;
-            case BlendPreset::Alpha: {
-                const float a = c[3];
-                const float inv = fp.sub(1.0f, a);
-                for (std::size_t k = 0; k < 4; ++k) d[k] = fp.add(fp.mul(c[k], a), fp.mul(d[k], inv));
-                break;
-            }
-            case BlendPreset::Add:
-                for (std::size_t k = 0; k < 4; ++k) d[k] = fp.add(c[k], d[k]);
-                break;
-        }
-    }
-}
-
-void FragmentShader::shade_span(int y, int x0, int x1, Framebuffer& fb) const {
-    for (int x = x0; x < x1; ++x) {
-        const PixelResult r = evaluate(x, y, fb);
-        if (!r.depth_pass) continue;
-        const std::size_t i = fb.index(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y));
-        if (depth_test_ && draw_.state.depth_write) fb.depth[i] = r.depth;
-        write_fragment_color(draw_, fb, i, r.color, options_.flush_denormals);
-        if (!fb.owner.empty()) fb.owner[i] = owner_;
-    }
-}
-
-FragmentTrace FragmentShader::trace_pixel(int x, int y, const Framebuffer& fb_before) const {
-    REFRASTER_ASSERT(x >= 0 && y >= 0 && static_cast<std::uint32_t>(x) < fb_before.width &&
-                         static_cast<std::uint32_t>(y) < fb_before.height,
-                     "a covered pixel, inside the framebuffer");
-    FragmentTrace t;
-    t.z_plane = {p_.z.a0, p_.z.dadx, p_.z.dady};
-    t.w_plane = {p_.w.a0, p_.w.dadx, p_.w.dady};
-    t.z_offset = p_.z_offset;
-    const PixelResult r = evaluate(x, y, fb_before);
-    const std::size_t i = fb_before.index(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y));
-    t.z = r.z;
-    t.depth_tested = depth_test_;
-    t.depth_value = r.depth;
-    t.depth_stored = depth_test_ ? fb_before.depth[i] : 0;
-    t.depth_pass = r.depth_pass;
-    t.shader_color = r.color;
-    Framebuffer one(1, 1, fb_before.color_format, DepthFormat::None);
-    for (std::size_t k = 0; k < 4; ++k) {
-        if (fb_before.color_format == ColorFormat::Rgba8) {
-            one.color8[k] = fb_before.color8[4 * i + k];
-            t.destination[k] = one.color8[k];
+        if constexpr (B == BlendPreset::None) {
+            std::copy(s.begin(), s.end(), d);
+        } else if constexpr (B == BlendPreset::Alpha) {
+            const float a = s[3];
+            const float inv = fp.sub(1.0f, a);
+            for (std::size_t k = 0; k < 4; ++k) d[k] = fp.add(fp.mul(s[k], a), fp.mul(d[k], inv));
         } else {
-            one.color32f[k] = fb_before.color32f[4 * i + k];
-            t.destination[k] = one.color32f[k];
+            for (std::size_t k = 0; k < 4; ++k) d[k] = fp.add(s[k], d[k]);
         }
     }
-    if (r.depth_pass) write_fragment_color(draw_, one, 0, r.color, options_.flush_denormals);
-    for (std::size_t k = 0; k < 4; ++k) {
-        t.written[k] = fb_before.color_format == ColorFormat::Rgba8 ? one.color8[k] : one.color32f[k];
+}
+
+template <ColorFormat C>
+void write_color_as(const Draw& draw, Framebuffer& fb, std::size_t i, const std::array<float, 4>& c,
+                    const Fp& fp) {
+    const auto s = source_color<C>(c);
+    switch (draw.state.blend) {
+        case BlendPreset::None:
+            store_color<C, BlendPreset::None>(fb, i, s, fp);
+            break;
+        case BlendPreset::Alpha:
+            store_color<C, BlendPreset::Alpha>(fb, i, s, fp);
+            break;
+        case BlendPreset::Add:
+            store_color<C, BlendPreset::Add>(fb, i, s, fp);
+            break;
     }
-    return t;
+}
+
+// One draw's per-pixel stage, for one combination of its state; D is DepthFormat::None when
+// the draw has no depth test. Samples: one a pixel (sample 0 of each packet pixel).
+template <ShadeModel S, DepthFormat D, ColorFormat C, BlendPreset B, unsigned kSamples>
+struct Kernel {
+    static_assert(kSamples == 1, "multisampled kernels are not implemented yet");
+
+    // lp_bld_interp.c attribs_update_simple: fmuladd(dady, py, fmuladd(dadx, px, A0)).
+    static float plane_at(const Plane& p, float px, float py, const KernelState& k, const Fp& fp) {
+        if (k.options.fma) return fp.fma(p.dady, py, fp.fma(p.dadx, px, p.a0));
+        return fp.add(fp.mul(p.dady, py), fp.add(fp.mul(p.dadx, px), p.a0));
+    }
+
+    // z plus the offset, clamped, quantised (lp_bld_depth.c); `z` receives the clamped value.
+    static std::uint32_t depth_value(const Plane* planes, float z_offset, float px, float py,
+                                     const KernelState& k, const Fp& fp, float& z) {
+        z = clamp_depth(fp.add(plane_at(planes[kZPlane], px, py, k, fp), z_offset));
+        return quantise_depth(z, D);
+    }
+
+    static std::array<float, 4> color(const Plane* planes, const float* flat, float px, float py,
+                                      const KernelState& k, const Fp& fp) {
+        std::array<float, 4> c{};
+        if constexpr (S == ShadeModel::Flat) {
+            std::copy(flat, flat + 4, c.begin());
+        } else if constexpr (S == ShadeModel::NoPerspective) {
+            for (std::size_t j = 0; j < 4; ++j)
+                c[j] = plane_at(planes[kFirstAttributePlane + j], px, py, k, fp);
+        } else {
+            const float w = fp.div(
+                1.0f, plane_at(planes[kWPlane], px, py, k, fp));  // lp_build_rcp: a true division
+            for (std::size_t j = 0; j < 4; ++j) {
+                c[j] = fp.mul(plane_at(planes[kFirstAttributePlane + j], px, py, k, fp), w);
+            }
+        }
+        return c;
+    }
+
+    static void shade(const KernelState& k, const SetupList& list, const SetupPrimitive& prim,
+                      std::span<const QuadPacket> quads, Framebuffer& fb) {
+        const Fp fp{k.options.flush_denormals};
+        const Plane* planes = list.planes.data() + prim.planes;
+        const float* flat = list.flat.data() + prim.flat;
+        const bool owners = !fb.owner.empty();
+        SourceColor<C> flat_source{};
+        if constexpr (S == ShadeModel::Flat)
+            flat_source = source_color<C>(color(planes, flat, 0, 0, k, fp));
+        for (const QuadPacket& q : quads) {
+            for (unsigned p = 0; p < 4; ++p) {
+                if ((q.mask & (1u << quad_bit(p, 0))) == 0) continue;
+                const auto x = static_cast<std::uint32_t>(q.x) + (p & 1u);
+                const auto y = static_cast<std::uint32_t>(q.y) + (p >> 1);
+                const float px = static_cast<float>(x);
+                const float py = static_cast<float>(y);
+                const std::size_t i = fb.index(x, y);
+                const std::size_t s0 = fb.sample_index(x, y, 0);
+                if constexpr (D != DepthFormat::None) {
+                    float z = 0.0f;
+                    const std::uint32_t value =
+                        depth_value(planes, prim.z_offset, px, py, k, fp, z);
+                    if ((k.depth_pass &
+                         depth_outcome<D == DepthFormat::Z32f>(value, fb.depth[s0])) == 0)
+                        continue;
+                    if (k.depth_write) fb.depth[s0] = value;
+                }
+                if constexpr (S == ShadeModel::Flat) {
+                    store_color<C, B>(fb, s0, flat_source, fp);
+                } else {
+                    store_color<C, B>(fb, s0, source_color<C>(color(planes, flat, px, py, k, fp)),
+                                      fp);
+                }
+                if (owners) fb.owner[i] = prim.owner;
+            }
+        }
+    }
+
+    static FragmentTrace trace(const KernelState& k, const SetupList& list,
+                               const SetupPrimitive& prim, int x, int y,
+                               const Framebuffer& fb_before) {
+        const Fp fp{k.options.flush_denormals};
+        const Plane* planes = list.planes.data() + prim.planes;
+        const float* flat = list.flat.data() + prim.flat;
+        const float px = static_cast<float>(x);
+        const float py = static_cast<float>(y);
+        const std::size_t i =
+            fb_before.sample_index(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y), 0);
+        FragmentTrace t;
+        const Plane& zp = planes[kZPlane];
+        const Plane& wp = planes[kWPlane];
+        t.z_plane = {zp.a0, zp.dadx, zp.dady};
+        t.w_plane = {wp.a0, wp.dadx, wp.dady};
+        t.z_offset = prim.z_offset;
+        t.depth_tested = D != DepthFormat::None;
+        if constexpr (D != DepthFormat::None) {
+            t.depth_value = depth_value(planes, prim.z_offset, px, py, k, fp, t.z);
+            t.depth_stored = fb_before.depth[i];
+            t.depth_pass = (k.depth_pass & depth_outcome<D == DepthFormat::Z32f>(
+                                               t.depth_value, t.depth_stored)) != 0;
+        }
+        t.shader_color = color(planes, flat, px, py, k, fp);
+        Framebuffer one(1, 1, fb_before.color_format, DepthFormat::None);
+        for (std::size_t c = 0; c < 4; ++c) {
+            if constexpr (C == ColorFormat::Rgba8) {
+                one.color8[c] = fb_before.color8[4 * i + c];
+                t.destination[c] = one.color8[c];
+            } else {
+                one.color32f[c] = fb_before.color32f[4 * i + c];
+                t.destination[c] = one.color32f[c];
+            }
+        }
+        if (t.depth_pass) store_color<C, B>(one, 0, source_color<C>(t.shader_color), fp);
+        for (std::size_t c = 0; c < 4; ++c) {
+            t.written[c] = C == ColorFormat::Rgba8 ? one.color8[c] : one.color32f[c];
+        }
+        return t;
+    }
+};
+
+template <ShadeModel S, DepthFormat D, ColorFormat C, BlendPreset B>
+FragmentKernel make_kernel(KernelState state) {
+    using K = Kernel<S, D, C, B, 1>;
+    return {state, &K::shade, &K::trace};
+}
+
+template <ShadeModel S, DepthFormat D, ColorFormat C>
+FragmentKernel pick_blend(const Draw& draw, KernelState state) {
+    switch (draw.state.blend) {
+        case BlendPreset::None:
+            return make_kernel<S, D, C, BlendPreset::None>(state);
+        case BlendPreset::Alpha:
+            return make_kernel<S, D, C, BlendPreset::Alpha>(state);
+        case BlendPreset::Add:
+            return make_kernel<S, D, C, BlendPreset::Add>(state);
+    }
+    return make_kernel<S, D, C, BlendPreset::None>(state);
+}
+
+template <ShadeModel S, DepthFormat D>
+FragmentKernel pick_color(const Draw& draw, const Target& target, KernelState state) {
+    if (target.color == ColorFormat::Rgba8)
+        return pick_blend<S, D, ColorFormat::Rgba8>(draw, state);
+    return pick_blend<S, D, ColorFormat::Rgba32f>(draw, state);
+}
+
+template <ShadeModel S>
+FragmentKernel pick_depth(const Draw& draw, const Target& target, KernelState state) {
+    if (!draw.state.depth_test) return pick_color<S, DepthFormat::None>(draw, target, state);
+    switch (target.depth) {
+        case DepthFormat::Z16:
+            return pick_color<S, DepthFormat::Z16>(draw, target, state);
+        case DepthFormat::Z24:
+            return pick_color<S, DepthFormat::Z24>(draw, target, state);
+        case DepthFormat::Z32f:
+            return pick_color<S, DepthFormat::Z32f>(draw, target, state);
+        case DepthFormat::None:
+            break;
+    }
+    return pick_color<S, DepthFormat::None>(draw, target, state);
+}
+
+}  // namespace
+
+FragmentKernel choose_fragment_kernel(const Draw& draw, const Target& target,
+                                      FragmentOptions options) {
+    KernelState state;
+    state.options = options;
+    if (draw.state.depth_test && target.depth != DepthFormat::None) {
+        state.depth_pass = static_cast<std::uint8_t>(*draw.state.depth_test);
+        state.depth_write = draw.state.depth_write;
+    }
+    switch (draw.state.shade) {
+        case ShadeModel::Flat:
+            return pick_depth<ShadeModel::Flat>(draw, target, state);
+        case ShadeModel::NoPerspective:
+            return pick_depth<ShadeModel::NoPerspective>(draw, target, state);
+        case ShadeModel::Smooth:
+            break;
+    }
+    return pick_depth<ShadeModel::Smooth>(draw, target, state);
+}
+
+void write_fragment_color(const Draw& draw, Framebuffer& fb, std::size_t i,
+                          const std::array<float, 4>& c, bool flush_denormals) {
+    const Fp fp{flush_denormals};
+    if (fb.color_format == ColorFormat::Rgba8) {
+        write_color_as<ColorFormat::Rgba8>(draw, fb, i, c, fp);
+    } else {
+        write_color_as<ColorFormat::Rgba32f>(draw, fb, i, c, fp);
+    }
 }
 
 }  // namespace refraster::detail
@@ -282,9 +460,14 @@ FragmentTrace FragmentShader::trace_pixel(int x, int y, const Framebuffer& fb_be
 namespace refraster::detail {
 
 ExactShader::ExactShader(const ExactCoverage& coverage, const std::array<const StageVertex*, 3>& v,
-                         const VertexStage& stage, const Draw& draw, const Target& target, bool provoking_first)
-    : coverage_(coverage), v_(v), stage_(stage), draw_(draw), target_(target), provoking_first_(provoking_first) {
-    REFRASTER_ASSERT(stage.attribute_floats() >= 4, "a colour of four components");
+                         const VertexStage& stage, const Draw& draw, const Target& target,
+                         bool provoking_first)
+    : coverage_(coverage),
+      v_(v),
+      stage_(stage),
+      draw_(draw),
+      target_(target),
+      provoking_first_(provoking_first) {
     depth_test_ = draw.state.depth_test.has_value() && target.depth != DepthFormat::None;
     if (draw.state.polygon_offset && depth_test_) {
         // The slope of window z over window x and y: z is linear in window space. Only
@@ -302,15 +485,19 @@ ExactShader::ExactShader(const ExactCoverage& coverage, const std::array<const S
         const double ax = p[1][0] - p[0][0], ay = p[1][1] - p[0][1], az = p[1][2] - p[0][2];
         const double bx = p[2][0] - p[0][0], by = p[2][1] - p[0][1], bz = p[2][2] - p[0][2];
         const double det = ax * by - ay * bx;
-        const double m = det == 0.0 ? 0.0 : std::max(std::fabs((az * by - ay * bz) / det), std::fabs((ax * bz - az * bx) / det));
+        const double m = det == 0.0 ? 0.0
+                                    : std::max(std::fabs((az * by - ay * bz) / det),
+                                               std::fabs((ax * bz - az * bx) / det));
         double r = 0.0;
         if (target.depth == DepthFormat::Z32f) {
-            const double maxz = std::max({std::fabs(p[0][2]), std::fabs(p[1][2]), std::fabs(p[2][2])});
+            const double maxz =
+                std::max({std::fabs(p[0][2]), std::fabs(p[1][2]), std::fabs(p[2][2])});
             r = exact_z32f_offset_scale(maxz);
         } else {
             r = depth_mrd(target.depth);
         }
-        offset_ = m * double{draw.state.polygon_offset->factor} + r * double{draw.state.polygon_offset->units};
+        offset_ = m * double{draw.state.polygon_offset->factor} +
+                  r * double{draw.state.polygon_offset->units};
     }
 }
 
@@ -325,7 +512,8 @@ void ExactShader::shade(int x, int y, Framebuffer& fb, std::uint32_t owner) cons
         double z = zn * 0.5 * (f - n) + 0.5 * (n + f) + offset_;
         z = std::min(std::max(z, 0.0), 1.0);
         const std::uint32_t q = quantise_depth(z, target_.depth);
-        if (!compare(*draw_.state.depth_test, q, fb.depth[i], target_.depth == DepthFormat::Z32f)) return;
+        if (!compare(*draw_.state.depth_test, q, fb.depth[i], target_.depth == DepthFormat::Z32f))
+            return;
         if (draw_.state.depth_write) fb.depth[i] = q;
     }
     std::array<float, 4> c{};
@@ -335,7 +523,9 @@ void ExactShader::shade(int x, int y, Framebuffer& fb, std::uint32_t owner) cons
     const std::array<std::span<const float>, 3> a{a0, a1, a2};
     for (std::size_t k = 0; k < 4; ++k) {
         switch (draw_.state.shade) {
-            case ShadeModel::Flat: c[k] = a[provoking_first_ ? 0 : 2][k]; break;
+            case ShadeModel::Flat:
+                c[k] = a[provoking_first_ ? 0 : 2][k];
+                break;
             case ShadeModel::Smooth: {
                 double s = 0.0;
                 for (std::size_t j = 0; j < 3; ++j) s += b[j] * double{a[j][k]};
@@ -344,7 +534,8 @@ void ExactShader::shade(int x, int y, Framebuffer& fb, std::uint32_t owner) cons
             }
             case ShadeModel::NoPerspective: {
                 double s = 0.0;
-                for (std::size_t j = 0; j < 3; ++j) s += b[j] * double{v_[j]->clip[3]} * double{a[j][k]};
+                for (std::size_t j = 0; j < 3; ++j)
+                    s += b[j] * double{v_[j]->clip[3]} * double{a[j][k]};
                 c[k] = static_cast<float>(s);
                 break;
             }

@@ -1,4 +1,4 @@
-// fragment.hpp: from a set-up triangle to bytes in the framebuffer, as llvmpipe computes them.
+// fragment.hpp: from a set-up primitive to bytes in the framebuffer, as llvmpipe computes them.
 //
 // Implements:
 //  - attribute planes (gallium/drivers/llvmpipe/lp_state_setup.c, init_args and calc_coef4):
@@ -21,11 +21,18 @@
 //    as float for z32f, the eight compare functions on those values, writes when enabled.
 //  - colour output: rgba8 RNE(fl(c * 255)) of the clamped colour (lp_build_conv); rgba32f
 //    unclamped; blending per scene format's presets: on rgba8 in 8-bit fixed point with
-//    M(x, y) = (x*y + ((x*y) >> 8) + 128) >> 8 and saturating adds (lp_bld_blend; measured, docs/precision.md
-//    "Colour output and blending"); on rgba32f in float, unfused.
+//    M(x, y) = (x*y + ((x*y) >> 8) + 128) >> 8 and saturating adds (lp_bld_blend; measured,
+//    docs/precision.md "Colour output and blending"); on rgba32f in float, unfused.
+//  - fragment kernels: the per-pixel stage compiled for one draw's state (shade model, depth
+//    format with the test on or off, colour format, blend preset, sample count), chosen once
+//    per draw, so that a pixel meets no switch on that state; the depth function becomes the
+//    draw's mask of passing outcomes (less, equal, greater: GL's own encoding of the eight
+//    functions). A draw without a depth test does no depth work, a flat draw evaluates no
+//    attribute plane, and a flat colour is converted once per primitive.
 //
-// Deliberately does not: multisampling, stencil, colour masks, blend equations other than
-// the two presets.
+// Deliberately does not: multisampling (the kernels exist for one sample a pixel; the quad
+// packets and the framebuffer already leave room for four), stencil, colour masks, blend
+// equations other than the two presets.
 #pragma once
 
 #include <array>
@@ -33,72 +40,93 @@
 #include <span>
 #include <vector>
 
+#include "exact_coverage.hpp"
+#include "quad.hpp"
 #include "refraster/draw.hpp"
 #include "refraster/framebuffer.hpp"
-#include "exact_coverage.hpp"
 #include "refraster/trace.hpp"
+#include "setup_list.hpp"
 #include "vertex_stage.hpp"
 
 namespace refraster::detail {
-
-struct Plane {
-    float a0 = 0.0f;
-    float dadx = 0.0f;
-    float dady = 0.0f;
-};
 
 struct FragmentOptions {
     bool fma = true;
     bool flush_denormals = true;
 };
 
-// The planes one primitive hands to the per-pixel stage: window z, 1/w, the colour's four
-// channels (premultiplied by 1/w for smooth shading), the flat colour, and the polygon offset.
-struct Planes {
-    Plane z;
-    Plane w;
-    std::array<Plane, 4> color;
-    std::array<float, 4> flat{};
-    float z_offset = 0.0f;
+// Writes one primitive's planes into a SetupList: window z and 1/w first, then its
+// attributes. The per-pixel code runs under DAZ (lp_rast.c): with `daz`, a plane term that
+// setup left subnormal (setup without FTZ, see the llvmpipe model) is stored as the zero
+// every operation reading it would see. Flat values are only moved and keep their bits.
+class PlaneWriter {
+  public:
+    PlaneWriter(SetupList& list, SetupPrimitive& prim, bool daz);
+    void depth(const Plane& z, const Plane& w, float z_offset);
+    void attribute(const Plane& p);  // smooth and noperspective draws
+    void constant(float v);          // flat draws
+
+  private:
+    Plane daz(Plane p) const;
+    SetupList& list_;
+    SetupPrimitive& prim_;
+    bool daz_;
 };
 
-// Triangle planes (lp_state_setup.c); `v` in setup's order, after the orientation swap; the
-// colour is each vertex's first four attribute values (so a vertex must have at least four, as
-// for line_planes, point_planes and ExactShader).
-Planes triangle_planes(const std::array<const StageVertex*, 3>& v, const VertexStage& stage, const Draw& draw,
-                       const Target& target, bool provoking_first, FragmentOptions options);
-
-// Everything the per-pixel stage needs for one primitive.
-class FragmentShader {
-public:
-    FragmentShader(const Planes& planes, const Draw& draw, const Target& target, FragmentOptions options,
-                   std::uint32_t owner = 0);
-
-    // Shades the pixels [x0, x1) of row y into `fb`, with depth test and blending.
-    void shade_span(int y, int x0, int x1, Framebuffer& fb) const;
-
-    // The same decisions for one pixel, recorded (the pixel must be covered, so inside
-    // `fb_before`).
-    FragmentTrace trace_pixel(int x, int y, const Framebuffer& fb_before) const;
-
-private:
-    struct PixelResult {
-        bool depth_pass = true;
-        std::uint32_t depth = 0;  // quantised (z32f: bits)
-        float z = 0.0f;
-        std::array<float, 4> color{};
-    };
-    PixelResult evaluate(int x, int y, const Framebuffer& fb) const;
-    float eval_plane(const Plane& p, float px, float py) const;
-
-    const Draw& draw_;
-    Target target_;
-    FragmentOptions options_;
-    ShadeModel shade_;
-    bool depth_test_ = false;
-    Planes p_;
-    std::uint32_t owner_ = 0;
+// Triangle planes (lp_state_setup.c); `v` in setup's order, after the orientation swap; one
+// plane (or constant) per attribute float of the draw. `options` are setup's (its FTZ may be
+// off, see the llvmpipe model), `daz` the per-pixel stage's.
+//
+// Planes no reader needs are left out (stored as zero): window z and the polygon offset
+// unless the draw tests depth, 1/w unless it is smooth-shaded, unless an observer records
+// them (PlaneNeeds).
+struct PlaneNeeds {
+    bool depth = true;  // the z plane and the polygon offset
+    bool w = true;      // the 1/w plane
 };
+void triangle_planes(const std::array<const StageVertex*, 3>& v, const VertexStage& stage,
+                     const Draw& draw, const Target& target, bool provoking_first,
+                     FragmentOptions options, bool daz, PlaneNeeds needs, SetupList& list,
+                     SetupPrimitive& prim);
+
+// The draw's state as a fragment kernel reads it at run time.
+struct KernelState {
+    std::uint8_t depth_pass = 7;  // outcomes that pass: 1 less, 2 equal, 4 greater
+    bool depth_write = false;
+    FragmentOptions options;
+};
+
+// The per-pixel stage of one draw: shades quad packets of a set-up primitive into the
+// framebuffer (depth test, colour, blending, owner), or traces one pixel of it.
+class FragmentKernel {
+  public:
+    using ShadeFn = void (*)(const KernelState&, const SetupList&, const SetupPrimitive&,
+                             std::span<const QuadPacket>, Framebuffer&);
+    using TraceFn = FragmentTrace (*)(const KernelState&, const SetupList&, const SetupPrimitive&,
+                                      int, int, const Framebuffer&);
+    FragmentKernel(KernelState state, ShadeFn shade_fn, TraceFn trace_fn)
+        : state_(state), shade_(shade_fn), trace_(trace_fn) {}
+
+    void shade(const SetupList& list, const SetupPrimitive& prim, std::span<const QuadPacket> quads,
+               Framebuffer& fb) const {
+        shade_(state_, list, prim, quads, fb);
+    }
+    // The decisions about pixel (x, y) of `prim` (which must cover it), given the
+    // framebuffer before the primitive is shaded.
+    FragmentTrace trace(const SetupList& list, const SetupPrimitive& prim, int x, int y,
+                        const Framebuffer& fb_before) const {
+        return trace_(state_, list, prim, x, y, fb_before);
+    }
+
+  private:
+    KernelState state_;
+    ShadeFn shade_;
+    TraceFn trace_;
+};
+
+// The kernel for a draw's state into `target`; `options` are the per-pixel stage's.
+FragmentKernel choose_fragment_kernel(const Draw& draw, const Target& target,
+                                      FragmentOptions options);
 
 // The exact oracle's fragments: attributes and depth from the exact homogeneous weights of the
 // pixel centre (perspective-correct: sum b_i a_i; noperspective: the screen-space weights
@@ -106,12 +134,13 @@ private:
 // nearest, polygon offset as the GL specification states it (14.6.5: m * factor + r * units
 // with r = 1 / (2^n - 1), or 2^(e - 23) for float depth), the same output merge as llvmpipe's.
 class ExactShader {
-public:
+  public:
     ExactShader(const ExactCoverage& coverage, const std::array<const StageVertex*, 3>& v,
-                const VertexStage& stage, const Draw& draw, const Target& target, bool provoking_first);
+                const VertexStage& stage, const Draw& draw, const Target& target,
+                bool provoking_first);
     void shade(int x, int y, Framebuffer& fb, std::uint32_t owner = 0) const;
 
-private:
+  private:
     const ExactCoverage& coverage_;
     std::array<const StageVertex*, 3> v_;
     const VertexStage& stage_;
@@ -124,8 +153,8 @@ private:
 
 // The output merge shared by both models: conversion, blending and the colour write; float
 // blending flushes denormals when `flush_denormals` is set, as llvmpipe's rasterizer does.
-void write_fragment_color(const Draw& draw, Framebuffer& fb, std::size_t i, const std::array<float, 4>& c,
-                          bool flush_denormals);
+void write_fragment_color(const Draw& draw, Framebuffer& fb, std::size_t i,
+                          const std::array<float, 4>& c, bool flush_denormals);
 
 // glClearColor into rgba8: float_to_ubyte (util/u_math.h), which util_pack_color uses for
 // R8G8B8A8_UNORM: f * (255/256) + 32768 in float, then the low byte of the float's bits.
@@ -134,8 +163,8 @@ std::uint8_t clear_to_unorm8(float c);
 // Fragment depth clamped to [0, 1] as llvmpipe's generated code does it: a NaN becomes 1.
 float clamp_depth(float z);
 
-// Fragment colour into rgba8: clamp to [0, 1], then RNE(fl(c * 255)) (lp_build_conv; docs/precision.md
-// "Colour output and blending").
+// Fragment colour into rgba8: clamp to [0, 1], then RNE(fl(c * 255)) (lp_build_conv;
+// docs/precision.md "Colour output and blending").
 std::uint8_t color_to_unorm8(float c);
 
 // llvmpipe's 8-bit product (lp_build_mul_norm): (x*y + ((x*y) >> 8) + 128) >> 8.

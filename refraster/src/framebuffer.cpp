@@ -2,9 +2,10 @@
 
 namespace refraster {
 
-Framebuffer::Framebuffer(std::uint32_t w, std::uint32_t h, ColorFormat cf, DepthFormat df)
-    : width(w), height(h), color_format(cf), depth_format(df) {
-    const std::size_t n = pixel_count();
+Framebuffer::Framebuffer(std::uint32_t w, std::uint32_t h, ColorFormat cf, DepthFormat df,
+                         std::uint32_t sample_count)
+    : width(w), height(h), color_format(cf), depth_format(df), samples(sample_count) {
+    const std::size_t n = pixel_count() * samples;
     if (cf == ColorFormat::Rgba8) {
         color8.assign(n * 4, 0);
     } else {

@@ -13,44 +13,37 @@ namespace {
 // util_iround on x86-64 (util/u_math.h): (int)(f + 0.5f) or (int)(f - 0.5f), in float.
 std::optional<std::int32_t> iround(float f) {
     const float r = f >= 0.0f ? f + 0.5f : f - 0.5f;
-    if (!std::isfinite(r) || std::fabs(r) >= static_cast<float>(1 << kSnappedBits)) return std::nullopt;
+    if (!std::isfinite(r) || std::fabs(r) >= static_cast<float>(1 << kSnappedBits))
+        return std::nullopt;
     return static_cast<std::int32_t>(r);
 }
 
 // subpixel_snap in lp_setup_line.c / lp_setup_point.c: util_iround(FIXED_ONE * a).
-std::optional<std::int32_t> snap(float a, int bits) { return iround(static_cast<float>(1 << bits) * a); }
+std::optional<std::int32_t> snap(float a, int bits) {
+    return iround(static_cast<float>(1 << bits) * a);
+}
 
-bool nonneg(float x) { return x >= 0; }  // lp_setup_line.c sign()
+bool nonneg(float x) {
+    return x >= 0;
+}  // lp_setup_line.c sign()
 
-float fracf(float f) { return f - std::floor(f); }
+float fracf(float f) {
+    return f - std::floor(f);
+}
 
-EdgeFunction edge(std::int32_t xi, std::int32_t yi, std::int32_t xj, std::int32_t yj, TieRule rule) {
+EdgeFunction edge(std::int32_t xi, std::int32_t yi, std::int32_t xj, std::int32_t yj,
+                  TieRule rule) {
     return make_edge(xi, yi, xj, yj, rule);
 }
 
-int ceil_shift(std::int32_t v, int bits) { return (v + (1 << bits) - 1) >> bits; }
+int ceil_shift(std::int32_t v, int bits) {
+    return (v + (1 << bits) - 1) >> bits;
+}
 
 }  // namespace
 
-std::vector<std::array<std::uint32_t, 2>> assemble_lines(PrimitiveType p, std::size_t count) {
-    std::vector<std::array<std::uint32_t, 2>> out;
-    const auto u = [](std::size_t v) { return static_cast<std::uint32_t>(v); };
-    switch (p) {
-        case PrimitiveType::Lines:
-            for (std::size_t i = 0; i + 1 < count; i += 2) out.push_back({u(i), u(i + 1)});
-            break;
-        case PrimitiveType::LineStrip:
-        case PrimitiveType::LineLoop:
-            for (std::size_t i = 0; i + 1 < count; ++i) out.push_back({u(i), u(i + 1)});
-            if (p == PrimitiveType::LineLoop && count >= 2) out.push_back({u(count - 1), 0});
-            break;
-        default: break;
-    }
-    return out;
-}
-
-std::optional<LineSetup> setup_line(const StageVertex& sv1, const StageVertex& sv2, float line_width,
-                                    const SetupParams& p) {
+std::optional<LineSetup> setup_line(const StageVertex& sv1, const StageVertex& sv2,
+                                    float line_width, const SetupParams& p) {
     // try_setup_line, the non-rectangular branch, step by step in the driver's float order.
     const float* v1 = sv1.window.data();
     const float* v2 = sv2.window.data();
@@ -212,14 +205,15 @@ std::optional<LineSetup> setup_line(const StageVertex& sv1, const StageVertex& s
     const auto [ymin, ymax] = std::minmax_element(L.y.begin(), L.y.end());
     const int x1 = owns_right_edges(p.tie_rule) ? (*xmax >> p.bits) : ceil_shift(*xmax, p.bits) - 1;
     const int y1 = owns_top_edges(p.tie_rule) ? (*ymax >> p.bits) : ceil_shift(*ymax, p.bits) - 1;
-    L.bbox = intersect({ceil_shift(*xmin, p.bits), ceil_shift(*ymin, p.bits), x1, y1}, p.draw_region);
+    L.bbox =
+        intersect({ceil_shift(*xmin, p.bits), ceil_shift(*ymin, p.bits), x1, y1}, p.draw_region);
     if (L.bbox.empty()) return std::nullopt;
     return L;
 }
 
-Planes line_planes(const StageVertex& v1, const StageVertex& v2, const VertexStage& stage, const Draw& draw,
-                   bool provoking_first, FragmentOptions options) {
-    REFRASTER_ASSERT(stage.attribute_floats() >= 4, "a colour of four components");
+void line_planes(const StageVertex& v1, const StageVertex& v2, const VertexStage& stage,
+                 const Draw& draw, bool provoking_first, FragmentOptions options, SetupList& list,
+                 SetupPrimitive& prim) {
     // setup_line_coefficients: C arithmetic (no fusion: baseline x86-64), under FTZ.
     const auto f = [fp = Fp{options.flush_denormals}](float v) { return fp.f(v); };
     const float* a = v1.window.data();
@@ -249,20 +243,23 @@ Planes line_planes(const StageVertex& v1, const StageVertex& v2, const VertexSta
         pl.a0 = f(a1 - f(f(pl.dadx * x0c) + f(pl.dady * y0c)));
         return pl;
     };
-    Planes out;
-    out.z = linear(a[2], b[2]);
-    out.w = linear(a[3], b[3]);
+    PlaneWriter out(list, prim, options.flush_denormals);
+    out.depth(linear(a[2], b[2]), linear(a[3], b[3]), 0.0f);
     const auto c1 = stage.attributes(v1);
     const auto c2 = stage.attributes(v2);
-    for (std::size_t k = 0; k < 4; ++k) {
-        out.flat[k] = provoking_first ? c1[k] : c2[k];
-        if (draw.state.shade == ShadeModel::Smooth) {
-            out.color[k] = linear(f(c1[k] * a[3]), f(c2[k] * b[3]));  // perspective_coef
-        } else if (draw.state.shade == ShadeModel::NoPerspective) {
-            out.color[k] = linear(c1[k], c2[k]);
+    for (std::size_t k = 0; k < c1.size(); ++k) {
+        switch (draw.state.shade) {
+            case ShadeModel::Flat:
+                out.constant(provoking_first ? c1[k] : c2[k]);
+                break;
+            case ShadeModel::Smooth:
+                out.attribute(linear(f(c1[k] * a[3]), f(c2[k] * b[3])));
+                break;  // perspective_coef
+            case ShadeModel::NoPerspective:
+                out.attribute(linear(c1[k], c2[k]));
+                break;
         }
     }
-    return out;
 }
 
 std::optional<PointSetup> setup_point(const StageVertex& v, float size, const SetupParams& p) {
@@ -291,20 +288,27 @@ std::optional<PointSetup> setup_point(const StageVertex& v, float size, const Se
     return s;
 }
 
-Planes point_planes(const StageVertex& v, const VertexStage& stage, const Draw& draw, FragmentOptions options) {
-    REFRASTER_ASSERT(stage.attribute_floats() >= 4, "a colour of four components");
+void point_planes(const StageVertex& v, const VertexStage& stage, const Draw& draw,
+                  FragmentOptions options, SetupList& list, SetupPrimitive& prim) {
     // setup_point_coefficients: every attribute constant; smooth ones premultiplied by 1/w
     // (point_persp_coeff) and divided again per pixel by the constant 1/w plane.
     const auto f = [fp = Fp{options.flush_denormals}](float x) { return fp.f(x); };
-    Planes out;
-    out.z.a0 = v.window[2];
-    out.w.a0 = v.window[3];
+    PlaneWriter out(list, prim, options.flush_denormals);
+    out.depth({v.window[2], 0.0f, 0.0f}, {v.window[3], 0.0f, 0.0f}, 0.0f);
     const auto c = stage.attributes(v);
-    for (std::size_t k = 0; k < 4; ++k) {
-        out.flat[k] = c[k];
-        out.color[k].a0 = draw.state.shade == ShadeModel::Smooth ? f(c[k] * v.window[3]) : c[k];
+    for (std::size_t k = 0; k < c.size(); ++k) {
+        switch (draw.state.shade) {
+            case ShadeModel::Flat:
+                out.constant(c[k]);
+                break;
+            case ShadeModel::Smooth:
+                out.attribute({f(c[k] * v.window[3]), 0.0f, 0.0f});
+                break;
+            case ShadeModel::NoPerspective:
+                out.attribute({c[k], 0.0f, 0.0f});
+                break;
+        }
     }
-    return out;
 }
 
 }  // namespace refraster::detail

@@ -1,10 +1,8 @@
 // line_point.hpp: lines and points as llvmpipe sets them up, kept apart from triangles.
 //
-// Implements:
-//  - line assembly for lines, line_strip and line_loop, in the order llvmpipe's vbuf path
-//    emits segments (lp_setup_vbuf.c): the closing segment of a loop is (v[n-1], v[0]), and
-//    the provoking vertex is a segment's second vertex (first with the first-vertex
-//    convention) (docs/precision.md "Lines");
+// Implements (line assembly, in the order llvmpipe's vbuf path emits segments, is in
+// refraster/assembly.hpp; a segment's provoking vertex is its second, or its first with the
+// first-vertex convention, docs/precision.md "Lines"):
 //  - line coverage (lp_setup_line.c, try_setup_line, the non-rectangular path GL uses): a
 //    four-plane parallelogram around the line, its width util_iround(width) pixels in the
 //    minor axis, its ends moved by half a pixel by the driver's diamond-exit heuristics
@@ -32,9 +30,6 @@
 
 namespace refraster::detail {
 
-// Segments as pairs of element positions, in setup's (first, second) order.
-std::vector<std::array<std::uint32_t, 2>> assemble_lines(PrimitiveType p, std::size_t count);
-
 struct LineSetup {
     int bits = 8;
     std::array<std::int32_t, 4> x{};
@@ -45,10 +40,13 @@ struct LineSetup {
 };
 
 // nullopt: a zero-length line, or one outside the draw region.
-std::optional<LineSetup> setup_line(const StageVertex& v1, const StageVertex& v2, float width, const SetupParams& p);
+std::optional<LineSetup> setup_line(const StageVertex& v1, const StageVertex& v2, float width,
+                                    const SetupParams& p);
 
-Planes line_planes(const StageVertex& v1, const StageVertex& v2, const VertexStage& stage, const Draw& draw,
-                   bool provoking_first, FragmentOptions options);
+// The line's planes into `list` for `prim` (one per attribute float, or constants when flat).
+void line_planes(const StageVertex& v1, const StageVertex& v2, const VertexStage& stage,
+                 const Draw& draw, bool provoking_first, FragmentOptions options, SetupList& list,
+                 SetupPrimitive& prim);
 
 struct PointSetup {
     int bits = 8;
@@ -58,6 +56,7 @@ struct PointSetup {
 
 std::optional<PointSetup> setup_point(const StageVertex& v, float size, const SetupParams& p);
 
-Planes point_planes(const StageVertex& v, const VertexStage& stage, const Draw& draw, FragmentOptions options);
+void point_planes(const StageVertex& v, const VertexStage& stage, const Draw& draw,
+                  FragmentOptions options, SetupList& list, SetupPrimitive& prim);
 
 }  // namespace refraster::detail

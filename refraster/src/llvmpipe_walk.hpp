@@ -238,34 +238,29 @@ struct Walk {
     }
 };
 
-// Reports the tile's covered pixels inside the framebuffer as row spans.
-template <class Visit>
-void emit(const std::uint64_t* rows, int tile_x, int tile_y, const PixelRect& fb, Visit& visit) {
+// Keeps the pixels of a tile's rows that lie inside the framebuffer: llvmpipe shades whole
+// blocks, but only the framebuffer's pixels are stored.
+inline bool clip_to_framebuffer(std::uint64_t* rows, int tile_x, int tile_y, const PixelRect& fb) {
+    const int lo = std::max(fb.x0 - tile_x, 0);
+    const int hi = std::min(fb.x1 - tile_x, 63);
+    if (lo > hi) return false;
+    const std::uint64_t keep = (hi - lo == 63 ? ~std::uint64_t{0} : ((std::uint64_t{1} << (hi - lo + 1)) - 1)) << lo;
+    bool any = false;
     for (int r = 0; r < 64; ++r) {
         const int y = tile_y + r;
-        if (y < fb.y0 || y > fb.y1) continue;
-        std::uint64_t m = rows[r];
-        // Keep the columns inside the framebuffer.
-        const int lo = std::max(fb.x0 - tile_x, 0);
-        const int hi = std::min(fb.x1 - tile_x, 63);
-        if (lo > hi) return;
-        const std::uint64_t keep = (hi - lo == 63 ? ~std::uint64_t{0} : ((std::uint64_t{1} << (hi - lo + 1)) - 1)) << lo;
-        m &= keep;
-        while (m != 0) {
-            const int start = std::countr_zero(m);
-            const int len = std::countr_one(m >> start);
-            visit(y, tile_x + start, tile_x + start + len);
-            m = start + len >= 64 ? 0 : m & ~((std::uint64_t{1} << (start + len)) - 1);
-        }
+        rows[r] = (y < fb.y0 || y > fb.y1) ? 0 : rows[r] & keep;
+        any = any || rows[r] != 0;
     }
+    return any;
 }
 
 inline std::uint32_t floor_pot(std::uint32_t n) { return n == 0 ? 0 : std::bit_floor(n); }
 
-// lp_setup_bin_triangle with the tile walks it bins; calls visit(y, x_begin, x_end) for the
-// covered pixels, tile by tile in llvmpipe's binning order.
-template <class Visit>
-void walk(const Triangle& t, Visit&& visit) {
+// lp_setup_bin_triangle with the tile walks it bins; calls on_tile(rows, tile_x, tile_y) with
+// each tile's covered pixels inside the framebuffer (bit x - tile_x of rows[y - tile_y]), tile
+// by tile in llvmpipe's binning order.
+template <class OnTile>
+void walk_tiles(const Triangle& t, OnTile&& on_tile) {
     const PixelRect& b = t.box;
     const auto walk_tile = [&](int tx, int ty, unsigned plane_mask) {
         if (tx > t.framebuffer.x1 || ty > t.framebuffer.y1) return;
@@ -276,7 +271,7 @@ void walk(const Triangle& t, Visit&& visit) {
         w.tile_x = tx;
         w.tile_y = ty;
         w.tile();
-        emit(w.rows, tx, ty, t.framebuffer, visit);
+        if (clip_to_framebuffer(w.rows, tx, ty, t.framebuffer)) on_tile(static_cast<const std::uint64_t*>(w.rows), tx, ty);
     };
     const unsigned all = (1u << t.count) - 1;
     const std::uint32_t dx = floor_pot(static_cast<std::uint32_t>((b.x0 ^ b.x1) | (b.y0 ^ b.y1)));
@@ -328,7 +323,9 @@ void walk(const Triangle& t, Visit&& visit) {
                 w.tile_x = x * 64;
                 w.tile_y = y * 64;
                 w.fill(w.tile_x, w.tile_y, 64);
-                emit(w.rows, w.tile_x, w.tile_y, t.framebuffer, visit);
+                if (clip_to_framebuffer(w.rows, w.tile_x, w.tile_y, t.framebuffer)) {
+                    on_tile(static_cast<const std::uint64_t*>(w.rows), w.tile_x, w.tile_y);
+                }
             }
             for (int i = 0; i < t.count; ++i) cx[i] = add64(cx[i], xstep[i]);
         }

@@ -4,21 +4,25 @@
 
 namespace refraster {
 
-Profile llvmpipe_22_3_profile() { return Profile{}; }
+Profile llvmpipe_22_3_profile() {
+    return Profile{};
+}
 
 Profile gl_exact_profile() {
     Profile p;
     p.name = "gl-exact";
-    p.coverage = CoverageModel::Exact;
+    p.model = CoverageModel::Exact;
     // Not used by the exact model; kept at llvmpipe's values so that a profile file stays
     // meaningful when its coverage model is switched.
-    p.draw_pipeline_cull = false;
-    p.nine_vertex_quirk = false;
-    p.wrapping_arithmetic = false;
+    p.quirks.draw_pipeline_cull = false;
+    p.quirks.nine_vertex_quirk = false;
+    p.quirks.wrapping_arithmetic = false;
     return p;
 }
 
-std::vector<std::string> builtin_profile_names() { return {"llvmpipe-22.3", "gl-exact"}; }
+std::vector<std::string> builtin_profile_names() {
+    return {"llvmpipe-22.3", "gl-exact"};
+}
 
 Profile builtin_profile(const std::string& name) {
     if (name == "llvmpipe-22.3") return llvmpipe_22_3_profile();
@@ -28,31 +32,44 @@ Profile builtin_profile(const std::string& name) {
 
 std::string to_string(TieRule r) {
     switch (r) {
-        case TieRule::LeftBottom: return "left-bottom";
-        case TieRule::LeftTop: return "left-top";
-        case TieRule::RightBottom: return "right-bottom";
-        case TieRule::RightTop: return "right-top";
+        case TieRule::LeftBottom:
+            return "left-bottom";
+        case TieRule::LeftTop:
+            return "left-top";
+        case TieRule::RightBottom:
+            return "right-bottom";
+        case TieRule::RightTop:
+            return "right-top";
     }
     return "?";
 }
 
 std::string to_string(SnapRounding r) {
     switch (r) {
-        case SnapRounding::NearestEven: return "nearest-even";
-        case SnapRounding::HalfAwayFromZero: return "half-away";
-        case SnapRounding::Truncate: return "truncate";
+        case SnapRounding::NearestEven:
+            return "nearest-even";
+        case SnapRounding::HalfAwayFromZero:
+            return "half-away";
+        case SnapRounding::Truncate:
+            return "truncate";
     }
     return "?";
 }
 
 namespace {
 
-std::string to_string(CoverageModel c) { return c == CoverageModel::Snapped ? "snapped" : "exact"; }
+std::string to_string(CoverageModel c) {
+    return c == CoverageModel::Snapped ? "snapped" : "exact";
+}
 std::string to_string(FmaMode m) {
     return m == FmaMode::Auto ? "auto" : m == FmaMode::On ? "on" : "off";
 }
-std::string to_string(Clipping c) { return c == Clipping::ViewVolume ? "view-volume" : "guard-band"; }
-std::string bool_text(bool b) { return b ? "true" : "false"; }
+std::string to_string(Clipping c) {
+    return c == Clipping::ViewVolume ? "view-volume" : "guard-band";
+}
+std::string bool_text(bool b) {
+    return b ? "true" : "false";
+}
 
 std::string float_text(float f) {
     char buf[32];
@@ -60,7 +77,8 @@ std::string float_text(float f) {
     return std::string(buf, r.ptr);
 }
 
-[[noreturn]] void bad(const std::string& key, const std::string& value, const std::string& expected) {
+[[noreturn]] void bad(const std::string& key, const std::string& value,
+                      const std::string& expected) {
     throw ProfileError("profile parameter " + key + "=" + value + ": expected " + expected);
 }
 
@@ -102,18 +120,18 @@ float parse_float(const std::string& key, const std::string& value) {
 std::vector<std::pair<std::string, std::string>> profile_parameters(const Profile& p) {
     return {
         {"name", p.name},
-        {"coverage", to_string(p.coverage)},
-        {"subpixel_bits", std::to_string(p.subpixel_bits)},
-        {"snap_rounding", to_string(p.snap_rounding)},
-        {"pixel_center_offset", float_text(p.pixel_center_offset)},
-        {"tie_rule", to_string(p.tie_rule)},
-        {"clipping", to_string(p.clipping)},
-        {"viewport_fma", to_string(p.viewport_fma)},
-        {"flush_denormals", bool_text(p.flush_denormals)},
-        {"draw_pipeline_cull", bool_text(p.draw_pipeline_cull)},
-        {"draw_segment_vertices", std::to_string(p.draw_segment_vertices)},
-        {"nine_vertex_quirk", bool_text(p.nine_vertex_quirk)},
-        {"wrapping_arithmetic", bool_text(p.wrapping_arithmetic)},
+        {"coverage", to_string(p.model)},
+        {"subpixel_bits", std::to_string(p.gl.subpixel_bits)},
+        {"snap_rounding", to_string(p.gl.snap_rounding)},
+        {"pixel_center_offset", float_text(p.gl.pixel_center_offset)},
+        {"tie_rule", to_string(p.gl.tie_rule)},
+        {"clipping", to_string(p.gl.clipping)},
+        {"viewport_fma", to_string(p.gl.viewport_fma)},
+        {"flush_denormals", bool_text(p.gl.flush_denormals)},
+        {"draw_pipeline_cull", bool_text(p.quirks.draw_pipeline_cull)},
+        {"draw_segment_vertices", std::to_string(p.quirks.draw_segment_vertices)},
+        {"nine_vertex_quirk", bool_text(p.quirks.nine_vertex_quirk)},
+        {"wrapping_arithmetic", bool_text(p.quirks.wrapping_arithmetic)},
     };
 }
 
@@ -122,43 +140,45 @@ void set_profile_parameter(Profile& p, const std::string& key, const std::string
         if (value.empty()) bad(key, value, "a non-empty name");
         p.name = value;
     } else if (key == "coverage") {
-        p.coverage = pick<CoverageModel>(key, value,
-                                         {{"snapped", CoverageModel::Snapped}, {"exact", CoverageModel::Exact}});
+        p.model = pick<CoverageModel>(
+            key, value, {{"snapped", CoverageModel::Snapped}, {"exact", CoverageModel::Exact}});
     } else if (key == "subpixel_bits") {
         // 8 bits is llvmpipe's FIXED_ORDER; the edge-function budget in setup.cpp holds up to 8.
-        p.subpixel_bits = parse_int(key, value, 1, 8);
+        p.gl.subpixel_bits = parse_int(key, value, 1, 8);
     } else if (key == "snap_rounding") {
-        p.snap_rounding = pick<SnapRounding>(key, value,
-                                             {{"nearest-even", SnapRounding::NearestEven},
-                                              {"half-away", SnapRounding::HalfAwayFromZero},
-                                              {"truncate", SnapRounding::Truncate}});
+        p.gl.snap_rounding = pick<SnapRounding>(key, value,
+                                                {{"nearest-even", SnapRounding::NearestEven},
+                                                 {"half-away", SnapRounding::HalfAwayFromZero},
+                                                 {"truncate", SnapRounding::Truncate}});
     } else if (key == "pixel_center_offset") {
-        p.pixel_center_offset = parse_float(key, value);
+        p.gl.pixel_center_offset = parse_float(key, value);
     } else if (key == "tie_rule") {
-        p.tie_rule = pick<TieRule>(key, value,
-                                   {{"left-bottom", TieRule::LeftBottom},
-                                    {"left-top", TieRule::LeftTop},
-                                    {"right-bottom", TieRule::RightBottom},
-                                    {"right-top", TieRule::RightTop}});
+        p.gl.tie_rule = pick<TieRule>(key, value,
+                                      {{"left-bottom", TieRule::LeftBottom},
+                                       {"left-top", TieRule::LeftTop},
+                                       {"right-bottom", TieRule::RightBottom},
+                                       {"right-top", TieRule::RightTop}});
     } else if (key == "clipping") {
-        p.clipping = pick<Clipping>(key, value,
-                                    {{"view-volume", Clipping::ViewVolume}, {"guard-band", Clipping::GuardBand}});
+        p.gl.clipping = pick<Clipping>(
+            key, value,
+            {{"view-volume", Clipping::ViewVolume}, {"guard-band", Clipping::GuardBand}});
     } else if (key == "viewport_fma") {
-        p.viewport_fma = pick<FmaMode>(key, value,
-                                       {{"auto", FmaMode::Auto}, {"on", FmaMode::On}, {"off", FmaMode::Off}});
+        p.gl.viewport_fma = pick<FmaMode>(
+            key, value, {{"auto", FmaMode::Auto}, {"on", FmaMode::On}, {"off", FmaMode::Off}});
     } else if (key == "flush_denormals") {
-        p.flush_denormals = parse_bool(key, value);
+        p.gl.flush_denormals = parse_bool(key, value);
     } else if (key == "draw_pipeline_cull") {
-        p.draw_pipeline_cull = parse_bool(key, value);
+        p.quirks.draw_pipeline_cull = parse_bool(key, value);
     } else if (key == "draw_segment_vertices") {
-        p.draw_segment_vertices = parse_int(key, value, 3, 1 << 20);
+        p.quirks.draw_segment_vertices = parse_int(key, value, 3, 1 << 20);
     } else if (key == "nine_vertex_quirk") {
-        p.nine_vertex_quirk = parse_bool(key, value);
+        p.quirks.nine_vertex_quirk = parse_bool(key, value);
     } else if (key == "wrapping_arithmetic") {
-        p.wrapping_arithmetic = parse_bool(key, value);
+        p.quirks.wrapping_arithmetic = parse_bool(key, value);
     } else {
         std::string keys;
-        for (const auto& [k, _] : profile_parameters(Profile{})) keys += (keys.empty() ? "" : ", ") + k;
+        for (const auto& [k, _] : profile_parameters(Profile{}))
+            keys += (keys.empty() ? "" : ", ") + k;
         throw ProfileError("unknown profile parameter \"" + key + "\" (known: " + keys + ")");
     }
 }

@@ -13,17 +13,17 @@ PixelRect intersect(const PixelRect& a, const PixelRect& b) {
 }
 
 SetupParams setup_params(const Profile& profile, const DrawState& state, const Target& target) {
-    REFRASTER_ASSERT(profile.subpixel_bits >= 0 && profile.subpixel_bits <= kMaxSubpixelBits,
+    REFRASTER_ASSERT(profile.gl.subpixel_bits >= 0 && profile.gl.subpixel_bits <= kMaxSubpixelBits,
                      "subpixel bits within the snapped path's budget");
     REFRASTER_ASSERT(
         target.width <= (1u << kFramebufferBits) && target.height <= (1u << kFramebufferBits),
         "a target within the edge functions' budget");
     SetupParams p;
-    p.bits = profile.subpixel_bits;
-    p.rounding = profile.snap_rounding;
-    p.pixel_center_offset = profile.pixel_center_offset;
-    p.tie_rule = profile.tie_rule;
-    p.wrapping = profile.wrapping_arithmetic;
+    p.bits = profile.gl.subpixel_bits;
+    p.rounding = profile.gl.snap_rounding;
+    p.pixel_center_offset = profile.gl.pixel_center_offset;
+    p.tie_rule = profile.gl.tie_rule;
+    p.wrapping = profile.quirks.wrapping_arithmetic;
     p.cull = state.cull;
     // st_atom_rasterizer.c: front_ccw = (FrontFace == GL_CCW), flipped for an FBO.
     p.front_ccw = state.front_face != FrontFace::Ccw;
@@ -31,7 +31,7 @@ SetupParams setup_params(const Profile& profile, const DrawState& state, const T
     // lp_setup.c: the draw region is the framebuffer, intersected with the scissor.
     p.draw_region = {0, 0, static_cast<int>(target.width) - 1, static_cast<int>(target.height) - 1};
     p.framebuffer = p.draw_region;
-    if (profile.clipping == Clipping::GuardBand) {
+    if (profile.gl.clipping == Clipping::GuardBand) {
         // With the guard band the viewport is applied as a scissor (lp_setup.c, draw_regions).
         const auto& v = state.viewport;
         p.draw_region = intersect(p.draw_region, {v.x, v.y, v.x + v.width - 1, v.y + v.height - 1});
@@ -40,9 +40,9 @@ SetupParams setup_params(const Profile& profile, const DrawState& state, const T
         const auto& s = *state.scissor;
         const std::int64_t x1 = std::int64_t{s.x} + s.width - 1;
         const std::int64_t y1 = std::int64_t{s.y} + s.height - 1;
-        p.draw_region = intersect(p.draw_region,
-                                  {s.x, s.y, static_cast<int>(std::clamp<std::int64_t>(x1, -1, 1 << 30)),
-                                   static_cast<int>(std::clamp<std::int64_t>(y1, -1, 1 << 30))});
+        p.draw_region = intersect(
+            p.draw_region, {s.x, s.y, static_cast<int>(std::clamp<std::int64_t>(x1, -1, 1 << 30)),
+                            static_cast<int>(std::clamp<std::int64_t>(y1, -1, 1 << 30))});
     }
     return p;
 }
@@ -54,12 +54,14 @@ bool owns_ties(std::int32_t a, std::int32_t b, TieRule rule) {
     return (b > 0) == owns_bottom_edges(rule);
 }
 
-EdgeFunction make_edge(std::int32_t xi, std::int32_t yi, std::int32_t xj, std::int32_t yj, TieRule rule) {
+EdgeFunction make_edge(std::int32_t xi, std::int32_t yi, std::int32_t xj, std::int32_t yj,
+                       TieRule rule) {
     EdgeFunction e;
     e.a = checked_sub(yi, yj);
     e.b = checked_sub(xi, xj);
     e.owns_ties = owns_ties(e.a, e.b, rule);
-    e.c = checked_add(checked_sub(wide_mul(e.a, xi), wide_mul(e.b, yi)), std::int64_t{e.owns_ties ? 1 : 0});
+    e.c = checked_add(checked_sub(wide_mul(e.a, xi), wide_mul(e.b, yi)),
+                      std::int64_t{e.owns_ties ? 1 : 0});
     return e;
 }
 

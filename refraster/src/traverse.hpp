@@ -5,7 +5,8 @@
 // dropped from the block when it is positive over all of it (the hierarchy of
 // llvmpipe's lp_rast_tri_tmp.h, rewritten); pixels of partially covered 4x4 blocks are
 // stepped incrementally in int32. The result is the set `covers_pixel` gives pixel by pixel,
-// which tests prove over random triangles; covered pixels are reported as row spans.
+// which tests prove over random triangles. Each 64x64 tile's coverage is reported as quad
+// packets (quad.hpp), for the fragment stage, or as row spans, for tests and traces.
 //
 // Deliberately does not: evaluate attributes or know about fragments.
 #pragma once
@@ -17,6 +18,7 @@
 #include <tuple>
 #include <utility>
 
+#include "quad.hpp"
 #include "setup.hpp"
 
 namespace refraster::detail {
@@ -26,14 +28,12 @@ namespace refraster::detail {
 // 3 * 2^kEdgeDeltaBits < 2^27 in magnitude, and each step adds -a or +b (< 2^25).
 static_assert(kEdgeDeltaBits + 2 + 1 < 31, "4x4 block stepping must fit int32");
 
-inline constexpr int kTileSize = 64;
-
-// Calls visit(y, x_begin, x_end) (x_end exclusive) for every run of covered pixels, row by
-// row within each tile; tiles in raster order. `Setup` is any convex primitive with `edges`
-// (a std::array of EdgeFunction: 3 for triangles, 4 for lines), `bbox` and `bits`.
-template <class Setup, class Visit>
-void traverse_convex(const Setup& t, Visit&& visit) {
-    constexpr unsigned kEdges = static_cast<unsigned>(std::tuple_size_v<decltype(t.edges)>);
+// Calls on_tile(rows, tx, ty) for every 64x64 tile with covered pixels, tiles in raster
+// order, rows[r] the mask of row ty + r (bit i: pixel tx + i). `Setup` is any convex
+// primitive with `edges` (EdgeFunction, the first kEdges of them used: 3 for triangles, 4 for
+// lines and points), `bbox` and `bits`.
+template <unsigned kEdges, class Setup, class OnTile>
+void convex_tiles(const Setup& t, OnTile&& on_tile) {
     constexpr unsigned kAll = (1u << kEdges) - 1;
     const PixelRect box = t.bbox;
     if (box.empty()) return;
@@ -58,13 +58,14 @@ void traverse_convex(const Setup& t, Visit&& visit) {
             for (auto& r : rows) r = 0;
             const auto block = [&](auto&& self, int bx, int by, int size, unsigned live) -> void {
                 // Clip the block to the box: blocks outside it contribute nothing.
-                if (bx > box.x1 || by > box.y1 || bx + size - 1 < box.x0 || by + size - 1 < box.y0) return;
+                if (bx > box.x1 || by > box.y1 || bx + size - 1 < box.x0 || by + size - 1 < box.y0)
+                    return;
                 unsigned still = 0;
                 for (unsigned i = 0; i < kEdges; ++i) {
                     if (!(live & (1u << i))) continue;
                     const EdgeFunction& e = t.edges[i];
                     const std::int64_t e0 = e.at(bx, by, bits);
-                    if (e0 + grow(e, size - 1) <= 0) return;     // negative all over: reject
+                    if (e0 + grow(e, size - 1) <= 0) return;  // negative all over: reject
                     if (e0 + shrink(e, size - 1) <= 0) still |= 1u << i;  // crosses the block
                 }
                 const int x_lo = std::max(bx, box.x0);
@@ -75,7 +76,8 @@ void traverse_convex(const Setup& t, Visit&& visit) {
                     // Every remaining edge positive over the block: all of it is covered.
                     const int n = x_hi - x_lo + 1;
                     const std::uint64_t bitsrow =
-                        (n == 64 ? ~std::uint64_t{0} : ((std::uint64_t{1} << n) - 1)) << (x_lo - tx);
+                        (n == 64 ? ~std::uint64_t{0} : ((std::uint64_t{1} << n) - 1))
+                        << (x_lo - tx);
                     for (int y = y_lo; y <= y_hi; ++y) rows[y - ty] |= bitsrow;
                     any = true;
                     return;
@@ -83,7 +85,8 @@ void traverse_convex(const Setup& t, Visit&& visit) {
                 if (size > 4) {
                     const int sub = size / 4;
                     for (int j = 0; j < 4; ++j) {
-                        for (int i = 0; i < 4; ++i) self(self, bx + i * sub, by + j * sub, sub, still);
+                        for (int i = 0; i < 4; ++i)
+                            self(self, bx + i * sub, by + j * sub, sub, still);
                     }
                     return;
                 }
@@ -95,7 +98,8 @@ void traverse_convex(const Setup& t, Visit&& visit) {
                 for (unsigned i = 0; i < kEdges; ++i) {
                     if (!(still & (1u << i))) continue;
                     const EdgeFunction& e = t.edges[i];
-                    q_row[n_edges] = checked_narrow<std::int32_t>((e.at(x_lo, y_lo, bits) - 1) >> bits);
+                    q_row[n_edges] =
+                        checked_narrow<std::int32_t>((e.at(x_lo, y_lo, bits) - 1) >> bits);
                     step_x[n_edges] = -e.a;
                     step_y[n_edges] = e.b;
                     ++n_edges;
@@ -116,31 +120,42 @@ void traverse_convex(const Setup& t, Visit&& visit) {
                         rows[y - ty] |= m;
                         any = true;
                     }
-                    for (unsigned k = 0; k < n_edges; ++k) q_row[k] = checked_add(q_row[k], step_y[k]);
+                    for (unsigned k = 0; k < n_edges; ++k)
+                        q_row[k] = checked_add(q_row[k], step_y[k]);
                 }
             };
             block(block, tx, ty, kTileSize, kAll);
-            if (!any) continue;
-            for (int r = 0; r < kTileSize; ++r) {
-                std::uint64_t m = rows[r];
-                while (m != 0) {
-                    const int start = std::countr_zero(m);
-                    const int len = std::countr_one(m >> start);
-                    visit(ty + r, tx + start, tx + start + len);
-                    m = start + len >= 64 ? 0 : m & ~((std::uint64_t{1} << (start + len)) - 1);
-                }
-            }
+            if (any) on_tile(static_cast<const std::uint64_t*>(rows), tx, ty);
         }
     }
 }
 
-template <class Visit>
-void traverse_triangle(const TriangleSetup& t, Visit&& visit) {
+// Calls visit(y, x_begin, x_end) (x_end exclusive) for every run of covered pixels, row by
+// row within each tile; tiles in raster order. Every edge of `t.edges` is used.
+template <class Setup, class Visit>
+void traverse_convex(const Setup& t, Visit&& visit) {
+    constexpr auto kEdges = static_cast<unsigned>(std::tuple_size_v<decltype(t.edges)>);
+    convex_tiles<kEdges>(t, [&](const std::uint64_t* rows, int tx, int ty) {
+        emit_tile_spans(rows, tx, ty, visit);
+    });
+}
+
+
+// Every tile of a set-up triangle, by the walk llvmpipe takes for it.
+template <class OnTile>
+void triangle_tiles(const TriangleSetup& t, OnTile&& on_tile) {
     if (t.llvmpipe_walk) {
-        lp::walk(t.walk, std::forward<Visit>(visit));
+        lp::walk_tiles(t.walk, std::forward<OnTile>(on_tile));
         return;
     }
-    traverse_convex(t, std::forward<Visit>(visit));
+    convex_tiles<3>(t, std::forward<OnTile>(on_tile));
+}
+
+template <class Visit>
+void traverse_triangle(const TriangleSetup& t, Visit&& visit) {
+    triangle_tiles(t, [&](const std::uint64_t* rows, int tx, int ty) {
+        emit_tile_spans(rows, tx, ty, visit);
+    });
 }
 
 }  // namespace refraster::detail

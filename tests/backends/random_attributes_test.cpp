@@ -69,7 +69,7 @@ TEST_P(RandomAttributes, TenThousandSmoothDepthTestedTrianglesZ24) {
 TEST(RandomAttributesSensitivity, UnfusedInterpolationIsDetected) {
     if (!refraster::host_has_fma()) GTEST_SKIP() << "the CPU has no FMA: llvmpipe does not fuse either";
     refraster::Profile unfused;
-    unfused.viewport_fma = refraster::FmaMode::Off;
+    unfused.gl.viewport_fma = refraster::FmaMode::Off;
     const Variant v{"smooth-z24", refraster::DepthFormat::Z24, refraster::ColorFormat::Rgba8, {2, false, false}, 10000};
     EXPECT_GT(run_variant(1, v, unfused, false), 0);
 }

@@ -60,7 +60,7 @@ TEST_P(RandomCoverage, TenThousandTrianglesMatchLlvmpipe) {
 TEST(RandomCoverageSensitivity, FlippedTieRuleIsDetected) {
     testscenes::CoverageGenerator gen(7);
     refraster::Profile flipped;
-    flipped.tie_rule = refraster::TieRule::RightTop;
+    flipped.gl.tie_rule = refraster::TieRule::RightTop;
     auto [ref, osmesa] = testscenes::make_renderers(flipped);
     testscenes::CategoryCounts counts;
     std::uint64_t mismatched = 0;

@@ -179,7 +179,7 @@ TEST_P(RandomLinesPoints, FiveThousandLinesTwoThousandPointsMatchLlvmpipe) {
 // centres must show.
 TEST(RandomLinesPointsSensitivity, FlippedTieRuleIsDetected) {
     refraster::Profile flipped;
-    flipped.tie_rule = refraster::TieRule::RightTop;
+    flipped.gl.tie_rule = refraster::TieRule::RightTop;
     Counts counts;
     EXPECT_GT(run(5, 1000, 400, counts, flipped, false), 10);
 }

@@ -22,7 +22,7 @@ TEST(GoldenHashes, ReferenceImagesAreUnchanged) {
         golden[line.substr(0, sp)] = line.substr(sp + 1);
     }
     harness::BackendOptions o;
-    o.profile.viewport_fma = refraster::FmaMode::On;
+    o.profile.gl.viewport_fma = refraster::FmaMode::On;
     auto ref = harness::make_backend(o);
     std::size_t checked = 0;
     for (const auto& e : std::filesystem::recursive_directory_iterator(root / "scenes")) {

@@ -19,8 +19,8 @@ TEST(ProfileIo, SavedProfileLoadsBackEqual) {
 }
 
 TEST(ProfileIo, BuiltinsDiffer) {
-    EXPECT_EQ(harness::load_profile("llvmpipe-22.3").coverage, refraster::CoverageModel::Snapped);
-    EXPECT_EQ(harness::load_profile("gl-exact").coverage, refraster::CoverageModel::Exact);
+    EXPECT_EQ(harness::load_profile("llvmpipe-22.3").model, refraster::CoverageModel::Snapped);
+    EXPECT_EQ(harness::load_profile("gl-exact").model, refraster::CoverageModel::Exact);
 }
 
 TEST(ProfileIo, BadInputNamesFileAndKey) {

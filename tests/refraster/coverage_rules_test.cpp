@@ -76,7 +76,7 @@ TEST(CoverageRules, SquareThroughCentresOwnsLeftAndBottom) {
 
 TEST(CoverageRules, FlippedTieRuleOwnsRightAndTop) {
     refraster::Profile p;
-    p.tie_rule = refraster::TieRule::RightTop;
+    p.gl.tie_rule = refraster::TieRule::RightTop;
     EXPECT_EQ(lit(triangles(square(10.5f, 10.5f, 20.5f, 20.5f, true)), p), box(11, 11, 20, 20));
 }
 
@@ -100,7 +100,7 @@ TEST(CoverageRules, ExactOracleDoesNotSnap) {
     // On the grid it agrees with the snapped rule, tie rule included.
     EXPECT_EQ(lit(triangles(square(10.5f, 10.5f, 20.5f, 20.5f, false)), exact), box(10, 10, 19, 19));
     auto flipped = exact;
-    flipped.tie_rule = refraster::TieRule::RightTop;
+    flipped.gl.tie_rule = refraster::TieRule::RightTop;
     EXPECT_EQ(lit(triangles(square(10.5f, 10.5f, 20.5f, 20.5f, false)), flipped), box(11, 11, 20, 20));
 }
 
@@ -164,7 +164,7 @@ TEST(CoverageRules, GuardBandAppliesTheViewportAsScissor) {
         l.draws[0].vertices.data[v * 8 + 1] = (l.draws[0].vertices.data[v * 8 + 1] + 1.0f) * 2.0f - 1.0f;
     }
     refraster::Profile gb;
-    gb.clipping = refraster::Clipping::GuardBand;
+    gb.gl.clipping = refraster::Clipping::GuardBand;
     const auto with_gb = lit(l, gb);
     EXPECT_EQ(with_gb, lit(l));
     for (const auto& [x, y] : with_gb) {

@@ -73,7 +73,7 @@ TEST(Trace, RightEdgeTieIsRecordedAndNotOwned) {
     EXPECT_EQ(t.final_color[0], 0.0f);
     // With the rule flipped the same tie is owned and the pixel lit.
     refraster::Profile flipped;
-    flipped.tie_rule = refraster::TieRule::RightTop;
+    flipped.gl.tie_rule = refraster::TieRule::RightTop;
     EXPECT_EQ(trace_at(20, 15, flipped).final_color[0], 255.0f);
 }
 

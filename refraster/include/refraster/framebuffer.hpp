@@ -1,12 +1,14 @@
 // framebuffer.hpp: the pixels a renderer produces, in the form every comparison uses.
 //
-// Implements: single-sample colour (rgba8 bytes or rgba32f floats) and depth storage, rows
-// bottom-up (row 0 is window row 0, as glReadPixels returns them), and the depth values
-// exactly as the scene format compares them: z16 as 16-bit integers, z24 as 24-bit integers,
-// z32f as the float's bit pattern.
+// Implements: colour (rgba8 bytes or rgba32f floats) and depth storage for `samples` samples a
+// pixel, pixel-major (the samples of pixel i at i * samples .. i * samples + samples - 1, so
+// a single-sample framebuffer is the plain image), rows bottom-up (row 0 is window row 0, as
+// glReadPixels returns them), and the depth values exactly as the scene format compares them:
+// z16 as 16-bit integers, z24 as 24-bit integers, z32f as the float's bit pattern.
 //
-// Deliberately does not: hold per-sample storage or resolve multisampling (a 4x target is
-// compared after resolve, as glBlitFramebuffer produces it), or know about image files.
+// Deliberately does not: resolve multisampling (a 4x target is compared after resolve, as
+// glBlitFramebuffer produces it; render() draws single-sample targets only today), or know
+// about image files.
 #pragma once
 
 #include <cstdint>
@@ -22,21 +24,29 @@ struct Framebuffer {
     std::uint32_t height = 0;
     ColorFormat color_format = ColorFormat::Rgba8;
     DepthFormat depth_format = DepthFormat::None;
-    std::vector<std::uint8_t> color8;   // rgba8: 4 bytes a pixel, row 0 at the bottom
-    std::vector<float> color32f;        // rgba32f: 4 floats a pixel, row 0 at the bottom
-    std::vector<std::uint32_t> depth;   // one value a pixel when depth_format != None
+    std::uint32_t samples = 1;
+    std::vector<std::uint8_t> color8;  // rgba8: 4 bytes a sample, row 0 at the bottom
+    std::vector<float> color32f;       // rgba32f: 4 floats a sample, row 0 at the bottom
+    std::vector<std::uint32_t> depth;  // one value a sample when depth_format != None
     // Which primitive wrote each pixel last, when asked for: (draw index << 24) |
     // (gl_PrimitiveID + 1), 0 where nothing was drawn. Empty unless requested.
     std::vector<std::uint32_t> owner;
 
     Framebuffer() = default;
-    Framebuffer(std::uint32_t w, std::uint32_t h, ColorFormat cf, DepthFormat df);
+    Framebuffer(std::uint32_t w, std::uint32_t h, ColorFormat cf, DepthFormat df,
+                std::uint32_t sample_count = 1);
 
     std::size_t pixel_count() const { return std::size_t{width} * height; }
-    // The position of pixel (x, y) in the per-pixel arrays; (x, y) must lie inside.
+    // The pixel's index, which a single-sample framebuffer's storage uses too; (x, y) must lie
+    // inside.
     std::size_t index(std::uint32_t x, std::uint32_t y) const {
         REFRASTER_ASSERT(x < width && y < height, "a pixel inside the framebuffer");
         return std::size_t{y} * width + x;
+    }
+    // Index of sample `s` of pixel (x, y) in the colour (times 4) and depth storage.
+    std::size_t sample_index(std::uint32_t x, std::uint32_t y, std::uint32_t s) const {
+        REFRASTER_ASSERT(s < samples, "a sample of the pixel");
+        return index(x, y) * samples + s;
     }
     friend bool operator==(const Framebuffer&, const Framebuffer&) = default;
 };
@@ -49,10 +59,14 @@ constexpr std::uint32_t owner_id(std::size_t draw, std::size_t primitive) {
 // Number of meaningful bits in a depth value of format `f` (z32f: all 32 bits of the float).
 constexpr std::uint32_t depth_bits(DepthFormat f) {
     switch (f) {
-        case DepthFormat::Z16: return 16;
-        case DepthFormat::Z24: return 24;
-        case DepthFormat::Z32f: return 32;
-        case DepthFormat::None: return 0;
+        case DepthFormat::Z16:
+            return 16;
+        case DepthFormat::Z24:
+            return 24;
+        case DepthFormat::Z32f:
+            return 32;
+        case DepthFormat::None:
+            return 0;
     }
     return 0;
 }

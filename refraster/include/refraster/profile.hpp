@@ -1,10 +1,14 @@
 // profile.hpp: every rasterization rule the reference follows, as data.
 //
-// Implements: Profile, the parameters that distinguish one GL implementation's rules from
-// another's (subpixel precision, snapping rounding, pixel-centre offset, the tie rule, the
-// clipper, FMA and denormal behaviour, Mesa draw-module quirks), the built-in profiles
-// `llvmpipe-22.3` and `gl-exact`, and reading and writing single parameters as text
-// (`tie_rule=right-top`) so that profiles can be stored and overridden from the outside.
+// Implements: Profile, in three parts kept apart: the model that draws (llvmpipe 22.3's
+// snapped setup and traversal, or the exact oracle), the general GL rules, the parameters in
+// which the GL specification leaves implementations free and one implementation differs from
+// another (subpixel precision, snapping rounding, pixel-centre offset, the tie rule, the
+// clipper, FMA and denormal behaviour), and the quirks of the model's driver beyond those rules
+// (Mesa draw-module and llvmpipe behaviour); the built-in profiles `llvmpipe-22.3` and
+// `gl-exact`; reading and writing single parameters as text (`tie_rule=right-top`), one flat
+// list of keys over all three parts, so that profiles can be stored and overridden from the
+// outside.
 //
 // Deliberately does not: parse files (the harness reads profile JSON through these setters),
 // or describe rules not implemented yet (attribute, depth, line and point rules arrive with
@@ -23,10 +27,12 @@
 
 namespace refraster {
 
-// How coverage is decided.
+// The model: how coverage is decided, and so which setup, traversal and fragment code runs.
 enum class CoverageModel : std::uint8_t {
-    Snapped,  // window coordinates snapped to a subpixel grid, integer edge functions
-    Exact,    // exact predicates on the float32 clip-space inputs, no snapping, no clipper
+    Snapped,  // llvmpipe 22.3: window coordinates snapped to a subpixel grid, integer edge
+              // functions
+    Exact,    // the oracle: exact predicates on the float32 clip-space inputs, no snapping, no
+              // clipper
 };
 
 // Which edges own a pixel centre lying exactly on them, in GL window terms (y up).
@@ -46,10 +52,8 @@ enum class FmaMode : std::uint8_t {
     Off,
 };
 
-struct Profile {
-    std::string name = "llvmpipe-22.3";
-    CoverageModel coverage = CoverageModel::Snapped;
-
+// The general GL rules: where the specification leaves an implementation free.
+struct GlRules {
     // Snapped coverage: window coordinates become Fixed<subpixel_bits>, rounded by
     // `snap_rounding` after subtracting `pixel_center_offset`.
     int subpixel_bits = 8;
@@ -66,6 +70,11 @@ struct Profile {
     // around draw and rasterization).
     bool flush_denormals = true;
 
+    friend bool operator==(const GlRules&, const GlRules&) = default;
+};
+
+// The snapped model's driver beyond GL's rules: Mesa 22.3's draw module and llvmpipe.
+struct DriverQuirks {
     // Mesa's draw module: triangles of a vertex segment in which any vertex needs clipping
     // go through the draw pipeline, whose cull stage culls in float before setup culls in
     // fixed point. Segments hold `draw_segment_vertices` vertices.
@@ -80,11 +89,20 @@ struct Profile {
     // triangle and walks in-range triangles exactly.
     bool wrapping_arithmetic = true;
 
+    friend bool operator==(const DriverQuirks&, const DriverQuirks&) = default;
+};
+
+struct Profile {
+    std::string name = "llvmpipe-22.3";
+    CoverageModel model = CoverageModel::Snapped;  // parameter key "coverage"
+    GlRules gl;
+    DriverQuirks quirks;
+
     friend bool operator==(const Profile&, const Profile&) = default;
 };
 
 class ProfileError : public std::runtime_error {
-public:
+  public:
     using std::runtime_error::runtime_error;
 };
 

@@ -36,7 +36,7 @@ struct RenderOutcome {
 // the vertex stage (fetch, viewport transform, clip masks), after setup (assembly, clipping,
 // culling, snapping, edges and attribute planes), after traversal (coverage, counted in
 // RenderOutcome::fragments, nothing shaded), or never. A stopped render leaves the target
-// cleared but not drawn. The exact oracle's triangles stop only after the vertex stage.
+// cleared but not drawn.
 enum class RenderStage : std::uint8_t { Load, Setup, Raster, Fragment };
 
 struct RenderOptions {

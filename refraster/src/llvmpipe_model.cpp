@@ -1,0 +1,370 @@
+#include "llvmpipe_model.hpp"
+
+#include <algorithm>
+#include <array>
+
+#include "line_point.hpp"
+#include "observer.hpp"
+#include "trace_observer.hpp"
+
+namespace refraster::detail {
+
+namespace {
+
+bool is_triangle(PrimitiveType p) {
+    return p == PrimitiveType::Triangles || p == PrimitiveType::TriangleStrip ||
+           p == PrimitiveType::TriangleFan;
+}
+
+void copy_coverage(const TriangleSetup& t, SetupPrimitive& p, SetupList& list) {
+    p.bits = t.bits;
+    p.edge_count = 3;
+    std::copy(t.edges.begin(), t.edges.end(), p.edges.begin());
+    p.bbox = t.bbox;
+    if (t.llvmpipe_walk) {
+        p.walk = static_cast<std::int32_t>(list.walks.size());
+        list.walks.push_back(t.walk);
+    }
+}
+
+template <class Setup>
+void copy_quad_coverage(const Setup& s, SetupPrimitive& p) {
+    p.bits = s.bits;
+    p.edge_count = 4;
+    p.edges = s.edges;
+    p.bbox = s.bbox;
+}
+
+}  // namespace
+
+// What the draw's fragment kernel reads (choose_fragment_kernel), or everything for an observer
+// that records every plane.
+template <class Observer>
+PlaneNeeds LlvmpipeModel::plane_needs() const {
+    const Draw& d = ctx_.draw;
+    const bool depth = d.state.depth_test.has_value() && ctx_.target.depth != DepthFormat::None;
+    return {depth || Observer::kReadsEveryPlane,
+            d.state.shade == ShadeModel::Smooth || Observer::kReadsEveryPlane};
+}
+
+template <class Observer>
+void LlvmpipeModel::setup(VertexStage& stage, Observer& obs, const ListSink<List>& sink) {
+    sink_ = &sink;
+    list_.clear();
+    list_.attribute_floats = stage.attribute_floats();
+    const Draw& d = ctx_.draw;
+    if (d.primitive == PrimitiveType::Points) {
+        points(stage, obs);
+    } else if (!is_triangle(d.primitive)) {
+        lines(stage, obs);
+    } else if (d.state.polygon_mode != PolygonMode::Fill) {
+        unfilled(stage, obs);
+    } else {
+        triangles(stage, obs);
+    }
+    if (!list_.primitives.empty()) sink(list_);
+    obs.list_done();
+    list_.clear();
+}
+
+template <class Observer>
+void LlvmpipeModel::next_primitive(std::size_t p, Observer& obs) {
+    owner_ = owner_id(ctx_.index, p);
+    if (list_.full()) {
+        (*sink_)(list_);
+        obs.list_done();
+        list_.clear();
+    }
+}
+
+template <class Observer>
+void LlvmpipeModel::triangles(VertexStage& stage, Observer& obs) {
+    const Draw& d = ctx_.draw;
+    const bool first = ctx_.params.provoking_first;
+    const auto tris = assemble_triangles(d.primitive, d.element_count(), first,
+                                         ctx_.profile.quirks.draw_segment_vertices,
+                                         d.indices.has_value());
+
+    // Segments with any vertex outside the view volume go through the draw pipeline.
+    std::vector<bool> segment_clipped;
+    for (const auto& t : tris) {
+        if (t.segment >= segment_clipped.size()) segment_clipped.resize(t.segment + 1, false);
+        for (auto e : t.element) {
+            if (stage.vertex(d.element(e)).clipmask != 0) segment_clipped[t.segment] = true;
+        }
+    }
+    if (nine_vertex_quirk_drops(stage, tris, segment_clipped)) {
+        obs.dropped_draw(ctx_.index, "draw dropped by llvmpipe's nine-vertex rectangle analysis");
+        return;
+    }
+
+    const std::vector<bool> setup_ftz = pipeline_setup_ftz(stage, tris, segment_clipped);
+    std::size_t pipeline_output = 0;  // the pipeline's output triangles so far, in order
+    std::vector<StageTriangle> staged;
+    for (std::size_t p = 0; p < tris.size(); ++p) {
+        next_primitive(p, obs);
+        const auto& at = tris[p];
+        const std::array<std::uint32_t, 3> idx{d.element(at.element[0]), d.element(at.element[1]),
+                                               d.element(at.element[2])};
+        const bool in_pipeline = segment_clipped[at.segment];
+        obs.begin_primitive("triangle", ctx_.index, p, idx, stage, in_pipeline);
+        staged.clear();
+        stage.clip_triangle(idx, first, staged, obs.clip_polygons());
+        obs.clipped(staged.empty());
+        for (const auto& st : staged) {
+            const bool ftz = !in_pipeline || setup_ftz.empty() || setup_ftz[pipeline_output];
+            pipeline_output += in_pipeline;
+            snapped_triangle(stage, st, in_pipeline, ftz, obs);
+        }
+        obs.end_primitive(KeepRecord::CoveredOrNear);
+    }
+}
+
+template <class Observer>
+void LlvmpipeModel::snapped_triangle(const VertexStage& stage, const StageTriangle& st,
+                                     bool in_pipeline, bool setup_ftz, Observer& obs) {
+    const Draw& d = ctx_.draw;
+    const SetupParams& params = ctx_.params;
+    obs.triangle_start(st, params.bits);
+    if (in_pipeline && ctx_.profile.quirks.draw_pipeline_cull &&
+        !passes_draw_cull(st, d.state.cull, params.front_ccw)) {
+        return obs.triangle_outcome("culled by the draw module's float cull");
+    }
+    TriangleSetup t;
+    const std::array<std::array<float, 2>, 3> w{{{st.v[0].window[0], st.v[0].window[1]},
+                                                 {st.v[1].window[0], st.v[1].window[1]},
+                                                 {st.v[2].window[0], st.v[2].window[1]}}};
+    const auto outcome = setup_triangle(w, params, t);
+    obs.triangle_setup(t);
+    switch (outcome) {
+        case SetupOutcome::ZeroArea:
+            return obs.triangle_outcome("zero area");
+        case SetupOutcome::Culled:
+            return obs.triangle_outcome("culled");
+        case SetupOutcome::OutOfRange:
+            return obs.triangle_outcome("snapped position out of range");
+        case SetupOutcome::Outside:
+            return obs.triangle_outcome("outside the draw region");
+        case SetupOutcome::Ok:
+            break;
+    }
+    // Attribute setup sees the vertices in setup's order, after the orientation swap; it runs
+    // without FTZ for the draw pipeline's last batch (pipeline_setup_ftz).
+    SetupPrimitive& prim = list_.primitives.emplace_back();
+    copy_coverage(t, prim, list_);
+    prim.owner = owner_;
+    const FragmentOptions fo = ctx_.fragment_options();
+    const FragmentOptions setup_fo{fo.fma, fo.flush_denormals && setup_ftz};
+    triangle_planes(
+        {&st.v[static_cast<std::size_t>(t.order[0])], &st.v[static_cast<std::size_t>(t.order[1])],
+         &st.v[static_cast<std::size_t>(t.order[2])]},
+        stage, d, ctx_.target, params.provoking_first, setup_fo, fo.flush_denormals,
+        plane_needs<Observer>(), list_, prim);
+    obs.triangle_drawn(t, list_.primitives.size() - 1);
+}
+
+// Lines: assembly, clipping (do_clip_line), then try_setup_line and its planes. Lines are
+// never culled.
+template <class Observer>
+void LlvmpipeModel::lines(VertexStage& stage, Observer& obs) {
+    const Draw& d = ctx_.draw;
+    const bool first = ctx_.params.provoking_first;
+    const auto segs = assemble_lines(d.primitive, d.element_count());
+    for (std::size_t p = 0; p < segs.size(); ++p) {
+        next_primitive(p, obs);
+        const std::array<std::uint32_t, 2> ends{d.element(segs[p][0]), d.element(segs[p][1])};
+        obs.begin_primitive("line", ctx_.index, p, ends, stage);
+        const auto clipped = stage.clip_line(ends[0], ends[1], first);
+        if (!clipped) {
+            obs.note("clipped away entirely");
+            obs.end_primitive(KeepRecord::Always);
+            continue;
+        }
+        segment(stage, (*clipped)[0], (*clipped)[1], obs);
+        obs.end_primitive(KeepRecord::CoveredOrNear);
+    }
+}
+
+// One segment after clipping: try_setup_line and its planes.
+template <class Observer>
+void LlvmpipeModel::segment(const VertexStage& stage, const StageVertex& v1, const StageVertex& v2,
+                            Observer& obs) {
+    const auto setup = setup_line(v1, v2, ctx_.draw.state.line_width, ctx_.params);
+    if (!setup) return;
+    SetupPrimitive& prim = list_.primitives.emplace_back();
+    copy_quad_coverage(*setup, prim);
+    prim.owner = owner_;
+    line_planes(v1, v2, stage, ctx_.draw, ctx_.params.provoking_first, ctx_.fragment_options(),
+                list_, prim);
+    obs.line_drawn(v1, v2, *setup, list_.primitives.size() - 1);
+}
+
+// One point that survived clipping: try_setup_point and its planes.
+template <class Observer>
+void LlvmpipeModel::point(const VertexStage& stage, const StageVertex& v, Observer& obs) {
+    const auto setup = setup_point(v, ctx_.draw.state.point_size, ctx_.params);
+    if (!setup) return;
+    SetupPrimitive& prim = list_.primitives.emplace_back();
+    copy_quad_coverage(*setup, prim);
+    prim.owner = owner_;
+    point_planes(v, stage, ctx_.draw, ctx_.fragment_options(), list_, prim);
+    obs.point_drawn(v, *setup, list_.primitives.size() - 1);
+}
+
+// Points: clipped by their centre (draw_pipe_clip.c clip_point), then quad points.
+template <class Observer>
+void LlvmpipeModel::points(VertexStage& stage, Observer& obs) {
+    const Draw& d = ctx_.draw;
+    for (std::size_t p = 0; p < d.element_count(); ++p) {
+        const std::array<std::uint32_t, 1> i{d.element(p)};
+        const auto& v = stage.vertex(i[0]);
+        if (v.clipmask != 0) continue;
+        next_primitive(p, obs);
+        obs.begin_primitive("point", ctx_.index, p, i, stage);
+        point(stage, v, obs);
+        obs.end_primitive(KeepRecord::Covered);
+    }
+}
+
+// Polygon modes line and point: always the draw pipeline (llvmpipe hands unfilled
+// polygons to it, lp_state_rasterizer.c): clip, the float cull stage, the draw module's
+// polygon offset (draw_pipe_offset.c; llvmpipe's own is off then), the flat-shade copy
+// (draw_pipe_flatshade.c), then draw_pipe_unfilled.c's edges (v2,v0), (v0,v1), (v1,v2) or
+// points v0, v1, v2, each only where the polygon's edge flag and the starting vertex's
+// edge flag are set, so that clip-plane edges and fan diagonals are not drawn.
+template <class Observer>
+void LlvmpipeModel::unfilled(VertexStage& stage, Observer& obs) {
+    const Draw& d = ctx_.draw;
+    const SetupParams& params = ctx_.params;
+    const bool first = params.provoking_first;
+    const auto tris = assemble_triangles(d.primitive, d.element_count(), first,
+                                         ctx_.profile.quirks.draw_segment_vertices,
+                                         d.indices.has_value());
+    const char* kind =
+        d.state.polygon_mode == PolygonMode::Line ? "polygon edges" : "polygon vertices";
+    std::vector<StageTriangle> staged;
+    for (std::size_t p = 0; p < tris.size(); ++p) {
+        next_primitive(p, obs);
+        const auto& at = tris[p];
+        const std::array<std::uint32_t, 3> idx{d.element(at.element[0]), d.element(at.element[1]),
+                                               d.element(at.element[2])};
+        obs.begin_primitive(kind, ctx_.index, p, idx, stage);
+        staged.clear();
+        stage.clip_triangle(idx, first, staged, nullptr);
+        for (auto t : staged) {
+            if (!passes_draw_cull(t, d.state.cull, params.front_ccw)) continue;
+            if (d.state.polygon_offset) {
+                apply_draw_offset(t, draw_determinant(t, ctx_.profile.gl.flush_denormals),
+                                  *d.state.polygon_offset, ctx_.target.depth,
+                                  ctx_.profile.gl.flush_denormals);
+            }
+            if (d.state.shade == ShadeModel::Flat) {
+                const StageVertex prov = t.v[first ? 0 : 2];
+                for (std::size_t k = 0; k < 3; ++k) {
+                    if (k != (first ? 0u : 2u)) t.v[k] = stage.duplicate_with_flat(t.v[k], prov);
+                }
+            }
+            const auto edge = [&](unsigned bit, std::size_t from) {
+                return (t.edge_flags & bit) != 0 && t.v[from].edgeflag;
+            };
+            if (d.state.polygon_mode == PolygonMode::Line) {
+                if (edge(4, 2)) segment(stage, t.v[2], t.v[0], obs);
+                if (edge(1, 0)) segment(stage, t.v[0], t.v[1], obs);
+                if (edge(2, 1)) segment(stage, t.v[1], t.v[2], obs);
+            } else {
+                if (edge(1, 0)) point(stage, t.v[0], obs);
+                if (edge(2, 1)) point(stage, t.v[1], obs);
+                if (edge(4, 2)) point(stage, t.v[2], obs);
+            }
+        }
+        obs.end_primitive(KeepRecord::CoveredOrNear);
+    }
+}
+
+// lp_setup_analyse_triangles (lp_setup_analysis.c), reached from lp_setup_draw_arrays for
+// a non-indexed triangle list of exactly 9 vertices drawn without constant-interpolated
+// inputs and without the draw pipeline: when the last triangle's three window y values are
+// equal, the function claims the whole draw. It hands the first two triangles to
+// lp_rect_cw when they form a rectangle and drops them otherwise; measured in an FBO,
+// neither case draws anything (scenes triangles.coverage.nine_vertex_quirk_*).
+bool LlvmpipeModel::nine_vertex_quirk_drops(const VertexStage& stage,
+                                            const std::vector<AssembledTriangle>& tris,
+                                            const std::vector<bool>& segment_clipped) const {
+    // The owner pass reads gl_PrimitiveID, a constant-interpolated input, and so bypasses
+    // the analysis in the driver; the reference's owner pass does the same.
+    const Draw& d = ctx_.draw;
+    if (!ctx_.profile.quirks.nine_vertex_quirk || ctx_.record_owners) return false;
+    if (d.primitive != PrimitiveType::Triangles || d.indices || d.element_count() != 9)
+        return false;
+    if (d.state.shade == ShadeModel::Flat || tris.size() != 3 || segment_clipped[0]) return false;
+    const auto y = [&](std::uint32_t i) { return stage.vertex(i).window[1]; };
+    return y(8) == y(7) && y(8) == y(6);
+}
+
+// Whether llvmpipe sets up each output triangle of the draw pipeline, in order, with
+// denormals flushed. The pipeline's last stage (draw_pipe_vbuf.c, vbuf_tri and check_space)
+// collects triangles and hands them to setup when the next one might not fit (vertices + 3
+// > 128: lp_setup_vbuf.c's 4096-byte buffer over 32-byte vertices of position and colour;
+// or indices + 3 > 1024), when a segment that skips the pipeline is emitted (draw_pt_emit.c
+// flushes first), and otherwise after draw_vbo has returned. draw_vbo (draw_pt.c) sets
+// FTZ/DAZ for its own duration only, so a draw's last batch is set up without them. A
+// vertex counts once per batch: the segment's own vertices are shared between its
+// triangles, the clipper's new ones between the triangles of one polygon. Empty when no
+// triangle needs telling apart (no pipeline segment, or no flushing at all).
+std::vector<bool> LlvmpipeModel::pipeline_setup_ftz(
+    VertexStage& stage, const std::vector<AssembledTriangle>& tris,
+    const std::vector<bool>& segment_clipped) const {
+    constexpr std::size_t kMaxVertices = 4096 / 32;
+    constexpr std::size_t kMaxIndices = 1024;
+    const Draw& d = ctx_.draw;
+    std::vector<bool> out;
+    if (!ctx_.profile.gl.flush_denormals ||
+        std::find(segment_clipped.begin(), segment_clipped.end(), true) == segment_clipped.end()) {
+        return out;
+    }
+    std::size_t vertices = 0, indices = 0;
+    std::vector<std::size_t> pending;  // indices into `out` of the triangles not yet set up
+    std::vector<std::uint64_t> emitted;
+    const auto flush = [&](bool ftz) {
+        for (const auto i : pending) out[i] = ftz;
+        pending.clear();
+        vertices = indices = 0;
+        emitted.clear();
+    };
+    std::vector<StageTriangle> staged;
+    for (const auto& at : tris) {
+        if (!segment_clipped[at.segment]) {
+            if (!pending.empty()) flush(true);
+            continue;
+        }
+        staged.clear();
+        stage.clip_triangle(
+            {d.element(at.element[0]), d.element(at.element[1]), d.element(at.element[2])},
+            ctx_.params.provoking_first, staged, nullptr);
+        for (const auto& st : staged) {
+            if (ctx_.profile.quirks.draw_pipeline_cull &&
+                !passes_draw_cull(st, d.state.cull, ctx_.params.front_ccw)) {
+                out.push_back(true);  // never reaches setup
+                continue;
+            }
+            if (vertices + 3 > kMaxVertices || indices + 3 > kMaxIndices) flush(true);
+            for (const auto& v : st.v) {
+                const std::uint64_t key = (std::uint64_t{at.segment} << 32) | v.attributes;
+                if (std::find(emitted.begin(), emitted.end(), key) == emitted.end()) {
+                    emitted.push_back(key);
+                    ++vertices;
+                }
+            }
+            indices += 3;
+            pending.push_back(out.size());
+            out.push_back(true);
+        }
+    }
+    flush(false);
+    return out;
+}
+
+template void LlvmpipeModel::setup(VertexStage&, NoObserver&, const ListSink<List>&);
+template void LlvmpipeModel::setup(VertexStage&, TraceObserver&, const ListSink<List>&);
+
+}  // namespace refraster::detail

@@ -1,0 +1,90 @@
+// llvmpipe_model.hpp: the snapped model, llvmpipe 22.3's setup and traversal.
+//
+// Implements: from a draw's vertex stage to set-up primitives in API order, as Mesa's draw
+// module and llvmpipe's setup produce them: triangle assembly and segments, the draw
+// pipeline for segments that need clipping (clipper, float cull, the FTZ state each batch of
+// its output is set up under), llvmpipe's nine-vertex rectangle analysis, fixed-point triangle
+// setup (setup.hpp) and attribute planes (fragment.hpp); lines (do_clip_line, try_setup_line)
+// and points (clip_point, try_setup_point); polygon modes line and point through the draw
+// pipeline's offset, flat-shade and unfilled stages. Traversal of a set-up primitive into
+// quad packets (traverse.hpp), with llvmpipe's own walk where its integer widths decide
+// (llvmpipe_walk.hpp).
+//
+// Deliberately does not: shade (the fragment kernel does), or know about the exact oracle.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "model.hpp"
+#include "refraster/assembly.hpp"
+#include "setup_list.hpp"
+#include "traverse.hpp"
+
+namespace refraster::detail {
+
+class LlvmpipeModel {
+  public:
+    using List = SetupList;
+    using Primitive = SetupPrimitive;
+
+    explicit LlvmpipeModel(const DrawContext& ctx) : ctx_(ctx) {}
+
+    template <class Observer>
+    void setup(VertexStage& stage, Observer& obs, const ListSink<List>& sink);
+
+    template <class Emit>
+    static void traverse(const SetupList& list, const SetupPrimitive& p, Emit&& emit) {
+        const auto quads = [&](const std::uint64_t* rows, int tx, int ty) {
+            emit_tile_quads(rows, tx, ty, emit);
+        };
+        if (p.walk >= 0) {
+            lp::walk_tiles(list.walks[static_cast<std::size_t>(p.walk)], quads);
+        } else if (p.edge_count == 3) {
+            convex_tiles<3>(p, quads);
+        } else {
+            convex_tiles<4>(p, quads);
+        }
+    }
+
+    FragmentKernel kernel() const {
+        return choose_fragment_kernel(ctx_.draw, ctx_.target, ctx_.fragment_options());
+    }
+
+  private:
+    template <class Observer>
+    void triangles(VertexStage& stage, Observer& obs);
+    template <class Observer>
+    void lines(VertexStage& stage, Observer& obs);
+    template <class Observer>
+    void points(VertexStage& stage, Observer& obs);
+    template <class Observer>
+    void unfilled(VertexStage& stage, Observer& obs);
+    template <class Observer>
+    void snapped_triangle(const VertexStage& stage, const StageTriangle& st, bool in_pipeline,
+                          bool setup_ftz, Observer& obs);
+    template <class Observer>
+    void segment(const VertexStage& stage, const StageVertex& v1, const StageVertex& v2,
+                 Observer& obs);
+    template <class Observer>
+    void point(const VertexStage& stage, const StageVertex& v, Observer& obs);
+
+    bool nine_vertex_quirk_drops(const VertexStage& stage,
+                                 const std::vector<AssembledTriangle>& tris,
+                                 const std::vector<bool>& segment_clipped) const;
+    std::vector<bool> pipeline_setup_ftz(VertexStage& stage,
+                                         const std::vector<AssembledTriangle>& tris,
+                                         const std::vector<bool>& segment_clipped) const;
+    template <class Observer>
+    PlaneNeeds plane_needs() const;
+    // Starts the next API primitive: hands a full list on first.
+    template <class Observer>
+    void next_primitive(std::size_t p, Observer& obs);
+
+    const DrawContext& ctx_;
+    const ListSink<List>* sink_ = nullptr;
+    SetupList list_;
+    std::uint32_t owner_ = 0;  // of the primitive being set up
+};
+
+}  // namespace refraster::detail

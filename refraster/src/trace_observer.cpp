@@ -1,0 +1,173 @@
+#include "trace_observer.hpp"
+
+#include <algorithm>
+
+#include "exact_coverage.hpp"
+#include "line_point.hpp"
+#include "traverse.hpp"
+#include "vertex_stage.hpp"
+
+namespace refraster::detail {
+
+void TraceObserver::begin_primitive(std::string_view kind, std::size_t draw, std::size_t primitive,
+                                    std::span<const std::uint32_t> vertices,
+                                    const VertexStage& stage, bool in_pipeline) {
+    pt_ = PrimitiveTrace{};
+    pt_.draw = draw;
+    pt_.primitive = primitive;
+    pt_.kind = std::string(kind);
+    for (const auto v : vertices) {
+        pt_.vertices.push_back(v);
+        pt_.clip.push_back(stage.vertex(v).clip);
+        pt_.clipmask.push_back(stage.vertex(v).clipmask);
+    }
+    pt_.in_draw_pipeline = in_pipeline;
+    polygons_.clear();
+    open_.clear();
+}
+
+void TraceObserver::dropped_draw(std::size_t draw, const char* why) {
+    PrimitiveTrace pt;
+    pt.draw = draw;
+    pt.note = why;
+    trace_.primitives.push_back(pt);
+}
+
+void TraceObserver::clipped(bool nothing_left) {
+    for (const auto& poly : polygons_) {
+        auto& out = pt_.clipped_polygon.emplace_back();
+        for (const auto& v : poly) out.push_back(v.clip);
+    }
+    polygons_.clear();
+    if (nothing_left) pt_.note = "clipped away entirely";
+}
+
+void TraceObserver::triangle_start(const StageTriangle& t, int bits) {
+    s_ = SetupTrace{};
+    for (std::size_t k = 0; k < 3; ++k) s_.window.push_back(t.v[k].window);
+    s_.clipped = t.clipped;
+    s_.subpixel_bits = bits;
+}
+
+void TraceObserver::triangle_outcome(const char* outcome) {
+    s_.outcome = outcome;
+    pt_.setups.push_back(s_);
+}
+
+template <class Setup>
+void TraceObserver::record_edges(const Setup& t, std::size_t edge_count) {
+    for (std::size_t k = 0; k < edge_count; ++k) {
+        const auto& e = t.edges[k];
+        const std::int64_t v = e.at(trace_.x, trace_.y, t.bits);
+        s_.edges.push_back({e.a, e.b, e.c, e.owns_ties, v, v - (e.owns_ties ? 1 : 0) == 0});
+    }
+}
+
+void TraceObserver::triangle_setup(const TriangleSetup& t) {
+    s_.x.assign(t.x.begin(), t.x.end());
+    s_.y.assign(t.y.begin(), t.y.end());
+    s_.order = t.order;
+    s_.area = t.area;
+    s_.front_facing = t.front_facing;
+    record_edges(t, 3);
+}
+
+bool TraceObserver::in_box(const PixelRect& b) const {
+    return trace_.x >= b.x0 && trace_.x <= b.x1 && trace_.y >= b.y0 && trace_.y <= b.y1;
+}
+
+// The set-up primitive just recorded covers the pixel or not; its fragment is traced when the
+// primitive is about to be shaded.
+void TraceObserver::covered(bool in, std::size_t list_index) {
+    s_.covered = in;
+    pt_.covered = pt_.covered || in;
+    if (in) s_.has_fragment = true;
+    s_.outcome = "drawn";
+    pt_.setups.push_back(s_);
+    if (in) open_.push_back({list_index, 0, pt_.setups.size() - 1});
+}
+
+void TraceObserver::triangle_drawn(const TriangleSetup& t, std::size_t list_index) {
+    bool in = in_box(t.bbox) && covers_pixel(t, trace_.x, trace_.y);
+    if (t.llvmpipe_walk) {
+        // llvmpipe's own walk decides instead (llvmpipe_walk.hpp).
+        in = false;
+        traverse_triangle(t, [&](int y, int x0, int x1) {
+            in = in || (y == trace_.y && trace_.x >= x0 && trace_.x < x1);
+        });
+    }
+    covered(in, list_index);
+}
+
+void TraceObserver::line_drawn(const StageVertex& v1, const StageVertex& v2, const LineSetup& s,
+                               std::size_t list_index) {
+    s_ = SetupTrace{};
+    s_.window = {v1.window, v2.window};
+    s_.clipped = v1.generated || v2.generated;
+    s_.x.assign(s.x.begin(), s.x.end());
+    s_.y.assign(s.y.begin(), s.y.end());
+    s_.subpixel_bits = s.bits;
+    record_edges(s, 4);
+    bool in = in_box(s.bbox);
+    for (const auto& e : s.edges) in = in && e.at(trace_.x, trace_.y, s.bits) > 0;
+    covered(in, list_index);
+}
+
+void TraceObserver::point_drawn(const StageVertex& v, const PointSetup& s, std::size_t list_index) {
+    s_ = SetupTrace{};
+    s_.window = {v.window};
+    s_.subpixel_bits = s.bits;
+    record_edges(s, 4);
+    bool in = in_box(s.bbox);
+    for (const auto& e : s.edges) in = in && e.at(trace_.x, trace_.y, s.bits) > 0;
+    covered(in, list_index);
+}
+
+void TraceObserver::exact_setup(const ExactCoverage& ex) {
+    pt_.covered = ex.covers(trace_.x, trace_.y);
+    const auto signs = ex.weight_signs(trace_.x, trace_.y);
+    const auto owns = ex.owns_ties();
+    SetupTrace s;
+    s.outcome = "exact";
+    s.edges.resize(3);
+    for (std::size_t k = 0; k < 3; ++k) {
+        s.edges[k].value = signs[k];
+        s.edges[k].owns_ties = owns[k];
+        s.edges[k].tie = signs[k] == 0;
+    }
+    s.covered = pt_.covered;
+    s.front_facing = ex.front_facing();
+    pt_.setups.push_back(s);
+}
+
+bool TraceObserver::near(const PrimitiveTrace& pt) const {
+    // A primitive is worth showing when one of its set-up triangles' boxes (before the
+    // draw region) holds the pixel.
+    for (const auto& s : pt.setups) {
+        if (s.x.empty()) continue;
+        const auto [xmin, xmax] = std::minmax_element(s.x.begin(), s.x.end());
+        const auto [ymin, ymax] = std::minmax_element(s.y.begin(), s.y.end());
+        const int b = s.subpixel_bits;
+        if (trace_.x >= (*xmin >> b) && trace_.x <= ((*xmax - 1) >> b) + 1 &&
+            trace_.y >= (*ymin >> b) && trace_.y <= ((*ymax - 1) >> b) + 1) {
+            return true;
+        }
+    }
+    return false;
+}
+
+void TraceObserver::end_primitive(KeepRecord keep) {
+    const bool kept = keep == KeepRecord::Always || pt_.covered ||
+                      (keep == KeepRecord::CoveredOrNear && near(pt_));
+    if (kept) {
+        trace_.primitives.push_back(std::move(pt_));
+        for (auto p : open_) {
+            p.primitive = trace_.primitives.size() - 1;
+            ready_.push_back(p);
+        }
+    }
+    open_.clear();
+    pt_ = PrimitiveTrace{};
+}
+
+}  // namespace refraster::detail
