@@ -1,5 +1,7 @@
 #include "exact_model.hpp"
 
+#include "rules.hpp"
+
 #include <array>
 #include <vector>
 
@@ -48,8 +50,7 @@ void ExactModel::setup(VertexStage& stage, Observer& obs, const ListSink<List>& 
         // GL's cull decision on the exact orientation.
         const bool front = ex->front_facing() == (d.state.front_face == FrontFace::Ccw);
         const auto cull = d.state.cull;
-        if (cull == CullMode::FrontAndBack || (cull == CullMode::Front && front) ||
-            (cull == CullMode::Back && !front)) {
+        if (is_culled(cull, front)) {
             obs.note("culled");
             obs.end_primitive(KeepRecord::CoveredOrNear);
             continue;

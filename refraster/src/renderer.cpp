@@ -10,6 +10,7 @@
 #include "fragment.hpp"
 #include "observer.hpp"
 #include "pipeline.hpp"
+#include "rules.hpp"
 #include "setup.hpp"
 #include "trace_observer.hpp"
 
@@ -49,18 +50,7 @@ namespace {
 // (docs/precision.md, "Depth"), the same packing for z16 (util_pack_z in
 // gallium/auxiliary/util/u_pack_color.h). z32f stores the float itself.
 std::uint32_t clear_depth_value(DepthFormat f, float z) {
-    const double zd = static_cast<double>(z);
-    switch (f) {
-        case DepthFormat::Z16:
-            return static_cast<std::uint32_t>(std::nearbyint(zd * 65535.0));
-        case DepthFormat::Z24:
-            return static_cast<std::uint32_t>(std::nearbyint(zd * 16777215.0));
-        case DepthFormat::Z32f:
-            return std::bit_cast<std::uint32_t>(z);
-        case DepthFormat::None:
-            return 0;
-    }
-    return 0;
+    return detail::quantise_depth(static_cast<double>(z), f);
 }
 
 // Clears the whole target (scissor off, every mask on): unorm8 colours through
