@@ -14,19 +14,27 @@
 
 namespace refraster::detail {
 
+// These are the innermost operations of every stage; they are forced inline because a unit
+// with many fragment kernels otherwise exceeds the compiler's inlining budget and calls them.
+#define REFRASTER_FLOAT_OP [[gnu::always_inline]] inline
+
 // A denormal becomes a zero of the same sign.
-inline float flush_denormal(float v) {
+REFRASTER_FLOAT_OP float flush_denormal(float v) {
     return std::fabs(v) < std::numeric_limits<float>::min() ? std::copysign(0.0f, v) : v;
 }
 
 struct Fp {
     bool flush;
-    float f(float v) const { return flush ? flush_denormal(v) : v; }
-    float add(float a, float b) const { return f(f(a) + f(b)); }
-    float sub(float a, float b) const { return f(f(a) - f(b)); }
-    float mul(float a, float b) const { return f(f(a) * f(b)); }
-    float div(float a, float b) const { return f(f(a) / f(b)); }
-    float fma(float a, float b, float c) const { return f(std::fma(f(a), f(b), f(c))); }
+    REFRASTER_FLOAT_OP float f(float v) const { return flush ? flush_denormal(v) : v; }
+    REFRASTER_FLOAT_OP float add(float a, float b) const { return f(f(a) + f(b)); }
+    REFRASTER_FLOAT_OP float sub(float a, float b) const { return f(f(a) - f(b)); }
+    REFRASTER_FLOAT_OP float mul(float a, float b) const { return f(f(a) * f(b)); }
+    REFRASTER_FLOAT_OP float div(float a, float b) const { return f(f(a) / f(b)); }
+    REFRASTER_FLOAT_OP float fma(float a, float b, float c) const {
+        return f(std::fma(f(a), f(b), f(c)));
+    }
 };
+
+#undef REFRASTER_FLOAT_OP
 
 }  // namespace refraster::detail
