@@ -14,8 +14,12 @@
 
 namespace refraster::detail {
 
+// These are the innermost operations of every stage; they are forced inline because a unit
+// with many fragment kernels otherwise exceeds the compiler's inlining budget and calls them.
+#define REFRASTER_FLOAT_OP [[gnu::always_inline]] inline
+
 // A denormal becomes a zero of the same sign.
-inline float flush_denormal(float v) {
+REFRASTER_FLOAT_OP float flush_denormal(float v) {
     return std::fabs(v) < std::numeric_limits<float>::min() ? std::copysign(0.0f, v) : v;
 }
 
@@ -29,14 +33,14 @@ inline float flush_denormal(float v) {
 inline constexpr double kTinyBelow = 0x1p-126 - 0x1p-151;
 static_assert(kTinyBelow < static_cast<double>(std::numeric_limits<float>::min()), "the tininess threshold");
 
-inline float flush_if_tiny(float rounded, bool tiny) { return tiny ? std::copysign(0.0f, rounded) : rounded; }
+REFRASTER_FLOAT_OP float flush_if_tiny(float rounded, bool tiny) { return tiny ? std::copysign(0.0f, rounded) : rounded; }
 
 struct Fp {
     bool flush;
-    float f(float v) const { return flush ? flush_denormal(v) : v; }
-    float add(float a, float b) const { return f(f(a) + f(b)); }
-    float sub(float a, float b) const { return f(f(a) - f(b)); }
-    float mul(float a, float b) const {
+    REFRASTER_FLOAT_OP float f(float v) const { return flush ? flush_denormal(v) : v; }
+    REFRASTER_FLOAT_OP float add(float a, float b) const { return f(f(a) + f(b)); }
+    REFRASTER_FLOAT_OP float sub(float a, float b) const { return f(f(a) - f(b)); }
+    REFRASTER_FLOAT_OP float mul(float a, float b) const {
         const float x = f(a);
         const float y = f(b);
         const float r = x * y;
@@ -45,7 +49,7 @@ struct Fp {
         // The double product of two floats is exact.
         return flush_if_tiny(r, std::fabs(static_cast<double>(x) * static_cast<double>(y)) < kTinyBelow);
     }
-    float div(float a, float b) const {
+    REFRASTER_FLOAT_OP float div(float a, float b) const {
         const float x = f(a);
         const float y = f(b);
         const float r = x / y;
@@ -61,7 +65,7 @@ struct Fp {
         }
         return flush_if_tiny(r, tiny);
     }
-    float fma(float a, float b, float c) const {
+    REFRASTER_FLOAT_OP float fma(float a, float b, float c) const {
         const float x = f(a);
         const float y = f(b);
         const float z = f(c);
@@ -73,5 +77,7 @@ struct Fp {
         return flush_if_tiny(r, std::fabs(d) < kTinyBelow);
     }
 };
+
+#undef REFRASTER_FLOAT_OP
 
 }  // namespace refraster::detail

@@ -52,6 +52,9 @@ void LlvmpipeModel::setup(VertexStage& stage, Observer& obs, const ListSink<List
     sink_ = &sink;
     list_.clear();
     list_.attribute_floats = stage.attribute_floats();
+    // A full list's planes: z, 1/w and one per attribute float for each primitive.
+    list_.primitives.reserve(SetupList::kCapacity);
+    list_.planes.reserve(SetupList::kCapacity * (kFirstAttributePlane + list_.attribute_floats));
     const Draw& d = ctx_.draw;
     if (d.primitive == PrimitiveType::Points) {
         points(stage, obs);

@@ -28,7 +28,6 @@ struct LineSetup;
 struct PointSetup;
 class VertexStage;
 class ExactCoverage;
-enum class SetupOutcome : std::uint8_t;
 
 // When a primitive's record is kept: always (a line the clipper removed), when it covers the
 // pixel or one of its set-up boxes holds it, or only when it covers it (points).

@@ -26,10 +26,11 @@ constexpr unsigned quad_bit(unsigned pixel, unsigned sample) {
 }
 inline constexpr std::uint16_t kSample0Pixels = 0xf;
 
+// No default member initializers: a tile's buffer of packets is filled, not cleared first.
 struct QuadPacket {
-    std::int32_t x = 0;  // even
-    std::int32_t y = 0;  // even
-    std::uint16_t mask = 0;
+    std::int32_t x;  // even
+    std::int32_t y;  // even
+    std::uint16_t mask;
 };
 
 // Pixels a packet of a single-sample render covers.

@@ -48,8 +48,10 @@ inline constexpr std::size_t kWPlane = 1;
 inline constexpr std::size_t kFirstAttributePlane = 2;
 
 struct SetupList {
-    // Primitives a list holds before setup hands it on: bounded memory for draws of any length.
-    static constexpr std::size_t kCapacity = 4096;
+    // Primitives a list holds before setup hands it on: bounded memory for draws of any
+    // length, and few enough (about 60 KB with their planes) that traversal finds them still
+    // in the cache; binning may want more.
+    static constexpr std::size_t kCapacity = 256;
 
     std::size_t attribute_floats = 0;
     std::vector<SetupPrimitive> primitives;
