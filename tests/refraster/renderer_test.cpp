@@ -1,13 +1,42 @@
-// The reference renderer's entry point: primitive assembly counts, clears, and refusals.
+// The reference renderer's entry point: primitive assembly and its counts, clears, and refusals.
+#include "refraster/renderer.hpp"
+
 #include <gtest/gtest.h>
 
 #include <bit>
+#include <cstdint>
+#include <vector>
 
-#include "refraster/renderer.hpp"
+#include "refraster/assembly.hpp"
 
 namespace {
 
 using refraster::PrimitiveType;
+
+// The driver's vertex order, which the reducer relies on through assemble_primitives.
+TEST(Assembly, PrimitivesInTheDriversVertexOrder) {
+    using E = std::vector<std::vector<std::uint32_t>>;
+    EXPECT_EQ(refraster::assemble_primitives(PrimitiveType::Points, 2, false), (E{{0}, {1}}));
+    EXPECT_EQ(refraster::assemble_primitives(PrimitiveType::LineLoop, 3, false),
+              (E{{0, 1}, {1, 2}, {2, 0}}));
+    EXPECT_EQ(refraster::assemble_primitives(PrimitiveType::TriangleStrip, 5, false),
+              (E{{0, 1, 2}, {2, 1, 3}, {2, 3, 4}}));
+    EXPECT_EQ(refraster::assemble_primitives(PrimitiveType::TriangleStrip, 4, true),
+              (E{{0, 1, 2}, {1, 3, 2}}));
+    EXPECT_EQ(refraster::assemble_primitives(PrimitiveType::TriangleFan, 4, false),
+              (E{{0, 1, 2}, {0, 2, 3}}));
+    EXPECT_EQ(refraster::assemble_primitives(PrimitiveType::TriangleFan, 4, true),
+              (E{{1, 2, 0}, {2, 3, 0}}));
+    // The same triangles as the segmented assembly, whatever the segment size.
+    const auto segmented =
+        refraster::assemble_triangles(PrimitiveType::TriangleFan, 3000, false, 4096);
+    const auto plain = refraster::assemble_primitives(PrimitiveType::TriangleFan, 3000, false);
+    ASSERT_EQ(segmented.size(), plain.size());
+    for (std::size_t i = 0; i < plain.size(); ++i) {
+        EXPECT_EQ(plain[i], (std::vector<std::uint32_t>(segmented[i].element.begin(),
+                                                        segmented[i].element.end())));
+    }
+}
 
 TEST(PrimitiveCount, FollowsGlAssembly) {
     EXPECT_EQ(refraster::primitive_count(PrimitiveType::Points, 5), 5u);
@@ -115,11 +144,17 @@ refraster::DrawList staged_list() {
         d.state.depth_test = refraster::CompareFunc::Less;
         d.state.point_size = 3.0f;
         d.vertices.attributes = {{"color", 4}};
-        for (const auto& v : pos) d.vertices.data.insert(d.vertices.data.end(), {v[0], v[1], v[2], v[3], 1, 0.5f, 0.25f, 1});
+        for (const auto& v : pos)
+            d.vertices.data.insert(d.vertices.data.end(),
+                                   {v[0], v[1], v[2], v[3], 1, 0.5f, 0.25f, 1});
         l.draws.push_back(d);
     };
-    add(refraster::PrimitiveType::Triangles, {{-0.9f, -0.8f, 0.1f, 1}, {0.7f, -0.6f, 0.2f, 1}, {-0.2f, 0.9f, 0.3f, 1},
-                                              {-0.5f, -0.9f, -0.5f, 1}, {2.0f, 0.1f, 0.5f, 1}, {0.1f, 3.0f, 0.0f, 2}});
+    add(refraster::PrimitiveType::Triangles, {{-0.9f, -0.8f, 0.1f, 1},
+                                              {0.7f, -0.6f, 0.2f, 1},
+                                              {-0.2f, 0.9f, 0.3f, 1},
+                                              {-0.5f, -0.9f, -0.5f, 1},
+                                              {2.0f, 0.1f, 0.5f, 1},
+                                              {0.1f, 3.0f, 0.0f, 2}});
     add(refraster::PrimitiveType::Lines, {{-1, -1, 0, 1}, {1, 0.5f, 0, 1}});
     add(refraster::PrimitiveType::Points, {{0, 0, -0.9f, 1}, {0.5f, -0.5f, -0.9f, 1}});
     return l;
@@ -134,14 +169,16 @@ TEST(Render, StopsAfterEachStageWithoutDrawing) {
     empty.draws.clear();
     (void)refraster::render(empty, cleared);
     ASSERT_NE(full, cleared);
-    for (auto stage : {refraster::RenderStage::Load, refraster::RenderStage::Setup, refraster::RenderStage::Raster}) {
+    for (auto stage : {refraster::RenderStage::Load, refraster::RenderStage::Setup,
+                       refraster::RenderStage::Raster}) {
         refraster::RenderOptions o;
         o.stop_after = stage;
         refraster::Framebuffer fb;
         const auto r = refraster::render(list, o, fb);
         ASSERT_EQ(r.status, refraster::RenderStatus::Ok);
         EXPECT_EQ(fb, cleared) << static_cast<int>(stage);  // nothing shaded
-        EXPECT_EQ(r.fragments == 0, stage != refraster::RenderStage::Raster) << static_cast<int>(stage);
+        EXPECT_EQ(r.fragments == 0, stage != refraster::RenderStage::Raster)
+            << static_cast<int>(stage);
     }
 }
 
@@ -159,18 +196,22 @@ TEST(Render, TraversalCountsEveryCoveredPixel) {
         const auto counted = refraster::render(one, o, scratch).fragments;
         // Draw each primitive alone and count the pixels it changes.
         std::uint64_t changed = 0;
-        const auto n = refraster::primitive_count(one.draws[0].primitive, one.draws[0].vertices.size());
+        const auto n =
+            refraster::primitive_count(one.draws[0].primitive, one.draws[0].vertices.size());
         const std::size_t per = one.draws[0].primitive == refraster::PrimitiveType::Triangles ? 3
-                                : one.draws[0].primitive == refraster::PrimitiveType::Lines  ? 2
+                                : one.draws[0].primitive == refraster::PrimitiveType::Lines   ? 2
                                                                                               : 1;
         for (std::size_t p = 0; p < n; ++p) {
             refraster::DrawList single = one;
             auto& data = single.draws[0].vertices.data;
             const std::size_t stride = single.draws[0].vertices.stride();
-            data.assign(one.draws[0].vertices.data.begin() + static_cast<std::ptrdiff_t>(p * per * stride),
-                        one.draws[0].vertices.data.begin() + static_cast<std::ptrdiff_t>((p + 1) * per * stride));
+            data.assign(
+                one.draws[0].vertices.data.begin() + static_cast<std::ptrdiff_t>(p * per * stride),
+                one.draws[0].vertices.data.begin() +
+                    static_cast<std::ptrdiff_t>((p + 1) * per * stride));
             ASSERT_EQ(refraster::render(single, drawn).status, refraster::RenderStatus::Ok);
-            for (std::size_t i = 0; i < drawn.pixel_count(); ++i) changed += drawn.color8[4 * i] == 255;
+            for (std::size_t i = 0; i < drawn.pixel_count(); ++i)
+                changed += drawn.color8[4 * i] == 255;
         }
         EXPECT_EQ(counted, changed) << "draw " << d;
         EXPECT_GT(counted, 0u) << "draw " << d;

@@ -7,7 +7,8 @@
 // the pixel and the tie decisions) and whether it covered the pixel; finally the bytes written.
 //
 // Deliberately does not: format anything (the harness prints it), or cost anything when no
-// trace is requested (the rasterizer's loops are instantiated without it).
+// trace is requested (the pipeline is then compiled with NoObserver, refraster/src/observer.hpp,
+// whose hooks are empty; TraceObserver fills this record).
 #pragma once
 
 #include <array>
