@@ -1,13 +1,14 @@
 // refraster: the command-line front door. Subcommands share one set of exit codes:
 //   0 success, 1 images differ beyond `expect` (or a conformance case failed),
 //   2 bad input or usage, 3 backend failure (crash, timeout, internal error), 4 NotSupported.
-#include <CLI/CLI.hpp>
 #include <unistd.h>
 
+#include <CLI/CLI.hpp>
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
 
+#include "conformance/suite.hpp"
 #include "harness/backend.hpp"
 #include "harness/bench.hpp"
 #include "harness/case_result.hpp"
@@ -19,7 +20,6 @@
 #include "harness/profile_io.hpp"
 #include "harness/reduce.hpp"
 #include "harness/scene.hpp"
-#include "conformance/suite.hpp"
 
 namespace {
 
@@ -47,9 +47,11 @@ struct ProfileArgs {
 };
 
 void add_profile_options(CLI::App* cmd, ProfileArgs& a) {
-    cmd->add_option("--profile", a.profile, "Reference profile: a built-in name or a profile JSON file")
+    cmd->add_option("--profile", a.profile,
+                    "Reference profile: a built-in name or a profile JSON file")
         ->capture_default_str();
-    cmd->add_option("--profile-set", a.overrides, "Override one profile parameter: key=value (repeatable)");
+    cmd->add_option("--profile-set", a.overrides,
+                    "Override one profile parameter: key=value (repeatable)");
 }
 
 // Options naming a backend, shared by the subcommands.
@@ -111,9 +113,12 @@ std::unique_ptr<harness::Backend> backend_or_report(const BackendArgs& a, const 
 
 int exit_code_for(harness::RenderStatus s) {
     switch (s) {
-        case harness::RenderStatus::Ok: return kExitOk;
-        case harness::RenderStatus::NotSupported: return kExitNotSupported;
-        default: return kExitBackendFailure;
+        case harness::RenderStatus::Ok:
+            return kExitOk;
+        case harness::RenderStatus::NotSupported:
+            return kExitNotSupported;
+        default:
+            return kExitBackendFailure;
     }
 }
 
@@ -150,8 +155,8 @@ int run_render(const RenderArgs& a) {
         std::cerr << e.what() << "\n";
         return kExitBadInput;
     }
-    std::cout << "wrote " << out.string() << " (" << backend->name() << ", " << r.image.width
-              << "x" << r.image.height << ")\n";
+    std::cout << "wrote " << out.string() << " (" << backend->name() << ", " << r.image.width << "x"
+              << r.image.height << ")\n";
     return kExitOk;
 }
 
@@ -195,8 +200,9 @@ int run_compare(CompareArgs a) {
     auto ref = backend_or_report(a.reference, a.scene, bad_ref);
     auto act = ref ? backend_or_report(a.against, a.scene, bad_act) : nullptr;
     if (!ref || !act) return bad_ref || bad_act ? kExitBadInput : kExitBackendFailure;
-    const std::string name = scene->file.name.empty() ? std::filesystem::path(a.scene).stem().string()
-                                                      : scene->file.name;
+    const std::string name = scene->file.name.empty()
+                                 ? std::filesystem::path(a.scene).stem().string()
+                                 : scene->file.name;
     const harness::CaseResult r = harness::run_case(*scene, name, *ref, *act);
     try {
         if (!a.json.empty()) {
@@ -214,8 +220,10 @@ int run_compare(CompareArgs a) {
     if (r.comparison) std::cout << ": " << r.comparison->summary();
     std::cout << "\n";
     switch (r.status) {
-        case harness::CaseStatus::Pass: return kExitOk;
-        case harness::CaseStatus::Fail: return kExitMismatch;
+        case harness::CaseStatus::Pass:
+            return kExitOk;
+        case harness::CaseStatus::Fail:
+            return kExitMismatch;
         case harness::CaseStatus::NotSupported:
             std::cerr << a.scene << ": NotSupported: " << r.message << "\n";
             return kExitNotSupported;
@@ -285,8 +293,9 @@ int run_conformance(const ConformanceArgs& a) {
 
 // The reference's profile and the GL backend of `against` (whose own profile options describe
 // the reference). Returns an exit code when either cannot be had, after reporting it.
-std::optional<int> profile_and_backend(const BackendArgs& against, const std::string& scene, bool want_backend,
-                                       refraster::Profile& profile, std::unique_ptr<harness::Backend>& backend) {
+std::optional<int> profile_and_backend(const BackendArgs& against, const std::string& scene,
+                                       bool want_backend, refraster::Profile& profile,
+                                       std::unique_ptr<harness::Backend>& backend) {
     try {
         profile = against.profile.load();
     } catch (const refraster::ProfileError& e) {
@@ -313,7 +322,8 @@ std::optional<std::array<int, 2>> parse_pixel(const std::string& text) {
 }
 
 bool inside(const refraster::Target& t, const std::array<int, 2>& p) {
-    return p[0] >= 0 && p[1] >= 0 && static_cast<std::uint32_t>(p[0]) < t.width && static_cast<std::uint32_t>(p[1]) < t.height;
+    return p[0] >= 0 && p[1] >= 0 && static_cast<std::uint32_t>(p[0]) < t.width &&
+           static_cast<std::uint32_t>(p[1]) < t.height;
 }
 
 struct ExplainArgs {
@@ -337,13 +347,14 @@ int run_explain(ExplainArgs a) {
     const int y = (*pixel)[1];
     const auto& target = scene->draw_list.target;
     if (!inside(target, *pixel)) {
-        std::cerr << a.scene << ": --pixel " << a.pixel << ": outside the " << target.width << "x" << target.height
-                  << " target\n";
+        std::cerr << a.scene << ": --pixel " << a.pixel << ": outside the " << target.width << "x"
+                  << target.height << " target\n";
         return kExitBadInput;
     }
     refraster::Profile profile;
     std::unique_ptr<harness::Backend> backend;
-    if (const auto rc = profile_and_backend(a.against, a.scene, !a.no_backend, profile, backend)) return *rc;
+    if (const auto rc = profile_and_backend(a.against, a.scene, !a.no_backend, profile, backend))
+        return *rc;
     try {
         const auto e = harness::explain_pixel(*scene, profile, x, y, backend.get());
         std::cout << (a.json ? harness::explanation_json(e) + "\n" : harness::explanation_text(e));
@@ -365,7 +376,6 @@ struct ReduceArgs {
     BackendArgs against{"osmesa"};
 };
 
-
 int run_reduce(const ReduceArgs& a) {
     const auto scene = load_or_report(a.scene);
     if (!scene) return kExitBadInput;
@@ -378,8 +388,9 @@ int run_reduce(const ReduceArgs& a) {
             return kExitBadInput;
         }
         if (!inside(scene->draw_list.target, *keep.pixel)) {
-            std::cerr << a.scene << ": --pixel " << a.pixel << ": outside the " << scene->draw_list.target.width << "x"
-                      << scene->draw_list.target.height << " target\n";
+            std::cerr << a.scene << ": --pixel " << a.pixel << ": outside the "
+                      << scene->draw_list.target.width << "x" << scene->draw_list.target.height
+                      << " target\n";
             return kExitBadInput;
         }
     }
@@ -387,15 +398,19 @@ int run_reduce(const ReduceArgs& a) {
     std::unique_ptr<harness::Backend> backend;
     if (const auto rc = profile_and_backend(a.against, a.scene, true, profile, backend)) return *rc;
     try {
-        const auto r = harness::reduce_scene(scene->file, a.scene, profile, *backend, std::cout, keep);
+        const auto r =
+            harness::reduce_scene(scene->file, a.scene, profile, *backend, std::cout, keep);
         auto reduced = r.scene;
         // The reduced scene is a scene of its own: named after its file, as a scene under
         // conformance/scenes is named after its path.
         reduced.name = std::filesystem::path(a.output).stem().string();
-        reduced.description = "Reduced from " + a.scene + " (" + std::to_string(r.primitives_before) + " -> " +
-                              std::to_string(r.primitives_after) + " primitives), keeping a " + r.signature +
-                              " mismatch" +
-                              (keep.pixel ? " at pixel " + a.pixel : keep.difference.empty() ? "" : " of class " + keep.difference) +
+        reduced.description = "Reduced from " + a.scene + " (" +
+                              std::to_string(r.primitives_before) + " -> " +
+                              std::to_string(r.primitives_after) + " primitives), keeping a " +
+                              r.signature + " mismatch" +
+                              (keep.pixel                ? " at pixel " + a.pixel
+                               : keep.difference.empty() ? ""
+                                                         : " of class " + keep.difference) +
                               " under profile " + profile.name + ".";
         const std::string text = harness::scene_to_json(reduced);
         (void)harness::load_scene_text(text, a.output);  // what is written is a valid scene
@@ -403,7 +418,8 @@ int run_reduce(const ReduceArgs& a) {
         std::cout << "wrote " << a.output << "\n";
         return kExitOk;
     } catch (const harness::SceneError& e) {
-        std::cerr << "refraster reduce: internal error, the reduced scene is invalid: " << e.what() << "\n";
+        std::cerr << "refraster reduce: internal error, the reduced scene is invalid: " << e.what()
+                  << "\n";
         return kExitBackendFailure;
     } catch (const std::exception& e) {
         std::cerr << "refraster reduce: " << e.what() << "\n";
@@ -424,14 +440,17 @@ int run_hashes(const std::string& scenes, const ProfileArgs& profile) {
         ref.profile.overrides.insert(ref.profile.overrides.begin(), "viewport_fma=on");
         auto backend = harness::make_backend(ref.options());
         const auto root = scenes.empty() ? default_scenes_root() : std::filesystem::path(scenes);
-        std::cout << "# refraster reference image hashes (FNV-1a 64 of decoded colour and depth), profile "
+        std::cout << "# refraster reference image hashes (FNV-1a 64 of decoded colour and depth), "
+                     "profile "
                   << ref.profile.load().name << "\n"
-                  << "# regenerate: build/bin/refraster conformance hashes > conformance/expectations/ref-hashes.txt\n";
+                  << "# regenerate: build/bin/refraster conformance hashes > "
+                     "conformance/expectations/ref-hashes.txt\n";
         for (const auto& c : conformance::discover_cases(root)) {
             const auto r = backend->render(harness::load_scene(c.file));
             std::cout << c.name << " "
-                      << (r.status == harness::RenderStatus::Ok ? harness::image_hash(r.image)
-                                                                : std::string(harness::to_string(r.status)))
+                      << (r.status == harness::RenderStatus::Ok
+                              ? harness::image_hash(r.image)
+                              : std::string(harness::to_string(r.status)))
                       << "\n";
         }
         return kExitOk;
@@ -523,8 +542,9 @@ int main(int argc, char** argv) {
                      "Mesa driver of a GL --reference (default: --driver)")
         ->check(CLI::IsMember({"llvmpipe", "softpipe"}));
     ccmd->add_option("--json", compare.json, "Write the result record (JSON) here");
-    ccmd->add_option("--diff", compare.diff,
-                     "Write the error mask here (.png), both images beside it as NAME.<backend>.png");
+    ccmd->add_option(
+        "--diff", compare.diff,
+        "Write the error mask here (.png), both images beside it as NAME.<backend>.png");
 
     ConformanceArgs conf;
     auto* conf_cmd = app.add_subcommand("conformance", "The conformance suite");
@@ -532,18 +552,27 @@ int main(int argc, char** argv) {
     auto* run_cmd = conf_cmd->add_subcommand("run", "Run the scenes against a GL backend");
     run_cmd->add_option("--cases", conf.cases, "Comma-separated globs on case names (smoke.*)");
     run_cmd->add_option("--exclude", conf.exclude, "Comma-separated globs of cases to leave out");
-    run_cmd->add_option("--caselist", conf.caselist, "File of case names or globs, one a line, '#' comments")
+    run_cmd
+        ->add_option("--caselist", conf.caselist,
+                     "File of case names or globs, one a line, '#' comments")
         ->check(CLI::ExistingFile);
-    run_cmd->add_option("--baseline", conf.baseline,
-                        "Expected failures, deqp-runner style name,Status lines (a previous failures.csv)")
+    run_cmd
+        ->add_option(
+            "--baseline", conf.baseline,
+            "Expected failures, deqp-runner style name,Status lines (a previous failures.csv)")
         ->check(CLI::ExistingFile);
-    run_cmd->add_option("--shard-index", conf.shard_index, "This shard (default $GTEST_SHARD_INDEX or 0)")
+    run_cmd
+        ->add_option("--shard-index", conf.shard_index,
+                     "This shard (default $GTEST_SHARD_INDEX or 0)")
         ->envname("GTEST_SHARD_INDEX")
         ->check(CLI::NonNegativeNumber);
-    run_cmd->add_option("--shard-count", conf.shard_count, "Number of shards (default $GTEST_TOTAL_SHARDS or 1)")
+    run_cmd
+        ->add_option("--shard-count", conf.shard_count,
+                     "Number of shards (default $GTEST_TOTAL_SHARDS or 1)")
         ->envname("GTEST_TOTAL_SHARDS")
         ->check(CLI::PositiveNumber);
-    run_cmd->add_flag("--resume", conf.resume, "Continue a run killed part way, keeping its finished cases");
+    run_cmd->add_flag("--resume", conf.resume,
+                      "Continue a run killed part way, keeping its finished cases");
     run_cmd->add_option("--scenes", conf.scenes, "Scene root (default conformance/scenes)");
     run_cmd->add_option("--against", conf.against.backend, "GL backend compared with the reference")
         ->check(CLI::IsMember({"ref", "osmesa", "egl"}))
@@ -552,18 +581,23 @@ int main(int argc, char** argv) {
     add_profile_options(run_cmd, conf.profile);
     std::string hash_scenes;
     ProfileArgs hash_profile;
-    auto* hash_cmd = conf_cmd->add_subcommand("hashes", "Print the reference's image hash for every scene");
+    auto* hash_cmd =
+        conf_cmd->add_subcommand("hashes", "Print the reference's image hash for every scene");
     hash_cmd->add_option("--scenes", hash_scenes, "Scene root (default conformance/scenes)");
     add_profile_options(hash_cmd, hash_profile);
     run_cmd->add_option("--output", conf.output, "Directory for results.jsonl and images")
         ->required();
 
     ExplainArgs explain;
-    auto* xcmd = app.add_subcommand("explain", "Trace every decision about one pixel, and where the backend parts");
+    auto* xcmd = app.add_subcommand(
+        "explain", "Trace every decision about one pixel, and where the backend parts");
     xcmd->add_option("scene", explain.scene, "Scene file (format refraster-scene/1)")->required();
-    xcmd->add_option("--pixel", explain.pixel, "The pixel, X,Y in window coordinates (row 0 at the bottom)")->required();
+    xcmd->add_option("--pixel", explain.pixel,
+                     "The pixel, X,Y in window coordinates (row 0 at the bottom)")
+        ->required();
     xcmd->add_flag("--json", explain.json, "Print the trace and verdict as JSON");
-    xcmd->add_option("--svg", explain.svg, "Draw the pixel's neighbourhood at subpixel zoom into this SVG file");
+    xcmd->add_option("--svg", explain.svg,
+                     "Draw the pixel's neighbourhood at subpixel zoom into this SVG file");
     xcmd->add_option("--against", explain.against.backend, "GL backend whose bytes to compare")
         ->check(CLI::IsMember({"osmesa", "egl"}))
         ->capture_default_str();
@@ -572,11 +606,14 @@ int main(int argc, char** argv) {
     add_profile_options(xcmd, explain.against.profile);
 
     ReduceArgs reduce;
-    auto* dcmd = app.add_subcommand("reduce", "Shrink a failing scene while it keeps the same mismatch");
+    auto* dcmd =
+        app.add_subcommand("reduce", "Shrink a failing scene while it keeps the same mismatch");
     dcmd->add_option("scene", reduce.scene, "Scene file that mismatches")->required();
-    dcmd->add_option("-o,--output", reduce.output, "Where to write the reduced scene (.json); it is named after the file")
+    dcmd->add_option("-o,--output", reduce.output,
+                     "Where to write the reduced scene (.json); it is named after the file")
         ->required();
-    dcmd->add_option("--pixel", reduce.pixel, "Keep the mismatch at this pixel, X,Y (default: the largest difference)");
+    dcmd->add_option("--pixel", reduce.pixel,
+                     "Keep the mismatch at this pixel, X,Y (default: the largest difference)");
     dcmd->add_option("--class", reduce.difference, "Keep the largest mismatch of this class")
         ->check(CLI::IsMember({"coverage", "colour", "depth"}));
     dcmd->add_option("--against", reduce.against.backend, "GL backend")
@@ -587,25 +624,31 @@ int main(int argc, char** argv) {
 
     BenchArgs bench;
     auto* bcmd = app.add_subcommand(
-        "bench", "Time the reference against OSMesa llvmpipe (one thread, default threads) and softpipe");
+        "bench",
+        "Time the reference against OSMesa llvmpipe (one thread, default threads) and softpipe");
     bcmd->add_option("--scenes", bench.scenes,
-                     "Comma-separated workloads (default all): tiny-flat, tiny-smooth, medium-flat, medium-smooth, "
+                     "Comma-separated workloads (default all): tiny-flat, tiny-smooth, "
+                     "medium-flat, medium-smooth, "
                      "full-flat, full-smooth, medium-perspective, full-perspective");
     bcmd->add_option("--rounds", bench.rounds, "Interleaved rounds; medians are reported")
         ->check(CLI::Range(1, 1000))
         ->capture_default_str();
-    bcmd->add_option("--scale", bench.scale, "Fraction of each workload's triangles, for quick runs")
+    bcmd->add_option("--scale", bench.scale,
+                     "Fraction of each workload's triangles, for quick runs")
         ->check(CLI::Range(1e-6, 1.0))
         ->capture_default_str();
-    bcmd->add_option("--seed", bench.seed, "Seed of the generated workloads")->capture_default_str();
+    bcmd->add_option("--seed", bench.seed, "Seed of the generated workloads")
+        ->capture_default_str();
     bcmd->add_flag("--no-gl", bench.no_gl, "Time the reference alone");
     bcmd->add_option("--json", bench.json, "Write the results as JSON here");
     add_profile_options(bcmd, bench.profile);
 
     ProfileArgs show;
-    auto* pcmd = app.add_subcommand("profile", "Print a reference profile as JSON (a profile file)");
+    auto* pcmd =
+        app.add_subcommand("profile", "Print a reference profile as JSON (a profile file)");
     pcmd->add_option("name", show.profile, "Built-in name or profile file")->capture_default_str();
-    pcmd->add_option("--profile-set", show.overrides, "Override one parameter: key=value (repeatable)");
+    pcmd->add_option("--profile-set", show.overrides,
+                     "Override one parameter: key=value (repeatable)");
 
     // generate extreme --seed N --output DIR: the seeded stiff and extreme scenes
     // (harness/extreme_scenes.hpp), one DIR/<kind>.json per kind.
@@ -613,7 +656,8 @@ int main(int argc, char** argv) {
     std::string gen_output;
     auto* gen_cmd = app.add_subcommand("generate", "Write generated scenes");
     gen_cmd->require_subcommand(1);
-    auto* gen_extreme = gen_cmd->add_subcommand("extreme", "Stiff and extreme scenes, one file per kind");
+    auto* gen_extreme =
+        gen_cmd->add_subcommand("extreme", "Stiff and extreme scenes, one file per kind");
     gen_extreme->add_option("--seed", gen_seed, "Seed of the generator")->capture_default_str();
     gen_extreme->add_option("--output", gen_output, "Directory for the scene files")->required();
 
@@ -627,7 +671,8 @@ int main(int argc, char** argv) {
         std::cerr << "refraster: " << e.what() << " (see --help)\n";
         return kExitBadInput;
     }
-    if (gen_extreme->parsed()) return harness::write_extreme_scenes(gen_seed, gen_output, std::cerr);
+    if (gen_extreme->parsed())
+        return harness::write_extreme_scenes(gen_seed, gen_output, std::cerr);
     if (rcmd->parsed()) return run_render(render);
     if (ccmd->parsed()) return run_compare(compare);
     if (run_cmd->parsed()) return run_conformance(conf);

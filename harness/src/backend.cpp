@@ -13,9 +13,12 @@ namespace harness {
 
 std::string_view to_string(BackendKind k) {
     switch (k) {
-        case BackendKind::Ref: return "ref";
-        case BackendKind::OSMesa: return "osmesa";
-        case BackendKind::Egl: return "egl";
+        case BackendKind::Ref:
+            return "ref";
+        case BackendKind::OSMesa:
+            return "osmesa";
+        case BackendKind::Egl:
+            return "egl";
     }
     return "?";
 }
@@ -26,11 +29,16 @@ std::string_view to_string(Driver d) {
 
 std::string_view to_string(RenderStatus s) {
     switch (s) {
-        case RenderStatus::Ok: return "Ok";
-        case RenderStatus::NotSupported: return "NotSupported";
-        case RenderStatus::Crash: return "Crash";
-        case RenderStatus::Timeout: return "Timeout";
-        case RenderStatus::InternalError: return "InternalError";
+        case RenderStatus::Ok:
+            return "Ok";
+        case RenderStatus::NotSupported:
+            return "NotSupported";
+        case RenderStatus::Crash:
+            return "Crash";
+        case RenderStatus::Timeout:
+            return "Timeout";
+        case RenderStatus::InternalError:
+            return "InternalError";
     }
     return "?";
 }
@@ -41,7 +49,8 @@ Provenance host_provenance() {
     std::string flags;
 #if defined(__x86_64__) || defined(__i386__)
     __builtin_cpu_init();
-    // Mesa's gallivm fuses llvm.fmuladd iff the CPU has FMA (gallivm passes +fma to LLVM exactly then; docs/precision.md "Viewport transform").
+    // Mesa's gallivm fuses llvm.fmuladd iff the CPU has FMA (gallivm passes +fma to LLVM exactly
+    // then; docs/precision.md "Viewport transform").
     if (__builtin_cpu_supports("fma")) flags += "fma ";
     if (__builtin_cpu_supports("avx")) flags += "avx ";
     if (__builtin_cpu_supports("avx2")) flags += "avx2 ";
@@ -55,7 +64,8 @@ Provenance host_provenance() {
 
 std::unique_ptr<Backend> make_backend(const BackendOptions& options) {
     switch (options.kind) {
-        case BackendKind::Ref: return make_ref_backend(options);
+        case BackendKind::Ref:
+            return make_ref_backend(options);
         case BackendKind::OSMesa:
 #ifdef REFRASTER_HAVE_OSMESA
             return make_gl_backend(options);

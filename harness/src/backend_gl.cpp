@@ -33,16 +33,23 @@ constexpr auto kExitGrace = std::chrono::seconds(2);
 
 const char* worker_name(BackendKind kind) {
     switch (kind) {
-        case BackendKind::OSMesa: return "refraster-worker-osmesa";
-        case BackendKind::Egl: return "refraster-worker-egl";
-        case BackendKind::Ref: break;
+        case BackendKind::OSMesa:
+            return "refraster-worker-osmesa";
+        case BackendKind::Egl:
+            return "refraster-worker-egl";
+        case BackendKind::Ref:
+            break;
     }
     throw std::invalid_argument("the reference renderer has no GL worker");
 }
 
-const char* driver_name(Driver d) { return d == Driver::Softpipe ? "softpipe" : "llvmpipe"; }
+const char* driver_name(Driver d) {
+    return d == Driver::Softpipe ? "softpipe" : "llvmpipe";
+}
 
-const char* kind_name(BackendKind k) { return k == BackendKind::Egl ? "egl" : "osmesa"; }
+const char* kind_name(BackendKind k) {
+    return k == BackendKind::Egl ? "egl" : "osmesa";
+}
 
 std::string describe_wait_status(int status) {
     if (WIFSIGNALED(status)) {
@@ -98,7 +105,8 @@ std::string scene_label(const Scene& scene) {
 // options' own variables (LP_NUM_THREADS=0, ...) replacing ours. The REFRASTER_WORKER_KILL_AT
 // and REFRASTER_WORKER_HANG_AT test hooks reach only the first worker, so that a run sees
 // exactly the one crash or hang it asked for, not one per replacement.
-std::vector<std::string> worker_environment(Driver driver, const std::vector<std::string>& extra, bool first_worker) {
+std::vector<std::string> worker_environment(Driver driver, const std::vector<std::string>& extra,
+                                            bool first_worker) {
     std::vector<std::string> env;
     const auto overridden = [&](std::string_view kv) {
         for (const auto& x : extra) {
@@ -110,7 +118,8 @@ std::vector<std::string> worker_environment(Driver driver, const std::vector<std
     for (char** e = environ; e && *e; ++e) {
         const std::string_view kv(*e);
         if (kv.starts_with("GALLIUM_DRIVER=") || overridden(kv)) continue;
-        if (!first_worker && (kv.starts_with("REFRASTER_WORKER_KILL_AT=") || kv.starts_with("REFRASTER_WORKER_HANG_AT="))) {
+        if (!first_worker && (kv.starts_with("REFRASTER_WORKER_KILL_AT=") ||
+                              kv.starts_with("REFRASTER_WORKER_HANG_AT="))) {
             continue;
         }
         env.emplace_back(kv);
@@ -161,8 +170,8 @@ std::string GlWorkerBackend::name() const {
 
 GlWorkerBackend::Deadline GlWorkerBackend::deadline_after(double seconds) const {
     if (!(seconds > 0.0) || !std::isfinite(seconds)) return std::nullopt;
-    return Clock::now() + std::chrono::duration_cast<Clock::duration>(
-                              std::chrono::duration<double>(seconds));
+    return Clock::now() +
+           std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
 }
 
 Provenance GlWorkerBackend::base_provenance() {
@@ -263,15 +272,16 @@ std::optional<RenderResult> GlWorkerBackend::ensure_worker() {
 
         std::string program = worker_path_.string();
         std::vector<char*> argv{program.data(), nullptr};
-        std::vector<std::string> env = worker_environment(options_.driver, options_.environment, workers_started_ == 0);
+        std::vector<std::string> env =
+            worker_environment(options_.driver, options_.environment, workers_started_ == 0);
         std::vector<char*> envp;
         envp.reserve(env.size() + 1);
         for (auto& e : env) envp.push_back(e.data());
         envp.push_back(nullptr);
 
         pid_t pid = -1;
-        const int rc = ::posix_spawn(&pid, program.c_str(), &actions, &attr, argv.data(),
-                                     envp.data());
+        const int rc =
+            ::posix_spawn(&pid, program.c_str(), &actions, &attr, argv.data(), envp.data());
         if (rc != 0) throw std::system_error(rc, std::generic_category(), "posix_spawn");
         pid_ = pid;
         ++workers_started_;
@@ -304,8 +314,8 @@ std::optional<RenderResult> GlWorkerBackend::ensure_worker() {
     const std::string who = worker_path_.filename().string();
     if (io == Io::TimedOut) {
         kill_worker();
-        return failure(RenderStatus::Timeout, who + " did not start within " +
-                                                  std::to_string(startup) + " s");
+        return failure(RenderStatus::Timeout,
+                       who + " did not start within " + std::to_string(startup) + " s");
     }
     if (io == Io::Died) {
         const std::string how = reap_worker();
@@ -351,8 +361,8 @@ GlWorkerBackend::Io GlWorkerBackend::send(std::uint32_t type, std::vector<std::u
 }
 
 GlWorkerBackend::Io GlWorkerBackend::receive(std::uint32_t& type,
-                                             std::vector<std::uint8_t>& payload,
-                                             Deadline deadline, std::string& error) {
+                                             std::vector<std::uint8_t>& payload, Deadline deadline,
+                                             std::string& error) {
     wire::FrameReader reader;
     for (;;) {
         pollfd p{from_worker_, POLLIN, 0};
@@ -386,16 +396,17 @@ RenderResult GlWorkerBackend::render_frame(const Scene& scene, bool owners) {
     const std::string label = scene_label(scene);
     if (!scene.unsupported_extensions.empty()) {
         std::string list;
-        for (const auto& e : scene.unsupported_extensions) list += (list.empty() ? "" : ", ") + escape_for_message(e);
-        return failure(RenderStatus::NotSupported, label + ": requires unsupported extension(s) " +
-                                                       list);
+        for (const auto& e : scene.unsupported_extensions)
+            list += (list.empty() ? "" : ", ") + escape_for_message(e);
+        return failure(RenderStatus::NotSupported,
+                       label + ": requires unsupported extension(s) " + list);
     }
     if (auto r = ensure_worker()) {
         r->message = label + ": " + r->message;
         return *r;
     }
-    const std::string who = worker_path_.filename().string() + " (pid " +
-                            std::to_string(pid_) + ", " + driver_name(options_.driver) + ")";
+    const std::string who = worker_path_.filename().string() + " (pid " + std::to_string(pid_) +
+                            ", " + driver_name(options_.driver) + ")";
 
     std::vector<std::uint8_t> request;
     try {
@@ -418,7 +429,8 @@ RenderResult GlWorkerBackend::render_frame(const Scene& scene, bool owners) {
                                                 (detail.empty() ? "" : " (" + detail + ")"));
     };
 
-    Io io = send(static_cast<std::uint32_t>(owners ? wire::FrameType::RenderOwners : wire::FrameType::Render),
+    Io io = send(static_cast<std::uint32_t>(owners ? wire::FrameType::RenderOwners
+                                                   : wire::FrameType::Render),
                  std::move(request), deadline);
     if (io == Io::TimedOut) return timed_out();
     if (io == Io::Died) return died("");
@@ -433,16 +445,16 @@ RenderResult GlWorkerBackend::render_frame(const Scene& scene, bool owners) {
 
     if (type != static_cast<std::uint32_t>(wire::FrameType::Reply)) {
         kill_worker();
-        return failure(RenderStatus::InternalError, who + " sent frame type " +
-                                                        std::to_string(type) + " for " + label);
+        return failure(RenderStatus::InternalError,
+                       who + " sent frame type " + std::to_string(type) + " for " + label);
     }
     RenderResult r;
     try {
         r = wire::decode_result(payload);
     } catch (const wire::WireError& e) {
         kill_worker();
-        return failure(RenderStatus::InternalError, who + ": bad reply for " + label + ": " +
-                                                        e.what());
+        return failure(RenderStatus::InternalError,
+                       who + ": bad reply for " + label + ": " + e.what());
     }
     r.seconds = seconds;
     Provenance p = base_provenance();

@@ -31,7 +31,7 @@
 namespace harness {
 
 class GlWorkerBackend : public Backend {
-public:
+  public:
     // options.kind must be OSMesa or Egl (std::invalid_argument otherwise). Throws
     // std::runtime_error when the worker executable does not exist. Ignores SIGPIPE for the
     // whole process: a dead worker must show up as EPIPE, not kill the harness.
@@ -59,7 +59,7 @@ public:
     bool debug_crash_worker();
     bool debug_hang_worker();
 
-private:
+  private:
     using Clock = std::chrono::steady_clock;
     using Deadline = std::optional<Clock::time_point>;
     enum class Io : std::uint8_t { Ok, Died, TimedOut };

@@ -9,7 +9,7 @@ namespace harness {
 namespace {
 
 class RefBackend final : public Backend {
-public:
+  public:
     explicit RefBackend(const BackendOptions& o) : options_(o) {}
 
     BackendKind kind() const override { return BackendKind::Ref; }
@@ -18,7 +18,7 @@ public:
     RenderResult render(const Scene& scene) override { return run(scene, false); }
     RenderResult render_owners(const Scene& scene) override { return run(scene, true); }
 
-private:
+  private:
     RenderResult run(const Scene& scene, bool owners) {
         RenderResult r;
         r.provenance = host_provenance();
@@ -27,15 +27,18 @@ private:
         r.provenance["profile_source"] = options_.profile_source;
         r.provenance["profile_rules"] = profile_rules(options_.profile);
         std::string overrides;
-        for (const auto& o : options_.profile_overrides) overrides += (overrides.empty() ? "" : ";") + o;
+        for (const auto& o : options_.profile_overrides)
+            overrides += (overrides.empty() ? "" : ";") + o;
         if (!overrides.empty()) r.provenance["profile_overrides"] = overrides;
         const auto fma = options_.profile.gl.viewport_fma;
-        r.provenance["fma"] = fma == refraster::FmaMode::On || (fma == refraster::FmaMode::Auto && refraster::host_has_fma())
+        r.provenance["fma"] = fma == refraster::FmaMode::On ||
+                                      (fma == refraster::FmaMode::Auto && refraster::host_has_fma())
                                   ? "on"
                                   : "off";
         if (!scene.unsupported_extensions.empty()) {
             r.status = RenderStatus::NotSupported;
-            r.message = "requires extension \"" + escape_for_message(scene.unsupported_extensions.front()) +
+            r.message = "requires extension \"" +
+                        escape_for_message(scene.unsupported_extensions.front()) +
                         "\", which the reference does not implement";
             return r;
         }

@@ -6,9 +6,9 @@
 #include <cmath>
 #include <iomanip>
 #include <map>
-#include <numbers>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <ostream>
 #include <random>
 #include <sstream>
@@ -38,8 +38,9 @@ Shape shape_of(const std::string& size) {
 }  // namespace
 
 const std::vector<std::string>& bench_workload_names() {
-    static const std::vector<std::string> names{"tiny-flat",   "tiny-smooth", "medium-flat",        "medium-smooth",
-                                                "full-flat",   "full-smooth", "medium-perspective", "full-perspective"};
+    static const std::vector<std::string> names{
+        "tiny-flat", "tiny-smooth", "medium-flat",        "medium-smooth",
+        "full-flat", "full-smooth", "medium-perspective", "full-perspective"};
     return names;
 }
 
@@ -50,11 +51,13 @@ BenchWorkload make_bench_workload(const std::string& name, std::uint64_t seed, d
         for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
         throw std::invalid_argument("unknown bench scene \"" + name + "\" (scenes: " + list + ")");
     }
-    if (!(scale > 0.0 && scale <= 1.0)) throw std::invalid_argument("bench scale must be in (0, 1]");
+    if (!(scale > 0.0 && scale <= 1.0))
+        throw std::invalid_argument("bench scale must be in (0, 1]");
     const std::string size = name.substr(0, name.find('-'));
     const std::string kind = name.substr(name.find('-') + 1);
     const Shape shape = shape_of(size);
-    const auto count = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(static_cast<double>(shape.count) * scale)));
+    const auto count = std::max<std::size_t>(
+        1, static_cast<std::size_t>(std::llround(static_cast<double>(shape.count) * scale)));
 
     BenchWorkload w;
     w.name = name;
@@ -91,7 +94,8 @@ BenchWorkload make_bench_workload(const std::string& name, std::uint64_t seed, d
             const double l2 = aspect * l1;
             const double cx = u(rng) * kSize, cy = u(rng) * kSize;
             const std::array<double, 2> e1{l1 * std::cos(angle), l1 * std::sin(angle)};
-            const std::array<double, 2> e2{l2 * std::cos(angle + spread), l2 * std::sin(angle + spread)};
+            const std::array<double, 2> e2{l2 * std::cos(angle + spread),
+                                           l2 * std::sin(angle + spread)};
             win = {{{cx - (e1[0] + e2[0]) / 3, cy - (e1[1] + e2[1]) / 3},
                     {cx + (2 * e1[0] - e2[0]) / 3, cy + (2 * e1[1] - e2[1]) / 3},
                     {cx + (2 * e2[0] - e1[0]) / 3, cy + (2 * e2[1] - e1[1]) / 3}}};
@@ -102,7 +106,8 @@ BenchWorkload make_bench_workload(const std::string& name, std::uint64_t seed, d
             const double wv = perspective ? 1.0 + 7.0 * u(rng) : 1.0;
             const double nx = win[static_cast<std::size_t>(k)][0] / kSize * 2.0 - 1.0;
             const double ny = win[static_cast<std::size_t>(k)][1] / kSize * 2.0 - 1.0;
-            for (double c : {nx * wv, ny * wv, z * wv, wv}) d.vertices.data.push_back(static_cast<float>(c));
+            for (double c : {nx * wv, ny * wv, z * wv, wv})
+                d.vertices.data.push_back(static_cast<float>(c));
             for (int c = 0; c < 3; ++c) d.vertices.data.push_back(static_cast<float>(u(rng)));
             d.vertices.data.push_back(1.0f);
         }
@@ -138,8 +143,10 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 std::vector<BenchRow> run_bench(const BenchOptions& options, std::ostream& log) {
-    const std::vector<std::string> names = options.scenes.empty() ? bench_workload_names() : options.scenes;
-    for (const auto& n : names) (void)make_bench_workload(n, options.seed, 1e-6);  // unknown names fail first
+    const std::vector<std::string> names =
+        options.scenes.empty() ? bench_workload_names() : options.scenes;
+    for (const auto& n : names)
+        (void)make_bench_workload(n, options.seed, 1e-6);  // unknown names fail first
     if (options.rounds < 1) throw std::invalid_argument("bench needs at least one round");
 
     std::vector<GlConfig> configs;
@@ -158,8 +165,9 @@ std::vector<BenchRow> run_bench(const BenchOptions& options, std::ostream& log) 
         }
     }
     const refraster::Profile& profile = options.profile;
-    const refraster::RenderStage stages[] = {refraster::RenderStage::Load, refraster::RenderStage::Setup,
-                                             refraster::RenderStage::Raster, refraster::RenderStage::Fragment};
+    const refraster::RenderStage stages[] = {
+        refraster::RenderStage::Load, refraster::RenderStage::Setup, refraster::RenderStage::Raster,
+        refraster::RenderStage::Fragment};
 
     std::vector<BenchRow> rows;
     for (const auto& name : names) {
@@ -181,18 +189,20 @@ std::vector<BenchRow> run_bench(const BenchOptions& options, std::ostream& log) 
             count.profile = options.profile;
             count.stop_after = refraster::RenderStage::Raster;
             refraster::Framebuffer scratch;
-            row.pixels = static_cast<double>(refraster::render(scene.draw_list, count, scratch).fragments);
+            row.pixels =
+                static_cast<double>(refraster::render(scene.draw_list, count, scratch).fragments);
         }
-        log << name << ": " << row.triangles << " triangles covering " << std::fixed << std::setprecision(1)
-            << row.pixels / 1e6 << " Mpx, generated in " << ms_since(t0) << " ms\n"
+        log << name << ": " << row.triangles << " triangles covering " << std::fixed
+            << std::setprecision(1) << row.pixels / 1e6 << " Mpx, generated in " << ms_since(t0)
+            << " ms\n"
             << std::flush;
         // Warm-up: one untimed render in every GL worker (context, framebuffer objects, shader
         // compilation, first upload).
         for (std::size_t c = 0; c < backends.size(); ++c) {
             const auto r = backends[c]->render(scene);
             if (r.status != RenderStatus::Ok) {
-                throw std::runtime_error("bench " + name + ": " + configs[c].label + ": " + std::string(to_string(r.status)) +
-                                         ": " + r.message);
+                throw std::runtime_error("bench " + name + ": " + configs[c].label + ": " +
+                                         std::string(to_string(r.status)) + ": " + r.message);
             }
         }
         std::vector<double> ref_ms;
@@ -231,22 +241,28 @@ std::vector<BenchRow> run_bench(const BenchOptions& options, std::ostream& log) 
                 if (configs[c].label == "llvmpipe_t0") {
                     single = std::move(r.image);
                     if (!(ref == *single)) {
-                        throw std::runtime_error("bench " + name + ": the reference's image differs from llvmpipe's "
-                                                 "(LP_NUM_THREADS=0) in round " + std::to_string(round + 1));
+                        throw std::runtime_error("bench " + name +
+                                                 ": the reference's image differs from llvmpipe's "
+                                                 "(LP_NUM_THREADS=0) in round " +
+                                                 std::to_string(round + 1));
                     }
                 } else if (configs[c].compared && single && !(r.image == *single)) {
-                    throw std::runtime_error("bench " + name + ": llvmpipe with threads differs from LP_NUM_THREADS=0 in round " +
-                                             std::to_string(round + 1));
+                    throw std::runtime_error(
+                        "bench " + name +
+                        ": llvmpipe with threads differs from LP_NUM_THREADS=0 in round " +
+                        std::to_string(round + 1));
                 }
             }
             log << "  round " << round + 1 << ": ref " << ref_ms.back() << " ms";
-            for (const auto& c : configs) log << ", " << c.label << " " << gl_ms[c.label].back() << " ms";
+            for (const auto& c : configs)
+                log << ", " << c.label << " " << gl_ms[c.label].back() << " ms";
             log << "\n" << std::flush;
         }
         row.ref_ms = median(ref_ms);
         row.ref_heap_peak_mb = static_cast<double>(heap_peak) / (1024.0 * 1024.0);
         double before = 0.0;
-        double* split[] = {&row.split.load, &row.split.setup, &row.split.raster, &row.split.fragment};
+        double* split[] = {&row.split.load, &row.split.setup, &row.split.raster,
+                           &row.split.fragment};
         for (std::size_t k = 0; k < 4; ++k) {
             const double m = median(stage_ms[k]);
             *split[k] = std::max(0.0, m - before);
@@ -276,7 +292,9 @@ void note_heap_allocation(std::size_t bytes) {
     }
 }
 
-void note_heap_release(std::size_t bytes) { g_heap_current.fetch_sub(bytes, std::memory_order_relaxed); }
+void note_heap_release(std::size_t bytes) {
+    g_heap_current.fetch_sub(bytes, std::memory_order_relaxed);
+}
 
 void reset_heap_peak() {
     const std::size_t now = g_heap_current.load(std::memory_order_relaxed);
@@ -285,28 +303,39 @@ void reset_heap_peak() {
 }
 
 std::size_t heap_peak_bytes() {
-    return g_heap_peak.load(std::memory_order_relaxed) - g_heap_base.load(std::memory_order_relaxed);
+    return g_heap_peak.load(std::memory_order_relaxed) -
+           g_heap_base.load(std::memory_order_relaxed);
 }
 
 std::string bench_table(const std::vector<BenchRow>& rows) {
     std::ostringstream o;
-    const auto rate = [](double count, double ms) { return ms > 0.0 ? count / (ms * 1000.0) : 0.0; };  // millions a second
-    o << "| scene | triangles | Mpx | ref ms | ref Mtri/s | ref Mpix/s | llvmpipe t0 ms | Mtri/s | Mpix/s | llvmpipe ms | "
+    const auto rate = [](double count, double ms) {
+        return ms > 0.0 ? count / (ms * 1000.0) : 0.0;
+    };  // millions a second
+    o << "| scene | triangles | Mpx | ref ms | ref Mtri/s | ref Mpix/s | llvmpipe t0 ms | Mtri/s | "
+         "Mpix/s | llvmpipe ms | "
          "softpipe ms | ref / llvmpipe t0 | ref heap MB | load | setup | raster | fragment |\n"
-      << "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n";
-    const auto opt = [](const std::optional<double>& v) { return v ? fixed(*v, 1) : std::string("-"); };
+      << "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | "
+         "---: | ---: | ---: | ---: | ---: |\n";
+    const auto opt = [](const std::optional<double>& v) {
+        return v ? fixed(*v, 1) : std::string("-");
+    };
     for (const auto& r : rows) {
         const double tris = static_cast<double>(r.triangles);
-        o << "| " << r.name << " | " << r.triangles << " | " << fixed(r.pixels / 1e6, 1) << " | " << fixed(r.ref_ms, 1) << " | "
-          << fixed(rate(tris, r.ref_ms), 2) << " | " << fixed(rate(r.pixels, r.ref_ms), 1) << " | " << opt(r.llvmpipe_t0_ms)
-          << " | " << (r.llvmpipe_t0_ms ? fixed(rate(tris, *r.llvmpipe_t0_ms), 2) : "-") << " | "
-          << (r.llvmpipe_t0_ms ? fixed(rate(r.pixels, *r.llvmpipe_t0_ms), 1) : "-") << " | " << opt(r.llvmpipe_ms) << " | "
-          << opt(r.softpipe_ms) << " | "
-          << (r.llvmpipe_t0_ms && r.ref_ms > 0 ? fixed(*r.llvmpipe_t0_ms / r.ref_ms, 2) : std::string("-")) << " | "
-          << fixed(r.ref_heap_peak_mb, 1) << " | " << fixed(r.split.load, 1) << " | " << fixed(r.split.setup, 1) << " | "
-          << fixed(r.split.raster, 1) << " | " << fixed(r.split.fragment, 1) << " |\n";
+        o << "| " << r.name << " | " << r.triangles << " | " << fixed(r.pixels / 1e6, 1) << " | "
+          << fixed(r.ref_ms, 1) << " | " << fixed(rate(tris, r.ref_ms), 2) << " | "
+          << fixed(rate(r.pixels, r.ref_ms), 1) << " | " << opt(r.llvmpipe_t0_ms) << " | "
+          << (r.llvmpipe_t0_ms ? fixed(rate(tris, *r.llvmpipe_t0_ms), 2) : "-") << " | "
+          << (r.llvmpipe_t0_ms ? fixed(rate(r.pixels, *r.llvmpipe_t0_ms), 1) : "-") << " | "
+          << opt(r.llvmpipe_ms) << " | " << opt(r.softpipe_ms) << " | "
+          << (r.llvmpipe_t0_ms && r.ref_ms > 0 ? fixed(*r.llvmpipe_t0_ms / r.ref_ms, 2)
+                                               : std::string("-"))
+          << " | " << fixed(r.ref_heap_peak_mb, 1) << " | " << fixed(r.split.load, 1) << " | "
+          << fixed(r.split.setup, 1) << " | " << fixed(r.split.raster, 1) << " | "
+          << fixed(r.split.fragment, 1) << " |\n";
     }
-    o << "\nref / llvmpipe t0: the reference's speed over single-threaded llvmpipe's (above 1: the reference is "
+    o << "\nref / llvmpipe t0: the reference's speed over single-threaded llvmpipe's (above 1: the "
+         "reference is "
          "faster). Medians; times in ms; the split is the reference's.\n";
     return o.str();
 }
@@ -314,7 +343,9 @@ std::string bench_table(const std::vector<BenchRow>& rows) {
 std::string bench_json(const std::vector<BenchRow>& rows) {
     nlohmann::ordered_json j;
     auto& scenes = j["scenes"] = nlohmann::ordered_json::array();
-    const auto opt = [](const std::optional<double>& v) { return v ? nlohmann::ordered_json(*v) : nlohmann::ordered_json(); };
+    const auto opt = [](const std::optional<double>& v) {
+        return v ? nlohmann::ordered_json(*v) : nlohmann::ordered_json();
+    };
     for (const auto& r : rows) {
         nlohmann::ordered_json s;
         s["name"] = r.name;
@@ -324,10 +355,14 @@ std::string bench_json(const std::vector<BenchRow>& rows) {
         s["llvmpipe_t0_ms"] = opt(r.llvmpipe_t0_ms);
         s["llvmpipe_ms"] = opt(r.llvmpipe_ms);
         s["softpipe_ms"] = opt(r.softpipe_ms);
-        s["speedup_vs_llvmpipe_t0"] =
-            r.llvmpipe_t0_ms && r.ref_ms > 0 ? nlohmann::ordered_json(*r.llvmpipe_t0_ms / r.ref_ms) : nlohmann::ordered_json();
+        s["speedup_vs_llvmpipe_t0"] = r.llvmpipe_t0_ms && r.ref_ms > 0
+                                          ? nlohmann::ordered_json(*r.llvmpipe_t0_ms / r.ref_ms)
+                                          : nlohmann::ordered_json();
         s["ref_heap_peak_mb"] = r.ref_heap_peak_mb;
-        s["split_ms"] = {{"load", r.split.load}, {"setup", r.split.setup}, {"raster", r.split.raster}, {"fragment", r.split.fragment}};
+        s["split_ms"] = {{"load", r.split.load},
+                         {"setup", r.split.setup},
+                         {"raster", r.split.raster},
+                         {"fragment", r.split.fragment}};
         scenes.push_back(s);
     }
     return j.dump(1) + "\n";

@@ -11,15 +11,24 @@ using ojson = nlohmann::ordered_json;
 
 std::string_view to_string(CaseStatus s) {
     switch (s) {
-        case CaseStatus::Pass: return "Pass";
-        case CaseStatus::Fail: return "Fail";
-        case CaseStatus::NotSupported: return "NotSupported";
-        case CaseStatus::Crash: return "Crash";
-        case CaseStatus::Timeout: return "Timeout";
-        case CaseStatus::InternalError: return "InternalError";
-        case CaseStatus::ExpectedFail: return "ExpectedFail";
-        case CaseStatus::UnexpectedPass: return "UnexpectedPass";
-        case CaseStatus::Flake: return "Flake";
+        case CaseStatus::Pass:
+            return "Pass";
+        case CaseStatus::Fail:
+            return "Fail";
+        case CaseStatus::NotSupported:
+            return "NotSupported";
+        case CaseStatus::Crash:
+            return "Crash";
+        case CaseStatus::Timeout:
+            return "Timeout";
+        case CaseStatus::InternalError:
+            return "InternalError";
+        case CaseStatus::ExpectedFail:
+            return "ExpectedFail";
+        case CaseStatus::UnexpectedPass:
+            return "UnexpectedPass";
+        case CaseStatus::Flake:
+            return "Flake";
     }
     return "?";
 }
@@ -38,8 +47,10 @@ bool counts_as_failure(CaseStatus s) {
         case CaseStatus::Pass:
         case CaseStatus::NotSupported:
         case CaseStatus::ExpectedFail:
-        case CaseStatus::Flake: return false;
-        default: return true;
+        case CaseStatus::Flake:
+            return false;
+        default:
+            return true;
     }
 }
 
@@ -48,11 +59,16 @@ namespace {
 // How a backend's non-Ok status becomes the case's status.
 CaseStatus case_status(RenderStatus s) {
     switch (s) {
-        case RenderStatus::Ok: return CaseStatus::Pass;
-        case RenderStatus::NotSupported: return CaseStatus::NotSupported;
-        case RenderStatus::Crash: return CaseStatus::Crash;
-        case RenderStatus::Timeout: return CaseStatus::Timeout;
-        case RenderStatus::InternalError: return CaseStatus::InternalError;
+        case RenderStatus::Ok:
+            return CaseStatus::Pass;
+        case RenderStatus::NotSupported:
+            return CaseStatus::NotSupported;
+        case RenderStatus::Crash:
+            return CaseStatus::Crash;
+        case RenderStatus::Timeout:
+            return CaseStatus::Timeout;
+        case RenderStatus::InternalError:
+            return CaseStatus::InternalError;
     }
     return CaseStatus::InternalError;
 }
@@ -60,11 +76,16 @@ CaseStatus case_status(RenderStatus s) {
 // A failure outranks NotSupported: a crash must not hide behind the other side's refusal.
 int severity(RenderStatus s) {
     switch (s) {
-        case RenderStatus::Ok: return 0;
-        case RenderStatus::NotSupported: return 1;
-        case RenderStatus::InternalError: return 2;
-        case RenderStatus::Timeout: return 3;
-        case RenderStatus::Crash: return 4;
+        case RenderStatus::Ok:
+            return 0;
+        case RenderStatus::NotSupported:
+            return 1;
+        case RenderStatus::InternalError:
+            return 2;
+        case RenderStatus::Timeout:
+            return 3;
+        case RenderStatus::Crash:
+            return 4;
     }
     return 5;
 }
@@ -111,8 +132,8 @@ CaseResult run_case(const Scene& scene, const std::string& case_name, Backend& r
             owners_plausible(ao.image.owner, c.actual->image, scene.draw_list.clear)) {
             c.reference->image.owner = std::move(ro.image.owner);
             c.actual->image.owner = std::move(ao.image.owner);
-            c.comparison = compare_images(c.reference->image, c.actual->image, scene.draw_list.clear,
-                                          scene.file.expect);
+            c.comparison = compare_images(c.reference->image, c.actual->image,
+                                          scene.draw_list.clear, scene.file.expect);
         }
     }
     c.status = c.comparison->within_expect ? CaseStatus::Pass : CaseStatus::Fail;

@@ -41,17 +41,24 @@ std::uint64_t depth_distance(refraster::DepthFormat f, std::uint32_t a, std::uin
 
 std::array<std::uint8_t, 4> mask_color(PixelClass c) {
     switch (c) {
-        case PixelClass::Equal: return {48, 48, 48, 255};
-        case PixelClass::Missing: return {255, 0, 255, 255};
-        case PixelClass::Extra: return {255, 0, 0, 255};
-        case PixelClass::ColorOnly: return {255, 255, 0, 255};
-        case PixelClass::DepthOnly: return {0, 96, 255, 255};
-        case PixelClass::Coverage: return {255, 140, 0, 255};
+        case PixelClass::Equal:
+            return {48, 48, 48, 255};
+        case PixelClass::Missing:
+            return {255, 0, 255, 255};
+        case PixelClass::Extra:
+            return {255, 0, 0, 255};
+        case PixelClass::ColorOnly:
+            return {255, 255, 0, 255};
+        case PixelClass::DepthOnly:
+            return {0, 96, 255, 255};
+        case PixelClass::Coverage:
+            return {255, 140, 0, 255};
     }
     return {0, 0, 0, 255};
 }
 
-PixelClassifier::PixelClassifier(const refraster::Framebuffer& reference, const refraster::Framebuffer& actual,
+PixelClassifier::PixelClassifier(const refraster::Framebuffer& reference,
+                                 const refraster::Framebuffer& actual,
                                  const refraster::ClearValues& clear, const Expect& expect)
     : ref_(reference), act_(actual), expect_(expect) {
     REFRASTER_ASSERT(ref_.width == act_.width && ref_.height == act_.height &&
@@ -83,8 +90,9 @@ PixelClassifier::Pixel PixelClassifier::at(std::size_t i) const {
     const bool is8 = ref_.color_format == refraster::ColorFormat::Rgba8;
     for (std::uint32_t k = 0; k < 4; ++k) {
         const std::size_t j = 4 * i + k;
-        const std::uint64_t d = is8 ? static_cast<std::uint64_t>(std::abs(int{ref_.color8[j]} - int{act_.color8[j]}))
-                                    : ulp_distance(ref_.color32f[j], act_.color32f[j]);
+        const std::uint64_t d =
+            is8 ? static_cast<std::uint64_t>(std::abs(int{ref_.color8[j]} - int{act_.color8[j]}))
+                : ulp_distance(ref_.color32f[j], act_.color32f[j]);
         if (d > p.color_difference) {
             p.color_difference = d;
             p.channel = k;
@@ -96,7 +104,9 @@ PixelClassifier::Pixel PixelClassifier::at(std::size_t i) const {
     const bool color_differs = p.color_difference > expect_.color_tolerance;
     if (!color_differs && p.depth_difference == 0) return p;
     if (owners_ && ref_.owner[i] != act_.owner[i]) {
-        p.cls = ref_.owner[i] == 0 ? PixelClass::Extra : act_.owner[i] == 0 ? PixelClass::Missing : PixelClass::Coverage;
+        p.cls = ref_.owner[i] == 0   ? PixelClass::Extra
+                : act_.owner[i] == 0 ? PixelClass::Missing
+                                     : PixelClass::Coverage;
     } else if (untouched(act_, i) != untouched(ref_, i)) {
         // Also with equal owners: an owner pass can draw what the plain render does not
         // (llvmpipe's nine-vertex analysis never sees an owner pass).
@@ -143,7 +153,8 @@ Comparison compare_images(const refraster::Framebuffer& ref, const refraster::Fr
         for (std::uint32_t x = 0; x < ref.width; ++x) {
             const std::size_t i = ref.index(x, y);
             const auto px = classify.at(i);
-            if (px.color_difference > 0 && (!c.max_color || px.color_difference > c.max_color->amount)) {
+            if (px.color_difference > 0 &&
+                (!c.max_color || px.color_difference > c.max_color->amount)) {
                 ChannelDifference m;
                 m.amount = px.color_difference;
                 m.x = x;
@@ -155,20 +166,34 @@ Comparison compare_images(const refraster::Framebuffer& ref, const refraster::Fr
                 }
                 c.max_color = m;
             }
-            if (px.depth_difference > 0 && (!c.max_depth || px.depth_difference > c.max_depth->amount)) {
-                c.max_depth = DepthDifference{px.depth_difference, x, y, ref.depth[i], act.depth[i]};
+            if (px.depth_difference > 0 &&
+                (!c.max_depth || px.depth_difference > c.max_depth->amount)) {
+                c.max_depth =
+                    DepthDifference{px.depth_difference, x, y, ref.depth[i], act.depth[i]};
             }
             switch (px.cls) {
-                case PixelClass::Equal: break;
-                case PixelClass::Missing: ++c.missing; break;
-                case PixelClass::Extra: ++c.extra; break;
-                case PixelClass::ColorOnly: ++c.color_only; break;
-                case PixelClass::DepthOnly: ++c.depth_only; break;
-                case PixelClass::Coverage: ++c.coverage; break;
+                case PixelClass::Equal:
+                    break;
+                case PixelClass::Missing:
+                    ++c.missing;
+                    break;
+                case PixelClass::Extra:
+                    ++c.extra;
+                    break;
+                case PixelClass::ColorOnly:
+                    ++c.color_only;
+                    break;
+                case PixelClass::DepthOnly:
+                    ++c.depth_only;
+                    break;
+                case PixelClass::Coverage:
+                    ++c.coverage;
+                    break;
             }
             if (px.cls != PixelClass::Equal) ++c.mismatched_pixels;
             const auto mc = mask_color(px.cls);
-            std::copy(mc.begin(), mc.end(), c.mask.color8.begin() + static_cast<std::ptrdiff_t>(4 * i));
+            std::copy(mc.begin(), mc.end(),
+                      c.mask.color8.begin() + static_cast<std::ptrdiff_t>(4 * i));
         }
     }
     c.within_expect = c.mismatched_pixels <= expect.max_mismatched_pixels;
@@ -195,8 +220,7 @@ std::string Comparison::summary() const {
     }
     if (max_depth) {
         s << "; max depth error " << max_depth->amount << " @ (" << max_depth->x << ", "
-          << max_depth->y << ") values are " << max_depth->reference << " vs "
-          << max_depth->actual;
+          << max_depth->y << ") values are " << max_depth->reference << " vs " << max_depth->actual;
     }
     return s.str();
 }

@@ -4,12 +4,12 @@
 #include <bit>
 #include <cmath>
 #include <cstdlib>
-#include <nlohmann/json.hpp>
 #include <limits>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <sstream>
-#include <tuple>
 #include <stdexcept>
+#include <tuple>
 
 #include "harness/profile_io.hpp"
 #include "refraster/renderer.hpp"
@@ -19,10 +19,12 @@ namespace harness {
 namespace {
 
 std::array<float, 4> color_at(const refraster::Framebuffer& fb, int x, int y) {
-    const std::size_t i = 4 * fb.index(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y));
+    const std::size_t i =
+        4 * fb.index(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y));
     std::array<float, 4> c{};
     for (std::size_t k = 0; k < 4; ++k) {
-        c[k] = fb.color_format == refraster::ColorFormat::Rgba8 ? fb.color8[i + k] : fb.color32f[i + k];
+        c[k] = fb.color_format == refraster::ColorFormat::Rgba8 ? fb.color8[i + k]
+                                                                : fb.color32f[i + k];
     }
     return c;
 }
@@ -45,14 +47,19 @@ std::string where(const refraster::PrimitiveTrace& p) {
 
 std::string owner_text(std::uint32_t owner) {
     if (owner == 0) return "nothing";
-    return "draws[" + std::to_string(owner >> 24) + "] primitive " + std::to_string((owner & 0xffffffu) - 1);
+    return "draws[" + std::to_string(owner >> 24) + "] primitive " +
+           std::to_string((owner & 0xffffffu) - 1);
 }
 
-std::string px_text(int x, int y) { return "(" + std::to_string(x) + ", " + std::to_string(y) + ")"; }
+std::string px_text(int x, int y) {
+    return "(" + std::to_string(x) + ", " + std::to_string(y) + ")";
+}
 
 void require_inside(const refraster::Target& target, int x, int y) {
-    if (x < 0 || y < 0 || static_cast<std::uint32_t>(x) >= target.width || static_cast<std::uint32_t>(y) >= target.height) {
-        throw PixelOutsideTarget("pixel " + px_text(x, y) + " is outside the " + std::to_string(target.width) + "x" +
+    if (x < 0 || y < 0 || static_cast<std::uint32_t>(x) >= target.width ||
+        static_cast<std::uint32_t>(y) >= target.height) {
+        throw PixelOutsideTarget("pixel " + px_text(x, y) + " is outside the " +
+                                 std::to_string(target.width) + "x" +
                                  std::to_string(target.height) + " target");
     }
 }
@@ -76,16 +83,21 @@ Evidence gather(const refraster::PixelTrace& t, const refraster::Profile& profil
         ev.lines_only = ev.lines_only && p.kind == "line";
         ev.points_only = ev.points_only && p.kind == "point";
         if (ev.nine_vertex.empty() && p.note.find("nine-vertex") != std::string::npos) {
-            ev.nine_vertex = where(p) + " is in a draw that " + p.note.substr(0, p.note.find(" by ")) +
+            ev.nine_vertex = where(p) + " is in a draw that " +
+                             p.note.substr(0, p.note.find(" by ")) +
                              " by llvmpipe's nine-vertex rectangle analysis";
         }
         if (ev.cull.empty() && p.in_draw_pipeline && p.kind == "triangle") {
-            ev.cull = where(p) + " is in a vertex segment that goes through the draw pipeline, whose float cull "
-                                 "decides before setup's fixed-point one";
+            ev.cull =
+                where(p) +
+                " is in a vertex segment that goes through the draw pipeline, whose float cull "
+                "decides before setup's fixed-point one";
         }
         for (const auto& s : p.setups) {
-            if (s.outcome.find("cull") != std::string::npos) ev.cull = where(p) + " was " + s.outcome;
-            if (ev.clipper.empty() && s.clipped) ev.clipper = where(p) + " was clipped, and its new vertices reach the pixel";
+            if (s.outcome.find("cull") != std::string::npos)
+                ev.cull = where(p) + " was " + s.outcome;
+            if (ev.clipper.empty() && s.clipped)
+                ev.clipper = where(p) + " was clipped, and its new vertices reach the pixel";
             for (std::size_t k = 0; k < s.edges.size(); ++k) {
                 const auto& ed = s.edges[k];
                 if (ev.tie.empty() && ed.tie) {
@@ -94,16 +106,20 @@ Evidence gather(const refraster::PixelTrace& t, const refraster::Profile& profil
                         if (j != k && !(s.edges[j].value > 0)) others_inside = false;
                     }
                     if (others_inside) {
-                        ev.tie = "the centre lies exactly on edge " + std::to_string(k) + " of " + where(p) + ", and the " +
-                                 refraster::to_string(profile.gl.tie_rule) + " rule " +
-                                 (ed.owns_ties ? "gives the pixel to it" : "keeps the pixel from it");
+                        ev.tie =
+                            "the centre lies exactly on edge " + std::to_string(k) + " of " +
+                            where(p) + ", and the " + refraster::to_string(profile.gl.tie_rule) +
+                            " rule " +
+                            (ed.owns_ties ? "gives the pixel to it" : "keeps the pixel from it");
                     }
                 }
                 const std::int64_t raw = ed.value - (ed.owns_ties ? 1 : 0);
-                const std::int64_t step = std::abs(static_cast<std::int64_t>(ed.a)) + std::abs(static_cast<std::int64_t>(ed.b));
+                const std::int64_t step = std::abs(static_cast<std::int64_t>(ed.a)) +
+                                          std::abs(static_cast<std::int64_t>(ed.b));
                 if (ev.snapping.empty() && step != 0 && std::llabs(raw) <= step) {
                     ev.snapping = "edge " + std::to_string(k) + " of " + where(p) +
-                                  " passes within one subpixel step of the centre (edge value " + std::to_string(raw) + ")";
+                                  " passes within one subpixel step of the centre (edge value " +
+                                  std::to_string(raw) + ")";
                 }
             }
         }
@@ -116,8 +132,9 @@ Evidence gather(const refraster::PixelTrace& t, const refraster::Profile& profil
 // gives no evidence for any of them: the draw module's decisions first, then coverage, then
 // arithmetic.
 const std::vector<std::string>& rule_order() {
-    static const std::vector<std::string> order{"nine-vertex analysis", "cull",    "tie rule", "snapping",
-                                                "clipper",              "fused arithmetic", "denormals"};
+    static const std::vector<std::string> order{
+        "nine-vertex analysis", "cull",     "tie rule", "snapping", "clipper",
+        "fused arithmetic",     "denormals"};
     return order;
 }
 
@@ -125,36 +142,52 @@ const std::vector<std::string>& rule_order() {
 std::vector<std::pair<std::string, std::string>> alternatives_of(const refraster::Profile& p) {
     std::vector<std::pair<std::string, std::string>> out;
     for (const char* r : {"left-bottom", "left-top", "right-bottom", "right-top"}) {
-        if (refraster::to_string(p.gl.tie_rule) != r) out.emplace_back("tie rule", std::string("tie_rule=") + r);
+        if (refraster::to_string(p.gl.tie_rule) != r)
+            out.emplace_back("tie rule", std::string("tie_rule=") + r);
     }
-    if (p.model != refraster::CoverageModel::Snapped) return out;  // the exact oracle has no other parameter
+    if (p.model != refraster::CoverageModel::Snapped)
+        return out;  // the exact oracle has no other parameter
     for (const char* r : {"nearest-even", "half-away", "truncate"}) {
-        if (refraster::to_string(p.gl.snap_rounding) != r) out.emplace_back("snapping", std::string("snap_rounding=") + r);
+        if (refraster::to_string(p.gl.snap_rounding) != r)
+            out.emplace_back("snapping", std::string("snap_rounding=") + r);
     }
     for (int bits : {4, 8}) {
-        if (p.gl.subpixel_bits != bits) out.emplace_back("snapping", "subpixel_bits=" + std::to_string(bits));
+        if (p.gl.subpixel_bits != bits)
+            out.emplace_back("snapping", "subpixel_bits=" + std::to_string(bits));
     }
     const bool fused = p.gl.viewport_fma == refraster::FmaMode::On ||
                        (p.gl.viewport_fma == refraster::FmaMode::Auto && refraster::host_has_fma());
     out.emplace_back("fused arithmetic", fused ? "viewport_fma=off" : "viewport_fma=on");
-    out.emplace_back("denormals", p.gl.flush_denormals ? "flush_denormals=false" : "flush_denormals=true");
-    out.emplace_back("cull", p.quirks.draw_pipeline_cull ? "draw_pipeline_cull=false" : "draw_pipeline_cull=true");
-    out.emplace_back("nine-vertex analysis", p.quirks.nine_vertex_quirk ? "nine_vertex_quirk=false" : "nine_vertex_quirk=true");
-    out.emplace_back("integer widths", p.quirks.wrapping_arithmetic ? "wrapping_arithmetic=false" : "wrapping_arithmetic=true");
-    out.emplace_back("clipper", p.gl.clipping == refraster::Clipping::ViewVolume ? "clipping=guard-band" : "clipping=view-volume");
+    out.emplace_back("denormals",
+                     p.gl.flush_denormals ? "flush_denormals=false" : "flush_denormals=true");
+    out.emplace_back("cull", p.quirks.draw_pipeline_cull ? "draw_pipeline_cull=false"
+                                                         : "draw_pipeline_cull=true");
+    out.emplace_back("nine-vertex analysis", p.quirks.nine_vertex_quirk ? "nine_vertex_quirk=false"
+                                                                        : "nine_vertex_quirk=true");
+    out.emplace_back("integer widths", p.quirks.wrapping_arithmetic ? "wrapping_arithmetic=false"
+                                                                    : "wrapping_arithmetic=true");
+    out.emplace_back("clipper", p.gl.clipping == refraster::Clipping::ViewVolume
+                                    ? "clipping=guard-band"
+                                    : "clipping=view-volume");
     return out;
 }
 
-bool is_coverage(PixelClass c) { return c == PixelClass::Missing || c == PixelClass::Extra || c == PixelClass::Coverage; }
+bool is_coverage(PixelClass c) {
+    return c == PixelClass::Missing || c == PixelClass::Extra || c == PixelClass::Coverage;
+}
 
 std::string difference_of(PixelClass c) {
     switch (c) {
-        case PixelClass::Equal: return "none";
+        case PixelClass::Equal:
+            return "none";
         case PixelClass::Missing:
         case PixelClass::Extra:
-        case PixelClass::Coverage: return "coverage";
-        case PixelClass::ColorOnly: return "colour";
-        case PixelClass::DepthOnly: return "depth";
+        case PixelClass::Coverage:
+            return "coverage";
+        case PixelClass::ColorOnly:
+            return "colour";
+        case PixelClass::DepthOnly:
+            return "depth";
     }
     return "none";
 }
@@ -169,7 +202,7 @@ bool resolves(PixelClass before, PixelClass after) {
 
 struct Explainer::Alternative {
     std::string rule;
-    std::string change;  // key=value
+    std::string change;          // key=value
     std::size_t reproduced = 0;  // mismatching pixels of the whole image it reproduces
     std::size_t broken = 0;      // agreeing pixels it makes differ
     long net() const { return static_cast<long>(reproduced) - static_cast<long>(broken); }
@@ -182,7 +215,8 @@ namespace {
 // The plain render, and with `owners` the primitive owners from a second pass: recording
 // owners changes what llvmpipe's nine-vertex analysis does (an owner pass is never analysed),
 // so the pixels always come from the plain render, as for the GL backends.
-refraster::RenderOutcome render_reference(const refraster::DrawList& dl, const refraster::Profile& profile, bool owners,
+refraster::RenderOutcome render_reference(const refraster::DrawList& dl,
+                                          const refraster::Profile& profile, bool owners,
                                           refraster::Framebuffer& out) {
     refraster::RenderOptions o;
     o.profile = profile;
@@ -205,7 +239,8 @@ Explainer::Explainer(const Scene& scene, const refraster::Profile& profile, Back
     if (backend != nullptr) {
         backend_result_ = backend->render(scene_);
         if (backend_result_->status != RenderStatus::Ok) {
-            throw std::runtime_error(backend->name() + ": " + std::string(to_string(backend_result_->status)) + ": " +
+            throw std::runtime_error(backend->name() + ": " +
+                                     std::string(to_string(backend_result_->status)) + ": " +
                                      backend_result_->message);
         }
         owners = backend->render_owners(scene_);
@@ -218,10 +253,11 @@ Explainer::Explainer(const Scene& scene, const refraster::Profile& profile, Back
     }
     const bool with_owners = backend_result_ && !backend_result_->image.owner.empty();
     const auto r = render_reference(scene_.draw_list, profile_, with_owners, reference_);
-    if (r.status != refraster::RenderStatus::Ok) throw std::runtime_error("the reference cannot render it: " + r.message);
+    if (r.status != refraster::RenderStatus::Ok)
+        throw std::runtime_error("the reference cannot render it: " + r.message);
     if (backend_result_) {
-        classifier_ = std::make_unique<PixelClassifier>(reference_, backend_result_->image, scene_.draw_list.clear,
-                                                        scene_.file.expect);
+        classifier_ = std::make_unique<PixelClassifier>(reference_, backend_result_->image,
+                                                        scene_.draw_list.clear, scene_.file.expect);
     }
 }
 
@@ -236,14 +272,16 @@ void Explainer::render_alternatives() {
         a.rule = rule;
         a.change = change;
         refraster::Profile p = profile_;
-        refraster::set_profile_parameter(p, change.substr(0, change.find('=')), change.substr(change.find('=') + 1));
+        refraster::set_profile_parameter(p, change.substr(0, change.find('=')),
+                                         change.substr(change.find('=') + 1));
         a.image = std::make_unique<refraster::Framebuffer>();
-        if (render_reference(scene_.draw_list, p, owners, *a.image).status != refraster::RenderStatus::Ok) {
+        if (render_reference(scene_.draw_list, p, owners, *a.image).status !=
+            refraster::RenderStatus::Ok) {
             alternatives_.pop_back();
             continue;
         }
-        a.classifier = std::make_unique<PixelClassifier>(*a.image, backend_result_->image, scene_.draw_list.clear,
-                                                         scene_.file.expect);
+        a.classifier = std::make_unique<PixelClassifier>(
+            *a.image, backend_result_->image, scene_.draw_list.clear, scene_.file.expect);
         for (std::size_t i = 0; i < reference_.pixel_count(); ++i) {
             const auto before = classifier_->at(i).cls;
             const auto after = a.classifier->at(i).cls;
@@ -287,12 +325,15 @@ Explanation Explainer::explain(int x, int y, bool full) {
     e.backend = *backend_result_;
     e.backend_color = color_at(backend_result_->image, x, y);
     e.backend_depth = depth_at(backend_result_->image, x, y);
-    const std::size_t i = reference_.index(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y));
+    const std::size_t i =
+        reference_.index(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y));
     const auto cls = classifier_->at(i);
-    e.agree = same_color(e.reference_color, e.backend_color) && e.reference_depth == e.backend_depth;
+    e.agree =
+        same_color(e.reference_color, e.backend_color) && e.reference_depth == e.backend_depth;
     if (cls.cls == PixelClass::Equal) {
         e.verdict = e.agree ? "the reference and the backend agree at " + px
-                            : "the reference and the backend agree at " + px + " within the scene's colour tolerance";
+                            : "the reference and the backend agree at " + px +
+                                  " within the scene's colour tolerance";
         return e;
     }
 
@@ -302,7 +343,8 @@ Explanation Explainer::explain(int x, int y, bool full) {
     std::string what;
     switch (cls.cls) {
         case PixelClass::Missing:
-            what = "the reference draws pixel " + px + (owners ? " (" + owner_text(reference_.owner[i]) + ")" : "") +
+            what = "the reference draws pixel " + px +
+                   (owners ? " (" + owner_text(reference_.owner[i]) + ")" : "") +
                    " and the backend leaves it untouched";
             break;
         case PixelClass::Extra:
@@ -311,30 +353,38 @@ Explanation Explainer::explain(int x, int y, bool full) {
                    " and the reference leaves it untouched";
             break;
         case PixelClass::Coverage:
-            what = "pixel " + px + " comes from " + owner_text(reference_.owner[i]) + " in the reference and from " +
-                   owner_text(backend_result_->image.owner[i]) + " in the backend";
+            what = "pixel " + px + " comes from " + owner_text(reference_.owner[i]) +
+                   " in the reference and from " + owner_text(backend_result_->image.owner[i]) +
+                   " in the backend";
             break;
         case PixelClass::ColorOnly:
-            what = "both draw pixel " + px + (owners ? " from " + owner_text(reference_.owner[i]) : "") +
-                   ", and the colours differ by " + std::to_string(cls.color_difference) +
-                   (reference_.color_format == refraster::ColorFormat::Rgba8 ? " unorm8 steps" : " ULPs") +
-                   " in channel " + "RGBA"[cls.channel & 3] +
-                   (cls.depth_difference ? " (depth by " + std::to_string(cls.depth_difference) + ")" : "");
+            what =
+                "both draw pixel " + px +
+                (owners ? " from " + owner_text(reference_.owner[i]) : "") +
+                ", and the colours differ by " + std::to_string(cls.color_difference) +
+                (reference_.color_format == refraster::ColorFormat::Rgba8 ? " unorm8 steps"
+                                                                          : " ULPs") +
+                " in channel " + "RGBA"[cls.channel & 3] +
+                (cls.depth_difference ? " (depth by " + std::to_string(cls.depth_difference) + ")"
+                                      : "");
             break;
         case PixelClass::DepthOnly:
             what = "the colours agree at " + px + " and the depth values differ by " +
-                   std::to_string(cls.depth_difference) + " (" + std::to_string(e.reference_depth.value_or(0)) + " vs " +
+                   std::to_string(cls.depth_difference) + " (" +
+                   std::to_string(e.reference_depth.value_or(0)) + " vs " +
                    std::to_string(e.backend_depth.value_or(0)) + ")";
             break;
-        case PixelClass::Equal: break;
+        case PixelClass::Equal:
+            break;
     }
 
     // 2. The rule within that class: alternatives that reproduce the backend here, the one that
     // reproduces most of the image first (one per rule).
     render_alternatives();
     const auto extent = [&](const Alternative& a) {
-        return " and at " + std::to_string(a.reproduced) + " of the " + std::to_string(mismatched_) +
-               " mismatching pixels" + (a.broken ? ", changing " + std::to_string(a.broken) + " that agree" : "");
+        return " and at " + std::to_string(a.reproduced) + " of the " +
+               std::to_string(mismatched_) + " mismatching pixels" +
+               (a.broken ? ", changing " + std::to_string(a.broken) + " that agree" : "");
     };
     std::map<std::string, const Alternative*> chosen;  // the best alternative of each rule
     for (const auto& a : alternatives_) {
@@ -379,14 +429,18 @@ Explanation Explainer::explain(int x, int y, bool full) {
         // The best-reproducing candidate; among equals, the one the trace shows at work, then
         // the draw module before coverage before arithmetic.
         const auto rank = [&](const std::pair<std::string, std::string>& c) {
-            const auto pos = std::find(rule_order().begin(), rule_order().end(), c.first) - rule_order().begin();
-            return std::make_tuple(-chosen[c.first]->net(), evidence_for(c.first).empty() ? 1 : 0, pos);
+            const auto pos =
+                std::find(rule_order().begin(), rule_order().end(), c.first) - rule_order().begin();
+            return std::make_tuple(-chosen[c.first]->net(), evidence_for(c.first).empty() ? 1 : 0,
+                                   pos);
         };
         auto sorted = e.candidates;
-        std::stable_sort(sorted.begin(), sorted.end(), [&](const auto& a, const auto& b) { return rank(a) < rank(b); });
+        std::stable_sort(sorted.begin(), sorted.end(),
+                         [&](const auto& a, const auto& b) { return rank(a) < rank(b); });
         const auto& best = sorted.front();
         const auto tied = [&](const auto& c) {
-            return std::get<0>(rank(c)) == std::get<0>(rank(best)) && std::get<1>(rank(c)) == std::get<1>(rank(best));
+            return std::get<0>(rank(c)) == std::get<0>(rank(best)) &&
+                   std::get<1>(rank(c)) == std::get<1>(rank(best));
         };
         if (sorted.size() > 1 && tied(sorted[1])) {
             // Two rules explain the pixel, and the image, equally well, and the trace favours
@@ -401,41 +455,50 @@ Explanation Explainer::explain(int x, int y, bool full) {
         } else {
             e.rule = best.first;
             const std::string shown = evidence_for(best.first);
-            why = (shown.empty() ? "" : shown + "; ") + best.second + " reproduces the backend here" +
-                  extent(*chosen[best.first]);
+            why = (shown.empty() ? "" : shown + "; ") + best.second +
+                  " reproduces the backend here" + extent(*chosen[best.first]);
         }
     }
     if (e.rule == "none") {
         if (e.difference == "coverage") (void)evidence();  // which primitives reach the pixel
         if (e.difference == "coverage" && ev.lines_only) {
             e.rule = "line rule";
-            why = "only lines reach the pixel, and no parameter of the profile reproduces the backend's line coverage";
+            why =
+                "only lines reach the pixel, and no parameter of the profile reproduces the "
+                "backend's line coverage";
         } else if (e.difference == "coverage" && ev.points_only) {
             e.rule = "point rule";
-            why = "only points reach the pixel, and no parameter of the profile reproduces the backend's point coverage";
+            why =
+                "only points reach the pixel, and no parameter of the profile reproduces the "
+                "backend's point coverage";
         } else {
             e.rule = "undecided";
             why = "no parameter of the profile reproduces the backend here";
             if (e.difference == "coverage" && !ev.tie.empty()) why += "; " + ev.tie;
-            if (e.difference == "coverage" && ev.tie.empty() && !ev.snapping.empty()) why += "; " + ev.snapping;
+            if (e.difference == "coverage" && ev.tie.empty() && !ev.snapping.empty())
+                why += "; " + ev.snapping;
         }
     }
     // A coverage rule that reproduces a colour or depth difference exactly: the coverage of a
     // primitive beneath the last one differs, seen through blending or the depth test.
-    if (e.difference != "coverage" &&
-        (e.rule == "tie rule" || e.rule == "snapping" || e.rule == "cull" || e.rule == "nine-vertex analysis")) {
+    if (e.difference != "coverage" && (e.rule == "tie rule" || e.rule == "snapping" ||
+                                       e.rule == "cull" || e.rule == "nine-vertex analysis")) {
         e.difference = "coverage";
-        what += ", because the coverage of a primitive drawn earlier differs (blending or the depth test shows it)";
+        what +=
+            ", because the coverage of a primitive drawn earlier differs (blending or the depth "
+            "test shows it)";
     }
     std::string also;
     for (const auto& [rule, change] : e.candidates) {
         if (rule != e.rule) also += (also.empty() ? "" : ", ") + rule + " (" + change + ")";
     }
-    e.verdict = e.difference + ": " + what + "; " + e.rule + ": " + why + (also.empty() ? "" : "; also reproduced by " + also);
+    e.verdict = e.difference + ": " + what + "; " + e.rule + ": " + why +
+                (also.empty() ? "" : "; also reproduced by " + also);
     return e;
 }
 
-Explanation explain_pixel(const Scene& scene, const refraster::Profile& profile, int x, int y, Backend* backend) {
+Explanation explain_pixel(const Scene& scene, const refraster::Profile& profile, int x, int y,
+                          Backend* backend) {
     require_inside(scene.draw_list.target, x, y);  // before the backend renders anything
     Explainer ex(scene, profile, backend);
     return ex.explain(x, y);
@@ -462,48 +525,58 @@ std::string explanation_text(const Explanation& e) {
     std::ostringstream o;
     const auto& t = e.trace;
     const bool is8 = e.reference_image.color_format == refraster::ColorFormat::Rgba8;
-    o << "pixel (" << t.x << ", " << t.y << "), centre (" << t.x + 0.5 << ", " << t.y + 0.5 << "), profile " << t.profile << "\n";
+    o << "pixel (" << t.x << ", " << t.y << "), centre (" << t.x + 0.5 << ", " << t.y + 0.5
+      << "), profile " << t.profile << "\n";
     o << "rules: " << profile_rules(e.profile) << "\n";
     if (t.primitives.empty()) o << "  no primitive reaches this pixel\n";
     for (const auto& p : t.primitives) {
-        o << "\n" << where(p) << (p.covered ? ": covers the pixel" : ": does not cover the pixel") << "\n";
+        o << "\n"
+          << where(p) << (p.covered ? ": covers the pixel" : ": does not cover the pixel") << "\n";
         for (std::size_t i = 0; i < p.clip.size(); ++i) {
-            o << "  vertex " << p.vertices[i] << " clip (" << p.clip[i][0] << ", " << p.clip[i][1] << ", " << p.clip[i][2]
-              << ", " << p.clip[i][3] << ") clip mask " << p.clipmask[i] << "\n";
+            o << "  vertex " << p.vertices[i] << " clip (" << p.clip[i][0] << ", " << p.clip[i][1]
+              << ", " << p.clip[i][2] << ", " << p.clip[i][3] << ") clip mask " << p.clipmask[i]
+              << "\n";
         }
         if (p.in_draw_pipeline) o << "  its vertex segment goes through the draw pipeline\n";
         for (const auto& poly : p.clipped_polygon) {
             o << "  clipped polygon:";
-            for (const auto& v : poly) o << " (" << v[0] << ", " << v[1] << ", " << v[2] << ", " << v[3] << ")";
+            for (const auto& v : poly)
+                o << " (" << v[0] << ", " << v[1] << ", " << v[2] << ", " << v[3] << ")";
             o << "\n";
         }
         if (!p.note.empty()) o << "  " << p.note << "\n";
         for (const auto& s : p.setups) {
             o << "  setup: " << s.outcome << (s.clipped ? " (clipper output)" : "") << "\n";
-            for (const auto& w : s.window) o << "    window (" << w[0] << ", " << w[1] << ") z " << w[2] << " 1/w " << w[3] << "\n";
+            for (const auto& w : s.window)
+                o << "    window (" << w[0] << ", " << w[1] << ") z " << w[2] << " 1/w " << w[3]
+                  << "\n";
             if (!s.x.empty()) {
                 o << "    snapped (1/" << (1 << s.subpixel_bits) << " px, pixel centre at 0):";
-                for (std::size_t i = 0; i < s.x.size(); ++i) o << " (" << s.x[i] << ", " << s.y[i] << ")";
+                for (std::size_t i = 0; i < s.x.size(); ++i)
+                    o << " (" << s.x[i] << ", " << s.y[i] << ")";
                 o << "\n";
             }
-            if (s.area != 0) o << "    area " << s.area << (s.front_facing ? " front" : " back") << "-facing\n";
+            if (s.area != 0)
+                o << "    area " << s.area << (s.front_facing ? " front" : " back") << "-facing\n";
             for (std::size_t k = 0; k < s.edges.size(); ++k) {
                 const auto& ed = s.edges[k];
-                o << "    edge " << k << ": a " << ed.a << " b " << ed.b << " c " << ed.c << ", E at pixel " << ed.value
-                  << (ed.tie ? "  <- centre exactly on this edge; " : "") << (ed.tie ? (ed.owns_ties ? "owned" : "not owned") : "")
-                  << "\n";
+                o << "    edge " << k << ": a " << ed.a << " b " << ed.b << " c " << ed.c
+                  << ", E at pixel " << ed.value
+                  << (ed.tie ? "  <- centre exactly on this edge; " : "")
+                  << (ed.tie ? (ed.owns_ties ? "owned" : "not owned") : "") << "\n";
             }
             if (s.has_fragment) {
                 const auto& f = s.fragment;
-                o << "    z plane A0 " << f.z_plane[0] << " dz/dx " << f.z_plane[1] << " dz/dy " << f.z_plane[2]
-                  << ", offset " << f.z_offset << "\n";
+                o << "    z plane A0 " << f.z_plane[0] << " dz/dx " << f.z_plane[1] << " dz/dy "
+                  << f.z_plane[2] << ", offset " << f.z_offset << "\n";
                 if (f.depth_tested) {
-                    o << "    depth " << f.z << " -> " << f.depth_value << " vs stored " << f.depth_stored
-                      << (f.depth_pass ? ": passes" : ": fails") << "\n";
+                    o << "    depth " << f.z << " -> " << f.depth_value << " vs stored "
+                      << f.depth_stored << (f.depth_pass ? ": passes" : ": fails") << "\n";
                 }
-                o << "    shader colour " << f.shader_color[0] << ", " << f.shader_color[1] << ", " << f.shader_color[2]
-                  << ", " << f.shader_color[3] << "; destination " << color_text(f.destination, is8) << "; written "
-                  << color_text(f.written, is8) << "\n";
+                o << "    shader colour " << f.shader_color[0] << ", " << f.shader_color[1] << ", "
+                  << f.shader_color[2] << ", " << f.shader_color[3] << "; destination "
+                  << color_text(f.destination, is8) << "; written " << color_text(f.written, is8)
+                  << "\n";
             }
         }
     }
@@ -529,7 +602,8 @@ std::string explanation_json(const Explanation& e) {
     j["difference"] = e.difference;
     j["rule"] = e.rule;
     auto& cj = j["candidates"] = nlohmann::ordered_json::array();
-    for (const auto& [rule, change] : e.candidates) cj.push_back({{"rule", rule}, {"alternative", change}});
+    for (const auto& [rule, change] : e.candidates)
+        cj.push_back({{"rule", rule}, {"alternative", change}});
     j["agree"] = e.agree;
     j["reference"] = {{"color", e.reference_color}};
     if (e.reference_depth) j["reference"]["depth"] = *e.reference_depth;
@@ -563,15 +637,27 @@ std::string explanation_json(const Explanation& e) {
             x["front_facing"] = s.front_facing;
             auto& ej = x["edges"] = nlohmann::ordered_json::array();
             for (const auto& ed : s.edges) {
-                ej.push_back({{"a", ed.a}, {"b", ed.b}, {"c", ed.c}, {"owns_ties", ed.owns_ties}, {"value", ed.value}, {"tie", ed.tie}});
+                ej.push_back({{"a", ed.a},
+                              {"b", ed.b},
+                              {"c", ed.c},
+                              {"owns_ties", ed.owns_ties},
+                              {"value", ed.value},
+                              {"tie", ed.tie}});
             }
             x["covered"] = s.covered;
             if (s.has_fragment) {
                 const auto& f = s.fragment;
-                x["fragment"] = {{"z_plane", f.z_plane},       {"w_plane", f.w_plane},         {"z_offset", f.z_offset},
-                                 {"z", f.z},                   {"depth_tested", f.depth_tested}, {"depth_value", f.depth_value},
-                                 {"depth_stored", f.depth_stored}, {"depth_pass", f.depth_pass}, {"shader_color", f.shader_color},
-                                 {"destination", f.destination}, {"written", f.written}};
+                x["fragment"] = {{"z_plane", f.z_plane},
+                                 {"w_plane", f.w_plane},
+                                 {"z_offset", f.z_offset},
+                                 {"z", f.z},
+                                 {"depth_tested", f.depth_tested},
+                                 {"depth_value", f.depth_value},
+                                 {"depth_stored", f.depth_stored},
+                                 {"depth_pass", f.depth_pass},
+                                 {"shader_color", f.shader_color},
+                                 {"destination", f.destination},
+                                 {"written", f.written}};
             }
             sj.push_back(x);
         }
@@ -591,40 +677,47 @@ std::string explanation_svg(const Explanation& e, int radius) {
     const auto sx = [&](double wx) { return (wx - x0) * S; };
     const auto sy = [&](double wy) { return (y0 + n - wy) * S; };  // y up
     std::ostringstream s;
-    s << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << n * S << "\" height=\"" << n * S + 40 << "\" viewBox=\"0 0 "
-      << n * S << " " << n * S + 40 << "\">\n";
+    s << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << n * S << "\" height=\""
+      << n * S + 40 << "\" viewBox=\"0 0 " << n * S << " " << n * S + 40 << "\">\n";
     s << "<title>pixel (" << cx << ", " << cy << "): " << e.verdict << "</title>\n";
     // Pixels in the reference's colours.
     for (int y = y0; y < y0 + n; ++y) {
         for (int x = x0; x < x0 + n; ++x) {
             std::string fill = "#ffffff";
-            if (x >= 0 && y >= 0 && static_cast<std::uint32_t>(x) < fb.width && static_cast<std::uint32_t>(y) < fb.height) {
+            if (x >= 0 && y >= 0 && static_cast<std::uint32_t>(x) < fb.width &&
+                static_cast<std::uint32_t>(y) < fb.height) {
                 const auto c = color_at(fb, x, y);
                 int rgb[3];
                 for (int k = 0; k < 3; ++k) {
-                    const float v = fb.color_format == refraster::ColorFormat::Rgba8 ? c[static_cast<std::size_t>(k)]
-                                                                                     : std::clamp(c[static_cast<std::size_t>(k)], 0.0f, 1.0f) * 255.0f;
+                    const float v =
+                        fb.color_format == refraster::ColorFormat::Rgba8
+                            ? c[static_cast<std::size_t>(k)]
+                            : std::clamp(c[static_cast<std::size_t>(k)], 0.0f, 1.0f) * 255.0f;
                     rgb[k] = static_cast<int>(v);
                 }
                 char buf[8];
-                std::snprintf(buf, sizeof buf, "#%02x%02x%02x", rgb[0] & 255, rgb[1] & 255, rgb[2] & 255);
+                std::snprintf(buf, sizeof buf, "#%02x%02x%02x", rgb[0] & 255, rgb[1] & 255,
+                              rgb[2] & 255);
                 fill = buf;
             }
-            s << "<rect x=\"" << sx(x) << "\" y=\"" << sy(y + 1) << "\" width=\"" << S << "\" height=\"" << S << "\" fill=\""
-              << fill << "\" stroke=\"#888\" stroke-width=\"1\"/>\n";
-            s << "<circle cx=\"" << sx(x + 0.5) << "\" cy=\"" << sy(y + 0.5) << "\" r=\"2.5\" fill=\"#888\"/>\n";
+            s << "<rect x=\"" << sx(x) << "\" y=\"" << sy(y + 1) << "\" width=\"" << S
+              << "\" height=\"" << S << "\" fill=\"" << fill
+              << "\" stroke=\"#888\" stroke-width=\"1\"/>\n";
+            s << "<circle cx=\"" << sx(x + 0.5) << "\" cy=\"" << sy(y + 0.5)
+              << "\" r=\"2.5\" fill=\"#888\"/>\n";
         }
     }
     // The traced pixel.
-    s << "<rect x=\"" << sx(cx) << "\" y=\"" << sy(cy + 1) << "\" width=\"" << S << "\" height=\"" << S
-      << "\" fill=\"none\" stroke=\"#ff00ff\" stroke-width=\"3\"/>\n";
+    s << "<rect x=\"" << sx(cx) << "\" y=\"" << sy(cy + 1) << "\" width=\"" << S << "\" height=\""
+      << S << "\" fill=\"none\" stroke=\"#ff00ff\" stroke-width=\"3\"/>\n";
     // Snapped edges of every primitive that reaches the pixel; ties ringed.
     bool tie = false;
     for (const auto& p : e.trace.primitives) {
         for (const auto& st : p.setups) {
             if (st.x.size() < 2) continue;
             const double one = static_cast<double>(1 << st.subpixel_bits);
-            s << "<polygon fill=\"none\" stroke=\"" << (p.covered ? "#00c853" : "#2962ff") << "\" stroke-width=\"2\" points=\"";
+            s << "<polygon fill=\"none\" stroke=\"" << (p.covered ? "#00c853" : "#2962ff")
+              << "\" stroke-width=\"2\" points=\"";
             for (std::size_t i = 0; i < st.x.size(); ++i) {
                 s << sx(st.x[i] / one + 0.5) << "," << sy(st.y[i] / one + 0.5) << " ";
             }
@@ -633,15 +726,16 @@ std::string explanation_svg(const Explanation& e, int radius) {
         }
     }
     if (tie) {
-        s << "<circle cx=\"" << sx(cx + 0.5) << "\" cy=\"" << sy(cy + 0.5) << "\" r=\"9\" fill=\"none\" stroke=\"#ff6d00\" "
+        s << "<circle cx=\"" << sx(cx + 0.5) << "\" cy=\"" << sy(cy + 0.5)
+          << "\" r=\"9\" fill=\"none\" stroke=\"#ff6d00\" "
              "stroke-width=\"3\"><title>tie: the centre lies exactly on an edge</title></circle>\n";
     }
     std::string verdict = e.verdict;
     for (auto& c : verdict) {
         if (c == '<' || c == '>' || c == '&') c = ' ';
     }
-    s << "<text x=\"4\" y=\"" << n * S + 16 << "\" font-family=\"sans-serif\" font-size=\"12\">" << verdict.substr(0, 140)
-      << "</text>\n</svg>\n";
+    s << "<text x=\"4\" y=\"" << n * S + 16 << "\" font-family=\"sans-serif\" font-size=\"12\">"
+      << verdict.substr(0, 140) << "</text>\n</svg>\n";
     return s.str();
 }
 

@@ -1,20 +1,19 @@
 #include "harness/extreme_scenes.hpp"
 
-#include "harness/files.hpp"
-
 #include <array>
 #include <bit>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <functional>
-#include <ostream>
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <ostream>
 #include <random>
 #include <stdexcept>
 
+#include "harness/files.hpp"
 #include "harness/reduce.hpp"
 
 namespace harness {
@@ -34,7 +33,7 @@ constexpr float kDenormMin = std::numeric_limits<float>::denorm_min();
 constexpr float kNormMin = std::numeric_limits<float>::min();
 
 class Rng {
-public:
+  public:
     explicit Rng(std::uint64_t seed) : g_(seed) {}
     float uniform(float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(g_); }
     int integer(int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(g_); }
@@ -54,9 +53,11 @@ public:
         const auto bits = static_cast<std::uint32_t>(integer(1, (1 << 23) - 1));
         return sign() * std::bit_cast<float>(bits);
     }
-    std::array<float, 4> colour() { return {uniform(0, 1), uniform(0, 1), uniform(0, 1), uniform(0.25f, 1)}; }
+    std::array<float, 4> colour() {
+        return {uniform(0, 1), uniform(0, 1), uniform(0, 1), uniform(0.25f, 1)};
+    }
 
-private:
+  private:
     std::mt19937_64 g_;
 };
 
@@ -75,7 +76,8 @@ SceneDraw draw_of(const SceneFile& s, PrimitiveType p, VertexSpace space) {
     SceneDraw d;
     d.primitive = p;
     d.space = space;
-    d.state.viewport = {0, 0, static_cast<std::int32_t>(s.target.width), static_cast<std::int32_t>(s.target.height)};
+    d.state.viewport = {0, 0, static_cast<std::int32_t>(s.target.width),
+                        static_cast<std::int32_t>(s.target.height)};
     return d;
 }
 
@@ -97,18 +99,20 @@ void window_vertex(SceneDraw& d, float x, float y, float z, std::array<float, 4>
 
 // A clip-space vertex inside the view volume at NDC (x, y, z) and the given w.
 std::array<float, 4> inside(Rng& r, float w, float range = 0.9f) {
-    return {r.uniform(-range, range) * w, r.uniform(-range, range) * w, r.uniform(-0.9f, 0.9f) * w, w};
+    return {r.uniform(-range, range) * w, r.uniform(-range, range) * w, r.uniform(-0.9f, 0.9f) * w,
+            w};
 }
 
 CompareFunc any_compare(Rng& r) {
-    return r.pick({CompareFunc::Less, CompareFunc::Lequal, CompareFunc::Greater, CompareFunc::Gequal,
-                   CompareFunc::Equal, CompareFunc::NotEqual, CompareFunc::Always});
+    return r.pick({CompareFunc::Less, CompareFunc::Lequal, CompareFunc::Greater,
+                   CompareFunc::Gequal, CompareFunc::Equal, CompareFunc::NotEqual,
+                   CompareFunc::Always});
 }
 
 // Triangles with one component of some vertices set by `extreme` (index 0..3 of the clip
 // position), the others inside the view volume; smooth colours, depth tested.
-SceneFile extreme_component(const std::string& kind, std::string description, Rng& r, std::size_t component,
-                            const std::function<float(Rng&)>& extreme) {
+SceneFile extreme_component(const std::string& kind, std::string description, Rng& r,
+                            std::size_t component, const std::function<float(Rng&)>& extreme) {
     SceneFile s = base(kind, std::move(description), 64, 64, ColorFormat::Rgba8, DepthFormat::Z24);
     for (int t = 0; t < 12; ++t) {
         SceneDraw d = draw_of(s, PrimitiveType::Triangles, VertexSpace::Clip);
@@ -122,7 +126,8 @@ SceneFile extreme_component(const std::string& kind, std::string description, Rn
                 if (component == 3 && r.chance(0.5f)) {
                     // Keep the vertex's direction: x, y, z scaled with w.
                     const float w = p[3];
-                    p = {r.uniform(-0.9f, 0.9f) * w, r.uniform(-0.9f, 0.9f) * w, r.uniform(-0.9f, 0.9f) * w, w};
+                    p = {r.uniform(-0.9f, 0.9f) * w, r.uniform(-0.9f, 0.9f) * w,
+                         r.uniform(-0.9f, 0.9f) * w, w};
                     for (std::size_t c = 0; c < 3; ++c) {
                         if (!std::isfinite(p[c])) p[c] = std::copysign(kMax, p[c]);
                     }
@@ -136,43 +141,52 @@ SceneFile extreme_component(const std::string& kind, std::string description, Rn
 }
 
 SceneFile huge(const std::string& axis, std::size_t component, Rng& r) {
-    return extreme_component("huge_coordinates_" + axis,
-                             "Triangles with one to three vertices whose clip " + axis +
-                                 " is up to float's largest value (10^30 to 3.4*10^38, either sign), the rest "
-                                 "inside the view volume: clipping distances near overflow and window "
-                                 "coordinates that are infinite or NaN before the clipper removes them.",
-                             r, component, [](Rng& g) { return g.chance(0.2f) ? g.sign() * kMax : g.magnitude(30, 38.5f); });
+    return extreme_component(
+        "huge_coordinates_" + axis,
+        "Triangles with one to three vertices whose clip " + axis +
+            " is up to float's largest value (10^30 to 3.4*10^38, either sign), the rest "
+            "inside the view volume: clipping distances near overflow and window "
+            "coordinates that are infinite or NaN before the clipper removes them.",
+        r, component,
+        [](Rng& g) { return g.chance(0.2f) ? g.sign() * kMax : g.magnitude(30, 38.5f); });
 }
 
 SceneFile subnormal(const std::string& axis, std::size_t component, Rng& r) {
-    return extreme_component("subnormal_coordinates_" + axis,
-                             "Triangles with one to three vertices whose clip " + axis +
-                                 " is subnormal (or the smallest normal float): llvmpipe flushes denormal "
-                                 "inputs and results to zero, so such a w means w = 0.",
-                             r, component, [](Rng& g) {
-                                 const int k = g.integer(0, 3);
-                                 return k == 0 ? g.sign() * kDenormMin : k == 1 ? g.sign() * kNormMin : g.subnormal();
-                             });
+    return extreme_component(
+        "subnormal_coordinates_" + axis,
+        "Triangles with one to three vertices whose clip " + axis +
+            " is subnormal (or the smallest normal float): llvmpipe flushes denormal "
+            "inputs and results to zero, so such a w means w = 0.",
+        r, component, [](Rng& g) {
+            const int k = g.integer(0, 3);
+            return k == 0 ? g.sign() * kDenormMin : k == 1 ? g.sign() * kNormMin : g.subnormal();
+        });
 }
 
 SceneFile tiny_w(const std::string& kind, Rng& r, int signs) {
-    SceneFile s = base(kind,
-                       signs == 0   ? "Triangles whose vertices have a positive w between 10^-38 and 10^-6, x and y up "
-                                      "to a few times w: 1/w near overflow, NDC far outside and inside."
-                       : signs == 1 ? "Triangles with vertices of tiny negative w (-10^-38 to -10^-6): behind the eye, "
-                                      "clipped away or clipped to a sliver."
-                                    : "Triangles mixing tiny positive and tiny negative w in one triangle: the "
-                                      "clipper's w = 0 crossing at the smallest scales.",
-                       64, 64, ColorFormat::Rgba8, DepthFormat::Z16);
+    SceneFile s = base(
+        kind,
+        signs == 0
+            ? "Triangles whose vertices have a positive w between 10^-38 and 10^-6, x and y up "
+              "to a few times w: 1/w near overflow, NDC far outside and inside."
+        : signs == 1
+            ? "Triangles with vertices of tiny negative w (-10^-38 to -10^-6): behind the eye, "
+              "clipped away or clipped to a sliver."
+            : "Triangles mixing tiny positive and tiny negative w in one triangle: the "
+              "clipper's w = 0 crossing at the smallest scales.",
+        64, 64, ColorFormat::Rgba8, DepthFormat::Z16);
     for (int t = 0; t < 12; ++t) {
         SceneDraw d = draw_of(s, PrimitiveType::Triangles, VertexSpace::Clip);
         d.state.depth_test = CompareFunc::Less;
         for (int k = 0; k < 3; ++k) {
             float w = std::fabs(r.magnitude(-38, -6));
-            if (signs == 1 || (signs == 2 && k == 1) || (signs == 2 && k == 2 && r.chance(0.5f))) w = -w;
+            if (signs == 1 || (signs == 2 && k == 1) || (signs == 2 && k == 2 && r.chance(0.5f)))
+                w = -w;
             if (k == 0 && signs != 1 && r.chance(0.5f)) w = r.uniform(0.5f, 2.0f);
             const float a = std::fabs(w);
-            clip_vertex(d, {r.uniform(-3, 3) * a, r.uniform(-3, 3) * a, r.uniform(-0.9f, 0.9f) * a, w}, r.colour());
+            clip_vertex(d,
+                        {r.uniform(-3, 3) * a, r.uniform(-3, 3) * a, r.uniform(-0.9f, 0.9f) * a, w},
+                        r.colour());
         }
         s.draws.push_back(std::move(d));
     }
@@ -180,12 +194,13 @@ SceneFile tiny_w(const std::string& kind, Rng& r, int signs) {
 }
 
 SceneFile guard_band(const std::string& kind, Rng& r, bool both) {
-    SceneFile s = base(kind,
-                       both ? "Triangles with vertices at x/w and y/w from 10^4 to 10^30: far beyond any guard "
-                              "band in both directions, clipped back into the viewport."
-                            : "Triangles with vertices at x/w from 10^4 to 10^30, y inside: far beyond any guard "
-                              "band, clipped back into the viewport.",
-                       64, 64, ColorFormat::Rgba8, DepthFormat::Z24);
+    SceneFile s = base(
+        kind,
+        both ? "Triangles with vertices at x/w and y/w from 10^4 to 10^30: far beyond any guard "
+               "band in both directions, clipped back into the viewport."
+             : "Triangles with vertices at x/w from 10^4 to 10^30, y inside: far beyond any guard "
+               "band, clipped back into the viewport.",
+        64, 64, ColorFormat::Rgba8, DepthFormat::Z24);
     for (int t = 0; t < 12; ++t) {
         SceneDraw d = draw_of(s, PrimitiveType::Triangles, VertexSpace::Clip);
         d.state.depth_test = CompareFunc::Less;
@@ -204,13 +219,17 @@ SceneFile guard_band(const std::string& kind, Rng& r, bool both) {
 
 SceneFile viewport(const std::string& kind, Rng& r, int variant) {
     static const char* text[] = {
-        "A 16384x16384 viewport at (-32768, -32768), the smallest origin: window coordinates near -32768, all "
+        "A 16384x16384 viewport at (-32768, -32768), the smallest origin: window coordinates near "
+        "-32768, all "
         "off a 64x64 target; nothing may be drawn, and the snapped positions stay in range.",
-        "A 16384x16384 viewport at (-16320, -16320) whose top right corner reaches into a 64x64 target: "
+        "A 16384x16384 viewport at (-16320, -16320) whose top right corner reaches into a 64x64 "
+        "target: "
         "window coordinates up to 16384 away from the drawn pixels.",
-        "A 16384x16384 viewport at the largest origin (32767, 32767), off the target: window coordinates near "
+        "A 16384x16384 viewport at the largest origin (32767, 32767), off the target: window "
+        "coordinates near "
         "49151, the snapped bit budget's limit.",
-        "A 16384-wide, 1-high viewport at x = -16320, y = 20, and a 1-wide, 16384-high one: extreme aspect ratios."};
+        "A 16384-wide, 1-high viewport at x = -16320, y = 20, and a 1-wide, 16384-high one: "
+        "extreme aspect ratios."};
     SceneFile s = base(kind, text[variant], 64, 64, ColorFormat::Rgba8, DepthFormat::Z24);
     const std::array<refraster::Rect, 4> vps{refraster::Rect{-32768, -32768, 16384, 16384},
                                              refraster::Rect{-16320, -16320, 16384, 16384},
@@ -236,13 +255,15 @@ SceneFile viewport(const std::string& kind, Rng& r, int variant) {
 }
 
 SceneFile largest_target(Rng& r) {
-    SceneFile s = base("largest_target",
-                       "The largest target the format allows, 16384x4096 = 67,108,864 pixels, with a few small "
-                       "triangles and points at its corners and centre (pixel coordinates near 16383 and 4095).",
-                       16384, 4096);
+    SceneFile s = base(
+        "largest_target",
+        "The largest target the format allows, 16384x4096 = 67,108,864 pixels, with a few small "
+        "triangles and points at its corners and centre (pixel coordinates near 16383 and 4095).",
+        16384, 4096);
     s.clear.color = {0.25f, 0.5f, 0.75f, 1.0f};
     SceneDraw d = draw_of(s, PrimitiveType::Triangles, VertexSpace::Window);
-    const std::array<std::array<float, 2>, 5> at{{{2, 2}, {16370, 2}, {2, 4082}, {16370, 4082}, {8190, 2046}}};
+    const std::array<std::array<float, 2>, 5> at{
+        {{2, 2}, {16370, 2}, {2, 4082}, {16370, 4082}, {8190, 2046}}};
     for (const auto& a : at) {
         const float x = a[0] + static_cast<float>(r.integer(0, 4)) * 0.125f;
         const float y = a[1] + static_cast<float>(r.integer(0, 4)) * 0.125f;
@@ -260,15 +281,19 @@ SceneFile largest_target(Rng& r) {
 }
 
 SceneFile long_target(const std::string& kind, Rng& r, bool wide) {
-    SceneFile s = base(kind,
-                       wide ? "A 16384x4 target with triangles and a line spanning its whole width."
-                            : "A 4x16384 target with triangles and a line spanning its whole height.",
-                       wide ? 16384 : 4, wide ? 4 : 16384, ColorFormat::Rgba8, DepthFormat::Z16);
-    const auto pos = [&](float along, float across) { return wide ? std::array<float, 2>{along, across} : std::array<float, 2>{across, along}; };
+    SceneFile s =
+        base(kind,
+             wide ? "A 16384x4 target with triangles and a line spanning its whole width."
+                  : "A 4x16384 target with triangles and a line spanning its whole height.",
+             wide ? 16384 : 4, wide ? 4 : 16384, ColorFormat::Rgba8, DepthFormat::Z16);
+    const auto pos = [&](float along, float across) {
+        return wide ? std::array<float, 2>{along, across} : std::array<float, 2>{across, along};
+    };
     SceneDraw d = draw_of(s, PrimitiveType::Triangles, VertexSpace::Window);
     d.state.depth_test = CompareFunc::Less;
     for (int t = 0; t < 4; ++t) {
-        const float a0 = r.uniform(-100, 200), a1 = r.uniform(16200, 16500), am = r.uniform(0, 16384);
+        const float a0 = r.uniform(-100, 200), a1 = r.uniform(16200, 16500),
+                    am = r.uniform(0, 16384);
         const auto p0 = pos(a0, r.uniform(-1, 5));
         const auto p1 = pos(a1, r.uniform(-1, 5));
         const auto p2 = pos(am, r.uniform(-1, 5));
@@ -289,23 +314,29 @@ SceneFile long_target(const std::string& kind, Rng& r, bool wide) {
 // Slivers 16,000 pixels long, less than a pixel thick, through rows of pixel centres.
 SceneFile sliver(const std::string& kind, Rng& r, int dir) {
     static const char* text[] = {
-        "Horizontal slivers 16,000 pixels long and a few hundredths of a pixel thick, through and beside rows "
+        "Horizontal slivers 16,000 pixels long and a few hundredths of a pixel thick, through and "
+        "beside rows "
         "of pixel centres, on a 16384x8 target.",
-        "Vertical slivers 16,000 pixels long and a few hundredths of a pixel thick, on an 8x16384 target.",
-        "Slivers 16,000 pixels long rising 6 pixels, on a 16384x8 target: long shallow edges stepping across "
+        "Vertical slivers 16,000 pixels long and a few hundredths of a pixel thick, on an 8x16384 "
+        "target.",
+        "Slivers 16,000 pixels long rising 6 pixels, on a 16384x8 target: long shallow edges "
+        "stepping across "
         "pixel centres."};
     const bool vertical = dir == 1;
     SceneFile s = base(kind, text[dir], vertical ? 8 : 16384, vertical ? 16384 : 8);
     for (int t = 0; t < 8; ++t) {
         SceneDraw d = draw_of(s, PrimitiveType::Triangles, VertexSpace::Window);
         d.state.shade = r.chance(0.5f) ? ShadeModel::Flat : ShadeModel::Smooth;
-        const float a0 = static_cast<float>(r.integer(0, 383)) + 0.5f + static_cast<float>(r.integer(-4, 4)) / 64.0f;
+        const float a0 = static_cast<float>(r.integer(0, 383)) + 0.5f +
+                         static_cast<float>(r.integer(-4, 4)) / 64.0f;
         const float a1 = a0 + 16000.0f;
-        const float c = static_cast<float>(r.integer(1, 6)) + 0.5f + static_cast<float>(r.integer(-8, 8)) / 1024.0f;
+        const float c = static_cast<float>(r.integer(1, 6)) + 0.5f +
+                        static_cast<float>(r.integer(-8, 8)) / 1024.0f;
         const float thick = static_cast<float>(r.integer(1, 40)) / 1024.0f;
         const float rise = dir == 2 ? 6.0f : 0.0f;
         const float c0 = dir == 2 ? 0.5f + static_cast<float>(r.integer(-8, 8)) / 1024.0f : c;
-        std::array<std::array<float, 2>, 3> p{{{a0, c0}, {a1, c0 + rise}, {r.uniform(a0, a1), c0 + rise * 0.5f + thick}}};
+        std::array<std::array<float, 2>, 3> p{
+            {{a0, c0}, {a1, c0 + rise}, {r.uniform(a0, a1), c0 + rise * 0.5f + thick}}};
         if (r.chance(0.5f)) p[2][1] = c0 + rise * 0.5f - thick;
         for (auto& q : p) {
             if (vertical) std::swap(q[0], q[1]);
@@ -321,36 +352,43 @@ SceneFile sliver(const std::string& kind, Rng& r, int dir) {
 // NaN, while the snapped triangle covers a row of pixel centres. Long lists of them, over
 // ordinary triangles that give the depth buffer varied values.
 SceneFile nan_planes(const std::string& kind, Rng& r, DepthFormat depth, ColorFormat color) {
-    SceneFile s = base(kind,
-                       "Long triangle lists of triangles collinear in float window coordinates but not after "
-                       "snapping: setup's float area is 0, so every attribute plane (z, 1/w, colour) is NaN; "
-                       "llvmpipe's depth clamp turns the NaN depth into the far value. Random compare functions "
-                       "and shading, over ordinary triangles.",
-                       64, 64, color, depth);
+    SceneFile s = base(
+        kind,
+        "Long triangle lists of triangles collinear in float window coordinates but not after "
+        "snapping: setup's float area is 0, so every attribute plane (z, 1/w, colour) is NaN; "
+        "llvmpipe's depth clamp turns the NaN depth into the far value. Random compare functions "
+        "and shading, over ordinary triangles.",
+        64, 64, color, depth);
     s.clear.depth = r.pick({1.0f, 0.5f, 0.0f});
     for (int dn = 0; dn < 6; ++dn) {
         SceneDraw under = draw_of(s, PrimitiveType::Triangles, VertexSpace::Window);
         under.state.depth_test = CompareFunc::Always;
-        for (int k = 0; k < 3; ++k) window_vertex(under, r.uniform(-8, 72), r.uniform(-8, 72), r.uniform(0, 1), r.colour());
+        for (int k = 0; k < 3; ++k)
+            window_vertex(under, r.uniform(-8, 72), r.uniform(-8, 72), r.uniform(0, 1), r.colour());
         s.draws.push_back(std::move(under));
 
         SceneDraw d = draw_of(s, PrimitiveType::Triangles, VertexSpace::Window);
         d.state.depth_test = any_compare(r);
         d.state.depth_write = r.chance(0.8f);
         d.state.shade = r.pick({ShadeModel::Smooth, ShadeModel::Flat, ShadeModel::NoPerspective});
-        if (color == ColorFormat::Rgba32f) d.state.blend = r.pick({BlendPreset::None, BlendPreset::Alpha, BlendPreset::Add});
-        if (r.chance(0.3f)) d.state.polygon_offset = refraster::PolygonOffset{r.uniform(-2, 2), r.uniform(-4, 4)};
+        if (color == ColorFormat::Rgba32f)
+            d.state.blend = r.pick({BlendPreset::None, BlendPreset::Alpha, BlendPreset::Add});
+        if (r.chance(0.3f))
+            d.state.polygon_offset = refraster::PolygonOffset{r.uniform(-2, 2), r.uniform(-4, 4)};
         for (int t = 0; t < 100; ++t) {
             // Points along a line of slope -2/1024 per L pixels: y offsets 3, 1, -1 (in 1/1024 px)
             // snap to 1, 0, 0 (in 1/256 px), so the snapped triangle has a horizontal bottom edge
             // on a row of centres.
             const float L = static_cast<float>(r.integer(1, 12));
             const float y = static_cast<float>(r.integer(0, 63)) + 0.5f;
-            const float x = static_cast<float>(r.integer(0, 63)) + static_cast<float>(r.integer(0, 3)) * 0.25f;
-            const float m = static_cast<float>(r.integer(-1, 1)) * 4.0f / 1024.0f;  // shift by whole subpixels
-            std::array<std::array<float, 3>, 3> p{{{x - L, y + m + 3.0f / 1024.0f, r.uniform(0, 1)},
-                                                   {x, y + m + 1.0f / 1024.0f, r.uniform(0, 1)},
-                                                   {x + L, y + m - 1.0f / 1024.0f, r.uniform(0, 1)}}};
+            const float x =
+                static_cast<float>(r.integer(0, 63)) + static_cast<float>(r.integer(0, 3)) * 0.25f;
+            const float m =
+                static_cast<float>(r.integer(-1, 1)) * 4.0f / 1024.0f;  // shift by whole subpixels
+            std::array<std::array<float, 3>, 3> p{
+                {{x - L, y + m + 3.0f / 1024.0f, r.uniform(0, 1)},
+                 {x, y + m + 1.0f / 1024.0f, r.uniform(0, 1)},
+                 {x + L, y + m - 1.0f / 1024.0f, r.uniform(0, 1)}}};
             if (r.chance(0.5f)) std::swap(p[0], p[2]);
             if (r.chance(0.5f)) std::swap(p[1], p[2]);
             for (const auto& q : p) window_vertex(d, q[0], q[1], q[2], r.colour());
@@ -364,20 +402,22 @@ SceneFile nan_planes(const std::string& kind, Rng& r, DepthFormat depth, ColorFo
 // draw module's float cull and llvmpipe's fixed-point cull disagree on some of them; vertices
 // outside the view volume in some segments only, so that only those segments go through the
 // draw pipeline's float cull.
-SceneFile segments(const std::string& kind, Rng& r, PrimitiveType prim, bool first, bool indexed = false) {
+SceneFile segments(const std::string& kind, Rng& r, PrimitiveType prim, bool first,
+                   bool indexed = false) {
     const char* what = prim == PrimitiveType::Triangles       ? "a triangle list of 4,800 vertices"
                        : prim == PrimitiveType::TriangleStrip ? "a triangle strip of 9,000 vertices"
                                                               : "a triangle fan of 9,000 vertices";
-    SceneFile s = base(kind,
-                       std::string("Culling on, ") + what +
-                           " of slivers whose float and fixed-point orientation disagree now and then, and "
-                           "vertices outside the view volume in some of the draw module's " +
-                           (indexed ? std::string("segments only, drawn with 32-bit indices, which split at "
-                                                  "vsplit's 1,024-vertex segment size")
-                                    : std::string("4,096-vertex segments only")) +
-                           ": the float cull of the draw pipeline applies to exactly those segments." +
-                           (first ? " First-vertex convention." : ""),
-                       256, 64);
+    SceneFile s =
+        base(kind,
+             std::string("Culling on, ") + what +
+                 " of slivers whose float and fixed-point orientation disagree now and then, and "
+                 "vertices outside the view volume in some of the draw module's " +
+                 (indexed ? std::string("segments only, drawn with 32-bit indices, which split at "
+                                        "vsplit's 1,024-vertex segment size")
+                          : std::string("4,096-vertex segments only")) +
+                 ": the float cull of the draw pipeline applies to exactly those segments." +
+                 (first ? " First-vertex convention." : ""),
+             256, 64);
     SceneDraw d = draw_of(s, prim, VertexSpace::Window);
     d.state.cull = r.pick({CullMode::Back, CullMode::Front});
     d.state.front_face = r.chance(0.5f) ? refraster::FrontFace::Ccw : refraster::FrontFace::Cw;
@@ -387,10 +427,11 @@ SceneFile segments(const std::string& kind, Rng& r, PrimitiveType prim, bool fir
     // Which of the vertices are pushed out of the view volume (past the right edge).
     // Indexed: inside the second 1,024-vertex segment, so that only its triangles take the
     // float cull (one 4,096-vertex segment would put the whole start of the draw there).
-    const std::size_t out_at = static_cast<std::size_t>(indexed ? r.integer(1100, 1900)
-                                                                : r.integer(4200, static_cast<int>(n) - 40));
+    const std::size_t out_at = static_cast<std::size_t>(
+        indexed ? r.integer(1100, 1900) : r.integer(4200, static_cast<int>(n) - 40));
     const auto colour_of = [](std::size_t i) {
-        return std::array<float, 4>{static_cast<float>(i % 251) / 255.0f, static_cast<float>((i / 251) % 251) / 255.0f,
+        return std::array<float, 4>{static_cast<float>(i % 251) / 255.0f,
+                                    static_cast<float>((i / 251) % 251) / 255.0f,
                                     static_cast<float>((i * 7) % 256) / 255.0f, 1.0f};
     };
     const auto jitter = [&] { return static_cast<float>(r.integer(-3, 3)) / 1024.0f; };
@@ -398,21 +439,27 @@ SceneFile segments(const std::string& kind, Rng& r, PrimitiveType prim, bool fir
         for (std::size_t t = 0; t < n / 3; ++t) {
             const float y = static_cast<float>(r.integer(0, 63)) + 0.5f;
             // Inside the viewport (x0 + L < 256): only the vertices chosen below leave it.
-            const float x0 = static_cast<float>(r.integer(0, 230)) + static_cast<float>(r.integer(0, 7)) / 8.0f;
+            const float x0 =
+                static_cast<float>(r.integer(0, 230)) + static_cast<float>(r.integer(0, 7)) / 8.0f;
             const float L = static_cast<float>(r.integer(2, 16));
-            std::array<std::array<float, 2>, 3> p{{{x0, y + jitter()}, {x0 + L, y + jitter()},
-                                                   {x0 + static_cast<float>(r.integer(1, 7)) * L / 8.0f, y + jitter()}}};
+            std::array<std::array<float, 2>, 3> p{
+                {{x0, y + jitter()},
+                 {x0 + L, y + jitter()},
+                 {x0 + static_cast<float>(r.integer(1, 7)) * L / 8.0f, y + jitter()}}};
             if (r.chance(0.5f)) {
                 // A sliver whose orientation flips in snapping: ends 3/1024 px above and below the
                 // row (snapped to +1 and -1 subpixel), the third vertex a quarter along, 2/1024 px
-                // up: above the float line (1.5/1024 there) but snapped (2049.5 -> 2048, even) below
-                // the snapped one.
-                p = {{{x0, y + 3.0f / 1024.0f}, {x0 + L, y - 3.0f / 1024.0f}, {x0 + L / 4.0f, y + 2.0f / 1024.0f}}};
+                // up: above the float line (1.5/1024 there) but snapped (2049.5 -> 2048, even)
+                // below the snapped one.
+                p = {{{x0, y + 3.0f / 1024.0f},
+                      {x0 + L, y - 3.0f / 1024.0f},
+                      {x0 + L / 4.0f, y + 2.0f / 1024.0f}}};
             }
             if (r.chance(0.5f)) std::swap(p[0], p[1]);
             for (std::size_t k = 0; k < 3; ++k) {
                 float x = p[k][0];
-                if (3 * t + k == out_at || (3 * t + k > out_at && 3 * t + k < out_at + 3)) x = 300.0f + x;
+                if (3 * t + k == out_at || (3 * t + k > out_at && 3 * t + k < out_at + 3))
+                    x = 300.0f + x;
                 window_vertex(d, x, p[k][1], 0, colour_of(t));
             }
         }
@@ -434,7 +481,8 @@ SceneFile segments(const std::string& kind, Rng& r, PrimitiveType prim, bool fir
             const float x = 10.0f + static_cast<float>(k) * (240.0f / 9000.0f);
             float xr = std::round(x * 1024.0f) / 1024.0f;
             if (k >= out_at && k < out_at + 2) xr += 400.0f;
-            window_vertex(d, xr, 30.5f + jitter() + static_cast<float>(r.integer(-2, 2)) / 256.0f, 0, colour_of(k));
+            window_vertex(d, xr, 30.5f + jitter() + static_cast<float>(r.integer(-2, 2)) / 256.0f,
+                          0, colour_of(k));
         }
     }
     if (indexed) {
@@ -455,24 +503,29 @@ SceneFile segments(const std::string& kind, Rng& r, PrimitiveType prim, bool fir
 // past the far plane, at vertex 0's window position, lies in the second segment only: its
 // triangles take the draw pipeline's float cull, the others llvmpipe's fixed-point cull alone.
 // A fan of more than 4,096 vertices is split; one of at most 4,096 is a single segment.
-SceneFile segments_fan_split(const std::string& kind, Rng& r, bool first, std::size_t n, bool indexed = false) {
-    SceneFile s = base(kind,
-                       "Culling on, a triangle fan of " + std::to_string(n) + " vertices" +
-                           std::string(indexed ? " drawn with 32-bit indices (which split a fan of more than 1,024)" : "") +
-                           ", runs of slivers in both orientations "
-                       "across the draw module's fan splits after 1,022 and 2,044 triangles, and one vertex "
-                       "beyond the far plane in the second segment only: only its slivers take the draw "
-                       "pipeline's float cull, which drops the ones the fixed-point cull keeps (a fan of at "
-                           "most 4,096 vertices is one segment)." +
-                           std::string(first ? " First-vertex convention." : ""),
-                       256, 64);
+SceneFile segments_fan_split(const std::string& kind, Rng& r, bool first, std::size_t n,
+                             bool indexed = false) {
+    SceneFile s = base(
+        kind,
+        "Culling on, a triangle fan of " + std::to_string(n) + " vertices" +
+            std::string(indexed
+                            ? " drawn with 32-bit indices (which split a fan of more than 1,024)"
+                            : "") +
+            ", runs of slivers in both orientations "
+            "across the draw module's fan splits after 1,022 and 2,044 triangles, and one vertex "
+            "beyond the far plane in the second segment only: only its slivers take the draw "
+            "pipeline's float cull, which drops the ones the fixed-point cull keeps (a fan of at "
+            "most 4,096 vertices is one segment)." +
+            std::string(first ? " First-vertex convention." : ""),
+        256, 64);
     SceneDraw d = draw_of(s, PrimitiveType::TriangleFan, VertexSpace::Window);
     d.state.cull = r.pick({CullMode::Back, CullMode::Front});
     d.state.front_face = r.chance(0.5f) ? refraster::FrontFace::Ccw : refraster::FrontFace::Cw;
     d.state.shade = ShadeModel::Flat;
     if (first) d.state.provoking_vertex = refraster::ProvokingVertex::First;
     const auto colour_of = [](std::size_t i) {
-        return std::array<float, 4>{static_cast<float>(i % 251) / 255.0f, static_cast<float>((i / 251) % 251) / 255.0f,
+        return std::array<float, 4>{static_cast<float>(i % 251) / 255.0f,
+                                    static_cast<float>((i / 251) % 251) / 255.0f,
                                     static_cast<float>((i * 7) % 256) / 255.0f, 1.0f};
     };
     const float cx = static_cast<float>(r.integer(100, 155)) + 0.5f;
@@ -480,10 +533,15 @@ SceneFile segments_fan_split(const std::string& kind, Rng& r, bool first, std::s
     const float right = static_cast<float>(r.integer(24, 96));
     const float left = -static_cast<float>(r.integer(24, 96));
     const std::array<float, 3> centre{cx, cy + 3.0f / 1024.0f, 0.0f};
-    const auto end_of = [&](float L) { return std::array<float, 3>{cx + L, cy - 3.0f / 1024.0f, 0.0f}; };
-    const auto quarter_of = [&](float L) { return std::array<float, 3>{cx + L / 4.0f, cy + 2.0f / 1024.0f, 0.0f}; };
+    const auto end_of = [&](float L) {
+        return std::array<float, 3>{cx + L, cy - 3.0f / 1024.0f, 0.0f};
+    };
+    const auto quarter_of = [&](float L) {
+        return std::array<float, 3>{cx + L / 4.0f, cy + 2.0f / 1024.0f, 0.0f};
+    };
     constexpr std::size_t half_run = 12;  // sliver triangles on either side of a split
-    // Triangle k of the fan is (0, k + 1, k + 2): rim vertex i belongs to triangles i - 2 and i - 1.
+    // Triangle k of the fan is (0, k + 1, k + 2): rim vertex i belongs to triangles i - 2 and i
+    // - 1.
     std::vector<std::array<float, 3>> rim(n);
     rim[0] = centre;
     for (std::size_t i = 1; i < n; ++i) {
@@ -502,9 +560,11 @@ SceneFile segments_fan_split(const std::string& kind, Rng& r, bool first, std::s
     }
     // From the first run's last vertex to the second run through vertex 0's position, and the
     // vertex beyond the far plane there (all its triangles degenerate in window x and y).
-    for (std::size_t i = 1022 + half_run + 2; i <= 1500; ++i) rim[i] = i < 1400 ? rim[1022 + half_run + 1] : centre;
+    for (std::size_t i = 1022 + half_run + 2; i <= 1500; ++i)
+        rim[i] = i < 1400 ? rim[1022 + half_run + 1] : centre;
     rim[1450 + 50] = {cx, cy + 3.0f / 1024.0f, 1.5f};
-    for (std::size_t i = 0; i < n; ++i) window_vertex(d, rim[i][0], rim[i][1], rim[i][2], colour_of(i));
+    for (std::size_t i = 0; i < n; ++i)
+        window_vertex(d, rim[i][0], rim[i][1], rim[i][2], colour_of(i));
     if (indexed) {
         std::vector<std::uint32_t> identity(n);
         for (std::size_t i = 0; i < n; ++i) identity[i] = static_cast<std::uint32_t>(i);
@@ -515,12 +575,13 @@ SceneFile segments_fan_split(const std::string& kind, Rng& r, bool first, std::s
 }
 
 SceneFile depth_limits(const std::string& kind, Rng& r, DepthFormat depth) {
-    SceneFile s = base(kind,
-                       "Triangles at window depth exactly 0 and 1 (depth ranges [0, 1] and [1, 0]), with polygon "
-                       "offsets from tiny to 10^30 in factor and units, either sign, some steep enough that "
-                       "slope times factor overflows: the offset depth is clamped to [0, 1], infinities to the "
-                       "ends, NaN to the far value.",
-                       64, 64, ColorFormat::Rgba8, depth);
+    SceneFile s = base(
+        kind,
+        "Triangles at window depth exactly 0 and 1 (depth ranges [0, 1] and [1, 0]), with polygon "
+        "offsets from tiny to 10^30 in factor and units, either sign, some steep enough that "
+        "slope times factor overflows: the offset depth is clamped to [0, 1], infinities to the "
+        "ends, NaN to the far value.",
+        64, 64, ColorFormat::Rgba8, depth);
     s.clear.depth = r.pick({1.0f, 0.5f, 0.0f});
     for (int t = 0; t < 16; ++t) {
         SceneDraw d = draw_of(s, PrimitiveType::Triangles, VertexSpace::Clip);
@@ -535,10 +596,10 @@ SceneFile depth_limits(const std::string& kind, Rng& r, DepthFormat depth) {
         const int mode = r.integer(0, 3);
         for (int k = 0; k < 3; ++k) {
             auto p = inside(r, r.uniform(0.5f, 2.0f));
-            if (mode == 0) p[2] = p[3];                          // z = 1 (far) everywhere
-            if (mode == 1) p[2] = -p[3];                         // z = 0 (near)
+            if (mode == 0) p[2] = p[3];                            // z = 1 (far) everywhere
+            if (mode == 1) p[2] = -p[3];                           // z = 0 (near)
             if (mode == 2) p[2] = (k == 0 ? -1.0f : 1.0f) * p[3];  // from near to far
-            if (mode == 3 && k == 0) {                           // a steep depth slope in a sliver
+            if (mode == 3 && k == 0) {  // a steep depth slope in a sliver
                 p[2] = p[3];
             }
             clip_vertex(d, p, r.colour());
@@ -555,34 +616,47 @@ SceneFile depth_limits(const std::string& kind, Rng& r, DepthFormat depth) {
 
 // Colours far outside [0, 1]: vertex colours up to float's largest, subnormal ones, and w tiny
 // enough that colour times 1/w overflows, so that interpolation gives infinities and NaN.
-SceneFile colours(const std::string& kind, Rng& r, ColorFormat color, BlendPreset blend, bool tiny_w) {
-    SceneFile s = base(kind,
-                       std::string("Colours far out of range into ") + (color == ColorFormat::Rgba8 ? "rgba8" : "rgba32f") +
-                           (blend == BlendPreset::None    ? ""
-                            : blend == BlendPreset::Alpha ? " with alpha blending"
-                                                          : " with additive blending") +
-                           (tiny_w ? ": vertex colours up to 10^38 with w small enough that colour/w overflows, so "
-                                     "interpolation yields infinities and NaN."
-                                   : ": vertex colours from subnormal to 3.4*10^38, both signs, smooth, flat and "
-                                     "noperspective."),
-                       32, 32, color, DepthFormat::None);
+SceneFile colours(const std::string& kind, Rng& r, ColorFormat color, BlendPreset blend,
+                  bool tiny_w) {
+    SceneFile s = base(
+        kind,
+        std::string("Colours far out of range into ") +
+            (color == ColorFormat::Rgba8 ? "rgba8" : "rgba32f") +
+            (blend == BlendPreset::None    ? ""
+             : blend == BlendPreset::Alpha ? " with alpha blending"
+                                           : " with additive blending") +
+            (tiny_w
+                 ? ": vertex colours up to 10^38 with w small enough that colour/w overflows, so "
+                   "interpolation yields infinities and NaN."
+                 : ": vertex colours from subnormal to 3.4*10^38, both signs, smooth, flat and "
+                   "noperspective."),
+        32, 32, color, DepthFormat::None);
     s.clear.color = {r.uniform(-2, 2), r.uniform(0, 1), r.magnitude(-3, 3), r.uniform(0, 1)};
-    if (color == ColorFormat::Rgba8) s.clear.color = {r.uniform(0, 1), r.uniform(0, 1), r.uniform(0, 1), r.uniform(0, 1)};
+    if (color == ColorFormat::Rgba8)
+        s.clear.color = {r.uniform(0, 1), r.uniform(0, 1), r.uniform(0, 1), r.uniform(0, 1)};
     const auto extreme_value = [&]() -> float {
         switch (r.integer(0, 6)) {
-            case 0: return r.sign() * kMax;
-            case 1: return r.magnitude(20, 38.5f);
-            case 2: return r.subnormal();
-            case 3: return r.magnitude(-3, 3);
-            case 4: return r.uniform(-1, 2);
-            case 5: return r.sign() * kNormMin;
-            default: return r.uniform(0, 1);
+            case 0:
+                return r.sign() * kMax;
+            case 1:
+                return r.magnitude(20, 38.5f);
+            case 2:
+                return r.subnormal();
+            case 3:
+                return r.magnitude(-3, 3);
+            case 4:
+                return r.uniform(-1, 2);
+            case 5:
+                return r.sign() * kNormMin;
+            default:
+                return r.uniform(0, 1);
         }
     };
     for (int t = 0; t < 16; ++t) {
         SceneDraw d = draw_of(s, PrimitiveType::Triangles, VertexSpace::Clip);
         d.state.blend = blend;
-        d.state.shade = r.pick({ShadeModel::Smooth, ShadeModel::Smooth, ShadeModel::Flat, ShadeModel::NoPerspective});
+        d.state.shade = r.pick(
+            {ShadeModel::Smooth, ShadeModel::Smooth, ShadeModel::Flat, ShadeModel::NoPerspective});
         for (int k = 0; k < 3; ++k) {
             const float w = tiny_w ? std::fabs(r.magnitude(-30, -8)) : r.uniform(0.5f, 2.0f);
             std::array<float, 4> c{};
@@ -599,18 +673,23 @@ SceneFile colours(const std::string& kind, Rng& r, ColorFormat color, BlendPrese
 // triangles in batches of at most 128 vertices, the last batch of a draw after draw_vbo has
 // restored the caller's floating-point state, so with denormals kept.
 SceneFile subnormal_setup(const std::string& kind, Rng& r) {
-    SceneFile s = base(kind,
-                       "Draws that start with one clipped triangle whose vertex colours lie near the smallest "
-                       "normal float (noperspective or smooth, into rgba32f), followed by none or by 70 to 100 "
-                       "ordinary triangles, clipped or not: the draw pipeline hands its triangles to llvmpipe's setup in "
-                       "batches of at most 128 vertices, and a draw's last batch is set up after draw_vbo has "
-                       "restored the floating-point state, so without flushing denormals.",
-                       32, 32, ColorFormat::Rgba32f, DepthFormat::None);
+    SceneFile s = base(
+        kind,
+        "Draws that start with one clipped triangle whose vertex colours lie near the smallest "
+        "normal float (noperspective or smooth, into rgba32f), followed by none or by 70 to 100 "
+        "ordinary triangles, clipped or not: the draw pipeline hands its triangles to llvmpipe's "
+        "setup in "
+        "batches of at most 128 vertices, and a draw's last batch is set up after draw_vbo has "
+        "restored the floating-point state, so without flushing denormals.",
+        32, 32, ColorFormat::Rgba32f, DepthFormat::None);
     const auto tiny = [&]() -> float {
         switch (r.integer(0, 2)) {
-            case 0: return r.sign() * kNormMin;
-            case 1: return r.subnormal();
-            default: return r.uniform(-1, 1);
+            case 0:
+                return r.sign() * kNormMin;
+            case 1:
+                return r.subnormal();
+            default:
+                return r.uniform(-1, 1);
         }
     };
     for (int dn = 0; dn < 16; ++dn) {
@@ -639,11 +718,12 @@ SceneFile subnormal_setup(const std::string& kind, Rng& r) {
 }
 
 SceneFile wide_lines(const std::string& kind, Rng& r, PrimitiveType prim) {
-    SceneFile s = base(kind,
-                       std::string("Width-255 ") + (prim == PrimitiveType::Lines ? "lines" : "line loops") +
-                           " crossing the view volume's planes (x, y, near, far) and w = 0, on a 128x128 target: "
-                           "the clipper's new ends, then parallelograms 255 pixels wide.",
-                       128, 128, ColorFormat::Rgba8, DepthFormat::Z24);
+    SceneFile s = base(
+        kind,
+        std::string("Width-255 ") + (prim == PrimitiveType::Lines ? "lines" : "line loops") +
+            " crossing the view volume's planes (x, y, near, far) and w = 0, on a 128x128 target: "
+            "the clipper's new ends, then parallelograms 255 pixels wide.",
+        128, 128, ColorFormat::Rgba8, DepthFormat::Z24);
     for (int t = 0; t < 6; ++t) {
         SceneDraw d = draw_of(s, prim, VertexSpace::Clip);
         d.state.line_width = r.chance(0.7f) ? 255.0f : r.uniform(100, 255);
@@ -662,14 +742,17 @@ SceneFile wide_lines(const std::string& kind, Rng& r, PrimitiveType prim) {
 }
 
 SceneFile big_points(const std::string& kind, Rng& r, bool polygon_mode) {
-    SceneFile s = base(kind,
-                       polygon_mode ? "Triangles in polygon mode point with size-255 points, vertices across the "
-                                      "clip planes: the clipper's new vertices become points too."
-                                    : "Size-255 points with centres just inside and just outside every clip plane "
-                                      "(x, y, near, far): a point is dropped whole when its centre is outside, and "
-                                      "one inside lights pixels far beyond the viewport.",
-                       128, 128, ColorFormat::Rgba8, DepthFormat::Z24);
-    SceneDraw d = draw_of(s, polygon_mode ? PrimitiveType::Triangles : PrimitiveType::Points, VertexSpace::Clip);
+    SceneFile s =
+        base(kind,
+             polygon_mode
+                 ? "Triangles in polygon mode point with size-255 points, vertices across the "
+                   "clip planes: the clipper's new vertices become points too."
+                 : "Size-255 points with centres just inside and just outside every clip plane "
+                   "(x, y, near, far): a point is dropped whole when its centre is outside, and "
+                   "one inside lights pixels far beyond the viewport.",
+             128, 128, ColorFormat::Rgba8, DepthFormat::Z24);
+    SceneDraw d = draw_of(s, polygon_mode ? PrimitiveType::Triangles : PrimitiveType::Points,
+                          VertexSpace::Clip);
     d.state.viewport = {32, 32, 64, 64};
     d.state.point_size = 255;
     d.state.depth_test = CompareFunc::Lequal;
@@ -686,14 +769,17 @@ SceneFile big_points(const std::string& kind, Rng& r, bool polygon_mode) {
 }
 
 SceneFile perspective(const std::string& kind, Rng& r, bool clipped) {
-    SceneFile s = base(kind,
-                       clipped ? "Perspective triangles whose vertices' w differ by a factor of 10^8 (10^-4 to 10^4), "
-                                 "crossing the view volume, smooth colours and depth: 1/w planes over eight "
-                                 "decades, and the clipper's new vertices."
-                               : "Perspective triangles inside the view volume whose vertices' w differ by a factor of "
-                                 "10^8 (10^-4 to 10^4): smooth colours divided by a 1/w plane spanning eight "
-                                 "decades, and depth.",
-                       64, 64, ColorFormat::Rgba8, DepthFormat::Z32f);
+    SceneFile s = base(
+        kind,
+        clipped
+            ? "Perspective triangles whose vertices' w differ by a factor of 10^8 (10^-4 to 10^4), "
+              "crossing the view volume, smooth colours and depth: 1/w planes over eight "
+              "decades, and the clipper's new vertices."
+            : "Perspective triangles inside the view volume whose vertices' w differ by a factor "
+              "of "
+              "10^8 (10^-4 to 10^4): smooth colours divided by a 1/w plane spanning eight "
+              "decades, and depth.",
+        64, 64, ColorFormat::Rgba8, DepthFormat::Z32f);
     for (int t = 0; t < 10; ++t) {
         SceneDraw d = draw_of(s, PrimitiveType::Triangles, VertexSpace::Clip);
         d.state.depth_test = CompareFunc::Less;
@@ -715,43 +801,72 @@ const std::vector<std::pair<std::string, Maker>>& makers() {
         std::vector<std::pair<std::string, Maker>> v;
         const std::array<std::string, 4> axes{"x", "y", "z", "w"};
         for (std::size_t a = 0; a < 4; ++a) {
-            v.emplace_back("huge_coordinates_" + axes[a], [a, axes](Rng& r) { return huge(axes[a], a, r); });
+            v.emplace_back("huge_coordinates_" + axes[a],
+                           [a, axes](Rng& r) { return huge(axes[a], a, r); });
         }
         for (std::size_t a = 0; a < 4; ++a) {
-            v.emplace_back("subnormal_coordinates_" + axes[a], [a, axes](Rng& r) { return subnormal(axes[a], a, r); });
+            v.emplace_back("subnormal_coordinates_" + axes[a],
+                           [a, axes](Rng& r) { return subnormal(axes[a], a, r); });
         }
         v.emplace_back("tiny_w_positive", [](Rng& r) { return tiny_w("tiny_w_positive", r, 0); });
         v.emplace_back("tiny_w_negative", [](Rng& r) { return tiny_w("tiny_w_negative", r, 1); });
-        v.emplace_back("tiny_w_both_signs", [](Rng& r) { return tiny_w("tiny_w_both_signs", r, 2); });
-        v.emplace_back("beyond_guard_band_x", [](Rng& r) { return guard_band("beyond_guard_band_x", r, false); });
-        v.emplace_back("beyond_guard_band_xy", [](Rng& r) { return guard_band("beyond_guard_band_xy", r, true); });
-        v.emplace_back("viewport_min_origin", [](Rng& r) { return viewport("viewport_min_origin", r, 0); });
-        v.emplace_back("viewport_reaching_target", [](Rng& r) { return viewport("viewport_reaching_target", r, 1); });
-        v.emplace_back("viewport_max_origin", [](Rng& r) { return viewport("viewport_max_origin", r, 2); });
-        v.emplace_back("viewport_extreme_aspect", [](Rng& r) { return viewport("viewport_extreme_aspect", r, 3); });
+        v.emplace_back("tiny_w_both_signs",
+                       [](Rng& r) { return tiny_w("tiny_w_both_signs", r, 2); });
+        v.emplace_back("beyond_guard_band_x",
+                       [](Rng& r) { return guard_band("beyond_guard_band_x", r, false); });
+        v.emplace_back("beyond_guard_band_xy",
+                       [](Rng& r) { return guard_band("beyond_guard_band_xy", r, true); });
+        v.emplace_back("viewport_min_origin",
+                       [](Rng& r) { return viewport("viewport_min_origin", r, 0); });
+        v.emplace_back("viewport_reaching_target",
+                       [](Rng& r) { return viewport("viewport_reaching_target", r, 1); });
+        v.emplace_back("viewport_max_origin",
+                       [](Rng& r) { return viewport("viewport_max_origin", r, 2); });
+        v.emplace_back("viewport_extreme_aspect",
+                       [](Rng& r) { return viewport("viewport_extreme_aspect", r, 3); });
         v.emplace_back("largest_target", [](Rng& r) { return largest_target(r); });
-        v.emplace_back("widest_target", [](Rng& r) { return long_target("widest_target", r, true); });
-        v.emplace_back("tallest_target", [](Rng& r) { return long_target("tallest_target", r, false); });
-        v.emplace_back("sliver_16000_horizontal", [](Rng& r) { return sliver("sliver_16000_horizontal", r, 0); });
-        v.emplace_back("sliver_16000_vertical", [](Rng& r) { return sliver("sliver_16000_vertical", r, 1); });
-        v.emplace_back("sliver_16000_shallow", [](Rng& r) { return sliver("sliver_16000_shallow", r, 2); });
-        v.emplace_back("nan_planes_z16", [](Rng& r) { return nan_planes("nan_planes_z16", r, DepthFormat::Z16, ColorFormat::Rgba8); });
-        v.emplace_back("nan_planes_z24", [](Rng& r) { return nan_planes("nan_planes_z24", r, DepthFormat::Z24, ColorFormat::Rgba8); });
-        v.emplace_back("nan_planes_z32f", [](Rng& r) { return nan_planes("nan_planes_z32f", r, DepthFormat::Z32f, ColorFormat::Rgba8); });
-        v.emplace_back("nan_planes_rgba32f_z24",
-                       [](Rng& r) { return nan_planes("nan_planes_rgba32f_z24", r, DepthFormat::Z24, ColorFormat::Rgba32f); });
-        v.emplace_back("nan_planes_rgba32f_z32f",
-                       [](Rng& r) { return nan_planes("nan_planes_rgba32f_z32f", r, DepthFormat::Z32f, ColorFormat::Rgba32f); });
-        v.emplace_back("segments_list_clip_cull",
-                       [](Rng& r) { return segments("segments_list_clip_cull", r, PrimitiveType::Triangles, false); });
-        v.emplace_back("segments_list_clip_cull_first",
-                       [](Rng& r) { return segments("segments_list_clip_cull_first", r, PrimitiveType::Triangles, true); });
-        v.emplace_back("segments_strip_clip_cull",
-                       [](Rng& r) { return segments("segments_strip_clip_cull", r, PrimitiveType::TriangleStrip, false); });
-        v.emplace_back("segments_strip_clip_cull_first",
-                       [](Rng& r) { return segments("segments_strip_clip_cull_first", r, PrimitiveType::TriangleStrip, true); });
-        v.emplace_back("segments_fan_clip_cull",
-                       [](Rng& r) { return segments("segments_fan_clip_cull", r, PrimitiveType::TriangleFan, false); });
+        v.emplace_back("widest_target",
+                       [](Rng& r) { return long_target("widest_target", r, true); });
+        v.emplace_back("tallest_target",
+                       [](Rng& r) { return long_target("tallest_target", r, false); });
+        v.emplace_back("sliver_16000_horizontal",
+                       [](Rng& r) { return sliver("sliver_16000_horizontal", r, 0); });
+        v.emplace_back("sliver_16000_vertical",
+                       [](Rng& r) { return sliver("sliver_16000_vertical", r, 1); });
+        v.emplace_back("sliver_16000_shallow",
+                       [](Rng& r) { return sliver("sliver_16000_shallow", r, 2); });
+        v.emplace_back("nan_planes_z16", [](Rng& r) {
+            return nan_planes("nan_planes_z16", r, DepthFormat::Z16, ColorFormat::Rgba8);
+        });
+        v.emplace_back("nan_planes_z24", [](Rng& r) {
+            return nan_planes("nan_planes_z24", r, DepthFormat::Z24, ColorFormat::Rgba8);
+        });
+        v.emplace_back("nan_planes_z32f", [](Rng& r) {
+            return nan_planes("nan_planes_z32f", r, DepthFormat::Z32f, ColorFormat::Rgba8);
+        });
+        v.emplace_back("nan_planes_rgba32f_z24", [](Rng& r) {
+            return nan_planes("nan_planes_rgba32f_z24", r, DepthFormat::Z24, ColorFormat::Rgba32f);
+        });
+        v.emplace_back("nan_planes_rgba32f_z32f", [](Rng& r) {
+            return nan_planes("nan_planes_rgba32f_z32f", r, DepthFormat::Z32f,
+                              ColorFormat::Rgba32f);
+        });
+        v.emplace_back("segments_list_clip_cull", [](Rng& r) {
+            return segments("segments_list_clip_cull", r, PrimitiveType::Triangles, false);
+        });
+        v.emplace_back("segments_list_clip_cull_first", [](Rng& r) {
+            return segments("segments_list_clip_cull_first", r, PrimitiveType::Triangles, true);
+        });
+        v.emplace_back("segments_strip_clip_cull", [](Rng& r) {
+            return segments("segments_strip_clip_cull", r, PrimitiveType::TriangleStrip, false);
+        });
+        v.emplace_back("segments_strip_clip_cull_first", [](Rng& r) {
+            return segments("segments_strip_clip_cull_first", r, PrimitiveType::TriangleStrip,
+                            true);
+        });
+        v.emplace_back("segments_fan_clip_cull", [](Rng& r) {
+            return segments("segments_fan_clip_cull", r, PrimitiveType::TriangleFan, false);
+        });
         v.emplace_back("segments_list_indexed", [](Rng& r) {
             return segments("segments_list_indexed", r, PrimitiveType::Triangles, false, true);
         });
@@ -761,35 +876,57 @@ const std::vector<std::pair<std::string, Maker>>& makers() {
         v.emplace_back("segments_fan_indexed", [](Rng& r) {
             return segments_fan_split("segments_fan_indexed", r, false, 4096, true);
         });
-        v.emplace_back("segments_fan_clip_cull_first",
-                       [](Rng& r) { return segments("segments_fan_clip_cull_first", r, PrimitiveType::TriangleFan, true); });
-        v.emplace_back("depth_limits_offset_z16", [](Rng& r) { return depth_limits("depth_limits_offset_z16", r, DepthFormat::Z16); });
-        v.emplace_back("depth_limits_offset_z24", [](Rng& r) { return depth_limits("depth_limits_offset_z24", r, DepthFormat::Z24); });
-        v.emplace_back("depth_limits_offset_z32f", [](Rng& r) { return depth_limits("depth_limits_offset_z32f", r, DepthFormat::Z32f); });
+        v.emplace_back("segments_fan_clip_cull_first", [](Rng& r) {
+            return segments("segments_fan_clip_cull_first", r, PrimitiveType::TriangleFan, true);
+        });
+        v.emplace_back("depth_limits_offset_z16", [](Rng& r) {
+            return depth_limits("depth_limits_offset_z16", r, DepthFormat::Z16);
+        });
+        v.emplace_back("depth_limits_offset_z24", [](Rng& r) {
+            return depth_limits("depth_limits_offset_z24", r, DepthFormat::Z24);
+        });
+        v.emplace_back("depth_limits_offset_z32f", [](Rng& r) {
+            return depth_limits("depth_limits_offset_z32f", r, DepthFormat::Z32f);
+        });
         for (const bool tiny : {false, true}) {
             for (const auto fmt : {ColorFormat::Rgba8, ColorFormat::Rgba32f}) {
                 for (const auto b : {BlendPreset::None, BlendPreset::Alpha, BlendPreset::Add}) {
-                    const std::string name = std::string("colour_") + (tiny ? "overflow_" : "extreme_") +
+                    const std::string name = std::string("colour_") +
+                                             (tiny ? "overflow_" : "extreme_") +
                                              (fmt == ColorFormat::Rgba8 ? "rgba8" : "rgba32f") +
-                                             (b == BlendPreset::None ? "" : b == BlendPreset::Alpha ? "_alpha" : "_add");
-                    v.emplace_back(name, [name, fmt, b, tiny](Rng& r) { return colours(name, r, fmt, b, tiny); });
+                                             (b == BlendPreset::None    ? ""
+                                              : b == BlendPreset::Alpha ? "_alpha"
+                                                                        : "_add");
+                    v.emplace_back(name, [name, fmt, b, tiny](Rng& r) {
+                        return colours(name, r, fmt, b, tiny);
+                    });
                 }
             }
         }
-        v.emplace_back("subnormal_setup_batches", [](Rng& r) { return subnormal_setup("subnormal_setup_batches", r); });
-        v.emplace_back("lines_255_across_clip", [](Rng& r) { return wide_lines("lines_255_across_clip", r, PrimitiveType::Lines); });
-        v.emplace_back("line_loops_255_across_clip",
-                       [](Rng& r) { return wide_lines("line_loops_255_across_clip", r, PrimitiveType::LineLoop); });
-        v.emplace_back("points_255_across_clip", [](Rng& r) { return big_points("points_255_across_clip", r, false); });
-        v.emplace_back("polygon_points_255_across_clip",
-                       [](Rng& r) { return big_points("polygon_points_255_across_clip", r, true); });
-        v.emplace_back("perspective_w_ratio_1e8", [](Rng& r) { return perspective("perspective_w_ratio_1e8", r, false); });
-        v.emplace_back("perspective_w_ratio_1e8_clipped",
-                       [](Rng& r) { return perspective("perspective_w_ratio_1e8_clipped", r, true); });
-        v.emplace_back("segments_fan_split_visible",
-                       [](Rng& r) { return segments_fan_split("segments_fan_split_visible", r, false, 4200); });
-        v.emplace_back("segments_fan_split_visible_first",
-                       [](Rng& r) { return segments_fan_split("segments_fan_split_visible_first", r, true, 4200); });
+        v.emplace_back("subnormal_setup_batches",
+                       [](Rng& r) { return subnormal_setup("subnormal_setup_batches", r); });
+        v.emplace_back("lines_255_across_clip", [](Rng& r) {
+            return wide_lines("lines_255_across_clip", r, PrimitiveType::Lines);
+        });
+        v.emplace_back("line_loops_255_across_clip", [](Rng& r) {
+            return wide_lines("line_loops_255_across_clip", r, PrimitiveType::LineLoop);
+        });
+        v.emplace_back("points_255_across_clip",
+                       [](Rng& r) { return big_points("points_255_across_clip", r, false); });
+        v.emplace_back("polygon_points_255_across_clip", [](Rng& r) {
+            return big_points("polygon_points_255_across_clip", r, true);
+        });
+        v.emplace_back("perspective_w_ratio_1e8",
+                       [](Rng& r) { return perspective("perspective_w_ratio_1e8", r, false); });
+        v.emplace_back("perspective_w_ratio_1e8_clipped", [](Rng& r) {
+            return perspective("perspective_w_ratio_1e8_clipped", r, true);
+        });
+        v.emplace_back("segments_fan_split_visible", [](Rng& r) {
+            return segments_fan_split("segments_fan_split_visible", r, false, 4200);
+        });
+        v.emplace_back("segments_fan_split_visible_first", [](Rng& r) {
+            return segments_fan_split("segments_fan_split_visible_first", r, true, 4200);
+        });
         return v;
     }();
     return m;

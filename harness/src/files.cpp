@@ -11,8 +11,9 @@ namespace harness {
 
 void write_atomically(const std::filesystem::path& path,
                       const std::function<void(const std::filesystem::path& partial)>& write) {
-    const auto partial = path.parent_path() / ("." + path.stem().string() + ".partial-" +
-                                               std::to_string(::getpid()) + path.extension().string());
+    const auto partial =
+        path.parent_path() / ("." + path.stem().string() + ".partial-" +
+                              std::to_string(::getpid()) + path.extension().string());
     std::error_code ignored;
     try {
         write(partial);
@@ -24,7 +25,8 @@ void write_atomically(const std::filesystem::path& path,
     std::filesystem::rename(partial, path, ec);
     if (ec) {
         std::filesystem::remove(partial, ignored);
-        throw std::runtime_error(path.string() + ": cannot move the file into place: " + ec.message());
+        throw std::runtime_error(path.string() +
+                                 ": cannot move the file into place: " + ec.message());
     }
 }
 

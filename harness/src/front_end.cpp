@@ -14,8 +14,10 @@ std::array<float, 4> to_clip_space(const SceneDraw& draw, const SceneVertex& v) 
         const float y = p[1];
         const float z = v.position_size >= 3 ? p[2] : 0.0f;
         const float w = v.position_size >= 4 ? p[3] : 1.0f;
-        const float ndc_x = ((x - static_cast<float>(vp.x)) / static_cast<float>(vp.width)) * 2.0f - 1.0f;
-        const float ndc_y = ((y - static_cast<float>(vp.y)) / static_cast<float>(vp.height)) * 2.0f - 1.0f;
+        const float ndc_x =
+            ((x - static_cast<float>(vp.x)) / static_cast<float>(vp.width)) * 2.0f - 1.0f;
+        const float ndc_y =
+            ((y - static_cast<float>(vp.y)) / static_cast<float>(vp.height)) * 2.0f - 1.0f;
         const float n = draw.state.depth_near;
         const float f = draw.state.depth_far;
         const float ndc_z = (f == n) ? 0.0f : ((z - n) / (f - n)) * 2.0f - 1.0f;

@@ -1,11 +1,11 @@
 #include "harness/image_io.hpp"
 
-#include "harness/files.hpp"
-
 #include <OpenImageIO/imageio.h>
 #include <unistd.h>
 
 #include <system_error>
+
+#include "harness/files.hpp"
 
 namespace harness {
 
@@ -20,8 +20,9 @@ void write_color_image(const refraster::Framebuffer& fb, const std::filesystem::
     const std::string ext = path.extension().string();
     if (ext != std::string(image_extension(fb.color_format))) {
         throw ImageIoError(path.string() + ": a " + std::string(to_string(fb.color_format)) +
-                           " target is written as " + std::string(image_extension(fb.color_format)) +
-                           ", not " + (ext.empty() ? "a file without extension" : ext));
+                           " target is written as " +
+                           std::string(image_extension(fb.color_format)) + ", not " +
+                           (ext.empty() ? "a file without extension" : ext));
     }
     // Written beside the destination and moved into place (files.hpp): never a partial image.
     write_atomically(path, [&](const std::filesystem::path& tmp) {
@@ -40,8 +41,9 @@ void write_color_image(const refraster::Framebuffer& fb, const std::filesystem::
         bool ok = true;
         for (std::uint32_t row = 0; ok && row < fb.height; ++row) {
             const std::uint32_t src = fb.height - 1 - row;
-            const void* data = is8 ? static_cast<const void*>(fb.color8.data() + src * row_floats)
-                                   : static_cast<const void*>(fb.color32f.data() + src * row_floats);
+            const void* data =
+                is8 ? static_cast<const void*>(fb.color8.data() + src * row_floats)
+                    : static_cast<const void*>(fb.color32f.data() + src * row_floats);
             ok = out->write_scanline(static_cast<int>(row), 0, type, data);
         }
         ok = out->close() && ok;

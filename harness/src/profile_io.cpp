@@ -35,7 +35,8 @@ refraster::Profile load_profile(const std::string& name_or_path) {
         const auto names = refraster::builtin_profile_names();
         std::string list;
         for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
-        throw refraster::ProfileError(name_or_path + ": neither a built-in profile (" + list + ") nor a file");
+        throw refraster::ProfileError(name_or_path + ": neither a built-in profile (" + list +
+                                      ") nor a file");
     }
     std::ifstream in(name_or_path);
     std::stringstream text;

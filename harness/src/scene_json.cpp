@@ -73,7 +73,9 @@ std::string number_text(const json& v) {
     std::snprintf(buf, sizeof buf, "%.9g", v.get<double>());
     return buf;
 }
-std::string number_text(double d) { return number_text(json(d)); }
+std::string number_text(double d) {
+    return number_text(json(d));
+}
 
 // A number token as written, shortened: the parser could not represent it, so no value is
 // left to print in %.9g.
@@ -86,7 +88,7 @@ std::string token_text(std::string_view tok) {
 
 // A JSON path in the scene format's syntax: draws[2].vertices[7].position[1].
 class JsonPath {
-public:
+  public:
     void push_key(const std::string& k) { parts_.push_back(key_component(k)); }
     void push_index(std::size_t i) { parts_.push_back("[" + std::to_string(i) + "]"); }
     void pop() { parts_.pop_back(); }
@@ -97,7 +99,7 @@ public:
         return s.empty() ? "(root)" : s;
     }
 
-private:
+  private:
     std::vector<std::string> parts_;
 };
 
@@ -115,7 +117,7 @@ std::string child_path(const std::string& parent, std::size_t index) {
 // keys and unrepresentable numbers are refused with a path, and syntax errors with a line and
 // column. nlohmann's own DOM parser keeps the last duplicate silently.
 class StrictSaxBuilder : public nlohmann::json_sax<json> {
-public:
+  public:
     StrictSaxBuilder(std::string_view text, const SceneLimits& limits)
         : text_(text), limits_(limits) {}
 
@@ -199,7 +201,7 @@ public:
         return false;
     }
 
-private:
+  private:
     bool fail_value(std::string detail) {
         error_path = value_path();
         error_detail = std::move(detail);
@@ -306,19 +308,24 @@ void line_and_column(std::string_view text, std::size_t position, std::size_t& l
 
 std::string describe(const json& v) {
     switch (v.type()) {
-        case json::value_t::null: return "null";
-        case json::value_t::boolean: return v.get<bool>() ? "true" : "false";
+        case json::value_t::null:
+            return "null";
+        case json::value_t::boolean:
+            return v.get<bool>() ? "true" : "false";
         case json::value_t::string:
             return "the string " + quoted_value(v.get_ref<const std::string&>());
-        case json::value_t::array: return "an array of " + std::to_string(v.size());
-        case json::value_t::object: return "an object";
-        default: return number_text(v);
+        case json::value_t::array:
+            return "an array of " + std::to_string(v.size());
+        case json::value_t::object:
+            return "an object";
+        default:
+            return number_text(v);
     }
 }
 
 // A value of the document with its path; every accessor refuses what the format forbids.
 class Node {
-public:
+  public:
     Node(const json& v, std::string path, const std::string& file)
         : v_(v), path_(std::move(path)), file_(file) {}
 
@@ -419,7 +426,7 @@ public:
         fail("expected one of " + list + ", got " + quoted_value(s));
     }
 
-private:
+  private:
     [[noreturn]] void fail_range(std::int64_t lo, std::int64_t hi) const {
         fail("expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
              "], got " + number_text(v_));
@@ -458,8 +465,8 @@ refraster::DrawState read_state(const Node& n, const refraster::Target& target) 
     s.viewport = {0, 0, static_cast<std::int32_t>(target.width),
                   static_cast<std::int32_t>(target.height)};
     n.require_object({"viewport", "depth_range", "scissor", "cull", "front_face", "depth_test",
-                      "depth_write", "shade", "provoking_vertex", "polygon_mode",
-                      "polygon_offset", "line_width", "point_size", "blend"});
+                      "depth_write", "shade", "provoking_vertex", "polygon_mode", "polygon_offset",
+                      "line_width", "point_size", "blend"});
     if (auto v = n.get("viewport")) {
         s.viewport = read_rect(*v, kViewportOriginMin, kViewportOriginMax, 1, kMaxTargetSide);
     }
@@ -481,15 +488,14 @@ refraster::DrawState read_state(const Node& n, const refraster::Target& target) 
         s.front_face = v->choice<FrontFace>({{"ccw", FrontFace::Ccw}, {"cw", FrontFace::Cw}});
     }
     if (auto v = n.get("depth_test"); v && !v->value().is_null()) {
-        s.depth_test = v->choice<CompareFunc>(
-            {{"never", CompareFunc::Never},
-             {"less", CompareFunc::Less},
-             {"equal", CompareFunc::Equal},
-             {"lequal", CompareFunc::Lequal},
-             {"greater", CompareFunc::Greater},
-             {"notequal", CompareFunc::NotEqual},
-             {"gequal", CompareFunc::Gequal},
-             {"always", CompareFunc::Always}});
+        s.depth_test = v->choice<CompareFunc>({{"never", CompareFunc::Never},
+                                               {"less", CompareFunc::Less},
+                                               {"equal", CompareFunc::Equal},
+                                               {"lequal", CompareFunc::Lequal},
+                                               {"greater", CompareFunc::Greater},
+                                               {"notequal", CompareFunc::NotEqual},
+                                               {"gequal", CompareFunc::Gequal},
+                                               {"always", CompareFunc::Always}});
     }
     if (auto v = n.get("depth_write")) s.depth_write = v->boolean();
     if (auto v = n.get("shade")) {
@@ -513,7 +519,8 @@ refraster::DrawState read_state(const Node& n, const refraster::Target& target) 
     if (auto v = n.get("line_width")) s.line_width = v->f32_in(1.0f, 255.0f);
     if (auto v = n.get("point_size")) s.point_size = v->f32_in(1.0f, 255.0f);
     if (auto v = n.get("blend"); v && !v->value().is_null()) {
-        s.blend = v->choice<BlendPreset>({{"alpha", BlendPreset::Alpha}, {"add", BlendPreset::Add}});
+        s.blend =
+            v->choice<BlendPreset>({{"alpha", BlendPreset::Alpha}, {"add", BlendPreset::Add}});
     }
     return s;
 }
@@ -540,16 +547,17 @@ SceneDraw read_draw(const Node& n, const refraster::Target& target, WorkSoFar& w
     using namespace refraster;
     SceneDraw d;
     n.require_object({"primitive", "space", "matrix", "vertices", "indices", "state"});
-    d.primitive = n.at("primitive").choice<PrimitiveType>(
-        {{"points", PrimitiveType::Points},
-         {"lines", PrimitiveType::Lines},
-         {"line_strip", PrimitiveType::LineStrip},
-         {"line_loop", PrimitiveType::LineLoop},
-         {"triangles", PrimitiveType::Triangles},
-         {"triangle_strip", PrimitiveType::TriangleStrip},
-         {"triangle_fan", PrimitiveType::TriangleFan}});
+    d.primitive = n.at("primitive")
+                      .choice<PrimitiveType>({{"points", PrimitiveType::Points},
+                                              {"lines", PrimitiveType::Lines},
+                                              {"line_strip", PrimitiveType::LineStrip},
+                                              {"line_loop", PrimitiveType::LineLoop},
+                                              {"triangles", PrimitiveType::Triangles},
+                                              {"triangle_strip", PrimitiveType::TriangleStrip},
+                                              {"triangle_fan", PrimitiveType::TriangleFan}});
     if (auto v = n.get("space")) {
-        d.space = v->choice<VertexSpace>({{"window", VertexSpace::Window}, {"clip", VertexSpace::Clip}});
+        d.space =
+            v->choice<VertexSpace>({{"window", VertexSpace::Window}, {"clip", VertexSpace::Clip}});
     }
     if (auto v = n.get("matrix")) {
         if (d.space != VertexSpace::Clip) {
@@ -616,11 +624,21 @@ std::string escape_for_message(std::string_view text) {
     for (const char c : text) {
         const auto u = static_cast<unsigned char>(c);
         switch (c) {
-            case '\n': out += "\\n"; break;
-            case '\r': out += "\\r"; break;
-            case '\t': out += "\\t"; break;
-            case '\b': out += "\\b"; break;
-            case '\f': out += "\\f"; break;
+            case '\n':
+                out += "\\n";
+                break;
+            case '\r':
+                out += "\\r";
+                break;
+            case '\t':
+                out += "\\t";
+                break;
+            case '\b':
+                out += "\\b";
+                break;
+            case '\f':
+                out += "\\f";
+                break;
             default:
                 if (u < 0x20 || u == 0x7f) {
                     char buf[8];
@@ -647,9 +665,10 @@ SceneFile parse_scene(std::string_view text, const std::string& file_label,
                       const SceneLimits& limits) {
     using namespace refraster;
     if (text.size() > limits.max_file_bytes) {
-        throw SceneError(file_label, "", "file of " + std::to_string(text.size()) +
-                                             " bytes exceeds the scene size limit of " +
-                                             std::to_string(limits.max_file_bytes) + " bytes");
+        throw SceneError(file_label, "",
+                         "file of " + std::to_string(text.size()) +
+                             " bytes exceeds the scene size limit of " +
+                             std::to_string(limits.max_file_bytes) + " bytes");
     }
     StrictSaxBuilder sax(text, limits);
     const bool ok = json::sax_parse(text.begin(), text.end(), &sax, json::input_format_t::json,
@@ -664,8 +683,8 @@ SceneFile parse_scene(std::string_view text, const std::string& file_label,
         throw SceneError(file_label, sax.error_path, sax.error_detail);
     }
     const Node root(sax.root, "(root)", file_label);
-    root.require_object({"format", "name", "description", "requires", "target", "clear", "expect",
-                         "draws"});
+    root.require_object(
+        {"format", "name", "description", "requires", "target", "clear", "expect", "draws"});
     SceneFile s;
     const Node format = root.at("format");
     if (format.string() != kSceneFormatV1) {
@@ -698,8 +717,7 @@ SceneFile parse_scene(std::string_view text, const std::string& file_label,
         if (n != 1 && n != 4) v->fail("expected 1 or 4, got " + number_text(v->value()));
         s.target.samples = static_cast<std::uint32_t>(n);
     }
-    const std::uint64_t area =
-        std::uint64_t{s.target.width} * s.target.height * s.target.samples;
+    const std::uint64_t area = std::uint64_t{s.target.width} * s.target.height * s.target.samples;
     if (area > limits.max_target_pixels) {
         t.fail("width x height x samples = " + std::to_string(area) + " exceeds the limit of " +
                std::to_string(limits.max_target_pixels));
@@ -775,9 +793,10 @@ Scene load_scene(const std::filesystem::path& path, const SceneLimits& limits) {
     if (ec) throw SceneError(label, "", "cannot read its size: " + ec.message());
     // Checked again on the text; here so that a huge file is not read at all.
     if (size > limits.max_file_bytes) {
-        throw SceneError(label, "", "file of " + std::to_string(size) +
-                                        " bytes exceeds the scene size limit of " +
-                                        std::to_string(limits.max_file_bytes) + " bytes");
+        throw SceneError(label, "",
+                         "file of " + std::to_string(size) +
+                             " bytes exceeds the scene size limit of " +
+                             std::to_string(limits.max_file_bytes) + " bytes");
     }
     std::ifstream in(path, std::ios::binary);
     if (!in) throw SceneError(label, "", "cannot open for reading");

@@ -23,7 +23,7 @@ struct Box {
 };
 
 class DrawEstimate {
-public:
+  public:
     DrawEstimate(const refraster::Draw& d, const refraster::Target& t) : draw_(d) {
         region_ = {0.0, 0.0, static_cast<double>(t.width), static_cast<double>(t.height)};
         if (d.state.scissor) {
@@ -77,7 +77,7 @@ public:
         return clipped(widened(p, half));
     }
 
-private:
+  private:
     static std::uint64_t area(const Box& b) {
         if (!(b.x1 > b.x0) || !(b.y1 > b.y0)) return 0;
         return static_cast<std::uint64_t>(std::ceil(b.x1 - b.x0)) *

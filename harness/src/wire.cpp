@@ -20,7 +20,7 @@ static_assert(std::endian::native == std::endian::little,
 namespace {
 
 class Encoder {
-public:
+  public:
     template <typename T>
     void put(T v) {
         static_assert(std::is_trivially_copyable_v<T>);
@@ -53,12 +53,12 @@ public:
     void reserve(std::size_t n) { out_.reserve(n); }
     std::vector<std::uint8_t> take() { return std::move(out_); }
 
-private:
+  private:
     std::vector<std::uint8_t> out_;
 };
 
 class Decoder {
-public:
+  public:
     explicit Decoder(std::span<const std::uint8_t> in) : in_(in) {}
 
     template <typename T>
@@ -120,7 +120,7 @@ public:
                         what);
     }
 
-private:
+  private:
     void need(std::size_t n) const {
         if (in_.size() - pos_ < n) fail("truncated");
     }
@@ -429,9 +429,12 @@ std::optional<Frame> read_frame(int fd) {
     FrameReader reader;
     for (;;) {
         switch (reader.read_some(fd)) {
-            case FrameReader::Progress::Complete: return reader.take();
-            case FrameReader::Progress::Eof: return std::nullopt;
-            case FrameReader::Progress::NeedMore: break;
+            case FrameReader::Progress::Complete:
+                return reader.take();
+            case FrameReader::Progress::Eof:
+                return std::nullopt;
+            case FrameReader::Progress::NeedMore:
+                break;
         }
         // NeedMore after a partial read is normal; after EAGAIN it needs a wait. Polling a
         // blocking fd that has data returns at once, so waiting unconditionally is harmless.

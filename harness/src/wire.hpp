@@ -47,12 +47,12 @@ inline constexpr std::uint64_t kMaxPayloadBytes = std::uint64_t{4} << 30;
 // A protocol or I/O failure. `error_number()` is the errno of a failed system call, 0 when the
 // stream itself was bad (truncated, oversized, undecodable).
 class WireError : public std::runtime_error {
-public:
+  public:
     explicit WireError(const std::string& message, int error_number = 0)
         : std::runtime_error(message), errno_(error_number) {}
     int error_number() const { return errno_; }
 
-private:
+  private:
     int errno_;
 };
 
@@ -69,7 +69,7 @@ harness::RenderResult decode_result(std::span<const std::uint8_t> payload);
 
 // Collects one frame from a file descriptor, one read(2) per call.
 class FrameReader {
-public:
+  public:
     enum class Progress : std::uint8_t {
         NeedMore,  // nothing complete yet (also after EAGAIN on a non-blocking fd)
         Complete,  // take() returns the frame
@@ -82,7 +82,7 @@ public:
     // The completed frame; the reader is then ready for the next one.
     Frame take();
 
-private:
+  private:
     std::uint8_t header_[kHeaderBytes] = {};
     std::size_t header_got_ = 0;
     std::uint64_t length_ = 0;
@@ -93,14 +93,14 @@ private:
 
 // Sends one frame, one write(2) per call.
 class FrameWriter {
-public:
+  public:
     FrameWriter(FrameType type, std::vector<std::uint8_t> payload);
     // True once everything is written. A non-blocking fd that is full makes no progress and
     // returns false. Throws WireError on a write error (EPIPE when the reader has gone; the
     // caller must ignore SIGPIPE to see it).
     bool write_some(int fd);
 
-private:
+  private:
     std::uint8_t header_[kHeaderBytes] = {};
     std::vector<std::uint8_t> payload_;
     std::uint64_t written_ = 0;  // header and payload bytes together

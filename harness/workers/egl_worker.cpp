@@ -27,7 +27,7 @@ std::string egl_error(const char* what) {
 }
 
 class EglContext : public harness::gl::ContextHolder {
-public:
+  public:
     EglContext() {
         // An extension entry point: glvnd's libEGL exports only core functions.
         const auto get_platform_display = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(
@@ -35,8 +35,8 @@ public:
         if (get_platform_display == nullptr) {
             throw std::runtime_error("eglGetPlatformDisplayEXT is not available");
         }
-        display_ = get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY,
-                                        nullptr);
+        display_ =
+            get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
         if (display_ == EGL_NO_DISPLAY) {
             throw std::runtime_error(egl_error("eglGetPlatformDisplayEXT(surfaceless)"));
         }
@@ -48,8 +48,7 @@ public:
         try {
             if (!eglBindAPI(EGL_OPENGL_API)) throw std::runtime_error(egl_error("eglBindAPI"));
             const std::array<EGLint, 5> config_attribs = {
-                EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_SURFACE_TYPE, EGL_PBUFFER_BIT,
-                EGL_NONE};
+                EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_NONE};
             EGLConfig config = nullptr;
             EGLint configs = 0;
             if (!eglChooseConfig(display_, config_attribs.data(), &config, 1, &configs) ||
@@ -81,7 +80,7 @@ public:
     EglContext(const EglContext&) = delete;
     EglContext& operator=(const EglContext&) = delete;
 
-private:
+  private:
     EGLDisplay display_ = EGL_NO_DISPLAY;
     EGLContext context_ = EGL_NO_CONTEXT;
 };

@@ -34,26 +34,34 @@ using refraster::DepthFormat;
 
 // A GL call failed in a way that is the backend's fault, not the scene's.
 class GlFailure : public std::runtime_error {
-public:
+  public:
     using std::runtime_error::runtime_error;
 };
 
 // The scene asks for something this driver cannot do.
 class Unsupported : public std::runtime_error {
-public:
+  public:
     using std::runtime_error::runtime_error;
 };
 
 const char* gl_error_name(GLenum e) {
     switch (e) {
-        case GL_INVALID_ENUM: return "GL_INVALID_ENUM";
-        case GL_INVALID_VALUE: return "GL_INVALID_VALUE";
-        case GL_INVALID_OPERATION: return "GL_INVALID_OPERATION";
-        case GL_INVALID_FRAMEBUFFER_OPERATION: return "GL_INVALID_FRAMEBUFFER_OPERATION";
-        case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
-        case GL_STACK_OVERFLOW: return "GL_STACK_OVERFLOW";
-        case GL_STACK_UNDERFLOW: return "GL_STACK_UNDERFLOW";
-        default: return "unknown GL error";
+        case GL_INVALID_ENUM:
+            return "GL_INVALID_ENUM";
+        case GL_INVALID_VALUE:
+            return "GL_INVALID_VALUE";
+        case GL_INVALID_OPERATION:
+            return "GL_INVALID_OPERATION";
+        case GL_INVALID_FRAMEBUFFER_OPERATION:
+            return "GL_INVALID_FRAMEBUFFER_OPERATION";
+        case GL_OUT_OF_MEMORY:
+            return "GL_OUT_OF_MEMORY";
+        case GL_STACK_OVERFLOW:
+            return "GL_STACK_OVERFLOW";
+        case GL_STACK_UNDERFLOW:
+            return "GL_STACK_UNDERFLOW";
+        default:
+            return "unknown GL error";
     }
 }
 
@@ -97,10 +105,13 @@ GLenum color_internal_format(ColorFormat f) {
 // llvmpipe's clipping path.
 GLenum depth_internal_format(DepthFormat f) {
     switch (f) {
-        case DepthFormat::Z16: return GL_DEPTH_COMPONENT16;
-        case DepthFormat::Z32f: return GL_DEPTH_COMPONENT32F;
+        case DepthFormat::Z16:
+            return GL_DEPTH_COMPONENT16;
+        case DepthFormat::Z32f:
+            return GL_DEPTH_COMPONENT32F;
         case DepthFormat::Z24:
-        case DepthFormat::None: return GL_DEPTH_COMPONENT24;
+        case DepthFormat::None:
+            return GL_DEPTH_COMPONENT24;
     }
     return GL_DEPTH_COMPONENT24;
 }
@@ -108,13 +119,20 @@ GLenum depth_internal_format(DepthFormat f) {
 GLenum primitive_mode(refraster::PrimitiveType p) {
     using refraster::PrimitiveType;
     switch (p) {
-        case PrimitiveType::Points: return GL_POINTS;
-        case PrimitiveType::Lines: return GL_LINES;
-        case PrimitiveType::LineStrip: return GL_LINE_STRIP;
-        case PrimitiveType::LineLoop: return GL_LINE_LOOP;
-        case PrimitiveType::Triangles: return GL_TRIANGLES;
-        case PrimitiveType::TriangleStrip: return GL_TRIANGLE_STRIP;
-        case PrimitiveType::TriangleFan: return GL_TRIANGLE_FAN;
+        case PrimitiveType::Points:
+            return GL_POINTS;
+        case PrimitiveType::Lines:
+            return GL_LINES;
+        case PrimitiveType::LineStrip:
+            return GL_LINE_STRIP;
+        case PrimitiveType::LineLoop:
+            return GL_LINE_LOOP;
+        case PrimitiveType::Triangles:
+            return GL_TRIANGLES;
+        case PrimitiveType::TriangleStrip:
+            return GL_TRIANGLE_STRIP;
+        case PrimitiveType::TriangleFan:
+            return GL_TRIANGLE_FAN;
     }
     return GL_TRIANGLES;
 }
@@ -122,14 +140,22 @@ GLenum primitive_mode(refraster::PrimitiveType p) {
 GLenum compare_func(refraster::CompareFunc f) {
     using refraster::CompareFunc;
     switch (f) {
-        case CompareFunc::Never: return GL_NEVER;
-        case CompareFunc::Less: return GL_LESS;
-        case CompareFunc::Equal: return GL_EQUAL;
-        case CompareFunc::Lequal: return GL_LEQUAL;
-        case CompareFunc::Greater: return GL_GREATER;
-        case CompareFunc::NotEqual: return GL_NOTEQUAL;
-        case CompareFunc::Gequal: return GL_GEQUAL;
-        case CompareFunc::Always: return GL_ALWAYS;
+        case CompareFunc::Never:
+            return GL_NEVER;
+        case CompareFunc::Less:
+            return GL_LESS;
+        case CompareFunc::Equal:
+            return GL_EQUAL;
+        case CompareFunc::Lequal:
+            return GL_LEQUAL;
+        case CompareFunc::Greater:
+            return GL_GREATER;
+        case CompareFunc::NotEqual:
+            return GL_NOTEQUAL;
+        case CompareFunc::Gequal:
+            return GL_GEQUAL;
+        case CompareFunc::Always:
+            return GL_ALWAYS;
     }
     return GL_ALWAYS;
 }
@@ -137,9 +163,12 @@ GLenum compare_func(refraster::CompareFunc f) {
 GLenum polygon_mode(refraster::PolygonMode m) {
     using refraster::PolygonMode;
     switch (m) {
-        case PolygonMode::Fill: return GL_FILL;
-        case PolygonMode::Line: return GL_LINE;
-        case PolygonMode::Point: return GL_POINT;
+        case PolygonMode::Fill:
+            return GL_FILL;
+        case PolygonMode::Line:
+            return GL_LINE;
+        case PolygonMode::Point:
+            return GL_POINT;
     }
     return GL_FILL;
 }
@@ -158,9 +187,12 @@ constexpr const char* kGlslVersion = "#version 130\n";
 
 const char* qualifier(refraster::ShadeModel s) {
     switch (s) {
-        case refraster::ShadeModel::Smooth: return "smooth";
-        case refraster::ShadeModel::Flat: return "flat";
-        case refraster::ShadeModel::NoPerspective: return "noperspective";
+        case refraster::ShadeModel::Smooth:
+            return "smooth";
+        case refraster::ShadeModel::Flat:
+            return "flat";
+        case refraster::ShadeModel::NoPerspective:
+            return "noperspective";
     }
     return "smooth";
 }
@@ -202,21 +234,23 @@ GLuint build_program(refraster::ShadeModel shade, bool owners) {
                            "    gl_Position = position;\n"
                            "    v_color = color;\n"
                            "}\n";
-    const std::string fs = owners ? version + q +
-                                        " in vec4 v_color;\n"
-                                        "out vec4 frag_color;\n"
-                                        "out uint frag_owner;\n"
-                                        "uniform uint draw_index;\n"
-                                        "void main() {\n"
-                                        "    frag_color = v_color;\n"
-                                        "    frag_owner = (draw_index << 24) | (uint(gl_PrimitiveID + 1) & 0xffffffu);\n"
-                                        "}\n"
-                                  : version + q +
-                                        " in vec4 v_color;\n"
-                                        "out vec4 frag_color;\n"
-                                        "void main() {\n"
-                                        "    frag_color = v_color;\n"
-                                        "}\n";
+    const std::string fs =
+        owners
+            ? version + q +
+                  " in vec4 v_color;\n"
+                  "out vec4 frag_color;\n"
+                  "out uint frag_owner;\n"
+                  "uniform uint draw_index;\n"
+                  "void main() {\n"
+                  "    frag_color = v_color;\n"
+                  "    frag_owner = (draw_index << 24) | (uint(gl_PrimitiveID + 1) & 0xffffffu);\n"
+                  "}\n"
+            : version + q +
+                  " in vec4 v_color;\n"
+                  "out vec4 frag_color;\n"
+                  "void main() {\n"
+                  "    frag_color = v_color;\n"
+                  "}\n";
     const GLuint v = compile_shader(GL_VERTEX_SHADER, vs);
     GLuint f = 0;
     try {
@@ -378,8 +412,7 @@ void Renderer::Impl::prepare_target(const refraster::Target& t) {
             glGenRenderbuffers(1, &depth);
             glBindRenderbuffer(GL_RENDERBUFFER, depth);
             glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples, df, w, h);
-            glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER,
-                                      depth);
+            glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
         }
         glBindRenderbuffer(GL_RENDERBUFFER, 0);
         const GLenum e = glGetError();
@@ -406,8 +439,7 @@ void Renderer::Impl::prepare_target(const refraster::Target& t) {
         if (t.samples == 4) {
             // Rendering always has depth; the resolve target only needs it to be read.
             make_fbo(4, true, target.ms_fbo, target.ms_color_rb, target.ms_depth_rb);
-            make_fbo(0, t.depth != DepthFormat::None, target.fbo, target.color_rb,
-                     target.depth_rb);
+            make_fbo(0, t.depth != DepthFormat::None, target.fbo, target.color_rb, target.depth_rb);
         } else {
             make_fbo(0, true, target.fbo, target.color_rb, target.depth_rb);
         }
@@ -487,10 +519,16 @@ void Renderer::Impl::draw(const refraster::Target& t, const refraster::Draw& d) 
 
     set_enabled(GL_CULL_FACE, s.cull != refraster::CullMode::None);
     switch (s.cull) {
-        case refraster::CullMode::Front: glCullFace(GL_FRONT); break;
-        case refraster::CullMode::FrontAndBack: glCullFace(GL_FRONT_AND_BACK); break;
+        case refraster::CullMode::Front:
+            glCullFace(GL_FRONT);
+            break;
+        case refraster::CullMode::FrontAndBack:
+            glCullFace(GL_FRONT_AND_BACK);
+            break;
         case refraster::CullMode::Back:
-        case refraster::CullMode::None: glCullFace(GL_BACK); break;
+        case refraster::CullMode::None:
+            glCullFace(GL_BACK);
+            break;
     }
     glFrontFace(s.front_face == refraster::FrontFace::Ccw ? GL_CCW : GL_CW);
 
@@ -555,13 +593,12 @@ void Renderer::Impl::draw(const refraster::Target& t, const refraster::Draw& d) 
     if (color) {
         const std::uint32_t components = va.attributes[*color].components;
         if (components < 1 || components > 4) {
-            throw GlFailure("color attribute with " + std::to_string(components) +
-                            " components");
+            throw GlFailure("color attribute with " + std::to_string(components) + " components");
         }
         const std::uintptr_t offset_bytes = va.attribute_offset(*color) * sizeof(float);
         glEnableVertexAttribArray(kColorLocation);
-        glVertexAttribPointer(kColorLocation, static_cast<GLint>(components), GL_FLOAT,
-                              GL_FALSE, stride_bytes, reinterpret_cast<const void*>(offset_bytes));
+        glVertexAttribPointer(kColorLocation, static_cast<GLint>(components), GL_FLOAT, GL_FALSE,
+                              stride_bytes, reinterpret_cast<const void*>(offset_bytes));
     } else {
         // The scene format's default colour.
         glDisableVertexAttribArray(kColorLocation);
@@ -588,7 +625,8 @@ void Renderer::Impl::attach_owners(const refraster::Target& t) {
     if (t.samples != 1) throw Unsupported("primitive owners of a multisampled target");
     glGenRenderbuffers(1, &owner_rb);
     glBindRenderbuffer(GL_RENDERBUFFER, owner_rb);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_R32UI, static_cast<GLsizei>(t.width), static_cast<GLsizei>(t.height));
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_R32UI, static_cast<GLsizei>(t.width),
+                          static_cast<GLsizei>(t.height));
     glBindFramebuffer(GL_FRAMEBUFFER, target.fbo);
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_RENDERBUFFER, owner_rb);
     const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
@@ -637,7 +675,8 @@ refraster::Framebuffer Renderer::Impl::read_back(const refraster::Target& t) {
     check_gl("reading colour");
 
     switch (t.depth) {
-        case DepthFormat::None: break;
+        case DepthFormat::None:
+            break;
         case DepthFormat::Z16: {
             std::vector<std::uint16_t> z(fb.pixel_count());
             glReadPixels(0, 0, w, h, GL_DEPTH_COMPONENT, GL_UNSIGNED_SHORT, z.data());
@@ -703,7 +742,9 @@ Renderer::~Renderer() {
     glDeleteVertexArrays(1, &impl_->vao);
 }
 
-const harness::Provenance& Renderer::provenance() const { return impl_->provenance; }
+const harness::Provenance& Renderer::provenance() const {
+    return impl_->provenance;
+}
 
 harness::RenderResult Renderer::render(const refraster::DrawList& list, bool owners) {
     const auto start = std::chrono::steady_clock::now();
@@ -765,7 +806,8 @@ int run_worker(std::string_view backend, std::string_view mesa_package,
     if (const char* k = std::getenv(kKillAtVariable)) kill_at = std::strtoul(k, nullptr, 10);
     // And the same for a hang: stop answering on the Nth scene, as a driver stuck in a loop would.
     unsigned long hang_at = 0;
-    if (const char* k = std::getenv("REFRASTER_WORKER_HANG_AT")) hang_at = std::strtoul(k, nullptr, 10);
+    if (const char* k = std::getenv("REFRASTER_WORKER_HANG_AT"))
+        hang_at = std::strtoul(k, nullptr, 10);
     unsigned long scenes = 0;
 
     try {
@@ -795,7 +837,8 @@ int run_worker(std::string_view backend, std::string_view mesa_package,
                     harness::RenderResult reply;
                     try {
                         reply = renderer->render(wire::decode_draw_list(frame->payload),
-                                                 frame->type == static_cast<std::uint32_t>(wire::FrameType::RenderOwners));
+                                                 frame->type == static_cast<std::uint32_t>(
+                                                                    wire::FrameType::RenderOwners));
                     } catch (const wire::WireError& e) {
                         reply.status = harness::RenderStatus::InternalError;
                         reply.message = std::string("bad request: ") + e.what();

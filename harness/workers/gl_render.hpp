@@ -24,7 +24,7 @@
 namespace harness::gl {
 
 class Renderer {
-public:
+  public:
     // Needs a current compatibility-profile context; it must stay current while the Renderer
     // lives. `backend` ("osmesa", "egl") and `mesa_package` (the Debian package whose version
     // is recorded) only feed the provenance.
@@ -40,14 +40,14 @@ public:
 
     const harness::Provenance& provenance() const;
 
-private:
+  private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };
 
 // What a worker's context factory returns: destroying it releases the context.
 class ContextHolder {
-public:
+  public:
     virtual ~ContextHolder() = default;
 };
 

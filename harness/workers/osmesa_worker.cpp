@@ -18,12 +18,18 @@
 namespace {
 
 class OsmesaContext : public harness::gl::ContextHolder {
-public:
+  public:
     OsmesaContext() {
         // No version asked for: Mesa then gives the highest compatibility version it has.
         const std::array<int, 9> attribs = {
-            OSMESA_FORMAT,       OSMESA_RGBA, OSMESA_DEPTH_BITS,      0,
-            OSMESA_STENCIL_BITS, 0,           OSMESA_PROFILE,         OSMESA_COMPAT_PROFILE,
+            OSMESA_FORMAT,
+            OSMESA_RGBA,
+            OSMESA_DEPTH_BITS,
+            0,
+            OSMESA_STENCIL_BITS,
+            0,
+            OSMESA_PROFILE,
+            OSMESA_COMPAT_PROFILE,
             0,
         };
         context_ = OSMesaCreateContextAttribs(attribs.data(), nullptr);
@@ -39,7 +45,7 @@ public:
     OsmesaContext(const OsmesaContext&) = delete;
     OsmesaContext& operator=(const OsmesaContext&) = delete;
 
-private:
+  private:
     OSMesaContext context_ = nullptr;
     std::array<unsigned char, 4> pixel_{};  // the 1x1 buffer MakeCurrent insists on
 };

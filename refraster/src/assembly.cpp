@@ -4,8 +4,9 @@
 
 namespace refraster {
 
-std::vector<AssembledTriangle> assemble_triangles(PrimitiveType p, std::size_t count, bool provoking_first,
-                                                  int segment_vertices, bool indexed) {
+std::vector<AssembledTriangle> assemble_triangles(PrimitiveType p, std::size_t count,
+                                                  bool provoking_first, int segment_vertices,
+                                                  bool indexed) {
     std::vector<AssembledTriangle> out;
     const auto u = [](std::size_t v) { return static_cast<std::uint32_t>(v); };
     // draw_pt_vsplit.c: segment_size = MIN2(SEGMENT_SIZE 1024, max_vertices). FUNC of
@@ -18,7 +19,8 @@ std::vector<AssembledTriangle> assemble_triangles(PrimitiveType p, std::size_t c
     // flush an odd number of triangles), fans at max_count_fan = segment_size with the centre
     // repeated.
     const auto max_vertices = static_cast<std::size_t>(std::max(segment_vertices, 3));
-    const std::size_t segment_size = std::max<std::size_t>(std::min<std::size_t>(1024, max_vertices), 3);
+    const std::size_t segment_size =
+        std::max<std::size_t>(std::min<std::size_t>(1024, max_vertices), 3);
     const std::size_t simple = indexed ? segment_size : max_vertices;
     const bool split = count > simple;
     switch (p) {

@@ -18,7 +18,7 @@
 namespace refraster::detail {
 
 class BigInt {
-public:
+  public:
     static constexpr int kLimbs = 32;
     static constexpr int kBits = 32 * kLimbs;
     static constexpr int kFloatScaleBits = 149;  // 2^-149 is float32's smallest step
@@ -39,7 +39,7 @@ public:
         REFRASTER_ASSERT(std::isfinite(f), "a finite float");
         if (f == 0.0f) return {};
         int e = 0;
-        const double m = std::frexp(static_cast<double>(f), &e);  // f = m * 2^e, |m| in [0.5, 1)
+        const double m = std::frexp(static_cast<double>(f), &e);   // f = m * 2^e, |m| in [0.5, 1)
         auto mant = static_cast<std::int64_t>(std::ldexp(m, 24));  // exact: 24 bits
         int shift = e - 24 + kFloatScaleBits;
         if (shift < 0) {  // denormals: the dropped low bits of the mantissa are zero
@@ -84,7 +84,8 @@ public:
         for (int i = 0; i < nx; ++i) {
             std::uint64_t carry = 0;
             for (int j = 0; j < ny && i + j < kLimbs; ++j) {
-                const std::uint64_t t = std::uint64_t{x.limb_[i]} * y.limb_[j] + r.limb_[i + j] + carry;
+                const std::uint64_t t =
+                    std::uint64_t{x.limb_[i]} * y.limb_[j] + r.limb_[i + j] + carry;
                 r.limb_[i + j] = static_cast<std::uint32_t>(t);
                 carry = t >> 32;
             }
@@ -100,11 +101,12 @@ public:
         const bool neg = sign() < 0;
         const BigInt m = neg ? -*this : *this;
         double r = 0.0;
-        for (int i = kLimbs - 1; i >= 0; --i) r = r * 4294967296.0 + static_cast<double>(m.limb_[i]);
+        for (int i = kLimbs - 1; i >= 0; --i)
+            r = r * 4294967296.0 + static_cast<double>(m.limb_[i]);
         return neg ? -r : r;
     }
 
-private:
+  private:
     int used() const {
         int n = kLimbs;
         while (n > 0 && limb_[n - 1] == 0) --n;

@@ -21,12 +21,13 @@ struct ExactTriangle {
     PixelRect region;
 };
 
-ExactCoverage::ExactCoverage(const std::array<std::array<float, 4>, 3>& clip, const DrawState& state,
-                             PixelRect draw_region, TieRule tie_rule)
+ExactCoverage::ExactCoverage(const std::array<std::array<float, 4>, 3>& clip,
+                             const DrawState& state, PixelRect draw_region, TieRule tie_rule)
     : t_(std::make_unique<ExactTriangle>()) {
     ExactTriangle& t = *t_;
     t.viewport = state.viewport;
-    const PixelRect vp{state.viewport.x, state.viewport.y, state.viewport.x + state.viewport.width - 1,
+    const PixelRect vp{state.viewport.x, state.viewport.y,
+                       state.viewport.x + state.viewport.width - 1,
                        state.viewport.y + state.viewport.height - 1};
     t.region = intersect(vp, draw_region);
     std::array<BigInt, 3> x, y, w;
@@ -40,8 +41,9 @@ ExactCoverage::ExactCoverage(const std::array<std::array<float, 4>, 3>& clip, co
         if (clip[i][3] > 0.0f) {
             const double vw = state.viewport.width;
             const double vh = state.viewport.height;
-            t.window_approx[i] = {(double{clip[i][0]} / double{clip[i][3]} + 1.0) * 0.5 * vw + state.viewport.x,
-                                  (double{clip[i][1]} / double{clip[i][3]} + 1.0) * 0.5 * vh + state.viewport.y};
+            t.window_approx[i] = {
+                (double{clip[i][0]} / double{clip[i][3]} + 1.0) * 0.5 * vw + state.viewport.x,
+                (double{clip[i][1]} / double{clip[i][3]} + 1.0) * 0.5 * vh + state.viewport.y};
         }
     }
     for (std::size_t k = 0; k < 3; ++k) {
@@ -66,9 +68,13 @@ ExactCoverage::ExactCoverage(const std::array<std::array<float, 4>, 3>& clip, co
 
 ExactCoverage::~ExactCoverage() = default;
 
-bool ExactCoverage::degenerate() const { return t_->det_sign == 0; }
+bool ExactCoverage::degenerate() const {
+    return t_->det_sign == 0;
+}
 
-bool ExactCoverage::front_facing() const { return t_->det_sign > 0; }
+bool ExactCoverage::front_facing() const {
+    return t_->det_sign > 0;
+}
 
 PixelRect ExactCoverage::candidates() const {
     const ExactTriangle& t = *t_;
@@ -108,14 +114,17 @@ std::array<int, 3> ExactCoverage::weight_signs(int px, int py) const {
     return s;
 }
 
-std::array<bool, 3> ExactCoverage::owns_ties() const { return t_->owns; }
+std::array<bool, 3> ExactCoverage::owns_ties() const {
+    return t_->owns;
+}
 
 std::array<double, 3> ExactCoverage::weights(int px, int py) const {
     const ExactTriangle& t = *t_;
     const auto p = scaled_centre(t.viewport, px, py);
     const double d = (t.det * p[2]).to_double();
     std::array<double, 3> b{};
-    for (std::size_t k = 0; k < 3; ++k) b[k] = (t.A[k] * p[0] + t.B[k] * p[1] + t.C[k] * p[2]).to_double() / d;
+    for (std::size_t k = 0; k < 3; ++k)
+        b[k] = (t.A[k] * p[0] + t.B[k] * p[1] + t.C[k] * p[2]).to_double() / d;
     return b;
 }
 

@@ -27,7 +27,7 @@ namespace refraster::detail {
 struct ExactTriangle;
 
 class ExactCoverage {
-public:
+  public:
     // `clip` are the three clip-space positions in assembly order.
     ExactCoverage(const std::array<std::array<float, 4>, 3>& clip, const DrawState& state,
                   PixelRect draw_region, TieRule tie_rule);
@@ -48,7 +48,7 @@ public:
     // the triangle is sum b_i v_i, so a perspective-correct attribute is sum b_i a_i.
     std::array<double, 3> weights(int px, int py) const;
 
-private:
+  private:
     std::unique_ptr<ExactTriangle> t_;
 };
 

@@ -1,12 +1,11 @@
 #include "exact_model.hpp"
 
-#include "rules.hpp"
-
 #include <array>
 #include <vector>
 
 #include "observer.hpp"
 #include "refraster/assembly.hpp"
+#include "rules.hpp"
 #include "trace_observer.hpp"
 
 namespace refraster::detail {
@@ -15,9 +14,9 @@ template <class Observer>
 void ExactModel::setup(VertexStage& stage, Observer& obs, const ListSink<List>& sink) {
     const Draw& d = ctx_.draw;
     const bool first = ctx_.params.provoking_first;
-    const auto tris = assemble_triangles(d.primitive, d.element_count(), first,
-                                         ctx_.profile.quirks.draw_segment_vertices,
-                                         d.indices.has_value());
+    const auto tris =
+        assemble_triangles(d.primitive, d.element_count(), first,
+                           ctx_.profile.quirks.draw_segment_vertices, d.indices.has_value());
     // Only for the trace: whether the triangle's vertex segment would go through the draw
     // pipeline (the oracle itself has no pipeline).
     std::vector<bool> segment_clipped;

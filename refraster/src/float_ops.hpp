@@ -31,9 +31,12 @@ REFRASTER_FLOAT_OP float flush_denormal(float v) {
 // FLT_MIN - 2^-151 (the midpoint rounds to FLT_MIN, the even neighbour). Sums are exact there
 // (any float sum below FLT_MIN is a multiple of 2^-149), so only *, / and fma need the test.
 inline constexpr double kTinyBelow = 0x1p-126 - 0x1p-151;
-static_assert(kTinyBelow < static_cast<double>(std::numeric_limits<float>::min()), "the tininess threshold");
+static_assert(kTinyBelow < static_cast<double>(std::numeric_limits<float>::min()),
+              "the tininess threshold");
 
-REFRASTER_FLOAT_OP float flush_if_tiny(float rounded, bool tiny) { return tiny ? std::copysign(0.0f, rounded) : rounded; }
+REFRASTER_FLOAT_OP float flush_if_tiny(float rounded, bool tiny) {
+    return tiny ? std::copysign(0.0f, rounded) : rounded;
+}
 
 struct Fp {
     bool flush;
@@ -47,7 +50,8 @@ struct Fp {
         if (!flush) return r;
         if (std::fabs(r) != std::numeric_limits<float>::min()) return flush_denormal(r);
         // The double product of two floats is exact.
-        return flush_if_tiny(r, std::fabs(static_cast<double>(x) * static_cast<double>(y)) < kTinyBelow);
+        return flush_if_tiny(
+            r, std::fabs(static_cast<double>(x) * static_cast<double>(y)) < kTinyBelow);
     }
     REFRASTER_FLOAT_OP float div(float a, float b) const {
         const float x = f(a);
@@ -73,7 +77,8 @@ struct Fp {
         if (!flush) return r;
         if (std::fabs(r) != std::numeric_limits<float>::min()) return flush_denormal(r);
         // One rounding to 53 bits; it can only mislead within 2^-53 of the threshold itself.
-        const double d = std::fma(static_cast<double>(x), static_cast<double>(y), static_cast<double>(z));
+        const double d =
+            std::fma(static_cast<double>(x), static_cast<double>(y), static_cast<double>(z));
         return flush_if_tiny(r, std::fabs(d) < kTinyBelow);
     }
 };

@@ -84,9 +84,9 @@ template <class Observer>
 void LlvmpipeModel::triangles(VertexStage& stage, Observer& obs) {
     const Draw& d = ctx_.draw;
     const bool first = ctx_.params.provoking_first;
-    const auto tris = assemble_triangles(d.primitive, d.element_count(), first,
-                                         ctx_.profile.quirks.draw_segment_vertices,
-                                         d.indices.has_value());
+    const auto tris =
+        assemble_triangles(d.primitive, d.element_count(), first,
+                           ctx_.profile.quirks.draw_segment_vertices, d.indices.has_value());
 
     // Segments with any vertex outside the view volume go through the draw pipeline.
     std::vector<bool> segment_clipped;
@@ -240,9 +240,9 @@ void LlvmpipeModel::unfilled(VertexStage& stage, Observer& obs) {
     const Draw& d = ctx_.draw;
     const SetupParams& params = ctx_.params;
     const bool first = params.provoking_first;
-    const auto tris = assemble_triangles(d.primitive, d.element_count(), first,
-                                         ctx_.profile.quirks.draw_segment_vertices,
-                                         d.indices.has_value());
+    const auto tris =
+        assemble_triangles(d.primitive, d.element_count(), first,
+                           ctx_.profile.quirks.draw_segment_vertices, d.indices.has_value());
     const char* kind =
         d.state.polygon_mode == PolygonMode::Line ? "polygon edges" : "polygon vertices";
     std::vector<StageTriangle> staged;

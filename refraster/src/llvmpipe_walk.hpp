@@ -39,23 +39,30 @@
 
 namespace refraster::detail::lp {
 
-inline constexpr int kFixedOrder = 8;   // FIXED_ORDER: subpixel bits of llvmpipe's positions
-inline constexpr int kTileOrder = 6;    // TILE_ORDER: 64x64 tiles
+inline constexpr int kFixedOrder = 8;          // FIXED_ORDER: subpixel bits of llvmpipe's positions
+inline constexpr int kTileOrder = 6;           // TILE_ORDER: 64x64 tiles
 inline constexpr int kMaxFixedLength32 = 128;  // MAX_FIXED_LENGTH32 = 1 << (15 - FIXED_ORDER)
-static_assert(kMaxFixedLength32 == 1 << (32 / 2 - 1 - kFixedOrder), "lp_rast.h, MAX_FIXED_LENGTH32");
+static_assert(kMaxFixedLength32 == 1 << (32 / 2 - 1 - kFixedOrder),
+              "lp_rast.h, MAX_FIXED_LENGTH32");
 static_assert(1 << kTileOrder == 64, "llvmpipe's tiles are 64 pixels wide");
 
 // Two's-complement arithmetic as the machine does it: C++20 defines the narrowing
 // conversions modulo 2^N, and unsigned arithmetic wraps.
-inline std::int32_t wrap32(std::uint32_t v) { return static_cast<std::int32_t>(v); }
+inline std::int32_t wrap32(std::uint32_t v) {
+    return static_cast<std::int32_t>(v);
+}
 inline std::int32_t add32(std::int32_t a, std::int32_t b) {
     return wrap32(static_cast<std::uint32_t>(a) + static_cast<std::uint32_t>(b));
 }
 inline std::int32_t sub32(std::int32_t a, std::int32_t b) {
     return wrap32(static_cast<std::uint32_t>(a) - static_cast<std::uint32_t>(b));
 }
-inline std::int32_t shl32(std::int32_t a, int n) { return wrap32(static_cast<std::uint32_t>(a) << n); }
-inline std::int32_t neg32(std::int32_t a) { return wrap32(0u - static_cast<std::uint32_t>(a)); }
+inline std::int32_t shl32(std::int32_t a, int n) {
+    return wrap32(static_cast<std::uint32_t>(a) << n);
+}
+inline std::int32_t neg32(std::int32_t a) {
+    return wrap32(0u - static_cast<std::uint32_t>(a));
+}
 inline std::int64_t add64(std::int64_t a, std::int64_t b) {
     return static_cast<std::int64_t>(static_cast<std::uint64_t>(a) + static_cast<std::uint64_t>(b));
 }
@@ -90,7 +97,8 @@ struct Triangle {
 };
 
 // do_triangle_ccw, SSE branch: the plane of the edge from vertex i to vertex i+1.
-inline Plane edge_plane(std::int32_t xi, std::int32_t yi, std::int32_t xj, std::int32_t yj, bool owns_ties) {
+inline Plane edge_plane(std::int32_t xi, std::int32_t yi, std::int32_t xj, std::int32_t yj,
+                        bool owns_ties) {
     const std::int32_t dcdx = sub32(yi, yj);
     const std::int32_t dcdy = sub32(xi, xj);
     Plane p;
@@ -113,19 +121,25 @@ inline void add_region_planes(Triangle& t) {
     const auto push = [&](std::int32_t dcdx, std::int32_t dcdy, std::int64_t c, std::uint32_t eo) {
         t.planes[static_cast<std::size_t>(t.count++)] = {c, dcdx, dcdy, eo};
     };
-    if (b.x0 < s.x0) push(shl32(-1, kFixedOrder), 0, -std::int64_t{shl32(s.x0 - 1, kFixedOrder)}, 1u << kFixedOrder);
+    if (b.x0 < s.x0)
+        push(shl32(-1, kFixedOrder), 0, -std::int64_t{shl32(s.x0 - 1, kFixedOrder)},
+             1u << kFixedOrder);
     if (b.x1 > s.x1) push(1 << kFixedOrder, 0, std::int64_t{shl32(s.x1, kFixedOrder)} + 127, 0);
-    if (b.y0 < s.y0) push(0, 1 << kFixedOrder, -std::int64_t{shl32(s.y0 - 1, kFixedOrder)}, 1u << kFixedOrder);
-    if (b.y1 > s.y1) push(0, shl32(-1, kFixedOrder), std::int64_t{shl32(s.y1, kFixedOrder)} + 127, 0);
+    if (b.y0 < s.y0)
+        push(0, 1 << kFixedOrder, -std::int64_t{shl32(s.y0 - 1, kFixedOrder)}, 1u << kFixedOrder);
+    if (b.y1 > s.y1)
+        push(0, shl32(-1, kFixedOrder), std::int64_t{shl32(s.y1, kFixedOrder)} + 127, 0);
 }
 
 // build_mask_linear: bit j * 4 + i is the sign of c + i * dcdx + j * dcdy in int32.
 inline unsigned mask_linear(std::int32_t c, std::int32_t dcdx, std::int32_t dcdy) {
     unsigned mask = 0;
     for (int j = 0; j < 4; ++j) {
-        const std::int32_t row = add32(c, wrap32(static_cast<std::uint32_t>(dcdy) * static_cast<std::uint32_t>(j)));
+        const std::int32_t row =
+            add32(c, wrap32(static_cast<std::uint32_t>(dcdy) * static_cast<std::uint32_t>(j)));
         for (int i = 0; i < 4; ++i) {
-            const std::int32_t v = add32(row, wrap32(static_cast<std::uint32_t>(dcdx) * static_cast<std::uint32_t>(i)));
+            const std::int32_t v = add32(
+                row, wrap32(static_cast<std::uint32_t>(dcdx) * static_cast<std::uint32_t>(i)));
             if (v < 0) mask |= 1u << (j * 4 + i);
         }
     }
@@ -142,7 +156,8 @@ struct Walk {
 
     void fill(int x, int y, int n) {
         for (int yy = y; yy < y + n; ++yy) {
-            for (int xx = x; xx < x + n; ++xx) rows[yy - tile_y] |= std::uint64_t{1} << (xx - tile_x);
+            for (int xx = x; xx < x + n; ++xx)
+                rows[yy - tile_y] |= std::uint64_t{1} << (xx - tile_x);
         }
     }
 
@@ -156,7 +171,8 @@ struct Walk {
         }
         for (int j = 0; j < 4; ++j) {
             for (int i = 0; i < 4; ++i) {
-                if (mask & (1u << (j * 4 + i))) rows[y + j - tile_y] |= std::uint64_t{1} << (x + i - tile_x);
+                if (mask & (1u << (j * 4 + i)))
+                    rows[y + j - tile_y] |= std::uint64_t{1} << (x + i - tile_x);
             }
         }
     }
@@ -244,7 +260,8 @@ inline bool clip_to_framebuffer(std::uint64_t* rows, int tile_x, int tile_y, con
     const int lo = std::max(fb.x0 - tile_x, 0);
     const int hi = std::min(fb.x1 - tile_x, 63);
     if (lo > hi) return false;
-    const std::uint64_t keep = (hi - lo == 63 ? ~std::uint64_t{0} : ((std::uint64_t{1} << (hi - lo + 1)) - 1)) << lo;
+    const std::uint64_t keep =
+        (hi - lo == 63 ? ~std::uint64_t{0} : ((std::uint64_t{1} << (hi - lo + 1)) - 1)) << lo;
     bool any = false;
     for (int r = 0; r < 64; ++r) {
         const int y = tile_y + r;
@@ -254,7 +271,9 @@ inline bool clip_to_framebuffer(std::uint64_t* rows, int tile_x, int tile_y, con
     return any;
 }
 
-inline std::uint32_t floor_pot(std::uint32_t n) { return n == 0 ? 0 : std::bit_floor(n); }
+inline std::uint32_t floor_pot(std::uint32_t n) {
+    return n == 0 ? 0 : std::bit_floor(n);
+}
 
 // lp_setup_bin_triangle with the tile walks it bins; calls on_tile(rows, tile_x, tile_y) with
 // each tile's covered pixels inside the framebuffer (bit x - tile_x of rows[y - tile_y]), tile
@@ -266,12 +285,15 @@ void walk_tiles(const Triangle& t, OnTile&& on_tile) {
         if (tx > t.framebuffer.x1 || ty > t.framebuffer.y1) return;
         Walk w;
         for (int k = 0; k < t.count; ++k) {
-            if (plane_mask & (1u << k)) w.planes[static_cast<std::size_t>(w.count++)] = t.planes[static_cast<std::size_t>(k)];
+            if (plane_mask & (1u << k))
+                w.planes[static_cast<std::size_t>(w.count++)] =
+                    t.planes[static_cast<std::size_t>(k)];
         }
         w.tile_x = tx;
         w.tile_y = ty;
         w.tile();
-        if (clip_to_framebuffer(w.rows, tx, ty, t.framebuffer)) on_tile(static_cast<const std::uint64_t*>(w.rows), tx, ty);
+        if (clip_to_framebuffer(w.rows, tx, ty, t.framebuffer))
+            on_tile(static_cast<const std::uint64_t*>(w.rows), tx, ty);
     };
     const unsigned all = (1u << t.count) - 1;
     const std::uint32_t dx = floor_pot(static_cast<std::uint32_t>((b.x0 ^ b.x1) | (b.y0 ^ b.y1)));
@@ -294,7 +316,8 @@ void walk_tiles(const Triangle& t, OnTile&& on_tile) {
     std::int64_t ystep[kMaxPlanes];
     for (int i = 0; i < t.count; ++i) {
         const Plane& p = t.planes[static_cast<std::size_t>(i)];
-        c[i] = sub64(add64(p.c, mul64(std::int64_t{p.dcdy} * iy0, 64)), mul64(std::int64_t{p.dcdx} * ix0, 64));
+        c[i] = sub64(add64(p.c, mul64(std::int64_t{p.dcdy} * iy0, 64)),
+                     mul64(std::int64_t{p.dcdx} * ix0, 64));
         // (dcdy - dcdx) is an int subtraction in C, then widened for the eo term.
         ei[i] = shl64(std::int64_t{sub32(p.dcdy, p.dcdx)} - std::int64_t{p.eo}, kTileOrder);
         eo[i] = shl64(std::int64_t{p.eo}, kTileOrder);

@@ -155,7 +155,8 @@ bool widths_matter(const PixelRect& raw, const TriangleSetup& t) {
     const int ty = y0 & ~63;
     for (const EdgeFunction& e : t.edges) {
         const std::int64_t q = e.at(tx, ty, t.bits) >> t.bits;
-        const std::int64_t reach = 128 * ((e.a < 0 ? -std::int64_t{e.a} : e.a) + (e.b < 0 ? -std::int64_t{e.b} : e.b));
+        const std::int64_t reach =
+            128 * ((e.a < 0 ? -std::int64_t{e.a} : e.a) + (e.b < 0 ? -std::int64_t{e.b} : e.b));
         if (q - reach <= INT32_MIN || q + reach >= INT32_MAX) return true;
     }
     return false;
@@ -195,7 +196,8 @@ SetupOutcome setup_triangle(const std::array<std::array<float, 2>, 3>& w, const 
     }
     t.order = {0, 1, 2};
     // llvmpipe's arithmetic is reproduced for its own precision and rounding only.
-    const bool llvmpipe_widths = p.wrapping && p.bits == lp::kFixedOrder && p.rounding == SnapRounding::NearestEven;
+    const bool llvmpipe_widths =
+        p.wrapping && p.bits == lp::kFixedOrder && p.rounding == SnapRounding::NearestEven;
     if (beyond) return llvmpipe_widths ? setup_beyond_budget(p, t) : SetupOutcome::OutOfRange;
     t.area = checked_sub(wide_mul(checked_sub(t.x[0], t.x[1]), checked_sub(t.y[2], t.y[0])),
                          wide_mul(checked_sub(t.x[2], t.x[0]), checked_sub(t.y[0], t.y[1])));
@@ -211,7 +213,8 @@ SetupOutcome setup_triangle(const std::array<std::array<float, 2>, 3>& w, const 
     const PixelRect raw = raw_box(p, t);
     t.bbox = intersect(raw, p.draw_region);
     if (t.bbox.empty()) return SetupOutcome::Outside;
-    if (llvmpipe_widths && !uses_32bit_rasterizer(raw) && widths_matter(raw, t)) attach_llvmpipe_walk(p, t);
+    if (llvmpipe_widths && !uses_32bit_rasterizer(raw) && widths_matter(raw, t))
+        attach_llvmpipe_walk(p, t);
     return SetupOutcome::Ok;
 }
 

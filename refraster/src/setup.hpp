@@ -14,7 +14,8 @@
 //  - the bounding box of do_triangle_ccw, intersected with the draw region.
 //
 // Window coordinates are those of an FBO: gallium y equals GL y (docs/precision.md,
-// "Coordinate spaces"), so llvmpipe's bottom_edge_rule is 0 and the tie rule maps to GL terms directly.
+// "Coordinate spaces"), so llvmpipe's bottom_edge_rule is 0 and the tie rule maps to GL terms
+// directly.
 //
 // Deliberately does not: multisample setup (pixel_offset 0), or attribute planes.
 #pragma once
@@ -23,11 +24,11 @@
 #include <cstdint>
 #include <optional>
 
+#include "llvmpipe_walk.hpp"
+#include "pixel_rect.hpp"
 #include "refraster/draw.hpp"
 #include "refraster/fixed.hpp"
 #include "refraster/profile.hpp"
-#include "llvmpipe_walk.hpp"
-#include "pixel_rect.hpp"
 
 namespace refraster::detail {
 
@@ -53,7 +54,6 @@ static_assert(kEdgeValueBits < 63, "edge values must fit int64");
 
 using Subpixel = Fixed<kMaxSubpixelBits, std::int32_t>;
 
-
 struct EdgeFunction {
     std::int32_t a = 0;  // dE/dpx = -a << bits
     std::int32_t b = 0;  // dE/dpy = +b << bits
@@ -63,7 +63,8 @@ struct EdgeFunction {
     // E at the pixel (px, py); the pixel centre is the origin of the snapped grid.
     std::int64_t at(int px, int py, int bits) const {
         const std::int64_t one = std::int64_t{1} << bits;
-        return checked_add(checked_sub(c, checked_mul(wide_mul(a, px), one)), checked_mul(wide_mul(b, py), one));
+        return checked_add(checked_sub(c, checked_mul(wide_mul(a, px), one)),
+                           checked_mul(wide_mul(b, py), one));
     }
 };
 
@@ -110,7 +111,8 @@ bool owns_ties(std::int32_t a, std::int32_t b, TieRule rule);
 
 // The edge function of the snapped edge (xi, yi) -> (xj, yj), tie bias included; the
 // interior of a polygon oriented as set-up triangles are is where it is positive.
-EdgeFunction make_edge(std::int32_t xi, std::int32_t yi, std::int32_t xj, std::int32_t yj, TieRule rule);
+EdgeFunction make_edge(std::int32_t xi, std::int32_t yi, std::int32_t xj, std::int32_t yj,
+                       TieRule rule);
 
 // Gives `t` (oriented positions set) llvmpipe's planes and walk (llvmpipe_walk.hpp), which
 // setup_triangle does itself where llvmpipe's integer widths matter. In range the walk

@@ -2,8 +2,8 @@
 //
 // Implements: SetupPrimitive, what the snapped model's setup makes of one triangle, line or
 // point (its edge functions, bounding box, llvmpipe's own planes and walk where its integer
-// widths decide the pixels, its attribute planes and its owner), and SetupList, a run of them in the order
-// the API drew them with the pools their planes live in. A list holds any number of
+// widths decide the pixels, its attribute planes and its owner), and SetupList, a run of them in
+// the order the API drew them with the pools their planes live in. A list holds any number of
 // attributes: a primitive's planes are window z, 1/w, then one plane per attribute float
 // (smooth and noperspective draws) or one constant per attribute float (flat draws).
 // Setup fills a list and hands it on when full (as llvmpipe's setup bins into a scene and

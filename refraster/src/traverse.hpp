@@ -140,7 +140,6 @@ void traverse_convex(const Setup& t, Visit&& visit) {
     });
 }
 
-
 // Every tile of a set-up triangle, by the walk llvmpipe takes for it.
 template <class OnTile>
 void triangle_tiles(const TriangleSetup& t, OnTile&& on_tile) {

@@ -121,7 +121,8 @@ StageVertex VertexStage::duplicate_with_flat(const StageVertex& v, const StageVe
     // draw_pipe_clip.c dup_vert + copy_flat: flat attributes come from the provoking vertex.
     StageVertex d = v;
     d.attributes = static_cast<std::uint32_t>(pool_.size());
-    for (std::size_t a = 0; a < attribute_floats_; ++a) pool_.push_back(pool_[provoking.attributes + a]);
+    for (std::size_t a = 0; a < attribute_floats_; ++a)
+        pool_.push_back(pool_[provoking.attributes + a]);
     return d;
 }
 
@@ -216,7 +217,8 @@ void VertexStage::clip_triangle(const std::array<std::uint32_t, 3>& idx, bool pr
         t.v = provoking_first ? std::array<StageVertex, 3>{in_list[0], in_list[i - 1], in_list[i]}
                               : std::array<StageVertex, 3>{in_list[i - 1], in_list[i], in_list[0]};
         if (!in_edges[i - 1]) flags = static_cast<std::uint8_t>(flags & ~edge_middle);
-        if (i == in_list.size() - 1 && in_edges[i]) flags = static_cast<std::uint8_t>(flags | edge_last);
+        if (i == in_list.size() - 1 && in_edges[i])
+            flags = static_cast<std::uint8_t>(flags | edge_last);
         t.edge_flags = flags;
         t.clipped = true;
         out.push_back(t);
@@ -224,7 +226,7 @@ void VertexStage::clip_triangle(const std::array<std::uint32_t, 3>& idx, bool pr
 }
 
 std::optional<std::array<StageVertex, 2>> VertexStage::clip_line(std::uint32_t a, std::uint32_t b,
-                                                                bool provoking_first) {
+                                                                 bool provoking_first) {
     const StageVertex& v0 = vertices_[a];
     const StageVertex& v1 = vertices_[b];
     std::uint32_t mask = v0.clipmask | v1.clipmask;
@@ -233,7 +235,8 @@ std::optional<std::array<StageVertex, 2>> VertexStage::clip_line(std::uint32_t a
     const Fp fp{options_.flush_denormals};
     const auto distance = [&](const StageVertex& v, int plane) {
         const float* p = kPlanes[plane];
-        return fp.add(fp.add(fp.add(fp.mul(v.clip[0], p[0]), fp.mul(v.clip[1], p[1])), fp.mul(v.clip[2], p[2])),
+        return fp.add(fp.add(fp.add(fp.mul(v.clip[0], p[0]), fp.mul(v.clip[1], p[1])),
+                             fp.mul(v.clip[2], p[2])),
                       fp.mul(v.clip[3], p[3]));
     };
     float t0 = 0.0f;
@@ -276,7 +279,8 @@ float draw_determinant(const StageTriangle& t, bool flush_denormals) {
     return fp.sub(fp.mul(ex, fy), fp.mul(ey, fx));
 }
 
-void apply_draw_offset(StageTriangle& t, float det, const PolygonOffset& o, DepthFormat depth, bool flush_denormals) {
+void apply_draw_offset(StageTriangle& t, float det, const PolygonOffset& o, DepthFormat depth,
+                       bool flush_denormals) {
     const Fp fp{flush_denormals};
     const float inv_det = fp.div(1.0f, det);
     const auto& v0 = t.v[0].window;

@@ -27,8 +27,8 @@
 #include <span>
 #include <vector>
 
-#include "refraster/draw.hpp"
 #include "float_ops.hpp"
+#include "refraster/draw.hpp"
 #include "refraster/profile.hpp"
 
 namespace refraster::detail {
@@ -63,7 +63,8 @@ struct StageTriangle {
 };
 
 // Clip-plane bit names, in clip-mask bit order.
-inline constexpr const char* kClipPlaneNames[6] = {"x<=w", "x>=-w", "y<=w", "y>=-w", "z>=-w", "z<=w"};
+inline constexpr const char* kClipPlaneNames[6] = {"x<=w",  "x>=-w", "y<=w",
+                                                   "y>=-w", "z>=-w", "z<=w"};
 
 struct VertexStageOptions {
     bool fma = true;
@@ -72,7 +73,7 @@ struct VertexStageOptions {
 };
 
 class VertexStage {
-public:
+  public:
     VertexStage(const Draw& draw, VertexStageOptions options);
 
     // The unclipped vertex `index` of the draw (transform, clip mask, attributes).
@@ -86,12 +87,14 @@ public:
     // first by `provoking_first`) and appends the triangles it becomes to `out`. A triangle
     // with no clip bit set is appended unchanged; one entirely outside a plane appends nothing.
     void clip_triangle(const std::array<std::uint32_t, 3>& indices, bool provoking_first,
-                       std::vector<StageTriangle>& out, std::vector<std::vector<StageVertex>>* polygon_trace);
+                       std::vector<StageTriangle>& out,
+                       std::vector<std::vector<StageVertex>>* polygon_trace);
 
     // draw_pipe_clip.c clip_line / do_clip_line: the segment (a, b) in setup order, cut back
     // by the largest t from each end over the set planes; nullopt when nothing is left. New
     // ends get the provoking vertex's flat attributes (copy_flat).
-    std::optional<std::array<StageVertex, 2>> clip_line(std::uint32_t a, std::uint32_t b, bool provoking_first);
+    std::optional<std::array<StageVertex, 2>> clip_line(std::uint32_t a, std::uint32_t b,
+                                                        bool provoking_first);
 
     const ViewportTransform& viewport() const { return vp_; }
 
@@ -99,7 +102,7 @@ public:
     // attribute is the colour, flat or not as the draw says).
     StageVertex duplicate_with_flat(const StageVertex& v, const StageVertex& provoking);
 
-private:
+  private:
     StageVertex interpolate(float t, const StageVertex& out, const StageVertex& in);
     float ftz(float v) const { return options_.flush_denormals ? flush_denormal(v) : v; }
 
@@ -121,6 +124,7 @@ float draw_determinant(const StageTriangle& t, bool flush_denormals);
 // draw_pipe_offset.c do_offset_tri: adds the polygon offset computed from `det` to each
 // vertex's window z and saturates it to [0, 1] (used for polygon modes line and point, where
 // the draw module, not llvmpipe, applies the offset).
-void apply_draw_offset(StageTriangle& t, float det, const PolygonOffset& o, DepthFormat depth, bool flush_denormals);
+void apply_draw_offset(StageTriangle& t, float det, const PolygonOffset& o, DepthFormat depth,
+                       bool flush_denormals);
 
 }  // namespace refraster::detail

@@ -21,7 +21,8 @@ namespace {
 
 std::vector<std::filesystem::path> shipped_scenes() {
     std::vector<std::filesystem::path> out;
-    for (const auto& e : std::filesystem::recursive_directory_iterator(std::string(REFRASTER_SOURCE_DIR) + "/conformance/scenes")) {
+    for (const auto& e : std::filesystem::recursive_directory_iterator(
+             std::string(REFRASTER_SOURCE_DIR) + "/conformance/scenes")) {
         if (e.is_regular_file() && e.path().extension() == ".json") out.push_back(e.path());
     }
     std::sort(out.begin(), out.end());
@@ -45,7 +46,8 @@ refraster::Framebuffer clear_pixel(const harness::Scene& s) {
     return fb;
 }
 
-bool same_color(const refraster::Framebuffer& a, std::size_t i, const refraster::Framebuffer& b, std::size_t j) {
+bool same_color(const refraster::Framebuffer& a, std::size_t i, const refraster::Framebuffer& b,
+                std::size_t j) {
     for (std::size_t k = 0; k < 4; ++k) {
         const bool same = a.color_format == refraster::ColorFormat::Rgba8
                               ? a.color8[4 * i + k] == b.color8[4 * j + k]
@@ -56,12 +58,13 @@ bool same_color(const refraster::Framebuffer& a, std::size_t i, const refraster:
     return true;
 }
 
-bool same_depth(const refraster::Framebuffer& a, std::size_t i, const refraster::Framebuffer& b, std::size_t j) {
+bool same_depth(const refraster::Framebuffer& a, std::size_t i, const refraster::Framebuffer& b,
+                std::size_t j) {
     return a.depth_format == refraster::DepthFormat::None || a.depth[i] == b.depth[j];
 }
 
-const std::set<std::string> kCoverageOnlyRules{"tie rule", "snapping", "nine-vertex analysis", "cull", "line rule",
-                                               "point rule"};
+const std::set<std::string> kCoverageOnlyRules{"tie rule", "snapping",  "nine-vertex analysis",
+                                               "cull",     "line rule", "point rule"};
 
 struct Tally {
     std::map<std::string, std::size_t> by_verdict;  // "difference/rule"
@@ -72,8 +75,8 @@ struct Tally {
 // `tally`; stops at the first scene with a failure.
 // `expected_rule`, when set, is the rule every verdict must name (or list as a candidate when
 // the trace shows another candidate at work).
-void check_every_pixel(harness::Backend& backend, const refraster::Profile& profile, const std::string& expected_rule,
-                       Tally& tally) {
+void check_every_pixel(harness::Backend& backend, const refraster::Profile& profile,
+                       const std::string& expected_rule, Tally& tally) {
     for (const auto& file : shipped_scenes()) {
         const harness::Scene scene = harness::load_scene(file);
         if (scene.draw_list.target.samples != 1) continue;  // the reference refuses multisampling
@@ -81,23 +84,27 @@ void check_every_pixel(harness::Backend& backend, const refraster::Profile& prof
         const auto& ref = ex.reference_image();
         const auto& act = ex.backend_render()->image;
         const auto clear = clear_pixel(scene);
-        const auto cmp = harness::compare_images(ref, act, scene.draw_list.clear, scene.file.expect);
+        const auto cmp =
+            harness::compare_images(ref, act, scene.draw_list.clear, scene.file.expect);
         if (cmp.mismatched_pixels == 0) continue;
-        std::map<std::string, std::unique_ptr<refraster::Framebuffer>> rerendered;  // by alternative
+        std::map<std::string, std::unique_ptr<refraster::Framebuffer>>
+            rerendered;  // by alternative
         for (std::uint32_t y = 0; y < ref.height; ++y) {
             for (std::uint32_t x = 0; x < ref.width; ++x) {
                 const std::size_t i = ref.index(x, y);
                 const auto cls = ex.classifier()->at(i).cls;
                 if (cls == harness::PixelClass::Equal) continue;
                 const auto e = ex.explain(static_cast<int>(x), static_cast<int>(y), false);
-                const std::string at = file.filename().string() + " (" + std::to_string(x) + ", " + std::to_string(y) +
-                                       "): " + e.verdict;
+                const std::string at = file.filename().string() + " (" + std::to_string(x) + ", " +
+                                       std::to_string(y) + "): " + e.verdict;
                 ++tally.pixels;
                 ++tally.by_verdict[e.difference + "/" + e.rule];
                 ASSERT_FALSE(e.agree) << at;
                 // The class follows from the pixels alone.
-                const bool ref_untouched = same_color(ref, i, clear, 0) && same_depth(ref, i, clear, 0);
-                const bool act_untouched = same_color(act, i, clear, 0) && same_depth(act, i, clear, 0);
+                const bool ref_untouched =
+                    same_color(ref, i, clear, 0) && same_depth(ref, i, clear, 0);
+                const bool act_untouched =
+                    same_color(act, i, clear, 0) && same_depth(act, i, clear, 0);
                 if (ref_untouched != act_untouched) {
                     EXPECT_EQ(e.difference, "coverage") << at;
                 }
@@ -127,21 +134,25 @@ void check_every_pixel(harness::Backend& backend, const refraster::Profile& prof
                         o.profile = profile;
                         harness::apply_profile_overrides(o.profile, {named->second});
                         fb = std::make_unique<refraster::Framebuffer>();
-                        ASSERT_EQ(refraster::render(scene.draw_list, o, *fb).status, refraster::RenderStatus::Ok);
+                        ASSERT_EQ(refraster::render(scene.draw_list, o, *fb).status,
+                                  refraster::RenderStatus::Ok);
                     }
                     const bool coverage_class = cls == harness::PixelClass::Missing ||
                                                 cls == harness::PixelClass::Extra ||
                                                 cls == harness::PixelClass::Coverage;
                     if (coverage_class) {
-                        EXPECT_EQ(same_color(*fb, i, clear, 0) && same_depth(*fb, i, clear, 0), act_untouched) << at;
+                        EXPECT_EQ(same_color(*fb, i, clear, 0) && same_depth(*fb, i, clear, 0),
+                                  act_untouched)
+                            << at;
                     } else {
                         // A colour or depth difference is reproduced byte for byte.
                         EXPECT_TRUE(same_color(*fb, i, act, i) && same_depth(*fb, i, act, i)) << at;
                     }
                 }
                 if (!expected_rule.empty()) {
-                    const bool listed = std::any_of(e.candidates.begin(), e.candidates.end(),
-                                                    [&](const auto& c) { return c.first == expected_rule; });
+                    const bool listed =
+                        std::any_of(e.candidates.begin(), e.candidates.end(),
+                                    [&](const auto& c) { return c.first == expected_rule; });
                     EXPECT_TRUE(listed) << at;
                     if (e.rule != "undecided") {
                         EXPECT_EQ(e.rule, expected_rule) << at;
@@ -189,7 +200,8 @@ TEST_P(ExplainVerdictsMutated, EveryPixelNamesTheMutatedRule) {
     // The mutated rule is named at nearly every pixel; "undecided" only where another rule
     // brings the image into agreement exactly as well (a point that the tie rule and a coarser
     // grid both move).
-    EXPECT_LE(t.by_verdict["coverage/undecided"] + t.by_verdict["colour/undecided"] + t.by_verdict["depth/undecided"],
+    EXPECT_LE(t.by_verdict["coverage/undecided"] + t.by_verdict["colour/undecided"] +
+                  t.by_verdict["depth/undecided"],
               t.pixels / 100);
     EXPECT_GT(t.pixels, 0u) << "the mutation changes no pixel of the suite";
 }
@@ -200,13 +212,15 @@ INSTANTIATE_TEST_SUITE_P(Profiles, ExplainVerdictsMutated,
                                            Mutation{"tie_rule=right-bottom", "tie rule"},
                                            Mutation{"snap_rounding=half-away", "snapping"},
                                            Mutation{"subpixel_bits=4", "snapping"},
-                                           Mutation{"nine_vertex_quirk=false", "nine-vertex analysis"},
+                                           Mutation{"nine_vertex_quirk=false",
+                                                    "nine-vertex analysis"},
                                            Mutation{"draw_pipeline_cull=false", "cull"},
                                            Mutation{"viewport_fma=off", "fused arithmetic"},
                                            Mutation{"wrapping_arithmetic=false", "integer widths"}),
                          [](const auto& p) {
                              std::string n = p.param.change;
-                             for (auto& c : n) c = std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+                             for (auto& c : n)
+                                 c = std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
                              return n;
                          });
 

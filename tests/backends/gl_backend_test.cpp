@@ -43,8 +43,8 @@ struct Vertex {
 Draw make_draw(PrimitiveType p, const std::vector<Vertex>& vs, const Target& t) {
     Draw d;
     d.primitive = p;
-    d.state.viewport = Rect{0, 0, static_cast<std::int32_t>(t.width),
-                            static_cast<std::int32_t>(t.height)};
+    d.state.viewport =
+        Rect{0, 0, static_cast<std::int32_t>(t.width), static_cast<std::int32_t>(t.height)};
     d.vertices.attributes = {{"color", 4}};
     for (const auto& v : vs) {
         d.vertices.data.insert(d.vertices.data.end(), v.clip.begin(), v.clip.end());
@@ -71,8 +71,7 @@ Draw full_quad(const Target& t, float z, std::array<float, 4> color) {
 Draw lower_left_triangle(const Target& t, std::array<float, 4> c0, std::array<float, 4> c1,
                          std::array<float, 4> c2) {
     return make_draw(PrimitiveType::Triangles,
-                     {{{-1, -1, 0, 1}, c0}, {{0.875f, -1, 0, 1}, c1}, {{-1, 0.875f, 0, 1}, c2}},
-                     t);
+                     {{{-1, -1, 0, 1}, c0}, {{0.875f, -1, 0, 1}, c1}, {{-1, 0.875f, 0, 1}, c2}}, t);
 }
 
 harness::Scene make_scene(const std::string& name, DrawList list) {
@@ -96,7 +95,7 @@ std::string show(const Rgba& c) {
 }
 
 class GlBackend : public ::testing::TestWithParam<Driver> {
-protected:
+  protected:
     void SetUp() override {
         // ctest sets the variable; this keeps the binary runnable on its own.
         ::setenv("REFRASTER_WORKER_DIR", REFRASTER_TEST_WORKER_DIR, 0);
@@ -169,11 +168,11 @@ TEST_P(GlBackend, FlatShadingTakesTheProvokingVertex) {
         list.draws.push_back(d);
         const auto fb = render_ok(*b, make_scene("flat", list));
         ASSERT_EQ(fb.color8.size(), 8u * 8u * 4u);
-        const Rgba want = pv == ProvokingVertex::Last ? Rgba{0, 0, 255, 255}
-                                                      : Rgba{255, 0, 0, 255};
+        const Rgba want = pv == ProvokingVertex::Last ? Rgba{0, 0, 255, 255} : Rgba{255, 0, 0, 255};
         for (std::uint32_t y = 0; y < 8; ++y) {
             for (std::uint32_t x = 0; x + y <= 6; ++x) {
-                ASSERT_EQ(pixel(fb, x, y), want) << x << "," << y << " got " << show(pixel(fb, x, y));
+                ASSERT_EQ(pixel(fb, x, y), want)
+                    << x << "," << y << " got " << show(pixel(fb, x, y));
             }
         }
     }
@@ -222,8 +221,7 @@ TEST_P(GlBackend, DepthTestOnlyWithADepthTarget) {
         const auto fb = render_ok(*b, make_scene("depth-test", list));
         ASSERT_EQ(fb.color8.size(), 8u * 8u * 4u);
         // Without depth the test has no effect, as in GL: the later quad wins.
-        const Rgba want = depth == DepthFormat::None ? Rgba{0, 255, 0, 255}
-                                                     : Rgba{255, 0, 0, 255};
+        const Rgba want = depth == DepthFormat::None ? Rgba{0, 255, 0, 255} : Rgba{255, 0, 0, 255};
         for (std::uint32_t y = 0; y < 8; ++y) {
             for (std::uint32_t x = 0; x < 8; ++x) ASSERT_EQ(pixel(fb, x, y), want);
         }
@@ -443,7 +441,7 @@ std::string driver_label(const ::testing::TestParamInfo<Driver>& p) {
     return p.param == Driver::Llvmpipe ? "llvmpipe" : "softpipe";
 }
 
-INSTANTIATE_TEST_SUITE_P(Drivers, GlBackend,
-                         ::testing::Values(Driver::Llvmpipe, Driver::Softpipe), driver_label);
+INSTANTIATE_TEST_SUITE_P(Drivers, GlBackend, ::testing::Values(Driver::Llvmpipe, Driver::Softpipe),
+                         driver_label);
 
 }  // namespace

@@ -7,8 +7,8 @@
 
 #include "harness/backend.hpp"
 #include "harness/compare.hpp"
-#include "refraster/renderer.hpp"
 #include "random_scenes.hpp"
+#include "refraster/renderer.hpp"
 
 namespace {
 
@@ -22,7 +22,8 @@ struct Variant {
 
 // Renders `triangles` random triangles in cells and returns how many cells differ; reports
 // the first few with everything needed to reproduce them.
-int run_variant(std::uint64_t seed, const Variant& v, const refraster::Profile& profile = {}, bool report = true) {
+int run_variant(std::uint64_t seed, const Variant& v, const refraster::Profile& profile = {},
+                bool report = true) {
     testscenes::AttributeGenerator gen(seed, v.options);
     auto [ref, osmesa] = testscenes::make_renderers(profile);
     std::mt19937 clear_rng(static_cast<std::uint32_t>(seed));
@@ -39,7 +40,8 @@ int run_variant(std::uint64_t seed, const Variant& v, const refraster::Profile& 
         const auto b = osmesa->render(scene);
         EXPECT_EQ(a.status, harness::RenderStatus::Ok) << a.message;
         EXPECT_EQ(b.status, harness::RenderStatus::Ok) << b.message;
-        if (a.status != harness::RenderStatus::Ok || b.status != harness::RenderStatus::Ok) return -1;
+        if (a.status != harness::RenderStatus::Ok || b.status != harness::RenderStatus::Ok)
+            return -1;
         const auto c = harness::compare_images(a.image, b.image, scene.draw_list.clear, {});
         drawn_pixels += static_cast<int>(c.mask.pixel_count());
         if (c.mismatched_pixels == 0) continue;
@@ -47,8 +49,9 @@ int run_variant(std::uint64_t seed, const Variant& v, const refraster::Profile& 
             const auto n = testscenes::cell_differences(a.image, b.image, i);
             if (n == 0) continue;
             if (++bad_cells <= 3 && report) {
-                ADD_FAILURE() << v.name << " seed " << seed << " batch " << done / per_batch << " cell " << i << ": "
-                              << n << " pixels differ (" << c.summary() << ")" << testscenes::describe(cells[i]);
+                ADD_FAILURE() << v.name << " seed " << seed << " batch " << done / per_batch
+                              << " cell " << i << ": " << n << " pixels differ (" << c.summary()
+                              << ")" << testscenes::describe(cells[i]);
             }
         }
     }
@@ -59,7 +62,11 @@ int run_variant(std::uint64_t seed, const Variant& v, const refraster::Profile& 
 class RandomAttributes : public ::testing::TestWithParam<std::uint64_t> {};
 
 TEST_P(RandomAttributes, TenThousandSmoothDepthTestedTrianglesZ24) {
-    const Variant v{"smooth-z24", refraster::DepthFormat::Z24, refraster::ColorFormat::Rgba8, {2, false, false}, 10000};
+    const Variant v{"smooth-z24",
+                    refraster::DepthFormat::Z24,
+                    refraster::ColorFormat::Rgba8,
+                    {2, false, false},
+                    10000};
     std::cout << "seed " << GetParam() << "\n";
     EXPECT_EQ(run_variant(GetParam(), v), 0);
 }
@@ -67,10 +74,15 @@ TEST_P(RandomAttributes, TenThousandSmoothDepthTestedTrianglesZ24) {
 // The comparison can fail: llvmpipe fuses the per-pixel plane evaluation on this CPU, and an
 // unfused reference must show it somewhere in 10,000 triangles.
 TEST(RandomAttributesSensitivity, UnfusedInterpolationIsDetected) {
-    if (!refraster::host_has_fma()) GTEST_SKIP() << "the CPU has no FMA: llvmpipe does not fuse either";
+    if (!refraster::host_has_fma())
+        GTEST_SKIP() << "the CPU has no FMA: llvmpipe does not fuse either";
     refraster::Profile unfused;
     unfused.gl.viewport_fma = refraster::FmaMode::Off;
-    const Variant v{"smooth-z24", refraster::DepthFormat::Z24, refraster::ColorFormat::Rgba8, {2, false, false}, 10000};
+    const Variant v{"smooth-z24",
+                    refraster::DepthFormat::Z24,
+                    refraster::ColorFormat::Rgba8,
+                    {2, false, false},
+                    10000};
     EXPECT_GT(run_variant(1, v, unfused, false), 0);
 }
 
@@ -81,11 +93,31 @@ INSTANTIATE_TEST_SUITE_P(Seeds, RandomAttributes, ::testing::Values(1u, 2u, test
 TEST(RandomAttributesVariants, DepthFormatsShadesBlendingOffsetFloat) {
     const Variant variants[] = {
         {"z16", refraster::DepthFormat::Z16, refraster::ColorFormat::Rgba8, {3, true, false}, 2000},
-        {"z32f", refraster::DepthFormat::Z32f, refraster::ColorFormat::Rgba8, {3, true, false}, 2000},
-        {"state-z24", refraster::DepthFormat::Z24, refraster::ColorFormat::Rgba8, {3, true, true}, 2000},
-        {"state-z16", refraster::DepthFormat::Z16, refraster::ColorFormat::Rgba8, {3, true, true}, 2000},
-        {"state-z32f", refraster::DepthFormat::Z32f, refraster::ColorFormat::Rgba8, {3, true, true}, 2000},
-        {"rgba32f", refraster::DepthFormat::Z24, refraster::ColorFormat::Rgba32f, {3, true, true}, 2000},
+        {"z32f",
+         refraster::DepthFormat::Z32f,
+         refraster::ColorFormat::Rgba8,
+         {3, true, false},
+         2000},
+        {"state-z24",
+         refraster::DepthFormat::Z24,
+         refraster::ColorFormat::Rgba8,
+         {3, true, true},
+         2000},
+        {"state-z16",
+         refraster::DepthFormat::Z16,
+         refraster::ColorFormat::Rgba8,
+         {3, true, true},
+         2000},
+        {"state-z32f",
+         refraster::DepthFormat::Z32f,
+         refraster::ColorFormat::Rgba8,
+         {3, true, true},
+         2000},
+        {"rgba32f",
+         refraster::DepthFormat::Z24,
+         refraster::ColorFormat::Rgba32f,
+         {3, true, true},
+         2000},
     };
     for (const auto& v : variants) {
         SCOPED_TRACE(v.name);

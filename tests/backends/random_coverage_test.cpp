@@ -42,8 +42,8 @@ TEST_P(RandomCoverage, TenThousandTrianglesMatchLlvmpipe) {
             const auto diff = testscenes::cell_differences(a.image, b.image, i);
             if (diff == 0) continue;
             if (++mismatched_triangles <= 5) {
-                ADD_FAILURE() << "seed " << seed << " batch " << batch << " cell " << i << ": " << diff
-                              << " pixels differ; " << testscenes::describe(cells[i]);
+                ADD_FAILURE() << "seed " << seed << " batch " << batch << " cell " << i << ": "
+                              << diff << " pixels differ; " << testscenes::describe(cells[i]);
             }
         }
     }
@@ -51,7 +51,8 @@ TEST_P(RandomCoverage, TenThousandTrianglesMatchLlvmpipe) {
     // The generator's promises: a quarter crossing the viewport, a quarter with an edge
     // through pixel centres, some with w <= 0.
     EXPECT_GE(counts.crossing * 4, counts.total) << counts.crossing << " of " << counts.total;
-    EXPECT_GE(counts.centre_edges * 4, counts.total) << counts.centre_edges << " of " << counts.total;
+    EXPECT_GE(counts.centre_edges * 4, counts.total)
+        << counts.centre_edges << " of " << counts.total;
     EXPECT_GE(counts.w_nonpositive, counts.total / 20);
     EXPECT_EQ(counts.total, 10000);
 }
@@ -70,7 +71,8 @@ TEST(RandomCoverageSensitivity, FlippedTieRuleIsDetected) {
         const auto a = ref->render(scene);
         const auto b = osmesa->render(scene);
         ASSERT_EQ(a.status, harness::RenderStatus::Ok) << a.message;
-        mismatched += harness::compare_images(a.image, b.image, scene.draw_list.clear, {}).mismatched_pixels;
+        mismatched +=
+            harness::compare_images(a.image, b.image, scene.draw_list.clear, {}).mismatched_pixels;
         for (std::size_t i = 0; i < b.image.pixel_count(); ++i) lit += b.image.color8[4 * i] != 0;
     }
     EXPECT_GT(mismatched, 100u);

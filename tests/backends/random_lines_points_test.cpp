@@ -23,26 +23,31 @@ struct Counts {
 };
 
 class Generator {
-public:
+  public:
     explicit Generator(std::uint64_t seed) : rng_(seed) {}
 
-    float uniform(float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(rng_); }
+    float uniform(float lo, float hi) {
+        return std::uniform_real_distribution<float>(lo, hi)(rng_);
+    }
     int uniform_int(int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(rng_); }
 
     // A window coordinate in the cell (local, -8..72 so some cross), on the chosen grid.
     float coord(int grid) {
         const float v = uniform(-8.0f, 72.0f);
         switch (grid) {
-            case 0: return std::round(v * 256.0f) / 256.0f;
-            case 1: return std::round(v * 65536.0f) / 65536.0f;
-            default: return std::round(v);
+            case 0:
+                return std::round(v * 256.0f) / 256.0f;
+            case 1:
+                return std::round(v * 65536.0f) / 65536.0f;
+            default:
+                return std::round(v);
         }
     }
 
     refraster::Draw line_draw(int cx, int cy, Counts& counts) {
         refraster::Draw d;
         const int kind = uniform_int(0, 2);
-        d.primitive = kind == 0 ? refraster::PrimitiveType::Lines
+        d.primitive = kind == 0   ? refraster::PrimitiveType::Lines
                       : kind == 1 ? refraster::PrimitiveType::LineStrip
                                   : refraster::PrimitiveType::LineLoop;
         static constexpr float widths[] = {1.0f, 1.4f, 2.0f, 2.5f, 3.0f};
@@ -53,12 +58,16 @@ public:
         std::vector<std::array<float, 2>> pts;
         for (int i = 0; i < n; ++i) pts.push_back({coord(grid), coord(grid)});
         for (int i = 0; i + 1 < n; ++i) {
-            const float dx = pts[static_cast<std::size_t>(i + 1)][0] - pts[static_cast<std::size_t>(i)][0];
-            const float dy = pts[static_cast<std::size_t>(i + 1)][1] - pts[static_cast<std::size_t>(i)][1];
-            const int octant = (dx >= 0 ? 0 : 4) + (dy >= 0 ? 0 : 2) + (std::fabs(dx) >= std::fabs(dy) ? 0 : 1);
+            const float dx =
+                pts[static_cast<std::size_t>(i + 1)][0] - pts[static_cast<std::size_t>(i)][0];
+            const float dy =
+                pts[static_cast<std::size_t>(i + 1)][1] - pts[static_cast<std::size_t>(i)][1];
+            const int octant =
+                (dx >= 0 ? 0 : 4) + (dy >= 0 ? 0 : 2) + (std::fabs(dx) >= std::fabs(dy) ? 0 : 1);
             counts.octants[static_cast<std::size_t>(octant)] += 1;
         }
-        counts.lines += static_cast<int>(refraster::primitive_count(d.primitive, static_cast<std::size_t>(n)));
+        counts.lines +=
+            static_cast<int>(refraster::primitive_count(d.primitive, static_cast<std::size_t>(n)));
         fill(d, cx, cy, pts);
         return d;
     }
@@ -82,7 +91,7 @@ public:
         return d;
     }
 
-private:
+  private:
     // Window-space points of a 64x64 cell to clip space (power-of-two viewport: exact), with
     // random z, w in [0.5, 2], colours, and a random shade model, depth test and provoking
     // vertex.
@@ -90,10 +99,11 @@ private:
         d.state.viewport = {cx, cy, testscenes::kCell, testscenes::kCell};
         d.state.scissor = refraster::Rect{cx, cy, testscenes::kCell, testscenes::kCell};
         const int shade = uniform_int(0, 2);
-        d.state.shade = shade == 0 ? refraster::ShadeModel::Smooth
+        d.state.shade = shade == 0   ? refraster::ShadeModel::Smooth
                         : shade == 1 ? refraster::ShadeModel::NoPerspective
                                      : refraster::ShadeModel::Flat;
-        d.state.provoking_vertex = uniform_int(0, 1) ? refraster::ProvokingVertex::First : refraster::ProvokingVertex::Last;
+        d.state.provoking_vertex = uniform_int(0, 1) ? refraster::ProvokingVertex::First
+                                                     : refraster::ProvokingVertex::Last;
         if (uniform_int(0, 1)) d.state.depth_test = refraster::CompareFunc::Lequal;
         d.vertices.attributes = {{"color", 4}};
         for (const auto& p : pts) {
@@ -101,7 +111,8 @@ private:
             const float x = (p[0] / 32.0f - 1.0f) * w;
             const float y = (p[1] / 32.0f - 1.0f) * w;
             const float z = uniform(-0.9f, 0.9f) * w;
-            d.vertices.data.insert(d.vertices.data.end(), {x, y, z, w, uniform(0, 1), uniform(0, 1), uniform(0, 1), 1.0f});
+            d.vertices.data.insert(d.vertices.data.end(),
+                                   {x, y, z, w, uniform(0, 1), uniform(0, 1), uniform(0, 1), 1.0f});
         }
     }
 
@@ -111,7 +122,8 @@ private:
 harness::Scene scene_of(std::vector<refraster::Draw> draws) {
     harness::Scene s;
     s.path = "random-lines-points";
-    s.file.target = {testscenes::kSize, testscenes::kSize, refraster::ColorFormat::Rgba8, refraster::DepthFormat::Z24, 1};
+    s.file.target = {testscenes::kSize, testscenes::kSize, refraster::ColorFormat::Rgba8,
+                     refraster::DepthFormat::Z24, 1};
     s.file.clear.color = {0, 0, 0, 1};
     s.draw_list.target = s.file.target;
     s.draw_list.clear = s.file.clear;
@@ -120,8 +132,8 @@ harness::Scene scene_of(std::vector<refraster::Draw> draws) {
 }
 
 // Renders until `lines` lines and `points` points are drawn; returns the cells that differ.
-int run(std::uint64_t seed, int lines, int points, Counts& counts, const refraster::Profile& profile = {},
-        bool report = true) {
+int run(std::uint64_t seed, int lines, int points, Counts& counts,
+        const refraster::Profile& profile = {}, bool report = true) {
     Generator gen(seed);
     auto [ref, osmesa] = testscenes::make_renderers(profile);
     int bad = 0;
@@ -130,8 +142,10 @@ int run(std::uint64_t seed, int lines, int points, Counts& counts, const refrast
         for (int i = 0; i < testscenes::kCells; ++i) {
             const int cx = (i % testscenes::kGrid) * testscenes::kCell;
             const int cy = (i / testscenes::kGrid) * testscenes::kCell;
-            const bool want_line = counts.lines < lines && (counts.points >= points || gen.uniform_int(0, 2) > 0);
-            draws.push_back(want_line ? gen.line_draw(cx, cy, counts) : gen.point_draw(cx, cy, counts));
+            const bool want_line =
+                counts.lines < lines && (counts.points >= points || gen.uniform_int(0, 2) > 0);
+            draws.push_back(want_line ? gen.line_draw(cx, cy, counts)
+                                      : gen.point_draw(cx, cy, counts));
         }
         const auto scene = scene_of(draws);
         const auto a = ref->render(scene);
@@ -154,9 +168,10 @@ int run(std::uint64_t seed, int lines, int points, Counts& counts, const refrast
                     desc += buf;
                 }
                 ADD_FAILURE() << "seed " << seed << " batch " << batch << " cell " << i << ": " << n
-                              << " pixels differ; " << refraster::to_string(d.primitive) << " width "
-                              << d.state.line_width << " size " << d.state.point_size << " shade "
-                              << static_cast<int>(d.state.shade) << " vertices" << desc;
+                              << " pixels differ; " << refraster::to_string(d.primitive)
+                              << " width " << d.state.line_width << " size " << d.state.point_size
+                              << " shade " << static_cast<int>(d.state.shade) << " vertices"
+                              << desc;
             }
         }
     }
@@ -184,6 +199,7 @@ TEST(RandomLinesPointsSensitivity, FlippedTieRuleIsDetected) {
     EXPECT_GT(run(5, 1000, 400, counts, flipped, false), 10);
 }
 
-INSTANTIATE_TEST_SUITE_P(Seeds, RandomLinesPoints, ::testing::Values(1u, 2u, testscenes::ci_seed()));
+INSTANTIATE_TEST_SUITE_P(Seeds, RandomLinesPoints,
+                         ::testing::Values(1u, 2u, testscenes::ci_seed()));
 
 }  // namespace

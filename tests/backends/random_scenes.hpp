@@ -4,12 +4,12 @@
 
 #include <algorithm>
 #include <array>
-#include <memory>
-#include <cstdlib>
-#include <cmath>
 #include <bit>
-#include <optional>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -47,7 +47,7 @@ struct CategoryCounts {
 };
 
 class CoverageGenerator {
-public:
+  public:
     explicit CoverageGenerator(std::uint64_t seed) : rng_(seed) {}
 
     std::vector<CellTriangle> next_batch(CategoryCounts& counts) {
@@ -78,10 +78,14 @@ public:
                      : c < 0.7f ? refraster::CullMode::Back
                      : c < 0.9f ? refraster::CullMode::Front
                                 : refraster::CullMode::FrontAndBack;
-            if (t.cull == refraster::CullMode::FrontAndBack && uniform(0, 1) < 0.7f) t.cull = refraster::CullMode::None;
-            t.front_face = uniform(0, 1) < 0.5f ? refraster::FrontFace::Ccw : refraster::FrontFace::Cw;
-            t.provoking = uniform(0, 1) < 0.5f ? refraster::ProvokingVertex::Last : refraster::ProvokingVertex::First;
-            t.color = {static_cast<float>(16 * i + 15) / 255.0f, 1.0f, static_cast<float>(counts.total % 255) / 255.0f, 1.0f};
+            if (t.cull == refraster::CullMode::FrontAndBack && uniform(0, 1) < 0.7f)
+                t.cull = refraster::CullMode::None;
+            t.front_face =
+                uniform(0, 1) < 0.5f ? refraster::FrontFace::Ccw : refraster::FrontFace::Cw;
+            t.provoking = uniform(0, 1) < 0.5f ? refraster::ProvokingVertex::Last
+                                               : refraster::ProvokingVertex::First;
+            t.color = {static_cast<float>(16 * i + 15) / 255.0f, 1.0f,
+                       static_cast<float>(counts.total % 255) / 255.0f, 1.0f};
             ++counts.total;
             bool crossing = false;
             bool behind = false;
@@ -96,21 +100,25 @@ public:
         return cells;
     }
 
-private:
-    float uniform(float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(rng_); }
+  private:
+    float uniform(float lo, float hi) {
+        return std::uniform_real_distribution<float>(lo, hi)(rng_);
+    }
     int uniform_int(int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(rng_); }
 
     // NDC in [-range, range], random w: clip = ndc * w, so every mantissa bit is used.
     std::array<float, 4> random_vertex(float range, float wlo, float whi) {
         const float w = uniform(wlo, whi);
-        return {uniform(-range, range) * w, uniform(-range, range) * w, uniform(-0.9f, 0.9f) * w, w};
+        return {uniform(-range, range) * w, uniform(-range, range) * w, uniform(-0.9f, 0.9f) * w,
+                w};
     }
 
     // Two vertices on pixel centres an even number of pixels apart, so the edge between them
     // passes exactly through the centre halfway; the third anywhere. w is a power of two and
     // the cell 64 pixels wide, so window coordinates come back exactly.
     void centre_triangle(CellTriangle& t) {
-        const float w = std::array<float, 3>{0.5f, 1.0f, 2.0f}[static_cast<std::size_t>(uniform_int(0, 2))];
+        const float w =
+            std::array<float, 3>{0.5f, 1.0f, 2.0f}[static_cast<std::size_t>(uniform_int(0, 2))];
         const auto clip_of = [&](float wx, float wy) {
             return std::array<float, 4>{(wx / 32.0f - 1.0f) * w, (wy / 32.0f - 1.0f) * w, 0.0f, w};
         };
@@ -168,8 +176,9 @@ inline std::string describe(const CellTriangle& t) {
     std::string s = "clip";
     char buf[160];
     for (const auto& v : t.clip) {
-        std::snprintf(buf, sizeof buf, " (%a, %a, %a, %a)", static_cast<double>(v[0]), static_cast<double>(v[1]),
-                      static_cast<double>(v[2]), static_cast<double>(v[3]));
+        std::snprintf(buf, sizeof buf, " (%a, %a, %a, %a)", static_cast<double>(v[0]),
+                      static_cast<double>(v[1]), static_cast<double>(v[2]),
+                      static_cast<double>(v[3]));
         s += buf;
     }
     std::snprintf(buf, sizeof buf, " cull %d front_face %d provoking %d", static_cast<int>(t.cull),
@@ -196,38 +205,41 @@ struct AttributeCell {
 
 struct AttributeOptions {
     int triangles_per_cell = 2;
-    bool vary_shade = false;   // flat and noperspective too, not only smooth
-    bool vary_state = false;   // blending, polygon offset, depth write, depth range
+    bool vary_shade = false;  // flat and noperspective too, not only smooth
+    bool vary_state = false;  // blending, polygon offset, depth write, depth range
 };
 
 class AttributeGenerator {
-public:
+  public:
     AttributeGenerator(std::uint64_t seed, AttributeOptions o) : rng_(seed), o_(o) {}
 
     std::vector<AttributeCell> next_batch() {
         std::vector<AttributeCell> cells(kCells);
         static constexpr refraster::CompareFunc funcs[] = {
-            refraster::CompareFunc::Less,   refraster::CompareFunc::Lequal, refraster::CompareFunc::Greater,
-            refraster::CompareFunc::Gequal, refraster::CompareFunc::Equal,  refraster::CompareFunc::NotEqual,
-            refraster::CompareFunc::Always, refraster::CompareFunc::Never};
+            refraster::CompareFunc::Less,    refraster::CompareFunc::Lequal,
+            refraster::CompareFunc::Greater, refraster::CompareFunc::Gequal,
+            refraster::CompareFunc::Equal,   refraster::CompareFunc::NotEqual,
+            refraster::CompareFunc::Always,  refraster::CompareFunc::Never};
         for (auto& c : cells) {
             const float pick = uniform(0, 1);
             c.depth_test = pick < 0.5f ? refraster::CompareFunc::Less
                                        : funcs[static_cast<std::size_t>(uniform_int(0, 7))];
             if (o_.vary_shade) {
                 const int s = uniform_int(0, 3);
-                c.shade = s == 0 ? refraster::ShadeModel::Flat
+                c.shade = s == 0   ? refraster::ShadeModel::Flat
                           : s == 1 ? refraster::ShadeModel::NoPerspective
                                    : refraster::ShadeModel::Smooth;
             }
             if (o_.vary_state) {
                 c.depth_write = uniform(0, 1) < 0.8f;
                 const int b = uniform_int(0, 3);
-                c.blend = b == 0 ? refraster::BlendPreset::Alpha : b == 1 ? refraster::BlendPreset::Add
-                                                                         : refraster::BlendPreset::None;
+                c.blend = b == 0   ? refraster::BlendPreset::Alpha
+                          : b == 1 ? refraster::BlendPreset::Add
+                                   : refraster::BlendPreset::None;
                 if (uniform(0, 1) < 0.4f) {
-                    c.offset = refraster::PolygonOffset{static_cast<float>(uniform_int(-4, 4)) * 0.5f,
-                                                        static_cast<float>(uniform_int(-8, 8))};
+                    c.offset =
+                        refraster::PolygonOffset{static_cast<float>(uniform_int(-4, 4)) * 0.5f,
+                                                 static_cast<float>(uniform_int(-8, 8))};
                 }
                 if (uniform(0, 1) < 0.3f) c.depth_range = {uniform(0, 1), uniform(0, 1)};
             }
@@ -239,10 +251,12 @@ public:
                     const float r = cross ? 1.6f : 0.95f;
                     v = {uniform(-r, r) * w, uniform(-r, r) * w, uniform(-0.99f, 0.99f) * w, w};
                 }
-                tri.provoking = uniform(0, 1) < 0.5f ? refraster::ProvokingVertex::Last : refraster::ProvokingVertex::First;
+                tri.provoking = uniform(0, 1) < 0.5f ? refraster::ProvokingVertex::Last
+                                                     : refraster::ProvokingVertex::First;
                 std::array<std::array<float, 4>, 3> col{};
                 for (auto& vc : col) {
-                    for (auto& ch : vc) ch = uniform(0, 1) < 0.1f ? uniform(-0.3f, 1.3f) : uniform(0, 1);
+                    for (auto& ch : vc)
+                        ch = uniform(0, 1) < 0.1f ? uniform(-0.3f, 1.3f) : uniform(0, 1);
                 }
                 c.tris.push_back(tri);
                 c.colors.push_back(col);
@@ -251,16 +265,18 @@ public:
         return cells;
     }
 
-private:
-    float uniform(float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(rng_); }
+  private:
+    float uniform(float lo, float hi) {
+        return std::uniform_real_distribution<float>(lo, hi)(rng_);
+    }
     int uniform_int(int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(rng_); }
     std::mt19937_64 rng_;
     AttributeOptions o_;
 };
 
-inline harness::Scene attribute_scene(const std::vector<AttributeCell>& cells, refraster::DepthFormat depth,
-                                      refraster::ColorFormat color, std::array<float, 4> clear_color,
-                                      float clear_depth) {
+inline harness::Scene attribute_scene(const std::vector<AttributeCell>& cells,
+                                      refraster::DepthFormat depth, refraster::ColorFormat color,
+                                      std::array<float, 4> clear_color, float clear_depth) {
     harness::Scene s;
     s.path = "random-attribute-cells";
     s.file.name = "random";
@@ -290,7 +306,8 @@ inline harness::Scene attribute_scene(const std::vector<AttributeCell>& cells, r
             for (std::size_t v = 0; v < 3; ++v) {
                 const auto& p = c.tris[t].clip[v];
                 d.vertices.data.insert(d.vertices.data.end(), p.begin(), p.end());
-                d.vertices.data.insert(d.vertices.data.end(), c.colors[t][v].begin(), c.colors[t][v].end());
+                d.vertices.data.insert(d.vertices.data.end(), c.colors[t][v].begin(),
+                                       c.colors[t][v].end());
             }
             s.draw_list.draws.push_back(std::move(d));
         }
@@ -312,11 +329,14 @@ inline std::string describe(const AttributeCell& c) {
         }
     }
     char buf[200];
-    std::snprintf(buf, sizeof buf, "\n  shade %d depth_test %d write %d blend %d offset %s range %g %g",
-                  static_cast<int>(c.shade), c.depth_test ? static_cast<int>(*c.depth_test) : -1,
-                  static_cast<int>(c.depth_write), static_cast<int>(c.blend),
-                  c.offset ? (std::to_string(c.offset->factor) + "," + std::to_string(c.offset->units)).c_str() : "none",
-                  static_cast<double>(c.depth_range[0]), static_cast<double>(c.depth_range[1]));
+    std::snprintf(
+        buf, sizeof buf, "\n  shade %d depth_test %d write %d blend %d offset %s range %g %g",
+        static_cast<int>(c.shade), c.depth_test ? static_cast<int>(*c.depth_test) : -1,
+        static_cast<int>(c.depth_write), static_cast<int>(c.blend),
+        c.offset
+            ? (std::to_string(c.offset->factor) + "," + std::to_string(c.offset->units)).c_str()
+            : "none",
+        static_cast<double>(c.depth_range[0]), static_cast<double>(c.depth_range[1]));
     return s + buf;
 }
 
@@ -336,7 +356,8 @@ inline Renderers make_renderers(const refraster::Profile& profile = {}) {
 }
 
 // Pixels of cell i that differ in colour (rgba8 bytes or rgba32f bits) or depth.
-inline std::uint64_t cell_differences(const refraster::Framebuffer& a, const refraster::Framebuffer& b, std::size_t i) {
+inline std::uint64_t cell_differences(const refraster::Framebuffer& a,
+                                      const refraster::Framebuffer& b, std::size_t i) {
     const std::uint32_t cx = static_cast<std::uint32_t>(i % kGrid) * kCell;
     const std::uint32_t cy = static_cast<std::uint32_t>(i / kGrid) * kCell;
     std::uint64_t n = 0;

@@ -21,7 +21,9 @@ constexpr Rgba kYellow{255, 255, 0, 255};
 constexpr Rgba kCyan{0, 255, 255, 255};
 constexpr Rgba kWhite{255, 255, 255, 255};
 
-bool in(std::uint32_t v, std::uint32_t lo, std::uint32_t hi) { return v >= lo && v <= hi; }
+bool in(std::uint32_t v, std::uint32_t lo, std::uint32_t hi) {
+    return v >= lo && v <= hi;
+}
 
 struct SmokeCase {
     std::string file;
@@ -31,9 +33,15 @@ struct SmokeCase {
 
 std::vector<SmokeCase> smoke_cases() {
     return {
-        {"triangles", [](auto x, auto y) { return in(x, 2, 5) && in(y, 1, 4) ? kRed : kBlack; }, {}},
-        {"triangle_strip", [](auto x, auto y) { return in(x, 1, 6) && in(y, 2, 3) ? kGreen : kBlack; }, {}},
-        {"triangle_fan", [](auto x, auto y) { return in(x, 1, 6) && in(y, 1, 6) ? kBlue : kBlack; }, {}},
+        {"triangles",
+         [](auto x, auto y) { return in(x, 2, 5) && in(y, 1, 4) ? kRed : kBlack; },
+         {}},
+        {"triangle_strip",
+         [](auto x, auto y) { return in(x, 1, 6) && in(y, 2, 3) ? kGreen : kBlack; },
+         {}},
+        {"triangle_fan",
+         [](auto x, auto y) { return in(x, 1, 6) && in(y, 1, 6) ? kBlue : kBlack; },
+         {}},
         {"depth",
          [](auto x, auto y) {
              if (x <= 5 && y <= 5) return kRed;

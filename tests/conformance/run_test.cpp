@@ -1,10 +1,10 @@
 // `refraster compare` and `refraster conformance run` end to end through OSMesa.
 #include <gtest/gtest.h>
 
-#include <nlohmann/json.hpp>
 #include <algorithm>
 #include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <regex>
 
@@ -40,11 +40,10 @@ std::string last_line(const std::string& s) {
 TEST(CompareCli, DriverMismatchWritesRecordAndMask) {
     testutil::TempDir dir;
     const auto scene = dir.write("tie.json", kTieScene);
-    const auto r = testutil::run_cli({"compare", scene.string(), "--reference", "osmesa",
-                                      "--reference-driver", "softpipe", "--against", "osmesa",
-                                      "--driver", "llvmpipe", "--json",
-                                      (dir.path() / "r.json").string(), "--diff",
-                                      (dir.path() / "mask.png").string()});
+    const auto r = testutil::run_cli(
+        {"compare", scene.string(), "--reference", "osmesa", "--reference-driver", "softpipe",
+         "--against", "osmesa", "--driver", "llvmpipe", "--json", (dir.path() / "r.json").string(),
+         "--diff", (dir.path() / "mask.png").string()});
     EXPECT_EQ(r.exit_code, 1) << r.err;
     const auto rec = json::parse(testutil::read_text(dir.path() / "r.json"));
     EXPECT_EQ(rec["status"], "Fail");
@@ -71,7 +70,8 @@ TEST(CompareCli, DriverMismatchWritesRecordAndMask) {
 TEST(CompareCli, SameDriverPasses) {
     testutil::TempDir dir;
     const auto scene = dir.write("tie.json", kTieScene);
-    const auto r = testutil::run_cli({"compare", scene.string(), "--reference", "egl", "--against", "osmesa"});
+    const auto r =
+        testutil::run_cli({"compare", scene.string(), "--reference", "egl", "--against", "osmesa"});
     EXPECT_EQ(r.exit_code, 0) << r.err;
     EXPECT_EQ(r.out.rfind("Pass tie", 0), 0u) << r.out;
 }
@@ -82,7 +82,8 @@ TEST(ConformanceRun, SmokeSuiteStreamsResultsAndSummarises) {
     const auto r = testutil::run_cli({"conformance", "run", "--cases", "smoke.*", "--against",
                                       "osmesa", "--output", out.string()});
     EXPECT_EQ(r.exit_code, 0) << r.err;
-    EXPECT_TRUE(std::regex_match(last_line(r.out), std::regex(R"(\d+ passed, \d+ failed, \d+ skipped)")))
+    EXPECT_TRUE(
+        std::regex_match(last_line(r.out), std::regex(R"(\d+ passed, \d+ failed, \d+ skipped)")))
         << r.out;
     const auto lines = read_jsonl(out / "results.jsonl");
     ASSERT_EQ(lines.size(), 8u);
@@ -90,7 +91,8 @@ TEST(ConformanceRun, SmokeSuiteStreamsResultsAndSummarises) {
     for (const auto& l : lines) {
         EXPECT_NE(l["status"], "Crash");
         EXPECT_EQ(l["actual"]["status"], "Ok") << l.dump();
-        EXPECT_TRUE(std::filesystem::exists(out / "images" / (l["case"].get<std::string>() + ".osmesa-llvmpipe.png")));
+        EXPECT_TRUE(std::filesystem::exists(
+            out / "images" / (l["case"].get<std::string>() + ".osmesa-llvmpipe.png")));
     }
 }
 
@@ -111,7 +113,8 @@ TEST(ConformanceRun, KilledWorkerIsACrashAndTheRunGoesOn) {
         if (lines[i]["status"] == "Crash") {
             ++crashes;
             EXPECT_EQ(i, 2u);
-            EXPECT_NE(lines[i]["message"].get<std::string>().find("smoke/depth.json"), std::string::npos)
+            EXPECT_NE(lines[i]["message"].get<std::string>().find("smoke/depth.json"),
+                      std::string::npos)
                 << lines[i]["message"];
         } else {
             EXPECT_EQ(lines[i]["actual"]["status"], "Ok") << lines[i].dump();
@@ -122,31 +125,40 @@ TEST(ConformanceRun, KilledWorkerIsACrashAndTheRunGoesOn) {
 
 TEST(ConformanceRun, NoMatchingCaseIsAUsageError) {
     testutil::TempDir dir;
-    const auto r = testutil::run_cli({"conformance", "run", "--cases", "no.such.*", "--output",
-                                      (dir.path() / "run").string()});
+    const auto r = testutil::run_cli(
+        {"conformance", "run", "--cases", "no.such.*", "--output", (dir.path() / "run").string()});
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_EQ(testutil::count_lines(r.err), 1u);
 }
 
 std::map<std::string, std::string> statuses(const std::filesystem::path& jsonl) {
     std::map<std::string, std::string> m;
-    for (const auto& l : read_jsonl(jsonl)) m[l["case"].get<std::string>()] = l["status"].get<std::string>();
+    for (const auto& l : read_jsonl(jsonl))
+        m[l["case"].get<std::string>()] = l["status"].get<std::string>();
     return m;
 }
 
-std::string bin() { return testutil::shell_quote(std::string(REFRASTER_BIN_DIR) + "/refraster"); }
+std::string bin() {
+    return testutil::shell_quote(std::string(REFRASTER_BIN_DIR) + "/refraster");
+}
 
 TEST(ConformanceRun, SigkillThenResumeGivesTheUninterruptedResults) {
     testutil::TempDir dir;
     const auto full = dir.path() / "full";
     const auto killed = dir.path() / "killed";
     const std::string sel = " --cases 'triangles.*,lines.*' --against osmesa --output ";
-    ASSERT_EQ(std::system((bin() + " conformance run" + sel + testutil::shell_quote(full.string()) + " > /dev/null").c_str()) >> 8, 0);
+    ASSERT_EQ(std::system((bin() + " conformance run" + sel + testutil::shell_quote(full.string()) +
+                           " > /dev/null")
+                              .c_str()) >>
+                  8,
+              0);
     // Kill a second run with SIGKILL once it has written some results.
-    const std::string cmd = bin() + " conformance run" + sel + testutil::shell_quote(killed.string()) +
-                            " > /dev/null & pid=$!; while [ ! -s " + testutil::shell_quote((killed / "results.jsonl").string()) +
-                            " ] || [ $(wc -l < " + testutil::shell_quote((killed / "results.jsonl").string()) +
-                            ") -lt 20 ]; do sleep 0.01; done; kill -9 $pid; wait $pid";
+    const std::string cmd =
+        bin() + " conformance run" + sel + testutil::shell_quote(killed.string()) +
+        " > /dev/null & pid=$!; while [ ! -s " +
+        testutil::shell_quote((killed / "results.jsonl").string()) + " ] || [ $(wc -l < " +
+        testutil::shell_quote((killed / "results.jsonl").string()) +
+        ") -lt 20 ]; do sleep 0.01; done; kill -9 $pid; wait $pid";
     std::system(cmd.c_str());
     const auto partial = read_jsonl(killed / "results.jsonl");
     EXPECT_GE(partial.size(), 20u);
@@ -159,13 +171,18 @@ TEST(ConformanceRun, SigkillThenResumeGivesTheUninterruptedResults) {
         kept = cut.substr(0, cut.rfind('\n') + 1);
         std::ofstream(killed / "results.jsonl", std::ios::trunc) << cut;
     }
-    const std::size_t kept_cases = static_cast<std::size_t>(std::count(kept.begin(), kept.end(), '\n'));
+    const std::size_t kept_cases =
+        static_cast<std::size_t>(std::count(kept.begin(), kept.end(), '\n'));
     const auto out = dir.path() / "resume.txt";
-    const int rc = std::system((bin() + " conformance run" + sel + testutil::shell_quote(killed.string()) + " --resume > " +
-                                testutil::shell_quote(out.string())).c_str());
+    const int rc =
+        std::system((bin() + " conformance run" + sel + testutil::shell_quote(killed.string()) +
+                     " --resume > " + testutil::shell_quote(out.string()))
+                        .c_str());
     EXPECT_EQ(rc >> 8, 0);
     const auto console = testutil::read_text(out);
-    EXPECT_NE(console.find("resume: kept " + std::to_string(kept_cases) + " finished cases"), std::string::npos) << console;
+    EXPECT_NE(console.find("resume: kept " + std::to_string(kept_cases) + " finished cases"),
+              std::string::npos)
+        << console;
     EXPECT_NE(console.find("cut a torn last line"), std::string::npos) << console;
     // Every finished record is kept byte for byte (same timings, same provenance): the resumed
     // file starts with exactly the complete lines the killed run wrote; only the rest is new.
@@ -177,13 +194,15 @@ TEST(ConformanceRun, SigkillThenResumeGivesTheUninterruptedResults) {
     for (std::string l; std::getline(lines, l);) printed += l.rfind("Pass ", 0) == 0 ? 1u : 0u;
     EXPECT_EQ(printed + kept_cases, statuses(full / "results.jsonl").size());
     EXPECT_EQ(statuses(killed / "results.jsonl"), statuses(full / "results.jsonl"));
-    EXPECT_EQ(read_jsonl(killed / "results.jsonl").size(), read_jsonl(full / "results.jsonl").size());  // none twice
+    EXPECT_EQ(read_jsonl(killed / "results.jsonl").size(),
+              read_jsonl(full / "results.jsonl").size());  // none twice
 }
 
 TEST(ConformanceRun, ResumeRefusesAFileNoKillCouldLeave) {
     testutil::TempDir dir;
     const auto out = dir.path() / "out";
-    const std::vector<std::string> run{"conformance", "run", "--cases", "smoke.*", "--output", out.string()};
+    const std::vector<std::string> run{"conformance", "run",      "--cases",
+                                       "smoke.*",     "--output", out.string()};
     ASSERT_EQ(testutil::run_cli(run).exit_code, 0);
     const auto good = testutil::read_text(out / "results.jsonl");
     auto resume = run;
@@ -195,7 +214,8 @@ TEST(ConformanceRun, ResumeRefusesAFileNoKillCouldLeave) {
     EXPECT_NE(r.err.find("results.jsonl:1: not a result record"), std::string::npos) << r.err;
     EXPECT_EQ(testutil::read_text(out / "results.jsonl"), "not json\n" + good);  // left alone
     // A case recorded twice.
-    std::ofstream(out / "results.jsonl", std::ios::trunc) << good << good.substr(0, good.find('\n') + 1);
+    std::ofstream(out / "results.jsonl", std::ios::trunc)
+        << good << good.substr(0, good.find('\n') + 1);
     r = testutil::run_cli(resume);
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_NE(r.err.find("recorded twice"), std::string::npos) << r.err;
@@ -213,13 +233,17 @@ TEST(ConformanceRun, ResumeRefusesAFileNoKillCouldLeave) {
 std::filesystem::path write_small_suite(const std::filesystem::path& dir, bool msaa = true) {
     const auto scenes = dir / "scenes" / "t";
     std::filesystem::create_directories(scenes);
-    std::ofstream(scenes / "tie.json") << R"({"format": "refraster-scene/1", "name": "t.tie", "description": "d",
+    std::ofstream(scenes / "tie.json")
+        << R"({"format": "refraster-scene/1", "name": "t.tie", "description": "d",
       "target": {"width": 8, "height": 8}, "clear": {"color": [0, 0, 0, 1]},
       "draws": [{"primitive": "triangles", "vertices": [{"position": [0, 0]}, {"position": [8, 0]}, {"position": [0, 8]}]}]})";
-    std::ofstream(scenes / "plain.json") << R"({"format": "refraster-scene/1", "name": "t.plain", "description": "d",
+    std::ofstream(scenes / "plain.json")
+        << R"({"format": "refraster-scene/1", "name": "t.plain", "description": "d",
       "target": {"width": 8, "height": 8}, "clear": {"color": [0, 0, 0, 1]},
       "draws": [{"primitive": "triangles", "vertices": [{"position": [0.25, 0.25]}, {"position": [7.25, 0.75]}, {"position": [1.5, 7.75]}]}]})";
-    if (msaa) std::ofstream(scenes / "msaa.json") << R"({"format": "refraster-scene/1", "name": "t.msaa", "description": "d",
+    if (msaa)
+        std::ofstream(scenes / "msaa.json")
+            << R"({"format": "refraster-scene/1", "name": "t.msaa", "description": "d",
       "target": {"width": 8, "height": 8, "samples": 4}, "draws": []})";
     return dir / "scenes";
 }
@@ -231,15 +255,17 @@ TEST(ConformanceRun, BaselineExpectedFailAndUnexpectedPass) {
     write_small_suite(dir.path(), false);
     std::ofstream(dir.path() / "baseline.csv") << "# known failures\nt.tie,Fail\nt.plain,Fail\n";
     const auto out = dir.path() / "out";
-    const auto r = testutil::run_cli({"conformance", "run", "--scenes", (dir.path() / "scenes").string(), "--baseline",
-                                      (dir.path() / "baseline.csv").string(), "--profile-set", "tie_rule=right-top",
-                                      "--output", out.string()});
+    const auto r =
+        testutil::run_cli({"conformance", "run", "--scenes", (dir.path() / "scenes").string(),
+                           "--baseline", (dir.path() / "baseline.csv").string(), "--profile-set",
+                           "tie_rule=right-top", "--output", out.string()});
     const auto st = statuses(out / "results.jsonl");
     EXPECT_EQ(st.at("t.tie"), "ExpectedFail");
     EXPECT_EQ(st.at("t.plain"), "UnexpectedPass");
     EXPECT_EQ(r.exit_code, 1);  // an unexpected pass fails the run: the baseline is stale
     EXPECT_EQ(testutil::read_text(out / "failures.csv"), "t.plain,UnexpectedPass\n");
-    EXPECT_NE(testutil::read_text(out / "results.csv").find("t.tie,ExpectedFail,"), std::string::npos);
+    EXPECT_NE(testutil::read_text(out / "results.csv").find("t.tie,ExpectedFail,"),
+              std::string::npos);
     const auto junit = testutil::read_text(out / "junit.xml");
     EXPECT_NE(junit.find("<failure type=\"UnexpectedPass\""), std::string::npos);
     EXPECT_NE(junit.find("tests=\"2\" failures=\"1\""), std::string::npos);
@@ -249,32 +275,39 @@ TEST(ConformanceRun, CsvsSpeakDeqpRunnerAndBaselinesAcceptIt) {
     testutil::TempDir dir;
     const auto scenes = write_small_suite(dir.path());
     const auto first = dir.path() / "first";
-    auto r = testutil::run_cli({"conformance", "run", "--scenes", scenes.string(), "--profile-set", "tie_rule=right-top",
-                                "--output", first.string()});
+    auto r = testutil::run_cli({"conformance", "run", "--scenes", scenes.string(), "--profile-set",
+                                "tie_rule=right-top", "--output", first.string()});
     EXPECT_EQ(r.exit_code, 1) << r.err;
     const auto csv = testutil::read_text(first / "results.csv");
-    EXPECT_NE(csv.find("t.msaa,Skip,"), std::string::npos) << csv;  // deqp-runner's word for NotSupported
+    EXPECT_NE(csv.find("t.msaa,Skip,"), std::string::npos)
+        << csv;  // deqp-runner's word for NotSupported
     EXPECT_EQ(csv.find("NotSupported"), std::string::npos) << csv;
     EXPECT_NE(csv.find("t.tie,Fail,"), std::string::npos) << csv;
-    EXPECT_EQ(statuses(first / "results.jsonl").at("t.msaa"), "NotSupported");  // the precise status stays
+    EXPECT_EQ(statuses(first / "results.jsonl").at("t.msaa"),
+              "NotSupported");  // the precise status stays
     EXPECT_EQ(testutil::read_text(first / "failures.csv"), "t.tie,Fail\n");
     // The run's own results.csv, durations and all, is a baseline: now nothing is unexpected.
     const auto second = dir.path() / "second";
-    r = testutil::run_cli({"conformance", "run", "--scenes", scenes.string(), "--profile-set", "tie_rule=right-top",
-                           "--baseline", (first / "results.csv").string(), "--output", second.string()});
+    r = testutil::run_cli({"conformance", "run", "--scenes", scenes.string(), "--profile-set",
+                           "tie_rule=right-top", "--baseline", (first / "results.csv").string(),
+                           "--output", second.string()});
     EXPECT_EQ(r.exit_code, 0) << r.err << r.out;
     EXPECT_EQ(statuses(second / "results.jsonl").at("t.tie"), "ExpectedFail");
     // deqp-runner's other words: ExpectedFail (any failure), Skip, and a comment.
-    std::ofstream(dir.path() / "b.csv") << "# from an older run\nt.tie,ExpectedFail\nt.msaa,Skip\nt.plain,Pass,0.1\n";
+    std::ofstream(dir.path() / "b.csv")
+        << "# from an older run\nt.tie,ExpectedFail\nt.msaa,Skip\nt.plain,Pass,0.1\n";
     const auto third = dir.path() / "third";
-    r = testutil::run_cli({"conformance", "run", "--scenes", scenes.string(), "--profile-set", "tie_rule=right-top",
-                           "--baseline", (dir.path() / "b.csv").string(), "--output", third.string()});
+    r = testutil::run_cli({"conformance", "run", "--scenes", scenes.string(), "--profile-set",
+                           "tie_rule=right-top", "--baseline", (dir.path() / "b.csv").string(),
+                           "--output", third.string()});
     EXPECT_EQ(r.exit_code, 0) << r.err << r.out;
-    EXPECT_NE(testutil::read_text(third / "results.csv").find("t.tie,ExpectedFail,"), std::string::npos);
+    EXPECT_NE(testutil::read_text(third / "results.csv").find("t.tie,ExpectedFail,"),
+              std::string::npos);
     // An unknown word names the file and line.
     std::ofstream(dir.path() / "bad.csv") << "t.tie,Fail\nt.plain,Maybe\n";
     r = testutil::run_cli({"conformance", "run", "--scenes", scenes.string(), "--baseline",
-                           (dir.path() / "bad.csv").string(), "--output", (dir.path() / "x").string()});
+                           (dir.path() / "bad.csv").string(), "--output",
+                           (dir.path() / "x").string()});
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_NE(r.err.find("bad.csv:2: expected name,Status"), std::string::npos) << r.err;
 }
@@ -283,29 +316,33 @@ TEST(ConformanceRun, CasePageExplainCommandReproducesTheCase) {
     testutil::TempDir dir;
     const auto scenes = write_small_suite(dir.path());
     const auto out = dir.path() / "out";
-    const auto r = testutil::run_cli({"conformance", "run", "--scenes", scenes.string(), "--cases", "t.tie", "--against",
-                                      "osmesa", "--driver", "llvmpipe", "--profile-set", "tie_rule=right-top", "--output",
-                                      out.string()});
+    const auto r =
+        testutil::run_cli({"conformance", "run", "--scenes", scenes.string(), "--cases", "t.tie",
+                           "--against", "osmesa", "--driver", "llvmpipe", "--profile-set",
+                           "tie_rule=right-top", "--output", out.string()});
     EXPECT_EQ(r.exit_code, 1) << r.err;
     const auto page = testutil::read_text(out / "cases" / "t.tie.html");
     const std::regex code("<code id=\"explain-command\">([^<]*)</code>");
     std::smatch m;
     ASSERT_TRUE(std::regex_search(page, m, code)) << page;
     const std::string cmd = m[1].str();
-    EXPECT_NE(cmd.find("--against osmesa --driver llvmpipe --profile llvmpipe-22.3 --profile-set tie_rule=right-top"),
+    EXPECT_NE(cmd.find("--against osmesa --driver llvmpipe --profile llvmpipe-22.3 --profile-set "
+                       "tie_rule=right-top"),
               std::string::npos)
         << cmd;
     // Run it as printed: it reproduces the failing pixel and names the rule the run named.
     ASSERT_EQ(cmd.rfind("refraster ", 0), 0u);
     const auto log = dir.path() / "explain.txt";
-    const int rc = std::system((bin() + cmd.substr(9) + " > " + testutil::shell_quote(log.string())).c_str());
+    const int rc =
+        std::system((bin() + cmd.substr(9) + " > " + testutil::shell_quote(log.string())).c_str());
     EXPECT_EQ(rc >> 8, 1);  // the pixel differs
     const auto text = testutil::read_text(log);
     EXPECT_NE(text.find("verdict: coverage: "), std::string::npos) << text;
     EXPECT_NE(text.find("tie rule: "), std::string::npos) << text;
     EXPECT_NE(page.find("coverage, tie rule"), std::string::npos);
     // The index names the profile that ran.
-    EXPECT_NE(testutil::read_text(out / "index.html").find("Reference profile <b>llvmpipe-22.3+tie_rule=right-top</b>"),
+    EXPECT_NE(testutil::read_text(out / "index.html")
+                  .find("Reference profile <b>llvmpipe-22.3+tie_rule=right-top</b>"),
               std::string::npos);
 }
 
@@ -314,23 +351,27 @@ TEST(Bench, TablesJsonAndRefusesWrongPixels) {
     // docs/performance.md, and the comparison with llvmpipe that makes a wrong reference fail.
     testutil::TempDir dir;
     const auto json_path = dir.path() / "bench.json";
-    auto r = testutil::run_cli({"bench", "--scale", "0.002", "--rounds", "2", "--json", json_path.string()});
+    auto r = testutil::run_cli(
+        {"bench", "--scale", "0.002", "--rounds", "2", "--json", json_path.string()});
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NE(r.out.find("| full-perspective |"), std::string::npos) << r.out;
     const auto j = json::parse(testutil::read_text(json_path));
     ASSERT_EQ(j["scenes"].size(), 8u);
     for (const auto& s : j["scenes"]) {
-        for (const char* k : {"ref_ms", "llvmpipe_t0_ms", "llvmpipe_ms", "softpipe_ms", "speedup_vs_llvmpipe_t0"}) {
+        for (const char* k :
+             {"ref_ms", "llvmpipe_t0_ms", "llvmpipe_ms", "softpipe_ms", "speedup_vs_llvmpipe_t0"}) {
             EXPECT_GT(s[k].get<double>(), 0.0) << s["name"] << " " << k;
         }
-        EXPECT_GT(s["ref_heap_peak_mb"].get<double>(), 4.0) << s["name"];  // at least the 1024x1024 colour buffer
+        EXPECT_GT(s["ref_heap_peak_mb"].get<double>(), 4.0)
+            << s["name"];  // at least the 1024x1024 colour buffer
         double split = 0;
-        for (const char* k : {"load", "setup", "raster", "fragment"}) split += s["split_ms"][k].get<double>();
+        for (const char* k : {"load", "setup", "raster", "fragment"})
+            split += s["split_ms"][k].get<double>();
         EXPECT_GT(split, 0.0) << s["name"];
         EXPECT_GT(s["pixels"].get<double>(), 0.0) << s["name"];
     }
-    r = testutil::run_cli({"bench", "--scenes", "medium-flat", "--scale", "0.01", "--rounds", "1", "--profile-set",
-                           "snap_rounding=truncate"});
+    r = testutil::run_cli({"bench", "--scenes", "medium-flat", "--scale", "0.01", "--rounds", "1",
+                           "--profile-set", "snap_rounding=truncate"});
     EXPECT_EQ(r.exit_code, 3);
     EXPECT_NE(r.err.find("differs from llvmpipe's"), std::string::npos) << r.err;
     r = testutil::run_cli({"bench", "--scenes", "huge-flat"});
@@ -344,28 +385,36 @@ TEST(ConformanceRun, ShardsPartitionTheSelection) {
     std::size_t total = 0;
     for (int i = 0; i < 3; ++i) {
         const auto out = dir.path() / ("s" + std::to_string(i));
-        const std::string cmd = "GTEST_SHARD_INDEX=" + std::to_string(i) + " GTEST_TOTAL_SHARDS=3 " + bin() +
-                                " conformance run --cases 'smoke.*,points.*' --against osmesa --output " +
-                                testutil::shell_quote(out.string()) + " > /dev/null";
+        const std::string cmd =
+            "GTEST_SHARD_INDEX=" + std::to_string(i) + " GTEST_TOTAL_SHARDS=3 " + bin() +
+            " conformance run --cases 'smoke.*,points.*' --against osmesa --output " +
+            testutil::shell_quote(out.string()) + " > /dev/null";
         EXPECT_EQ(std::system(cmd.c_str()) >> 8, 0);
         const auto st = statuses(out / "results.jsonl");
         total += st.size();
         EXPECT_GE(st.size(), 9u);
-        for (const auto& [k, v] : st) EXPECT_TRUE(all.emplace(k, v).second) << k << " ran on two shards";
+        for (const auto& [k, v] : st)
+            EXPECT_TRUE(all.emplace(k, v).second) << k << " ran on two shards";
     }
     const auto whole = dir.path() / "whole";
     EXPECT_EQ(std::system((bin() + " conformance run --cases 'smoke.*,points.*' --output " +
-                           testutil::shell_quote(whole.string()) + " > /dev/null").c_str()) >> 8, 0);
+                           testutil::shell_quote(whole.string()) + " > /dev/null")
+                              .c_str()) >>
+                  8,
+              0);
     EXPECT_EQ(all, statuses(whole / "results.jsonl"));
     EXPECT_EQ(total, all.size());
 }
 
 TEST(ConformanceRun, CaselistAndExclude) {
     testutil::TempDir dir;
-    std::ofstream(dir.path() / "list.txt") << "# a dEQP-style case list\nsmoke.triangles\nsmoke.depth  # trailing comment\npoints.size_*\n";
+    std::ofstream(dir.path() / "list.txt")
+        << "# a dEQP-style case list\nsmoke.triangles\nsmoke.depth  # trailing "
+           "comment\npoints.size_*\n";
     const auto out = dir.path() / "out";
-    const auto r = testutil::run_cli({"conformance", "run", "--caselist", (dir.path() / "list.txt").string(), "--exclude",
-                                      "points.size_1*", "--output", out.string()});
+    const auto r =
+        testutil::run_cli({"conformance", "run", "--caselist", (dir.path() / "list.txt").string(),
+                           "--exclude", "points.size_1*", "--output", out.string()});
     EXPECT_EQ(r.exit_code, 0) << r.err;
     const auto st = statuses(out / "results.jsonl");
     EXPECT_TRUE(st.count("smoke.triangles"));
@@ -378,11 +427,12 @@ TEST(ConformanceRun, CaselistAndExclude) {
 TEST(ConformanceRun, DuplicateCaseNamesAreRefused) {
     testutil::TempDir dir;
     std::filesystem::create_directories(dir.path() / "a");
-    const std::string scene = R"({"format": "refraster-scene/1", "target": {"width": 4, "height": 4}, "draws": []})";
+    const std::string scene =
+        R"({"format": "refraster-scene/1", "target": {"width": 4, "height": 4}, "draws": []})";
     std::ofstream(dir.path() / "a" / "b.json") << scene;
     std::ofstream(dir.path() / "a.b.json") << scene;
-    const auto r = testutil::run_cli({"conformance", "run", "--scenes", dir.path().string(), "--output",
-                                      (dir.path() / "out").string()});
+    const auto r = testutil::run_cli({"conformance", "run", "--scenes", dir.path().string(),
+                                      "--output", (dir.path() / "out").string()});
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_NE(r.err.find("duplicate case name a.b"), std::string::npos) << r.err;
 }
@@ -391,8 +441,11 @@ TEST(ConformanceRun, DuplicateCaseNamesAreRefused) {
 
 namespace {
 
-nlohmann::json explain(const std::string& scene, const std::string& pixel, const std::vector<std::string>& extra) {
-    std::vector<std::string> args{"explain", std::string(REFRASTER_SOURCE_DIR) + "/conformance/scenes/" + scene, "--pixel", pixel, "--json"};
+nlohmann::json explain(const std::string& scene, const std::string& pixel,
+                       const std::vector<std::string>& extra) {
+    std::vector<std::string> args{
+        "explain", std::string(REFRASTER_SOURCE_DIR) + "/conformance/scenes/" + scene, "--pixel",
+        pixel, "--json"};
     args.insert(args.end(), extra.begin(), extra.end());
     const auto r = testutil::run_cli(args);
     return nlohmann::json::parse(r.out);
@@ -401,15 +454,18 @@ nlohmann::json explain(const std::string& scene, const std::string& pixel, const
 TEST(Explain, FlippedTieRuleFailuresNameTheTieRule) {
     // Every failing pixel of a tie-heavy scene under the flipped rule is explained by the tie rule.
     testutil::TempDir dir;
-    const auto scene = std::string(REFRASTER_SOURCE_DIR) + "/conformance/scenes/triangles/coverage/square_through_centres.json";
-    const auto r = testutil::run_cli({"compare", scene, "--profile-set", "tie_rule=right-top", "--diff", (dir.path() / "m.png").string()});
+    const auto scene = std::string(REFRASTER_SOURCE_DIR) +
+                       "/conformance/scenes/triangles/coverage/square_through_centres.json";
+    const auto r = testutil::run_cli({"compare", scene, "--profile-set", "tie_rule=right-top",
+                                      "--diff", (dir.path() / "m.png").string()});
     EXPECT_EQ(r.exit_code, 1) << r.err;
     const auto mask = harness::read_color_image(dir.path() / "m.png");
     int explained = 0;
     for (std::uint32_t y = 0; y < mask.height; ++y) {
         for (std::uint32_t x = 0; x < mask.width; ++x) {
             if (mask.color8[4 * mask.index(x, y)] != 255) continue;  // dark grey: equal
-            const auto j = explain("triangles/coverage/square_through_centres.json", std::to_string(x) + "," + std::to_string(y),
+            const auto j = explain("triangles/coverage/square_through_centres.json",
+                                   std::to_string(x) + "," + std::to_string(y),
                                    {"--profile-set", "tie_rule=right-top"});
             EXPECT_EQ(j["rule"], "tie rule") << x << "," << y << ": " << j["verdict"];
             EXPECT_FALSE(j["agree"].get<bool>());
@@ -424,7 +480,8 @@ TEST(Explain, FlippedTieRuleFailuresNameTheTieRule) {
 TEST(Explain, SnappingMismatchIsNotATie) {
     // Half-away rounding moves the left edge at 10.5 + 1/512 off the centres: a mismatch at
     // column 10 with no centre exactly on a reference edge.
-    const auto j = explain("triangles/coverage/left_edge_plus_1_512.json", "10,15", {"--profile-set", "snap_rounding=half-away"});
+    const auto j = explain("triangles/coverage/left_edge_plus_1_512.json", "10,15",
+                           {"--profile-set", "snap_rounding=half-away"});
     EXPECT_FALSE(j["agree"].get<bool>());
     EXPECT_NE(j["rule"], "tie rule");
     EXPECT_EQ(j["rule"], "snapping");
@@ -433,18 +490,24 @@ TEST(Explain, SnappingMismatchIsNotATie) {
 TEST(Explain, AgreementAndSvg) {
     testutil::TempDir dir;
     const auto svg = dir.path() / "n.svg";
-    const auto r = testutil::run_cli({"explain", std::string(REFRASTER_SOURCE_DIR) + "/conformance/scenes/smoke/triangles.json",
-                                      "--pixel", "3,2", "--svg", svg.string()});
+    const auto r = testutil::run_cli(
+        {"explain", std::string(REFRASTER_SOURCE_DIR) + "/conformance/scenes/smoke/triangles.json",
+         "--pixel", "3,2", "--svg", svg.string()});
     EXPECT_EQ(r.exit_code, 0) << r.err;
-    EXPECT_NE(r.out.find("verdict: the reference and the backend agree at (3, 2)"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("verdict: the reference and the backend agree at (3, 2)"),
+              std::string::npos)
+        << r.out;
     const auto text = testutil::read_text(svg);
     EXPECT_NE(text.find("<svg"), std::string::npos);
     EXPECT_NE(text.find("<polygon"), std::string::npos);  // the triangle's snapped edges
-    const auto bad = testutil::run_cli({"explain", std::string(REFRASTER_SOURCE_DIR) + "/conformance/scenes/smoke/triangles.json",
-                                        "--pixel", "99,2"});
+    const auto bad = testutil::run_cli(
+        {"explain", std::string(REFRASTER_SOURCE_DIR) + "/conformance/scenes/smoke/triangles.json",
+         "--pixel", "99,2"});
     EXPECT_EQ(bad.exit_code, 2);  // bad input, like every other
     EXPECT_EQ(testutil::count_lines(bad.err), 1u);
-    EXPECT_NE(bad.err.find("triangles.json: --pixel 99,2: outside the 8x8 target"), std::string::npos) << bad.err;
+    EXPECT_NE(bad.err.find("triangles.json: --pixel 99,2: outside the 8x8 target"),
+              std::string::npos)
+        << bad.err;
 }
 
 }  // namespace
@@ -466,16 +529,24 @@ TEST(Reduce, TwoThousandTrianglesDownToTheSharedEdge) {
                                 {"color", {u(rng), u(rng), u(rng), 1.0f}}});
         }
     }
-    for (auto p : {std::array<float, 2>{8.5f, 20.5f}, {40.5f, 20.5f}, {24.5f, 4.5f}, {40.5f, 20.5f}, {8.5f, 20.5f}, {24.5f, 44.5f}}) {
+    for (auto p : {std::array<float, 2>{8.5f, 20.5f},
+                   {40.5f, 20.5f},
+                   {24.5f, 4.5f},
+                   {40.5f, 20.5f},
+                   {8.5f, 20.5f},
+                   {24.5f, 44.5f}}) {
         vertices.push_back({{"position", {p[0], p[1]}}, {"color", {1, 1, 1, 1}}});
     }
-    const nlohmann::json scene = {{"format", "refraster-scene/1"},
-                                  {"target", {{"width", 64}, {"height", 64}}},
-                                  {"clear", {{"color", {0, 0, 0, 1}}}},
-                                  {"draws", {{{"primitive", "triangles"}, {"vertices", vertices}, {"state", {{"shade", "flat"}}}}}}};
+    const nlohmann::json scene = {
+        {"format", "refraster-scene/1"},
+        {"target", {{"width", 64}, {"height", 64}}},
+        {"clear", {{"color", {0, 0, 0, 1}}}},
+        {"draws",
+         {{{"primitive", "triangles"}, {"vertices", vertices}, {"state", {{"shade", "flat"}}}}}}};
     const auto in = dir.write("big.json", scene.dump());
     const auto out = dir.path() / "min.json";
-    const auto r = testutil::run_cli({"reduce", in.string(), "--profile-set", "tie_rule=right-top", "-o", out.string()});
+    const auto r = testutil::run_cli(
+        {"reduce", in.string(), "--profile-set", "tie_rule=right-top", "-o", out.string()});
     ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
     EXPECT_NE(r.out.find("signature: a coverage: tie rule mismatch"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("step 1:"), std::string::npos);
@@ -485,7 +556,8 @@ TEST(Reduce, TwoThousandTrianglesDownToTheSharedEdge) {
     EXPECT_GE(triangles, 1u);
     EXPECT_LE(triangles, 2u);
     // The reduced scene is valid and still fails the same way.
-    const auto c = testutil::run_cli({"compare", out.string(), "--profile-set", "tie_rule=right-top"});
+    const auto c =
+        testutil::run_cli({"compare", out.string(), "--profile-set", "tie_rule=right-top"});
     EXPECT_EQ(c.exit_code, 1) << c.err << c.out;
 }
 
@@ -502,8 +574,9 @@ TEST(Reduce, KeepsTheChosenPixelAndIsNamedAfterItsFile) {
     const auto in = dir.write("two.json", scene);
     const auto out = dir.path() / "second_only.json";
     // A pixel where the second triangle mismatches, from the error mask.
-    const auto cmp = testutil::run_cli({"compare", in.string(), "--profile-set", "tie_rule=right-top", "--diff",
-                                        (dir.path() / "m.png").string()});
+    const auto cmp =
+        testutil::run_cli({"compare", in.string(), "--profile-set", "tie_rule=right-top", "--diff",
+                           (dir.path() / "m.png").string()});
     ASSERT_EQ(cmp.exit_code, 1) << cmp.err;
     const auto mask = harness::read_color_image(dir.path() / "m.png");
     int px = -1, py = -1;
@@ -518,23 +591,26 @@ TEST(Reduce, KeepsTheChosenPixelAndIsNamedAfterItsFile) {
     }
     ASSERT_GE(px, 16) << "the second triangle mismatches somewhere";
     const std::string pixel = std::to_string(px) + "," + std::to_string(py);
-    auto r = testutil::run_cli({"reduce", in.string(), "--profile-set", "tie_rule=right-top", "--pixel", pixel, "-o",
-                                out.string()});
+    auto r = testutil::run_cli({"reduce", in.string(), "--profile-set", "tie_rule=right-top",
+                                "--pixel", pixel, "-o", out.string()});
     ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
     const auto reduced = nlohmann::json::parse(testutil::read_text(out));
     EXPECT_EQ(reduced["name"], "second_only");
     ASSERT_EQ(reduced["draws"].size(), 1u);
     ASSERT_EQ(reduced["draws"][0]["vertices"].size(), 3u);
-    EXPECT_GE(reduced["draws"][0]["vertices"][0]["position"][0].get<float>(), 16.0f);  // the second triangle
-    const auto e = testutil::run_cli({"explain", out.string(), "--pixel", pixel, "--profile-set", "tie_rule=right-top", "--json"});
+    EXPECT_GE(reduced["draws"][0]["vertices"][0]["position"][0].get<float>(),
+              16.0f);  // the second triangle
+    const auto e = testutil::run_cli({"explain", out.string(), "--pixel", pixel, "--profile-set",
+                                      "tie_rule=right-top", "--json"});
     EXPECT_EQ(e.exit_code, 1) << e.err;
     EXPECT_EQ(nlohmann::json::parse(e.out)["rule"], "tie rule");
     // A class the scene does not show cannot be kept; bad pixels are bad input.
-    r = testutil::run_cli({"reduce", in.string(), "--profile-set", "tie_rule=right-top", "--class", "depth", "-o",
-                           (dir.path() / "d.json").string()});
+    r = testutil::run_cli({"reduce", in.string(), "--profile-set", "tie_rule=right-top", "--class",
+                           "depth", "-o", (dir.path() / "d.json").string()});
     EXPECT_EQ(r.exit_code, 2) << r.out;
     EXPECT_FALSE(std::filesystem::exists(dir.path() / "d.json"));
-    r = testutil::run_cli({"reduce", in.string(), "--pixel", "40,1", "-o", (dir.path() / "p.json").string()});
+    r = testutil::run_cli(
+        {"reduce", in.string(), "--pixel", "40,1", "-o", (dir.path() / "p.json").string()});
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_NE(r.err.find("outside the 32x16 target"), std::string::npos) << r.err;
 }
@@ -546,10 +622,12 @@ namespace {
 // The HTML report in a real browser: headless Chromium renders the pages (scripts included)
 // and the DOM must hold the summary, the chart, and a failing case's images and numbers.
 std::string dump_dom(const std::filesystem::path& page, const std::filesystem::path& profile_dir) {
-    const std::string cmd = "timeout 120 chromium --headless --no-sandbox --disable-gpu --disable-quic --no-first-run "
-                            "--disable-background-networking --disable-component-update --disable-sync --user-data-dir=" +
-                            testutil::shell_quote(profile_dir.string()) + " --virtual-time-budget=2000 --dump-dom " +
-                            testutil::shell_quote("file://" + page.string()) + " 2>/dev/null";
+    const std::string cmd =
+        "timeout 120 chromium --headless --no-sandbox --disable-gpu --disable-quic --no-first-run "
+        "--disable-background-networking --disable-component-update --disable-sync "
+        "--user-data-dir=" +
+        testutil::shell_quote(profile_dir.string()) + " --virtual-time-budget=2000 --dump-dom " +
+        testutil::shell_quote("file://" + page.string()) + " 2>/dev/null";
     std::string out;
     FILE* p = ::popen(cmd.c_str(), "r");
     if (p == nullptr) return out;
@@ -562,23 +640,28 @@ std::string dump_dom(const std::filesystem::path& page, const std::filesystem::p
 TEST(HtmlReport, ChromiumShowsSummaryChartImagesAndNumbers) {
     testutil::TempDir dir;
     const auto out = dir.path() / "run";
-    const auto r = testutil::run_cli({"conformance", "run", "--cases", "smoke.*,triangles.coverage.square*",
-                                      "--profile-set", "tie_rule=right-top", "--output", out.string()});
+    const auto r =
+        testutil::run_cli({"conformance", "run", "--cases", "smoke.*,triangles.coverage.square*",
+                           "--profile-set", "tie_rule=right-top", "--output", out.string()});
     ASSERT_EQ(r.exit_code, 1) << r.err;  // the flipped tie rule fails the squares
     const auto index = dump_dom(out / "index.html", dir.path() / "chrome");
     ASSERT_FALSE(index.empty()) << "chromium produced no DOM (is the chromium package installed?)";
     EXPECT_NE(index.find("id=\"summary\""), std::string::npos);
     EXPECT_NE(index.find("id=\"error-chart\""), std::string::npos);
     EXPECT_NE(index.find("<circle"), std::string::npos);
-    EXPECT_NE(index.find("href=\"cases/triangles.coverage.square_through_centres.html\""), std::string::npos);
+    EXPECT_NE(index.find("href=\"cases/triangles.coverage.square_through_centres.html\""),
+              std::string::npos);
     EXPECT_NE(index.find(">triangles.coverage<"), std::string::npos);  // counts per area
-    const auto page = dump_dom(out / "cases" / "triangles.coverage.square_through_centres.html", dir.path() / "chrome");
+    const auto page = dump_dom(out / "cases" / "triangles.coverage.square_through_centres.html",
+                               dir.path() / "chrome");
     EXPECT_NE(page.find("id=\"case-status\""), std::string::npos);
     EXPECT_NE(page.find(">Fail<"), std::string::npos);
     EXPECT_NE(page.find("id=\"case-numbers\""), std::string::npos);
     EXPECT_NE(page.find(">38<"), std::string::npos);  // mismatched pixels
-    EXPECT_NE(page.find("src=\"../images/triangles.coverage.square_through_centres.ref.png\""), std::string::npos);
-    EXPECT_NE(page.find("src=\"../images/triangles.coverage.square_through_centres.mask.png\""), std::string::npos);
+    EXPECT_NE(page.find("src=\"../images/triangles.coverage.square_through_centres.ref.png\""),
+              std::string::npos);
+    EXPECT_NE(page.find("src=\"../images/triangles.coverage.square_through_centres.mask.png\""),
+              std::string::npos);
     // The zoom script ran and scaled the 32-pixel images eightfold.
     EXPECT_NE(page.find("width: 256px"), std::string::npos);
     EXPECT_NE(page.find("refraster explain"), std::string::npos);
@@ -591,9 +674,10 @@ namespace {
 TEST(ConformanceRun, HungWorkerIsATimeoutAndTheRunGoesOn) {
     testutil::TempDir dir;
     const auto out = dir.path() / "run";
-    const std::string cmd = "REFRASTER_WORKER_HANG_AT=2 " + bin() +
-                            " conformance run --cases 'smoke.*' --against osmesa --timeout 1 --output " +
-                            testutil::shell_quote(out.string()) + " > /dev/null 2>&1";
+    const std::string cmd =
+        "REFRASTER_WORKER_HANG_AT=2 " + bin() +
+        " conformance run --cases 'smoke.*' --against osmesa --timeout 1 --output " +
+        testutil::shell_quote(out.string()) + " > /dev/null 2>&1";
     EXPECT_EQ(std::system(cmd.c_str()) >> 8, 1);
     const auto lines = read_jsonl(out / "results.jsonl");
     ASSERT_EQ(lines.size(), 8u);
@@ -607,8 +691,10 @@ TEST(ConformanceRun, HungWorkerIsATimeoutAndTheRunGoesOn) {
 TEST(ConformanceRun, ProgressLineOnATerminalOnly) {
     testutil::TempDir dir;
     // `script` gives the run a terminal.
-    const std::string run = bin() + " conformance run --cases 'smoke.*' --output " + testutil::shell_quote((dir.path() / "a").string());
-    const std::string cmd = "CI= script -qec " + testutil::shell_quote(run) + " /dev/null < /dev/null > " +
+    const std::string run = bin() + " conformance run --cases 'smoke.*' --output " +
+                            testutil::shell_quote((dir.path() / "a").string());
+    const std::string cmd = "CI= script -qec " + testutil::shell_quote(run) +
+                            " /dev/null < /dev/null > " +
                             testutil::shell_quote((dir.path() / "tty.txt").string()) + " 2>&1";
     ASSERT_EQ(std::system(cmd.c_str()) >> 8, 0);
     const auto tty = testutil::read_text(dir.path() / "tty.txt");
@@ -616,7 +702,8 @@ TEST(ConformanceRun, ProgressLineOnATerminalOnly) {
     EXPECT_NE(tty.find("ETA"), std::string::npos);
     EXPECT_NE(tty.find("8 passed, 0 failed, 0 skipped"), std::string::npos);
     // Not a terminal: one line per case, no progress.
-    const auto plain = testutil::run_cli({"conformance", "run", "--cases", "smoke.*", "--output", (dir.path() / "b").string()});
+    const auto plain = testutil::run_cli(
+        {"conformance", "run", "--cases", "smoke.*", "--output", (dir.path() / "b").string()});
     EXPECT_EQ(plain.out.find("ETA"), std::string::npos);
     EXPECT_NE(plain.out.find("Pass smoke.triangles\n"), std::string::npos);
 }

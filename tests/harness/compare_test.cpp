@@ -1,10 +1,10 @@
 // Comparison: classes, tolerance, the largest difference and its location, depth, float ULPs.
+#include "harness/compare.hpp"
+
 #include <gtest/gtest.h>
 
 #include <bit>
 #include <cmath>
-
-#include "harness/compare.hpp"
 
 namespace {
 
@@ -19,7 +19,8 @@ Framebuffer black(std::uint32_t w, std::uint32_t h, DepthFormat d = DepthFormat:
 }
 
 void set(Framebuffer& fb, std::uint32_t x, std::uint32_t y, std::array<std::uint8_t, 4> c) {
-    std::copy(c.begin(), c.end(), fb.color8.begin() + static_cast<std::ptrdiff_t>(4 * fb.index(x, y)));
+    std::copy(c.begin(), c.end(),
+              fb.color8.begin() + static_cast<std::ptrdiff_t>(4 * fb.index(x, y)));
 }
 
 const refraster::ClearValues kClearBlack{{0, 0, 0, 1}, 1.0f};

@@ -1,9 +1,10 @@
 // The shared front end: the scene format's formulas, in float32, in the written order.
+#include "harness/front_end.hpp"
+
 #include <gtest/gtest.h>
 
 #include <glm/glm.hpp>
 
-#include "harness/front_end.hpp"
 #include "harness/scene.hpp"
 
 namespace {
@@ -106,7 +107,8 @@ TEST(FrontEnd, DrawListCarriesColourAsAttributeZero) {
     EXPECT_EQ(std::vector<float>(v0.begin(), v0.end()),
               (std::vector<float>{-1, -1, -1, 1, 1, 0.5f, 0.25f, 1}));
     const auto v1 = draw.vertices.vertex(1);
-    EXPECT_EQ(std::vector<float>(v1.begin(), v1.end()), (std::vector<float>{1, 1, -1, 1, 1, 1, 1, 1}));
+    EXPECT_EQ(std::vector<float>(v1.begin(), v1.end()),
+              (std::vector<float>{1, 1, -1, 1, 1, 1, 1, 1}));
 }
 
 }  // namespace

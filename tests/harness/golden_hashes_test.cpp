@@ -27,13 +27,16 @@ TEST(GoldenHashes, ReferenceImagesAreUnchanged) {
     std::size_t checked = 0;
     for (const auto& e : std::filesystem::recursive_directory_iterator(root / "scenes")) {
         if (e.path().extension() != ".json") continue;
-        auto name = std::filesystem::relative(e.path(), root / "scenes").replace_extension("").generic_string();
+        auto name = std::filesystem::relative(e.path(), root / "scenes")
+                        .replace_extension("")
+                        .generic_string();
         std::replace(name.begin(), name.end(), '/', '.');
         SCOPED_TRACE(name);
         ASSERT_TRUE(golden.count(name)) << "no golden hash: regenerate ref-hashes.txt";
         const auto r = ref->render(harness::load_scene(e.path()));
-        const std::string got = r.status == harness::RenderStatus::Ok ? harness::image_hash(r.image)
-                                                                       : std::string(harness::to_string(r.status));
+        const std::string got = r.status == harness::RenderStatus::Ok
+                                    ? harness::image_hash(r.image)
+                                    : std::string(harness::to_string(r.status));
         EXPECT_EQ(got, golden.at(name));
         ++checked;
     }

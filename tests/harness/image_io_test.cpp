@@ -1,7 +1,8 @@
 // Image files: rows are flipped to top-first on disk and back on reading; writes are atomic.
+#include "harness/image_io.hpp"
+
 #include <gtest/gtest.h>
 
-#include "harness/image_io.hpp"
 #include "test_util.hpp"
 
 namespace {
@@ -9,7 +10,8 @@ namespace {
 TEST(ImageIo, PngRoundTripKeepsBottomUpRows) {
     testutil::TempDir dir;
     refraster::Framebuffer fb(2, 3, refraster::ColorFormat::Rgba8, refraster::DepthFormat::None);
-    for (std::size_t i = 0; i < fb.color8.size(); ++i) fb.color8[i] = static_cast<std::uint8_t>(i * 7);
+    for (std::size_t i = 0; i < fb.color8.size(); ++i)
+        fb.color8[i] = static_cast<std::uint8_t>(i * 7);
     const auto p = dir.path() / "a.png";
     harness::write_color_image(fb, p);
     const auto back = harness::read_color_image(p);
@@ -18,13 +20,15 @@ TEST(ImageIo, PngRoundTripKeepsBottomUpRows) {
     EXPECT_EQ(back.color8, fb.color8);
     // Nothing but the image is left in the directory (the temporary file was renamed).
     EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir.path()),
-                            std::filesystem::directory_iterator{}), 1);
+                            std::filesystem::directory_iterator{}),
+              1);
 }
 
 TEST(ImageIo, ExrRoundTripIsExactFloat) {
     testutil::TempDir dir;
     refraster::Framebuffer fb(2, 2, refraster::ColorFormat::Rgba32f, refraster::DepthFormat::None);
-    for (std::size_t i = 0; i < fb.color32f.size(); ++i) fb.color32f[i] = 0.1f * static_cast<float>(i) - 0.3f;
+    for (std::size_t i = 0; i < fb.color32f.size(); ++i)
+        fb.color32f[i] = 0.1f * static_cast<float>(i) - 0.3f;
     const auto p = dir.path() / "a.exr";
     harness::write_color_image(fb, p);
     EXPECT_EQ(harness::read_color_image(p).color32f, fb.color32f);

@@ -1,8 +1,9 @@
 // Profiles as files and overrides: what `refraster profile` prints loads back to the same
 // profile; unknown keys and values are refused naming the file and the key.
+#include "harness/profile_io.hpp"
+
 #include <gtest/gtest.h>
 
-#include "harness/profile_io.hpp"
 #include "test_util.hpp"
 
 namespace {
@@ -11,8 +12,9 @@ TEST(ProfileIo, SavedProfileLoadsBackEqual) {
     testutil::TempDir dir;
     for (const auto& name : refraster::builtin_profile_names()) {
         auto p = refraster::builtin_profile(name);
-        harness::apply_profile_overrides(p, {"tie_rule=right-top", "viewport_fma=off", "subpixel_bits=4",
-                                             "snap_rounding=half-away", "pixel_center_offset=0.25"});
+        harness::apply_profile_overrides(
+            p, {"tie_rule=right-top", "viewport_fma=off", "subpixel_bits=4",
+                "snap_rounding=half-away", "pixel_center_offset=0.25"});
         const auto file = dir.write(name + ".json", harness::profile_to_json(p));
         EXPECT_EQ(harness::load_profile(file.string()), p) << name;
     }
@@ -31,11 +33,14 @@ TEST(ProfileIo, BadInputNamesFileAndKey) {
         FAIL();
     } catch (const refraster::ProfileError& e) {
         EXPECT_NE(std::string(e.what()).find(f.string()), std::string::npos) << e.what();
-        EXPECT_NE(std::string(e.what()).find("tie_rule=upside-down"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("tie_rule=upside-down"), std::string::npos)
+            << e.what();
         EXPECT_NE(std::string(e.what()).find("left-bottom"), std::string::npos) << e.what();
     }
-    EXPECT_THROW(harness::load_profile(dir.write("q.json", R"({"tie": "left-bottom"})").string()), refraster::ProfileError);
-    EXPECT_THROW(harness::load_profile(dir.write("r.json", "[1]").string()), refraster::ProfileError);
+    EXPECT_THROW(harness::load_profile(dir.write("q.json", R"({"tie": "left-bottom"})").string()),
+                 refraster::ProfileError);
+    EXPECT_THROW(harness::load_profile(dir.write("r.json", "[1]").string()),
+                 refraster::ProfileError);
     EXPECT_THROW(harness::load_profile("no-such-profile"), refraster::ProfileError);
     refraster::Profile p;
     EXPECT_THROW(harness::apply_profile_overrides(p, {"subpixel_bits=9"}), refraster::ProfileError);
@@ -45,18 +50,22 @@ TEST(ProfileIo, BadInputNamesFileAndKey) {
 TEST(ProfileIo, CliRecordsProfileAndOverrides) {
     testutil::TempDir dir;
     const auto json = dir.path() / "r.json";
-    const auto r = testutil::run_cli({"compare", std::string(REFRASTER_SOURCE_DIR) + "/conformance/scenes/smoke/triangles.json",
-                                      "--against", "ref", "--profile-set", "tie_rule=right-top", "--json", json.string()});
+    const auto r = testutil::run_cli(
+        {"compare", std::string(REFRASTER_SOURCE_DIR) + "/conformance/scenes/smoke/triangles.json",
+         "--against", "ref", "--profile-set", "tie_rule=right-top", "--json", json.string()});
     EXPECT_EQ(r.exit_code, 0) << r.err;
     const auto text = testutil::read_text(json);
     // The result says which rules ran: not the built-in's name alone.
     EXPECT_EQ(text.find("\"profile\":\"llvmpipe-22.3\""), std::string::npos) << text;
-    EXPECT_NE(text.find("\"profile\":\"llvmpipe-22.3+tie_rule=right-top\""), std::string::npos) << text;
+    EXPECT_NE(text.find("\"profile\":\"llvmpipe-22.3+tie_rule=right-top\""), std::string::npos)
+        << text;
     EXPECT_NE(text.find("\"profile_overrides\":\"tie_rule=right-top\""), std::string::npos) << text;
     EXPECT_NE(text.find("\"profile_source\":\"built-in\""), std::string::npos) << text;
-    EXPECT_NE(text.find("tie_rule=right-top;clipping="), std::string::npos) << text;  // profile_rules, every rule
-    const auto bad = testutil::run_cli({"render", std::string(REFRASTER_SOURCE_DIR) + "/conformance/scenes/smoke/triangles.json",
-                                        "--profile-set", "tie_rule=sideways", "-o", (dir.path() / "o.png").string()});
+    EXPECT_NE(text.find("tie_rule=right-top;clipping="), std::string::npos)
+        << text;  // profile_rules, every rule
+    const auto bad = testutil::run_cli(
+        {"render", std::string(REFRASTER_SOURCE_DIR) + "/conformance/scenes/smoke/triangles.json",
+         "--profile-set", "tie_rule=sideways", "-o", (dir.path() / "o.png").string()});
     EXPECT_EQ(bad.exit_code, 2);
     EXPECT_EQ(testutil::count_lines(bad.err), 1u);
 }
@@ -65,29 +74,41 @@ TEST(ProfileIo, DerivedProfileIsNotNamedAsItsBuiltIn) {
     // `refraster profile --profile-set` writes a profile named by what it changed, and a file
     // that claims a built-in's name with other rules is renamed the same way when loaded.
     testutil::TempDir dir;
-    const auto r = testutil::run_cli({"profile", "--profile-set", "tie_rule=right-top", "--profile-set", "subpixel_bits=4"});
+    const auto r = testutil::run_cli(
+        {"profile", "--profile-set", "tie_rule=right-top", "--profile-set", "subpixel_bits=4"});
     ASSERT_EQ(r.exit_code, 0) << r.err;
-    EXPECT_NE(r.out.find("\"name\": \"llvmpipe-22.3+subpixel_bits=4,tie_rule=right-top\""), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("\"name\": \"llvmpipe-22.3+subpixel_bits=4,tie_rule=right-top\""),
+              std::string::npos)
+        << r.out;
     const auto file = dir.write("p.json", r.out);
-    EXPECT_EQ(harness::load_profile(file.string()).name, "llvmpipe-22.3+subpixel_bits=4,tie_rule=right-top");
-    const auto claims = dir.write("c.json", R"({"name": "llvmpipe-22.3", "snap_rounding": "truncate"})");
+    EXPECT_EQ(harness::load_profile(file.string()).name,
+              "llvmpipe-22.3+subpixel_bits=4,tie_rule=right-top");
+    const auto claims =
+        dir.write("c.json", R"({"name": "llvmpipe-22.3", "snap_rounding": "truncate"})");
     EXPECT_EQ(harness::load_profile(claims.string()).name, "llvmpipe-22.3+snap_rounding=truncate");
-    const auto same = dir.write("s.json", R"({"name": "llvmpipe-22.3", "tie_rule": "left-bottom"})");
-    EXPECT_EQ(harness::load_profile(same.string()).name, "llvmpipe-22.3");  // the built-in's rules: its name
+    const auto same =
+        dir.write("s.json", R"({"name": "llvmpipe-22.3", "tie_rule": "left-bottom"})");
+    EXPECT_EQ(harness::load_profile(same.string()).name,
+              "llvmpipe-22.3");  // the built-in's rules: its name
     const auto own = dir.write("o.json", R"({"name": "my-driver", "tie_rule": "right-top"})");
     EXPECT_EQ(harness::load_profile(own.string()).name, "my-driver");
     // Recorded with its file, and shown in explain's header.
     const auto json = dir.path() / "r.json";
-    const auto c = testutil::run_cli({"compare", std::string(REFRASTER_SOURCE_DIR) + "/conformance/scenes/smoke/triangles.json",
-                                      "--against", "ref", "--profile", claims.string(), "--json", json.string()});
+    const auto c = testutil::run_cli(
+        {"compare", std::string(REFRASTER_SOURCE_DIR) + "/conformance/scenes/smoke/triangles.json",
+         "--against", "ref", "--profile", claims.string(), "--json", json.string()});
     EXPECT_EQ(c.exit_code, 0) << c.err;
     const auto text = testutil::read_text(json);
-    EXPECT_NE(text.find("\"profile_source\":\"" + claims.string() + "\""), std::string::npos) << text;
-    EXPECT_NE(text.find("\"profile\":\"llvmpipe-22.3+snap_rounding=truncate\""), std::string::npos) << text;
-    const auto x = testutil::run_cli({"explain", std::string(REFRASTER_SOURCE_DIR) + "/conformance/scenes/smoke/triangles.json",
-                                      "--pixel", "3,2", "--no-backend", "--profile", claims.string()});
+    EXPECT_NE(text.find("\"profile_source\":\"" + claims.string() + "\""), std::string::npos)
+        << text;
+    EXPECT_NE(text.find("\"profile\":\"llvmpipe-22.3+snap_rounding=truncate\""), std::string::npos)
+        << text;
+    const auto x = testutil::run_cli(
+        {"explain", std::string(REFRASTER_SOURCE_DIR) + "/conformance/scenes/smoke/triangles.json",
+         "--pixel", "3,2", "--no-backend", "--profile", claims.string()});
     EXPECT_EQ(x.exit_code, 0) << x.err;
-    EXPECT_NE(x.out.find("profile llvmpipe-22.3+snap_rounding=truncate\nrules: coverage=snapped;subpixel_bits=8;snap_rounding=truncate"),
+    EXPECT_NE(x.out.find("profile llvmpipe-22.3+snap_rounding=truncate\nrules: "
+                         "coverage=snapped;subpixel_bits=8;snap_rounding=truncate"),
               std::string::npos)
         << x.out;
 }

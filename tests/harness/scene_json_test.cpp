@@ -45,7 +45,9 @@ std::string repeated(const std::string& item, std::size_t n) {
 // One draw of `n` triangles, each covering the whole target (clip space).
 std::string fullscreen_triangles(std::size_t n) {
     return R"([{"primitive": "triangles", "space": "clip", "vertices": [)" +
-           repeated(R"({"position": [-1, -1, 0, 1]}, {"position": [3, -1, 0, 1]}, {"position": [-1, 3, 0, 1]})", n) +
+           repeated(
+               R"({"position": [-1, -1, 0, 1]}, {"position": [3, -1, 0, 1]}, {"position": [-1, 3, 0, 1]})",
+               n) +
            "]}]";
 }
 
@@ -57,19 +59,23 @@ struct Malformed {
 };
 
 // Test names print as the case name, not as the struct's bytes.
-void PrintTo(const Malformed& m, std::ostream* os) { *os << m.name; }
+void PrintTo(const Malformed& m, std::ostream* os) {
+    *os << m.name;
+}
 
 std::vector<Malformed> malformed_cases() {
     const std::string v0 = R"({"position": [1, 1]})";
     std::vector<Malformed> c = {
-        {"truncated", R"({"format": "refraster-scene/1", "target": {"width": 8)", "", "invalid JSON"},
+        {"truncated", R"({"format": "refraster-scene/1", "target": {"width": 8)", "",
+         "invalid JSON"},
         {"empty_file", "", "", "invalid JSON"},
         {"trailing_garbage", scene_with(kTarget, "[]") + " x", "", "invalid JSON"},
         {"bad_utf8", "{\"format\": \"\xff\xfe\"}", "", "invalid JSON"},
         {"root_not_object", "[1, 2]", "(root)", "expected an object"},
         {"missing_format", R"({"target": {"width": 8, "height": 8}, "draws": []})", "(root)",
          "missing required key \"format\""},
-        {"wrong_format", R"({"format": "refraster-scene/2", "target": {"width": 8, "height": 8}, "draws": []})",
+        {"wrong_format",
+         R"({"format": "refraster-scene/2", "target": {"width": 8, "height": 8}, "draws": []})",
          "format", "expected \"refraster-scene/1\""},
         {"missing_draws", R"({"format": "refraster-scene/1", "target": {"width": 8, "height": 8}})",
          "(root)", "missing required key \"draws\""},
@@ -77,39 +83,46 @@ std::vector<Malformed> malformed_cases() {
          "expected an array of draws"},
         {"unknown_top_key", scene_with(kTarget, "[]", R"("colour": 1, )"), "colour",
          "unknown key \"colour\""},
-        {"unknown_vertex_key", scene_with(kTarget, tri(R"({"position": [1, 1], "normal": [0, 0, 1]})")),
+        {"unknown_vertex_key",
+         scene_with(kTarget, tri(R"({"position": [1, 1], "normal": [0, 0, 1]})")),
          "draws[0].vertices[0].normal", "unknown key \"normal\""},
         {"duplicate_top_key",
          R"({"format": "refraster-scene/1", "format": "refraster-scene/1", "target": {"width": 8, "height": 8}, "draws": []})",
          "format", "duplicate key \"format\""},
-        {"duplicate_state_key", scene_with(kTarget, tri(v0, R"(, "state": {"cull": "back", "cull": "front"})")),
+        {"duplicate_state_key",
+         scene_with(kTarget, tri(v0, R"(, "state": {"cull": "back", "cull": "front"})")),
          "draws[0].state.cull", "duplicate key \"cull\""},
         {"width_wrong_type", scene_with(R"({"width": "8", "height": 8})", "[]"), "target.width",
          "expected an integer, got the string \"8\""},
         {"width_fraction", scene_with(R"({"width": 8.5, "height": 8})", "[]"), "target.width",
          "expected an integer, got 8.5"},
-        {"target_100000", scene_with(R"({"width": 100000, "height": 100000})", "[]"), "target.width",
-         "expected an integer in [1, 16384], got 100000"},
+        {"target_100000", scene_with(R"({"width": 100000, "height": 100000})", "[]"),
+         "target.width", "expected an integer in [1, 16384], got 100000"},
         {"target_area", scene_with(R"({"width": 16384, "height": 16384, "samples": 4})", "[]"),
          "target", "exceeds the limit of 67108864"},
         {"samples_2", scene_with(R"({"width": 8, "height": 8, "samples": 2})", "[]"),
          "target.samples", "expected 1 or 4"},
-        {"unknown_color_format", scene_with(R"({"width": 8, "height": 8, "color": "rgb565"})", "[]"),
-         "target.color", "expected one of rgba8, rgba32f"},
+        {"unknown_color_format",
+         scene_with(R"({"width": 8, "height": 8, "color": "rgb565"})", "[]"), "target.color",
+         "expected one of rgba8, rgba32f"},
         {"number_1e400", scene_with(kTarget, tri(R"({"position": [1e400, 1]})")),
          "draws[0].vertices[0].position[0]", "number 1e400 is out of range"},
-        {"number_overflows_float32", scene_with(kTarget, tri(R"({"position": [1, 1], "color": [1e39, 0, 0, 1]})")),
+        {"number_overflows_float32",
+         scene_with(kTarget, tri(R"({"position": [1, 1], "color": [1e39, 0, 0, 1]})")),
          "draws[0].vertices[0].color[0]", "does not fit in float32"},
         {"one_coordinate", scene_with(kTarget, tri(R"({"position": [1]})")),
          "draws[0].vertices[0].position", "expected [x, y], [x, y, z] or [x, y, z, w]"},
         {"clip_three_coordinates",
-         scene_with(kTarget, R"([{"primitive": "points", "space": "clip", "vertices": [{"position": [0, 0, 0]}]}])"),
+         scene_with(
+             kTarget,
+             R"([{"primitive": "points", "space": "clip", "vertices": [{"position": [0, 0, 0]}]}])"),
          "draws[0].vertices[0].position", "expected [x, y, z, w]"},
         {"window_w_zero", scene_with(kTarget, tri(R"({"position": [1, 1, 0, 0]})")),
          "draws[0].vertices[0].position[3]", "expected w > 0 in window space"},
         {"window_w_negative", scene_with(kTarget, tri(R"({"position": [1, 1, 0, -2]})")),
          "draws[0].vertices[0].position[3]", "expected w > 0 in window space"},
-        {"color_three_components", scene_with(kTarget, tri(R"({"position": [1, 1], "color": [1, 0, 0]})")),
+        {"color_three_components",
+         scene_with(kTarget, tri(R"({"position": [1, 1], "color": [1, 0, 0]})")),
          "draws[0].vertices[0].color", "expected four numbers"},
         {"index_past_count", scene_with(kTarget, tri(v0, R"(, "indices": [0, 1, 3])")),
          "draws[0].indices[2]", "expected an integer in [0, 2], got 3"},
@@ -119,22 +132,30 @@ std::vector<Malformed> malformed_cases() {
          "draws[0].indices[1]", "expected an integer, got 1.5"},
         {"unknown_primitive", scene_with(kTarget, R"([{"primitive": "quads", "vertices": []}])"),
          "draws[0].primitive", "expected one of points, lines"},
-        {"matrix_with_window", scene_with(kTarget, tri(v0, R"(, "matrix": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1])")),
+        {"matrix_with_window",
+         scene_with(kTarget, tri(v0, R"(, "matrix": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1])")),
          "draws[0].matrix", "allowed only with \"space\": \"clip\""},
         {"matrix_non_finite_result",
-         scene_with(kTarget, R"([{"primitive": "points", "space": "clip", "matrix": [3e38,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1], "vertices": [{"position": [3e38, 0, 0, 1]}]}])"),
+         scene_with(
+             kTarget,
+             R"([{"primitive": "points", "space": "clip", "matrix": [3e38,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1], "vertices": [{"position": [3e38, 0, 0, 1]}]}])"),
          "draws[0].vertices[0].position", "non-finite"},
         {"line_width_zero", scene_with(kTarget, tri(v0, R"(, "state": {"line_width": 0})")),
          "draws[0].state.line_width", "expected a number in [1, 255]"},
-        {"depth_range_above_one", scene_with(kTarget, tri(v0, R"(, "state": {"depth_range": [0, 1.5]})")),
+        {"depth_range_above_one",
+         scene_with(kTarget, tri(v0, R"(, "state": {"depth_range": [0, 1.5]})")),
          "draws[0].state.depth_range[1]", "expected a number in [0, 1]"},
-        {"viewport_width_zero", scene_with(kTarget, tri(v0, R"(, "state": {"viewport": [0, 0, 0, 8]})")),
+        {"viewport_width_zero",
+         scene_with(kTarget, tri(v0, R"(, "state": {"viewport": [0, 0, 0, 8]})")),
          "draws[0].state.viewport[2]", "expected an integer in [1, 16384]"},
-        {"viewport_origin_range", scene_with(kTarget, tri(v0, R"(, "state": {"viewport": [40000, 0, 8, 8]})")),
+        {"viewport_origin_range",
+         scene_with(kTarget, tri(v0, R"(, "state": {"viewport": [40000, 0, 8, 8]})")),
          "draws[0].state.viewport[0]", "expected an integer in [-32768, 32767]"},
-        {"scissor_negative", scene_with(kTarget, tri(v0, R"(, "state": {"scissor": [0, 0, 4, -1]})")),
+        {"scissor_negative",
+         scene_with(kTarget, tri(v0, R"(, "state": {"scissor": [0, 0, 4, -1]})")),
          "draws[0].state.scissor[3]", "expected an integer in [0, "},
-        {"polygon_offset_missing_units", scene_with(kTarget, tri(v0, R"(, "state": {"polygon_offset": {"factor": 1}})")),
+        {"polygon_offset_missing_units",
+         scene_with(kTarget, tri(v0, R"(, "state": {"polygon_offset": {"factor": 1}})")),
          "draws[0].state.polygon_offset", "missing required key \"units\""},
         {"depth_write_string", scene_with(kTarget, tri(v0, R"(, "state": {"depth_write": "yes"})")),
          "draws[0].state.depth_write", "expected true or false"},
@@ -142,20 +163,25 @@ std::vector<Malformed> malformed_cases() {
          "expected an object"},
         {"clear_depth_negative", scene_with(kTarget, "[]", R"("clear": {"depth": -0.5}, )"),
          "clear.depth", "expected a number in [0, 1]"},
-        {"deep_nesting", scene_with(kTarget, "[]", R"("description": )" + std::string(100, '[') +
-                                                     std::string(100, ']') + ", "),
+        {"deep_nesting",
+         scene_with(kTarget, "[]",
+                    R"("description": )" + std::string(100, '[') + std::string(100, ']') + ", "),
          "", "nesting deeper than 64"},
         // Keys, paths and strings from the file are escaped: the message stays on one line.
         {"unknown_key_with_newline", scene_with(kTarget, "[]", R"("a\nb": 1, )"), R"(["a\nb"])",
          R"(unknown key "a\nb" (allowed: format, name)"},
-        {"unknown_nested_key_with_tab", scene_with(kTarget, tri(R"({"position": [1, 1], "x\ty": 0})")),
+        {"unknown_nested_key_with_tab",
+         scene_with(kTarget, tri(R"({"position": [1, 1], "x\ty": 0})")),
          R"(draws[0].vertices[0]["x\ty"])", R"(unknown key "x\ty")"},
         {"duplicate_key_below_a_newline_key",
          scene_with(kTarget, "[]", R"("a\nb": {"k": 1, "k": 2}, )"), R"(["a\nb"].k)",
          R"(duplicate key "k")"},
-        {"enum_with_newline", scene_with(kTarget, R"([{"primitive": "tri\nangles", "vertices": []}])"),
-         "draws[0].primitive", R"(expected one of points, lines, line_strip, line_loop, triangles, triangle_strip, triangle_fan, got "tri\nangles")"},
-        {"enum_with_control_character", scene_with(kTarget, tri(v0, R"(, "state": {"cull": "back\u0001\u007f"})")),
+        {"enum_with_newline",
+         scene_with(kTarget, R"([{"primitive": "tri\nangles", "vertices": []}])"),
+         "draws[0].primitive",
+         R"(expected one of points, lines, line_strip, line_loop, triangles, triangle_strip, triangle_fan, got "tri\nangles")"},
+        {"enum_with_control_character",
+         scene_with(kTarget, tri(v0, R"(, "state": {"cull": "back\u0001\u007f"})")),
          "draws[0].state.cull", R"(got "back\u0001\u007f")"},
         {"format_with_carriage_return",
          R"({"format": "refraster-scene/1\r", "target": {"width": 8, "height": 8}, "draws": []})",
@@ -169,12 +195,15 @@ std::vector<Malformed> malformed_cases() {
         {"line_width_1e308", scene_with(kTarget, tri(v0, R"(, "state": {"line_width": 1e308})")),
          "draws[0].state.line_width", "number 1e+308 does not fit in float32"},
         {"line_width_309_digits",
-         scene_with(kTarget, tri(v0, R"(, "state": {"line_width": 1)" + std::string(308, '0') + "}")),
+         scene_with(kTarget,
+                    tri(v0, R"(, "state": {"line_width": 1)" + std::string(308, '0') + "}")),
          "draws[0].state.line_width", "number 1e+308 does not fit in float32"},
         {"line_width_400_digits",
-         scene_with(kTarget, tri(v0, R"(, "state": {"line_width": 1)" + std::string(399, '0') + "}")),
+         scene_with(kTarget,
+                    tri(v0, R"(, "state": {"line_width": 1)" + std::string(399, '0') + "}")),
          "draws[0].state.line_width", "number 100000000000... (400 characters) is out of range"},
-        {"line_width_above_255", scene_with(kTarget, tri(v0, R"(, "state": {"line_width": 255.00001})")),
+        {"line_width_above_255",
+         scene_with(kTarget, tri(v0, R"(, "state": {"line_width": 255.00001})")),
          "draws[0].state.line_width", "expected a number in [1, 255], got 255.00001"},
         {"integer_1e300", scene_with(R"({"width": 1e300, "height": 8})", "[]"), "target.width",
          "expected an integer in [1, 16384], got 1e+300"},
@@ -184,8 +213,9 @@ std::vector<Malformed> malformed_cases() {
         {"indices_repeat_a_vertex_millions_of_times",
          scene_with(kTarget, tri(v0, R"(, "indices": [)" + repeated("0", 4'194'305) + "]")),
          "draws[0].indices", "this brings the scene to 4194305 indices, over the limit of 4194304"},
-        {"estimated_fragments", scene_with(R"({"width": 16384, "height": 4096})", fullscreen_triangles(33)),
-         "draws[0]", "estimated fragments to 2214592512, over the limit of 2147483648"},
+        {"estimated_fragments",
+         scene_with(R"({"width": 16384, "height": 4096})", fullscreen_triangles(33)), "draws[0]",
+         "estimated fragments to 2214592512, over the limit of 2147483648"},
         {"a_million_brackets", std::string(1'000'000, '['), "", "nesting deeper than 64"},
     };
     return c;
@@ -247,7 +277,8 @@ INSTANTIATE_TEST_SUITE_P(All, MalformedScene, ::testing::ValuesIn(malformed_case
 
 TEST(SceneFiles, SyntaxErrorNamesLineAndColumn) {
     TempDir dir;
-    const auto file = dir.write("s.json", "{\n  \"format\": \"refraster-scene/1\",\n  \"target\": {\"width\": 8,,}\n}");
+    const auto file = dir.write(
+        "s.json", "{\n  \"format\": \"refraster-scene/1\",\n  \"target\": {\"width\": 8,,}\n}");
     try {
         (void)harness::load_scene(file);
         FAIL();
@@ -262,7 +293,8 @@ TEST(SceneFiles, SyntaxErrorNamesLineAndColumn) {
 TEST(SceneFiles, MissingFile) {
     TempDir dir;
     const auto file = dir.path() / "absent.json";
-    const auto r = testutil::run_cli({"render", file.string(), "-o", (dir.path() / "o.png").string()});
+    const auto r =
+        testutil::run_cli({"render", file.string(), "-o", (dir.path() / "o.png").string()});
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_EQ(r.err, file.string() + ": cannot open: no such file\n");
     EXPECT_FALSE(std::filesystem::exists(dir.path() / "o.png"));
@@ -270,7 +302,8 @@ TEST(SceneFiles, MissingFile) {
 
 TEST(SceneFiles, Directory) {
     TempDir dir;
-    const auto r = testutil::run_cli({"render", dir.path().string(), "-o", (dir.path() / "o.png").string()});
+    const auto r =
+        testutil::run_cli({"render", dir.path().string(), "-o", (dir.path() / "o.png").string()});
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_EQ(r.err, dir.path().string() + ": is a directory, expected a scene file\n");
     EXPECT_FALSE(std::filesystem::exists(dir.path() / "o.png"));
@@ -286,7 +319,8 @@ TEST(SceneFiles, FiftyMegabytesOfRandomBytes) {
     }
     bytes[0] = 'q';  // not a valid JSON start whatever the generator gives
     const auto file = dir.write("random.bin", bytes);
-    const auto r = testutil::run_cli({"render", file.string(), "-o", (dir.path() / "o.png").string()});
+    const auto r =
+        testutil::run_cli({"render", file.string(), "-o", (dir.path() / "o.png").string()});
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_EQ(r.err.rfind(file.string() + ":1:1: invalid JSON", 0), 0u) << r.err;
     EXPECT_EQ(testutil::count_lines(r.err), 1u);
@@ -364,8 +398,8 @@ TEST(SceneMessages, FileLabelIsEscaped) {
 // The number in a range message is the short form, not hundreds of digits.
 TEST(SceneMessages, HugeNumbersPrintShort) {
     const std::string v0 = R"({"position": [1, 1]})";
-    for (const std::string& width : {std::string("1e308"), "1" + std::string(308, '0'),
-                                     "-1" + std::string(308, '0') + ".5"}) {
+    for (const std::string& width :
+         {std::string("1e308"), "1" + std::string(308, '0'), "-1" + std::string(308, '0') + ".5"}) {
         try {
             (void)harness::load_scene_text(
                 scene_with(kTarget, tri(v0, R"(, "state": {"line_width": )" + width + "}")),
@@ -405,7 +439,9 @@ struct LimitCase {
     std::string path;
     std::string detail;
 };
-void PrintTo(const LimitCase& c, std::ostream* os) { *os << c.name; }
+void PrintTo(const LimitCase& c, std::ostream* os) {
+    *os << c.name;
+}
 
 harness::SceneLimits with(std::uint64_t harness::SceneLimits::*field, std::uint64_t value) {
     harness::SceneLimits l;
@@ -425,35 +461,40 @@ std::vector<LimitCase> limit_cases() {
     };
     // Two draws, so that the refusal names the draw whose count crosses the limit.
     const auto two_draws = [&](const std::string& first, const std::string& second) {
-        return "[" + first.substr(1, first.size() - 2) + ", " + second.substr(1, second.size() - 2) +
-               "]";
+        return "[" + first.substr(1, first.size() - 2) + ", " +
+               second.substr(1, second.size() - 2) + "]";
     };
     harness::SceneLimits depth;
     depth.max_nesting_depth = 4;
     return {
         {"file_bytes", with(&L::max_file_bytes, 200), scene_with(kTarget, "[]"),
-         scene_with(kTarget, "[]") + std::string(200, ' '), "", "bytes exceeds the scene size limit of 200"},
+         scene_with(kTarget, "[]") + std::string(200, ' '), "",
+         "bytes exceeds the scene size limit of 200"},
         {"nesting", depth,
          scene_with(kTarget, R"([{"primitive": "points", "vertices": [], "state": {}}])"),
-         scene_with(kTarget, R"([{"primitive": "points", "vertices": [], "state": {"polygon_offset": {"factor": 1, "units": 1}}}])"),
+         scene_with(
+             kTarget,
+             R"([{"primitive": "points", "vertices": [], "state": {"polygon_offset": {"factor": 1, "units": 1}}}])"),
          "draws[0].state.polygon_offset", "nesting deeper than 4 levels"},
         // The root, format, name, target, width, height and draws: 7 values; with a
         // description, the draws are the eighth.
         {"json_values", with(&L::max_json_values, 7), scene_with(kTarget, "[]"),
-         scene_with(kTarget, "[]", R"("description": "d", )"), "draws",
-         "more than 7 JSON values"},
+         scene_with(kTarget, "[]", R"("description": "d", )"), "draws", "more than 7 JSON values"},
         {"target_pixels", with(&L::max_target_pixels, 64), scene_with(kTarget, "[]"),
          scene_with(R"({"width": 8, "height": 9})", "[]"), "target", "exceeds the limit of 64"},
         {"draws", with(&L::max_draws, 3), scene_with(kTarget, many_draws(3)),
          scene_with(kTarget, many_draws(4)), "draws", "4 draws exceed the limit of 3"},
-        {"vertices", with(&L::max_vertices, 5), scene_with(kTarget, two_draws(points(2), points(3))),
+        {"vertices", with(&L::max_vertices, 5),
+         scene_with(kTarget, two_draws(points(2), points(3))),
          scene_with(kTarget, two_draws(points(2), points(4))), "draws[1].vertices",
          "this brings the scene to 6 vertices, over the limit of 5"},
-        {"indices", with(&L::max_indices, 5), scene_with(kTarget, two_draws(indexed(2), indexed(3))),
+        {"indices", with(&L::max_indices, 5),
+         scene_with(kTarget, two_draws(indexed(2), indexed(3))),
          scene_with(kTarget, two_draws(indexed(2), indexed(4))), "draws[1].indices",
          "this brings the scene to 6 indices, over the limit of 5"},
         // Repeated indices make primitives out of one vertex.
-        {"primitives", with(&L::max_primitives, 5), scene_with(kTarget, two_draws(indexed(3), points(2))),
+        {"primitives", with(&L::max_primitives, 5),
+         scene_with(kTarget, two_draws(indexed(3), points(2))),
          scene_with(kTarget, two_draws(indexed(3), points(3))), "draws[1]",
          "this brings the scene to 6 primitives, over the limit of 5"},
         // 8x8 target: each point of size 1 counts 3x3 pixels (a pixel of margin each side).
@@ -510,13 +551,17 @@ TEST(SceneWork, EstimatesBoundingBoxesClippedToTheRegion) {
     EXPECT_EQ(work(big, point("[0, 0]")).fragments, 129u * 129u);
     // A long diagonal line counts its length times its width, not its box.
     const auto diagonal = work(
-        big, R"([{"primitive": "lines", "vertices": [{"position": [0, 0.5]}, {"position": [1024, 1024]}]}])");
+        big,
+        R"([{"primitive": "lines", "vertices": [{"position": [0, 0.5]}, {"position": [1024, 1024]}]}])");
     EXPECT_GT(diagonal.fragments, 5'800u);
     EXPECT_LT(diagonal.fragments, 5'810u);
     // A vertex behind the eye (w <= 0) has no window position: the whole target counts.
-    EXPECT_EQ(work(big, R"([{"primitive": "triangles", "space": "clip", "vertices": [{"position": [0, 0, 0, 1]}, {"position": [1, 0, 0, 1]}, {"position": [0, 1, 0, -1]}]}])")
-                  .fragments,
-              1024u * 1024u);
+    EXPECT_EQ(
+        work(
+            big,
+            R"([{"primitive": "triangles", "space": "clip", "vertices": [{"position": [0, 0, 0, 1]}, {"position": [1, 0, 0, 1]}, {"position": [0, 1, 0, -1]}]}])")
+            .fragments,
+        1024u * 1024u);
 }
 
 // The limits change no shipped scene: each stays below a tenth of every one of them (the

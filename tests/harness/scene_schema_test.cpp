@@ -16,17 +16,19 @@ json schema() {
 }
 
 std::string scene_with_state(const std::string& key, const json& value) {
-    json s = {{"format", "refraster-scene/1"},
-              {"target", {{"width", 4}, {"height", 4}}},
-              {"draws", json::array({{{"primitive", "points"},
-                                      {"vertices", json::array()},
-                                      {"state", {{key, value}}}}})}};
+    json s = {
+        {"format", "refraster-scene/1"},
+        {"target", {{"width", 4}, {"height", 4}}},
+        {"draws",
+         json::array(
+             {{{"primitive", "points"}, {"vertices", json::array()}, {"state", {{key, value}}}}})}};
     return s.dump();
 }
 
 // Every enumerated state value the schema lists is accepted, and nothing else is.
 TEST(SceneSchema, StateEnumsMatchTheLoader) {
-    const json props = schema()["properties"]["draws"]["items"]["properties"]["state"]["properties"];
+    const json props =
+        schema()["properties"]["draws"]["items"]["properties"]["state"]["properties"];
     int checked = 0;
     for (const auto& [key, spec] : props.items()) {
         if (!spec.contains("enum")) continue;
@@ -35,11 +37,13 @@ TEST(SceneSchema, StateEnumsMatchTheLoader) {
                 << key << " = " << v.dump();
             ++checked;
         }
-        EXPECT_THROW((void)harness::load_scene_text(scene_with_state(key, "no-such-value"), "m.json"),
-                     harness::SceneError)
+        EXPECT_THROW(
+            (void)harness::load_scene_text(scene_with_state(key, "no-such-value"), "m.json"),
+            harness::SceneError)
             << key;
     }
-    EXPECT_EQ(checked, 26);  // cull 4, front_face 2, depth_test 9, shade 3, provoking 2, mode 3, blend 3
+    EXPECT_EQ(checked,
+              26);  // cull 4, front_face 2, depth_test 9, shade 3, provoking 2, mode 3, blend 3
 }
 
 TEST(SceneSchema, PrimitivesMatchTheLoader) {

@@ -15,7 +15,8 @@
 namespace testutil {
 
 inline std::filesystem::path make_temp_dir(const std::string& tag) {
-    std::string tmpl = (std::filesystem::temp_directory_path() / ("refraster-" + tag + "-XXXXXX")).string();
+    std::string tmpl =
+        (std::filesystem::temp_directory_path() / ("refraster-" + tag + "-XXXXXX")).string();
     const char* dir = ::mkdtemp(tmpl.data());
     if (dir == nullptr) throw std::runtime_error("mkdtemp failed");
     return dir;
@@ -23,7 +24,7 @@ inline std::filesystem::path make_temp_dir(const std::string& tag) {
 
 // A temporary directory removed when the test ends.
 class TempDir {
-public:
+  public:
     explicit TempDir(const std::string& tag = "test") : path_(make_temp_dir(tag)) {}
     ~TempDir() {
         std::error_code ec;
@@ -38,7 +39,7 @@ public:
         return p;
     }
 
-private:
+  private:
     std::filesystem::path path_;
 };
 

@@ -7,19 +7,22 @@
 
 namespace {
 
-TEST(CheckedArithmetic, ThisBuildChecks) { EXPECT_TRUE(refraster::kCheckedArithmetic); }
+TEST(CheckedArithmetic, ThisBuildChecks) {
+    EXPECT_TRUE(refraster::kCheckedArithmetic);
+}
 
 TEST(CheckedArithmeticDeathTest, OverflowTraps) {
     const auto big = std::numeric_limits<std::int64_t>::max();
     EXPECT_DEATH((void)refraster::checked_add(big, std::int64_t{1}), "overflow in an addition");
-    EXPECT_DEATH((void)refraster::checked_mul(big / 2, std::int64_t{3}), "overflow in a multiplication");
+    EXPECT_DEATH((void)refraster::checked_mul(big / 2, std::int64_t{3}),
+                 "overflow in a multiplication");
     EXPECT_DEATH((void)refraster::checked_narrow<std::int32_t>(std::int64_t{1} << 40), "narrowing");
     EXPECT_EQ(refraster::checked_add(std::int64_t{2}, std::int64_t{3}), 5);
 }
 
 TEST(Snapping, RoundingModes) {
-    using refraster::SnapRounding;
     using refraster::round_scaled;
+    using refraster::SnapRounding;
     EXPECT_EQ(round_scaled<std::int32_t>(2560.5f, SnapRounding::NearestEven), 2560);
     EXPECT_EQ(round_scaled<std::int32_t>(2561.5f, SnapRounding::NearestEven), 2562);
     EXPECT_EQ(round_scaled<std::int32_t>(2560.5f, SnapRounding::HalfAwayFromZero), 2561);

@@ -44,7 +44,8 @@ std::set<Pixel> lit(const DrawList& l, const refraster::Profile& profile = {}) {
     std::set<Pixel> s;
     for (int y = 0; y < kSize; ++y) {
         for (int x = 0; x < kSize; ++x) {
-            if (fb.color8[4 * fb.index(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y))] != 0) {
+            if (fb.color8[4 * fb.index(static_cast<std::uint32_t>(x),
+                                       static_cast<std::uint32_t>(y))] != 0) {
                 s.insert({x, y});
             }
         }
@@ -70,7 +71,8 @@ TEST(CoverageRules, SquareThroughCentresOwnsLeftAndBottom) {
     // Edges at 10.5 and 20.5 pass through pixel centres: llvmpipe lights the left column and
     // the bottom row, not the right column or the top row (1.4), in either winding.
     for (bool ccw : {true, false}) {
-        EXPECT_EQ(lit(triangles(square(10.5f, 10.5f, 20.5f, 20.5f, ccw))), box(10, 10, 19, 19)) << ccw;
+        EXPECT_EQ(lit(triangles(square(10.5f, 10.5f, 20.5f, 20.5f, ccw))), box(10, 10, 19, 19))
+            << ccw;
     }
 }
 
@@ -83,11 +85,14 @@ TEST(CoverageRules, FlippedTieRuleOwnsRightAndTop) {
 TEST(CoverageRules, SnappingRoundsToNearestEvenAt256th) {
     // Left edge at 10.5 + 1/512: (x - 0.5) * 256 = 2560.5 rounds to even 2560, a tie the left
     // edge owns, so column 10 stays lit; at 10.5 + 3/512, 2561.5 rounds to 2562 and it goes.
-    EXPECT_EQ(lit(triangles(square(10.5f + 1.0f / 512, 10.5f, 20.5f, 20.5f, true))), box(10, 10, 19, 19));
-    EXPECT_EQ(lit(triangles(square(10.5f + 3.0f / 512, 10.5f, 20.5f, 20.5f, true))), box(11, 10, 19, 19));
+    EXPECT_EQ(lit(triangles(square(10.5f + 1.0f / 512, 10.5f, 20.5f, 20.5f, true))),
+              box(10, 10, 19, 19));
+    EXPECT_EQ(lit(triangles(square(10.5f + 3.0f / 512, 10.5f, 20.5f, 20.5f, true))),
+              box(11, 10, 19, 19));
     // A right edge at 20.5 + 1/512 snaps back onto the centre: column 20 stays dark (round
     // half up would have lit it).
-    EXPECT_EQ(lit(triangles(square(10.5f, 10.5f, 20.5f + 1.0f / 512, 20.5f, true))), box(10, 10, 19, 19));
+    EXPECT_EQ(lit(triangles(square(10.5f, 10.5f, 20.5f + 1.0f / 512, 20.5f, true))),
+              box(10, 10, 19, 19));
     // Offsets of 1/1024 snap back onto the centre both ways.
     EXPECT_EQ(lit(triangles(square(10.5f - 1.0f / 1024, 10.5f, 20.5f + 1.0f / 1024, 20.5f, true))),
               box(10, 10, 19, 19));
@@ -96,12 +101,15 @@ TEST(CoverageRules, SnappingRoundsToNearestEvenAt256th) {
 TEST(CoverageRules, ExactOracleDoesNotSnap) {
     // Without snapping a left edge 1/512 to the right of the centres no longer covers them.
     const auto exact = refraster::gl_exact_profile();
-    EXPECT_EQ(lit(triangles(square(10.5f + 1.0f / 512, 10.5f, 20.5f, 20.5f, true)), exact), box(11, 10, 19, 19));
+    EXPECT_EQ(lit(triangles(square(10.5f + 1.0f / 512, 10.5f, 20.5f, 20.5f, true)), exact),
+              box(11, 10, 19, 19));
     // On the grid it agrees with the snapped rule, tie rule included.
-    EXPECT_EQ(lit(triangles(square(10.5f, 10.5f, 20.5f, 20.5f, false)), exact), box(10, 10, 19, 19));
+    EXPECT_EQ(lit(triangles(square(10.5f, 10.5f, 20.5f, 20.5f, false)), exact),
+              box(10, 10, 19, 19));
     auto flipped = exact;
     flipped.gl.tie_rule = refraster::TieRule::RightTop;
-    EXPECT_EQ(lit(triangles(square(10.5f, 10.5f, 20.5f, 20.5f, false)), flipped), box(11, 11, 20, 20));
+    EXPECT_EQ(lit(triangles(square(10.5f, 10.5f, 20.5f, 20.5f, false)), flipped),
+              box(11, 11, 20, 20));
 }
 
 TEST(CoverageRules, VertexOnCentreLitOnlyWhenLeftmost) {
@@ -161,7 +169,8 @@ TEST(CoverageRules, GuardBandAppliesTheViewportAsScissor) {
     l.draws[0].state.viewport = {0, 0, 16, 16};
     for (std::size_t v = 0; v < 3; ++v) {  // re-map the clip coordinates to the 16x16 viewport
         l.draws[0].vertices.data[v * 8] = (l.draws[0].vertices.data[v * 8] + 1.0f) * 2.0f - 1.0f;
-        l.draws[0].vertices.data[v * 8 + 1] = (l.draws[0].vertices.data[v * 8 + 1] + 1.0f) * 2.0f - 1.0f;
+        l.draws[0].vertices.data[v * 8 + 1] =
+            (l.draws[0].vertices.data[v * 8 + 1] + 1.0f) * 2.0f - 1.0f;
     }
     refraster::Profile gb;
     gb.gl.clipping = refraster::Clipping::GuardBand;

@@ -2,14 +2,14 @@
 // rounding to 24 bits with an unbounded exponent, which includes products just below FLT_MIN
 // that float's subnormal grid rounds up to FLT_MIN. Checked against this CPU's own MXCSR
 // FTZ/DAZ mode where the compiler targets SSE.
+#include "float_ops.hpp"
+
 #include <gtest/gtest.h>
 
 #include <bit>
 #include <cfloat>
 #include <cstdint>
 #include <random>
-
-#include "float_ops.hpp"
 
 #if defined(__SSE2__)
 #include <xmmintrin.h>
@@ -43,14 +43,18 @@ TEST(FlushToZero, AgreesWithThisCpuAroundFltMin) {
     const unsigned saved = _mm_getcsr();
     int in_window = 0;  // exact results in [FLT_MIN - 2^-150, FLT_MIN - 2^-151)
     for (int n = 0; n < 200000; ++n) {
-        const float x = std::bit_cast<float>((static_cast<std::uint32_t>(127 + expo(rng)) << 23) | mant(rng));
+        const float x =
+            std::bit_cast<float>((static_cast<std::uint32_t>(127 + expo(rng)) << 23) | mant(rng));
         // y and q chosen so that x * y and q / x fall within a few units of FLT_MIN.
         const auto step = [&](float v) {
-            return std::bit_cast<float>(static_cast<std::uint32_t>(static_cast<std::int64_t>(std::bit_cast<std::uint32_t>(v)) + ulps(rng)));
+            return std::bit_cast<float>(static_cast<std::uint32_t>(
+                static_cast<std::int64_t>(std::bit_cast<std::uint32_t>(v)) + ulps(rng)));
         };
         const float sign = n % 2 ? -1.0f : 1.0f;
-        const float y = sign * step(static_cast<float>(static_cast<double>(FLT_MIN) / static_cast<double>(x)));
-        const float q = sign * step(static_cast<float>(static_cast<double>(FLT_MIN) * static_cast<double>(x)));
+        const float y =
+            sign * step(static_cast<float>(static_cast<double>(FLT_MIN) / static_cast<double>(x)));
+        const float q =
+            sign * step(static_cast<float>(static_cast<double>(FLT_MIN) * static_cast<double>(x)));
         volatile float vx = x, vy = y, vq = q;
         _mm_setcsr(saved | 0x8040);  // FTZ | DAZ
         const float hw_mul = vx * vy;

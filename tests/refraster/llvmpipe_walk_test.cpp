@@ -24,7 +24,8 @@ constexpr int kH = 200;
 std::vector<std::uint8_t> walked(const TriangleSetup& t) {
     std::vector<std::uint8_t> m(static_cast<std::size_t>(kW) * kH, 0);
     refraster::detail::traverse_triangle(t, [&](int y, int x0, int x1) {
-        for (int x = x0; x < x1; ++x) ++m[static_cast<std::size_t>(y) * kW + static_cast<std::size_t>(x)];
+        for (int x = x0; x < x1; ++x)
+            ++m[static_cast<std::size_t>(y) * kW + static_cast<std::size_t>(x)];
     });
     return m;
 }
@@ -33,7 +34,8 @@ std::vector<std::uint8_t> plain(const TriangleSetup& t) {
     std::vector<std::uint8_t> m(static_cast<std::size_t>(kW) * kH, 0);
     for (int y = t.bbox.y0; y <= t.bbox.y1; ++y) {
         for (int x = t.bbox.x0; x <= t.bbox.x1; ++x) {
-            if (refraster::detail::covers_pixel(t, x, y)) m[static_cast<std::size_t>(y) * kW + static_cast<std::size_t>(x)] = 1;
+            if (refraster::detail::covers_pixel(t, x, y))
+                m[static_cast<std::size_t>(y) * kW + static_cast<std::size_t>(x)] = 1;
         }
     }
     return m;
@@ -59,7 +61,8 @@ TEST(LlvmpipeWalk, EqualsPerPixelTestOnTrianglesThatDoNotWrap) {
         if (n % 4 == 0) {  // a scissor: region planes on the sides the box reaches past
             const int x0 = static_cast<int>(unit(rng) * kW), y0 = static_cast<int>(unit(rng) * kH);
             p.draw_region = refraster::detail::intersect(
-                p.draw_region, {x0, y0, x0 + static_cast<int>(unit(rng) * kW), y0 + static_cast<int>(unit(rng) * kH)});
+                p.draw_region, {x0, y0, x0 + static_cast<int>(unit(rng) * kW),
+                                y0 + static_cast<int>(unit(rng) * kH)});
         }
         // From a pixel to far beyond the target, a third with vertices on pixel centres.
         const float size = std::exp2(unit(rng) * 11.0f);
@@ -71,15 +74,17 @@ TEST(LlvmpipeWalk, EqualsPerPixelTestOnTrianglesThatDoNotWrap) {
             if (n % 3 == 0) q = {std::floor(q[0]) + 0.5f, std::floor(q[1]) + 0.5f};
         }
         TriangleSetup t;
-        if (refraster::detail::setup_triangle(v, p, t) != SetupOutcome::Ok || t.llvmpipe_walk) continue;
+        if (refraster::detail::setup_triangle(v, p, t) != SetupOutcome::Ok || t.llvmpipe_walk)
+            continue;
         const auto expected = plain(t);
         refraster::detail::attach_llvmpipe_walk(p, t);
         ASSERT_TRUE(t.llvmpipe_walk);
         ++compared;
         multi_tile += ((t.walk.box.x0 ^ t.walk.box.x1) | (t.walk.box.y0 ^ t.walk.box.y1)) >= 64;
         with_region_planes += t.walk.count > 3;
-        ASSERT_EQ(walked(t), expected) << "triangle " << n << ": (" << v[0][0] << "," << v[0][1] << ") (" << v[1][0]
-                                       << "," << v[1][1] << ") (" << v[2][0] << "," << v[2][1] << ")";
+        ASSERT_EQ(walked(t), expected)
+            << "triangle " << n << ": (" << v[0][0] << "," << v[0][1] << ") (" << v[1][0] << ","
+            << v[1][1] << ") (" << v[2][0] << "," << v[2][1] << ")";
     }
     // Both binning paths and the draw-region planes took part.
     EXPECT_GT(multi_tile, 5000);
@@ -101,7 +106,8 @@ TEST(LlvmpipeWalk, NonFinitePositionsConvertToTheIntegerIndefinite) {
     EXPECT_EQ(t.walk.box.x0, 0);
     EXPECT_EQ(t.walk.box.y0, 0);
     // A NaN coordinate converts the same way.
-    const std::array<std::array<float, 2>, 3> vn{{{32.0f, 32.0f}, {std::nanf(""), 5.0f}, {11.25f, 41.5f}}};
+    const std::array<std::array<float, 2>, 3> vn{
+        {{32.0f, 32.0f}, {std::nanf(""), 5.0f}, {11.25f, 41.5f}}};
     TriangleSetup tn;
     const auto outcome = refraster::detail::setup_triangle(vn, p, tn);
     EXPECT_TRUE(outcome != SetupOutcome::OutOfRange);
@@ -116,7 +122,8 @@ TEST(LlvmpipeWalk, NonFinitePositionsConvertToTheIntegerIndefinite) {
 // and eo takes the shifted values under the signs of the unshifted ones.
 TEST(LlvmpipeWalk, EdgePlaneWrapsLikeThe32BitLanes) {
     namespace lp = refraster::detail::lp;
-    // dcdx = 0 - (1 << 24) = -2^24, shifted: -2^32 wraps to 0; dcdy = 2^23, shifted: 2^31 wraps to INT32_MIN.
+    // dcdx = 0 - (1 << 24) = -2^24, shifted: -2^32 wraps to 0; dcdy = 2^23, shifted: 2^31 wraps to
+    // INT32_MIN.
     const lp::Plane e = lp::edge_plane(1 << 23, 0, 0, 1 << 24, false);
     EXPECT_EQ(e.dcdx, 0);
     EXPECT_EQ(e.dcdy, INT32_MIN);

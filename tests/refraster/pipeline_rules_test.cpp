@@ -45,8 +45,8 @@ refraster::Draw one_pixel_draw(refraster::BlendPreset blend, std::array<float, 4
 }
 
 TEST(UnormBlending, PresetsOnBytes) {
-    // Source bytes from the output conversion (tested with the attribute scenes); alpha: M(s, a) + M(d, 255 - a), saturated;
-    // add: s + d, saturated.
+    // Source bytes from the output conversion (tested with the attribute scenes); alpha: M(s, a) +
+    // M(d, 255 - a), saturated; add: s + d, saturated.
     refraster::DrawList l;
     l.target = {1, 1, refraster::ColorFormat::Rgba8, refraster::DepthFormat::None, 1};
     l.clear.color = {0.2f, 0.6f, 1.0f, 0.0f};
@@ -54,7 +54,9 @@ TEST(UnormBlending, PresetsOnBytes) {
     refraster::Framebuffer cleared;
     (void)refraster::render(l, cleared);
     const auto byte = [](float c) { return std::uint32_t{refraster::detail::color_to_unorm8(c)}; };
-    const auto mul = [](std::uint32_t x, std::uint32_t y) { return (x * y + ((x * y) >> 8) + 128) >> 8; };
+    const auto mul = [](std::uint32_t x, std::uint32_t y) {
+        return (x * y + ((x * y) >> 8) + 128) >> 8;
+    };
     for (auto blend : {refraster::BlendPreset::Alpha, refraster::BlendPreset::Add}) {
         l.draws = {one_pixel_draw(blend, src)};
         refraster::Framebuffer fb;
@@ -79,10 +81,12 @@ refraster::DrawList target(std::uint32_t w, std::uint32_t h) {
 }
 
 // Window-space positions into a draw over the whole target (w = 1).
-refraster::Draw window_draw(PrimitiveType p, const refraster::Target& t, const std::vector<std::array<float, 2>>& pos) {
+refraster::Draw window_draw(PrimitiveType p, const refraster::Target& t,
+                            const std::vector<std::array<float, 2>>& pos) {
     refraster::Draw d;
     d.primitive = p;
-    d.state.viewport = {0, 0, static_cast<std::int32_t>(t.width), static_cast<std::int32_t>(t.height)};
+    d.state.viewport = {0, 0, static_cast<std::int32_t>(t.width),
+                        static_cast<std::int32_t>(t.height)};
     d.vertices.attributes = {{"color", 4}};
     for (const auto& v : pos) {
         const float x = v[0] / static_cast<float>(t.width) * 2.0f - 1.0f;
@@ -113,8 +117,10 @@ TEST(LineCoverage, OneFragmentPerMajorStepTimesTheRoundedWidth) {
         for (bool x_major : {true, false}) {
             auto l = target(64, 64);
             // Ends at fractional positions (no diamond ties), slopes below 1 in the major axis.
-            const std::array<float, 2> a = x_major ? std::array<float, 2>{8.3f, 20.2f} : std::array<float, 2>{20.2f, 8.3f};
-            const std::array<float, 2> b = x_major ? std::array<float, 2>{50.3f, 37.7f} : std::array<float, 2>{37.7f, 50.3f};
+            const std::array<float, 2> a =
+                x_major ? std::array<float, 2>{8.3f, 20.2f} : std::array<float, 2>{20.2f, 8.3f};
+            const std::array<float, 2> b =
+                x_major ? std::array<float, 2>{50.3f, 37.7f} : std::array<float, 2>{37.7f, 50.3f};
             auto d = window_draw(PrimitiveType::Lines, l.target, {a, b});
             d.state.line_width = width;
             l.draws = {d};
@@ -139,7 +145,8 @@ TEST(ClipperEdgeFlags, EdgesMadeByTheClipperAreNotDrawn) {
     // inside the viewport is its two original edges; the viewport's last column is lit only
     // where those cross it, not along the cut.
     auto l = target(32, 32);
-    auto d = window_draw(PrimitiveType::Triangles, l.target, {{4.3f, 4.2f}, {90.7f, 16.4f}, {4.6f, 27.9f}});
+    auto d = window_draw(PrimitiveType::Triangles, l.target,
+                         {{4.3f, 4.2f}, {90.7f, 16.4f}, {4.6f, 27.9f}});
     d.state.polygon_mode = refraster::PolygonMode::Line;
     l.draws = {d};
     refraster::Framebuffer fb;

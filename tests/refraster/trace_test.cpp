@@ -66,7 +66,8 @@ TEST(Trace, RightEdgeTieIsRecordedAndNotOwned) {
     for (const auto& p : t.primitives) {
         EXPECT_FALSE(p.covered);
         for (const auto& s : p.setups) {
-            for (const auto& e : s.edges) saw_unowned_tie = saw_unowned_tie || (e.tie && !e.owns_ties && e.value == 0);
+            for (const auto& e : s.edges)
+                saw_unowned_tie = saw_unowned_tie || (e.tie && !e.owns_ties && e.value == 0);
         }
     }
     EXPECT_TRUE(saw_unowned_tie);
@@ -85,7 +86,8 @@ TEST(Trace, FarPixelRecordsNothing) {
 
 namespace {
 
-refraster::DrawList one_primitive(refraster::PrimitiveType p, std::vector<std::array<float, 2>> win, float size) {
+refraster::DrawList one_primitive(refraster::PrimitiveType p, std::vector<std::array<float, 2>> win,
+                                  float size) {
     refraster::DrawList l;
     l.target = {32, 32, refraster::ColorFormat::Rgba8, refraster::DepthFormat::None, 1};
     l.clear.color = {0, 0, 0, 1};
@@ -95,7 +97,8 @@ refraster::DrawList one_primitive(refraster::PrimitiveType p, std::vector<std::a
     d.state.line_width = size;
     d.state.point_size = size;
     d.vertices.attributes = {{"color", 4}};
-    for (const auto& [x, y] : win) d.vertices.data.insert(d.vertices.data.end(), {x / 16 - 1, y / 16 - 1, 0, 1, 1, 1, 1, 1});
+    for (const auto& [x, y] : win)
+        d.vertices.data.insert(d.vertices.data.end(), {x / 16 - 1, y / 16 - 1, 0, 1, 1, 1, 1, 1});
     l.draws.push_back(d);
     return l;
 }
@@ -112,7 +115,9 @@ refraster::PixelTrace trace_of(const refraster::DrawList& l, int x, int y) {
 }
 
 TEST(Trace, LinesRecordFourEdgesAndTheFragment) {
-    const auto t = trace_of(one_primitive(refraster::PrimitiveType::Lines, {{2.25f, 8.5f}, {20.75f, 8.5f}}, 1.0f), 10, 8);
+    const auto t = trace_of(
+        one_primitive(refraster::PrimitiveType::Lines, {{2.25f, 8.5f}, {20.75f, 8.5f}}, 1.0f), 10,
+        8);
     ASSERT_EQ(t.primitives.size(), 1u);
     const auto& p = t.primitives[0];
     EXPECT_EQ(p.kind, "line");
@@ -122,18 +127,23 @@ TEST(Trace, LinesRecordFourEdgesAndTheFragment) {
     EXPECT_TRUE(p.setups[0].has_fragment);
     EXPECT_EQ(p.setups[0].fragment.written[0], 255.0f);
     // A pixel a row away is not reported as covered.
-    for (const auto& q : trace_of(one_primitive(refraster::PrimitiveType::Lines, {{2.25f, 8.5f}, {20.75f, 8.5f}}, 1.0f), 10, 10)
-             .primitives) {
+    for (const auto& q : trace_of(one_primitive(refraster::PrimitiveType::Lines,
+                                                {{2.25f, 8.5f}, {20.75f, 8.5f}}, 1.0f),
+                                  10, 10)
+                             .primitives) {
         EXPECT_FALSE(q.covered);
     }
 }
 
 TEST(Trace, PointsRecordTheirSquare) {
-    const auto t = trace_of(one_primitive(refraster::PrimitiveType::Points, {{10.0f, 10.0f}}, 1.0f), 9, 9);
+    const auto t =
+        trace_of(one_primitive(refraster::PrimitiveType::Points, {{10.0f, 10.0f}}, 1.0f), 9, 9);
     ASSERT_EQ(t.primitives.size(), 1u);
     EXPECT_EQ(t.primitives[0].kind, "point");
     EXPECT_TRUE(t.primitives[0].covered);  // a size-1 point at (10, 10) lights pixel (9, 9)
-    EXPECT_TRUE(trace_of(one_primitive(refraster::PrimitiveType::Points, {{10.0f, 10.0f}}, 1.0f), 10, 10).primitives.empty());
+    EXPECT_TRUE(
+        trace_of(one_primitive(refraster::PrimitiveType::Points, {{10.0f, 10.0f}}, 1.0f), 10, 10)
+            .primitives.empty());
 }
 
 }  // namespace

@@ -24,7 +24,8 @@ TEST(Cli, RefBackendRefusesPrimitivesWithExitFour) {
       "target": {"width": 4, "height": 4, "samples": 4},
       "draws": [{"primitive": "lines", "vertices": [{"position": [0, 0]}, {"position": [4, 0]}]}]})");
     const auto out = dir.path() / "o.png";
-    const auto r = testutil::run_cli({"render", scene.string(), "--backend", "ref", "-o", out.string()});
+    const auto r =
+        testutil::run_cli({"render", scene.string(), "--backend", "ref", "-o", out.string()});
     EXPECT_EQ(r.exit_code, 4) << r.err;
     EXPECT_EQ(testutil::count_lines(r.err), 1u) << r.err;
     EXPECT_NE(r.err.find("NotSupported"), std::string::npos);
@@ -33,9 +34,11 @@ TEST(Cli, RefBackendRefusesPrimitivesWithExitFour) {
 
 TEST(Cli, RequiredUnknownExtensionIsNotSupported) {
     testutil::TempDir dir;
-    const auto scene = dir.write("s.json", R"({"format": "refraster-scene/1", "requires": ["x-future"],
+    const auto scene =
+        dir.write("s.json", R"({"format": "refraster-scene/1", "requires": ["x-future"],
       "target": {"width": 4, "height": 4}, "draws": []})");
-    const auto r = testutil::run_cli({"render", scene.string(), "-o", (dir.path() / "o.png").string()});
+    const auto r =
+        testutil::run_cli({"render", scene.string(), "-o", (dir.path() / "o.png").string()});
     EXPECT_EQ(r.exit_code, 4) << r.err;
     EXPECT_NE(r.err.find("x-future"), std::string::npos);
 }
@@ -59,7 +62,8 @@ TEST(Cli, OutputExtensionMustMatchTarget) {
     testutil::TempDir dir;
     const auto scene = dir.write("s.json", R"({"format": "refraster-scene/1",
       "target": {"width": 3, "height": 2, "color": "rgba32f"}, "draws": []})");
-    const auto r = testutil::run_cli({"render", scene.string(), "-o", (dir.path() / "o.png").string()});
+    const auto r =
+        testutil::run_cli({"render", scene.string(), "-o", (dir.path() / "o.png").string()});
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_NE(r.err.find(".exr"), std::string::npos);
 }

@@ -24,12 +24,23 @@ std::string esc(const std::string& s) {
     std::string o;
     for (char c : s) {
         switch (c) {
-            case '&': o += "&amp;"; break;
-            case '<': o += "&lt;"; break;
-            case '>': o += "&gt;"; break;
-            case '"': o += "&quot;"; break;
-            case '\'': o += "&#39;"; break;
-            default: o += c;
+            case '&':
+                o += "&amp;";
+                break;
+            case '<':
+                o += "&lt;";
+                break;
+            case '>':
+                o += "&gt;";
+                break;
+            case '"':
+                o += "&quot;";
+                break;
+            case '\'':
+                o += "&#39;";
+                break;
+            default:
+                o += c;
         }
     }
     return o;
@@ -44,14 +55,17 @@ std::string fixed(double v, int digits) {
 }
 
 // A report is either whole or absent.
-void write_file(const std::filesystem::path& p, const std::string& text) { harness::write_file_atomically(p, text); }
+void write_file(const std::filesystem::path& p, const std::string& text) {
+    harness::write_file_atomically(p, text);
+}
 
 double seconds(const json& r, const char* who) {
     return r.contains(who) ? r[who].value("seconds", 0.0) : 0.0;
 }
 
 std::uint64_t mismatched(const json& r) {
-    return r.contains("comparison") ? r["comparison"].value("mismatched_pixels", std::uint64_t{0}) : 0;
+    return r.contains("comparison") ? r["comparison"].value("mismatched_pixels", std::uint64_t{0})
+                                    : 0;
 }
 
 std::string area_of(const std::string& name) {
@@ -73,19 +87,25 @@ std::string deqp_status(const std::string& status) {
 // and driver, and the same profile (its file and overrides).
 std::string explain_command(const json& r, int x, int y) {
     const auto quote = [](const std::string& s) {
-        if (!s.empty() && s.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-.,/=+:") ==
-                              std::string::npos) {
+        if (!s.empty() &&
+            s.find_first_not_of(
+                "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-.,/=+:") ==
+                std::string::npos) {
             return s;
         }
         std::string q = "'";
         for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
         return q + "'";
     };
-    std::string cmd = "refraster explain " + quote(r.value("scene", "")) + " --pixel " + std::to_string(x) + "," +
-                      std::to_string(y);
+    std::string cmd = "refraster explain " + quote(r.value("scene", "")) + " --pixel " +
+                      std::to_string(x) + "," + std::to_string(y);
     const json none = json::object();
-    const json& act = r.contains("actual") && r["actual"].contains("provenance") ? r["actual"]["provenance"] : none;
-    const json& ref = r.contains("reference") && r["reference"].contains("provenance") ? r["reference"]["provenance"] : none;
+    const json& act = r.contains("actual") && r["actual"].contains("provenance")
+                          ? r["actual"]["provenance"]
+                          : none;
+    const json& ref = r.contains("reference") && r["reference"].contains("provenance")
+                          ? r["reference"]["provenance"]
+                          : none;
     if (act.contains("backend")) cmd += " --against " + quote(act.value("backend", ""));
     if (act.contains("driver")) cmd += " --driver " + quote(act.value("driver", ""));
     const std::string source = ref.value("profile_source", "built-in");
@@ -138,10 +158,11 @@ std::string chart(const std::vector<json>& results) {
     if (emax <= 0) emax = 1;
     const double lx0 = std::floor(std::log10(tmin)), lx1 = std::ceil(std::log10(tmax));
     std::ostringstream s;
-    s << "<svg id=\"error-chart\" xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
+    s << "<svg id=\"error-chart\" xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W
+      << "\" height=\"" << H
       << "\" role=\"img\" aria-label=\"mismatched pixels against run time\">";
-    s << "<rect x=\"" << L << "\" y=\"" << T << "\" width=\"" << W - L - R << "\" height=\"" << H - T - B
-      << "\" fill=\"#fafafa\" stroke=\"#999\"/>";
+    s << "<rect x=\"" << L << "\" y=\"" << T << "\" width=\"" << W - L - R << "\" height=\""
+      << H - T - B << "\" fill=\"#fafafa\" stroke=\"#999\"/>";
     for (double lx = lx0; lx <= lx1; lx += 1) {
         const double x = L + (lx - lx0) / std::max(1.0, lx1 - lx0) * (W - L - R);
         s << "<line x1=\"" << x << "\" y1=\"" << H - B << "\" x2=\"" << x << "\" y2=\"" << H - B + 4
@@ -150,12 +171,14 @@ std::string chart(const std::vector<json>& results) {
     }
     s << "<text x=\"" << (L + W - R) / 2 << "\" y=\"" << H - 4
       << "\" font-size=\"11\" text-anchor=\"middle\">reference + backend render time</text>";
-    s << "<text x=\"12\" y=\"" << (T + H - B) / 2 << "\" font-size=\"11\" transform=\"rotate(-90 12 "
-      << (T + H - B) / 2 << ")\" text-anchor=\"middle\">mismatched pixels (log)</text>";
+    s << "<text x=\"12\" y=\"" << (T + H - B) / 2
+      << "\" font-size=\"11\" transform=\"rotate(-90 12 " << (T + H - B) / 2
+      << ")\" text-anchor=\"middle\">mismatched pixels (log)</text>";
     for (int k = 0; k <= static_cast<int>(std::ceil(emax)); ++k) {
         const double y = H - B - k / std::ceil(emax) * (H - T - B);
-        s << "<text x=\"" << L - 4 << "\" y=\"" << y + 3 << "\" font-size=\"10\" text-anchor=\"end\">"
-          << (k == 0 ? "0" : "1e" + std::to_string(k)) << "</text>";
+        s << "<text x=\"" << L - 4 << "\" y=\"" << y + 3
+          << "\" font-size=\"10\" text-anchor=\"end\">" << (k == 0 ? "0" : "1e" + std::to_string(k))
+          << "</text>";
     }
     for (const auto& r : results) {
         const double t = std::max(1e-6, seconds(r, "reference") + seconds(r, "actual"));
@@ -163,9 +186,10 @@ std::string chart(const std::vector<json>& results) {
         const double e = std::log10(1.0 + static_cast<double>(mismatched(r)));
         const double y = H - B - e / std::ceil(emax) * (H - T - B);
         const std::string st = r.value("status", "");
-        s << "<circle cx=\"" << fixed(x, 1) << "\" cy=\"" << fixed(y, 1) << "\" r=\"3\" fill=\"" << status_color(st)
-          << "\" fill-opacity=\"0.7\"><title>" << esc(r.value("case", "")) << ": " << esc(st) << ", "
-          << mismatched(r) << " px, " << fixed(t * 1000, 2) << " ms</title></circle>";
+        s << "<circle cx=\"" << fixed(x, 1) << "\" cy=\"" << fixed(y, 1) << "\" r=\"3\" fill=\""
+          << status_color(st) << "\" fill-opacity=\"0.7\"><title>" << esc(r.value("case", ""))
+          << ": " << esc(st) << ", " << mismatched(r) << " px, " << fixed(t * 1000, 2)
+          << " ms</title></circle>";
     }
     s << "</svg>";
     return s.str();
@@ -175,64 +199,77 @@ std::string case_page(const json& r, const std::filesystem::path& images) {
     const std::string name = r.value("case", "");
     const std::string st = r.value("status", "");
     std::ostringstream h;
-    h << "<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>" << esc(name) << "</title>" << kStyle
-      << "</head><body><p><a href=\"../index.html\">&larr; all cases</a></p><h1 id=\"case-name\">" << esc(name)
-      << "</h1><p>Status: <span id=\"case-status\" class=\"st\" style=\"color:" << status_color(st) << "\">"
-      << esc(st) << "</span>";
-    if (r.contains("raw_status")) h << " (result " << esc(r["raw_status"].get<std::string>()) << ")";
+    h << "<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>" << esc(name) << "</title>"
+      << kStyle
+      << "</head><body><p><a href=\"../index.html\">&larr; all cases</a></p><h1 id=\"case-name\">"
+      << esc(name)
+      << "</h1><p>Status: <span id=\"case-status\" class=\"st\" style=\"color:" << status_color(st)
+      << "\">" << esc(st) << "</span>";
+    if (r.contains("raw_status"))
+        h << " (result " << esc(r["raw_status"].get<std::string>()) << ")";
     h << "</p><p>Scene: <code>" << esc(r.value("scene", "")) << "</code></p>";
-    if (r.contains("message")) h << "<p id=\"case-message\">" << esc(r["message"].get<std::string>()) << "</p>";
+    if (r.contains("message"))
+        h << "<p id=\"case-message\">" << esc(r["message"].get<std::string>()) << "</p>";
 
     // Images, side by side, pixelated and zoomable.
-    h << "<p><label>Zoom <input id=\"zoom\" type=\"range\" min=\"1\" max=\"32\" value=\"8\"></label> "
+    h << "<p><label>Zoom <input id=\"zoom\" type=\"range\" min=\"1\" max=\"32\" "
+         "value=\"8\"></label> "
          "<span id=\"zoom-value\">8</span>x</p><div class=\"imgs\">";
     const auto figure = [&](const std::string& file, const std::string& caption) {
         if (!std::filesystem::exists(images / file)) return;
-        h << "<figure><img class=\"zoomable\" src=\"../images/" << esc(file) << "\" alt=\"" << esc(caption)
-          << "\"><figcaption>" << esc(caption) << "</figcaption></figure>";
+        h << "<figure><img class=\"zoomable\" src=\"../images/" << esc(file) << "\" alt=\""
+          << esc(caption) << "\"><figcaption>" << esc(caption) << "</figcaption></figure>";
     };
-    const std::string ref = r.contains("reference") ? r["reference"].value("backend", "ref") : "ref";
+    const std::string ref =
+        r.contains("reference") ? r["reference"].value("backend", "ref") : "ref";
     const std::string act = r.contains("actual") ? r["actual"].value("backend", "") : "";
     for (const char* ext : {".png", ".exr"}) {
         figure(name + "." + ref + ext, "reference (" + ref + ")");
         figure(name + "." + act + ext, act);
     }
     figure(name + ".mask.png",
-           "error mask: magenta missing, red extra, orange another primitive, yellow colour only, blue depth only");
+           "error mask: magenta missing, red extra, orange another primitive, yellow colour only, "
+           "blue depth only");
     h << "</div>";
 
     if (r.contains("comparison")) {
         const auto& c = r["comparison"];
         h << "<h2>Numbers</h2><table id=\"case-numbers\">";
-        for (const char* k : {"mismatched_pixels", "missing", "extra", "other_primitive", "color_only", "depth_only"}) {
+        for (const char* k : {"mismatched_pixels", "missing", "extra", "other_primitive",
+                              "color_only", "depth_only"}) {
             h << "<tr><th>" << k << "</th><td class=\"num\">" << c.value(k, 0) << "</td></tr>";
         }
         if (c.contains("max_color")) {
             const auto& m = c["max_color"];
-            h << "<tr><th>max colour error</th><td class=\"num\">" << m.value("amount", 0) << " at (" << m.value("x", 0)
-              << ", " << m.value("y", 0) << ") channel " << "RGBA"[m.value("channel", 0) & 3] << ": "
-              << esc(m["reference"].dump()) << " vs " << esc(m["actual"].dump()) << "</td></tr>";
+            h << "<tr><th>max colour error</th><td class=\"num\">" << m.value("amount", 0)
+              << " at (" << m.value("x", 0) << ", " << m.value("y", 0) << ") channel "
+              << "RGBA"[m.value("channel", 0) & 3] << ": " << esc(m["reference"].dump()) << " vs "
+              << esc(m["actual"].dump()) << "</td></tr>";
         }
         if (c.contains("max_depth")) {
             const auto& m = c["max_depth"];
-            h << "<tr><th>max depth error</th><td class=\"num\">" << m.value("amount", 0) << " at (" << m.value("x", 0)
-              << ", " << m.value("y", 0) << "): " << m.value("reference", 0) << " vs " << m.value("actual", 0)
-              << "</td></tr>";
+            h << "<tr><th>max depth error</th><td class=\"num\">" << m.value("amount", 0) << " at ("
+              << m.value("x", 0) << ", " << m.value("y", 0) << "): " << m.value("reference", 0)
+              << " vs " << m.value("actual", 0) << "</td></tr>";
         }
-        h << "<tr><th>reference time</th><td class=\"num\">" << fixed(seconds(r, "reference") * 1000, 3)
-          << " ms</td></tr><tr><th>backend time</th><td class=\"num\">" << fixed(seconds(r, "actual") * 1000, 3)
-          << " ms</td></tr></table>";
+        h << "<tr><th>reference time</th><td class=\"num\">"
+          << fixed(seconds(r, "reference") * 1000, 3)
+          << " ms</td></tr><tr><th>backend time</th><td class=\"num\">"
+          << fixed(seconds(r, "actual") * 1000, 3) << " ms</td></tr></table>";
         h << "<h2>Explanation</h2><p id=\"case-explanation\">";
         if (c.value("mismatched_pixels", 0) == 0) {
             h << "Every pixel agrees.";
         } else if (r.contains("explanation")) {
             const auto& e = r["explanation"];
-            h << "<b>" << esc(e.value("difference", "")) << ", " << esc(e.value("rule", "")) << "</b>: "
-              << esc(e.value("verdict", "")) << ". Every decision at that pixel: <code id=\"explain-command\">"
-              << esc(explain_command(r, e["pixel"][0].get<int>(), e["pixel"][1].get<int>())) << "</code>.";
+            h << "<b>" << esc(e.value("difference", "")) << ", " << esc(e.value("rule", ""))
+              << "</b>: " << esc(e.value("verdict", ""))
+              << ". Every decision at that pixel: <code id=\"explain-command\">"
+              << esc(explain_command(r, e["pixel"][0].get<int>(), e["pixel"][1].get<int>()))
+              << "</code>.";
         } else if (c.contains("max_color")) {
             const auto& m = c["max_color"];
-            h << "The largest difference is at pixel (" << m.value("x", 0) << ", " << m.value("y", 0)
+            h << "The largest difference is at pixel (" << m.value("x", 0) << ", "
+              << m.value("y", 0)
               << "). Trace every decision there with <code id=\"explain-command\">"
               << esc(explain_command(r, m.value("x", 0), m.value("y", 0))) << "</code>.";
         }
@@ -242,16 +279,20 @@ std::string case_page(const json& r, const std::filesystem::path& images) {
         if (!r.contains(who) || !r[who].contains("provenance")) return;
         h << "<h2>" << title << "</h2><table>";
         for (const auto& [k, v] : r[who]["provenance"].items()) {
-            h << "<tr><th>" << esc(k) << "</th><td>" << esc(v.is_string() ? v.get<std::string>() : v.dump()) << "</td></tr>";
+            h << "<tr><th>" << esc(k) << "</th><td>"
+              << esc(v.is_string() ? v.get<std::string>() : v.dump()) << "</td></tr>";
         }
         h << "</table>";
     };
     provenance("reference", "Reference provenance");
     provenance("actual", "Backend provenance");
-    h << "<script>(function(){var z=document.getElementById('zoom'),v=document.getElementById('zoom-value');"
-         "function apply(){var s=+z.value;v.textContent=s;document.querySelectorAll('img.zoomable').forEach("
+    h << "<script>(function(){var "
+         "z=document.getElementById('zoom'),v=document.getElementById('zoom-value');"
+         "function apply(){var "
+         "s=+z.value;v.textContent=s;document.querySelectorAll('img.zoomable').forEach("
          "function(i){if(i.naturalWidth){i.style.width=(i.naturalWidth*s)+'px';}});}"
-         "z.addEventListener('input',apply);document.querySelectorAll('img.zoomable').forEach(function(i){"
+         "z.addEventListener('input',apply);document.querySelectorAll('img.zoomable').forEach("
+         "function(i){"
          "i.addEventListener('load',apply);});apply();})();</script>";
     h << "</body></html>\n";
     return h.str();
@@ -267,14 +308,16 @@ void write_reports(const std::filesystem::path& output, std::size_t selected_cas
             if (!line.empty()) results.push_back(json::parse(line));
         }
     }
-    std::sort(results.begin(), results.end(),
-              [](const json& a, const json& b) { return a.value("case", "") < b.value("case", ""); });
+    std::sort(results.begin(), results.end(), [](const json& a, const json& b) {
+        return a.value("case", "") < b.value("case", "");
+    });
 
     // deqp-runner's CSVs.
     std::ostringstream csv, failures;
     for (const auto& r : results) {
-        const std::string line = r.value("case", "") + "," + deqp_status(r.value("status", "")) + "," +
-                                 fixed(seconds(r, "reference") + seconds(r, "actual"), 6) + "\n";
+        const std::string line = r.value("case", "") + "," + deqp_status(r.value("status", "")) +
+                                 "," + fixed(seconds(r, "reference") + seconds(r, "actual"), 6) +
+                                 "\n";
         csv << line;
         if (failed(r.value("status", ""))) {
             failures << r.value("case", "") << "," << deqp_status(r.value("status", "")) << "\n";
@@ -292,7 +335,8 @@ void write_reports(const std::filesystem::path& output, std::size_t selected_cas
     }
 
     ojson doc;
-    doc["summary"] = {{"selected", selected_cases}, {"finished", results.size()}, {"statuses", counts}};
+    doc["summary"] = {
+        {"selected", selected_cases}, {"finished", results.size()}, {"statuses", counts}};
     doc["cases"] = results;
     write_file(output / "results.json", doc.dump(1) + "\n");
 
@@ -305,20 +349,23 @@ void write_reports(const std::filesystem::path& output, std::size_t selected_cas
         total += seconds(r, "reference") + seconds(r, "actual");
     }
     std::ostringstream x;
-    x << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites><testsuite name=\"refraster conformance\" tests=\""
-      << results.size() << "\" failures=\"" << nfail << "\" skipped=\"" << nskip << "\" time=\"" << fixed(total, 6)
-      << "\">\n";
+    x << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites><testsuite name=\"refraster "
+         "conformance\" tests=\""
+      << results.size() << "\" failures=\"" << nfail << "\" skipped=\"" << nskip << "\" time=\""
+      << fixed(total, 6) << "\">\n";
     for (const auto& r : results) {
         const std::string name = r.value("case", "");
         const auto dot = name.rfind('.');
-        x << "  <testcase classname=\"" << esc(dot == std::string::npos ? name : name.substr(0, dot)) << "\" name=\""
+        x << "  <testcase classname=\""
+          << esc(dot == std::string::npos ? name : name.substr(0, dot)) << "\" name=\""
           << esc(dot == std::string::npos ? name : name.substr(dot + 1)) << "\" time=\""
           << fixed(seconds(r, "reference") + seconds(r, "actual"), 6) << "\">";
         const std::string st = r.value("status", "");
         if (st == "NotSupported") {
             x << "<skipped message=\"" << esc(r.value("message", "")) << "\"/>";
         } else if (failed(st)) {
-            x << "<failure type=\"" << esc(st) << "\" message=\"" << esc(r.value("message", st)) << "\"/>";
+            x << "<failure type=\"" << esc(st) << "\" message=\"" << esc(r.value("message", st))
+              << "\"/>";
         }
         x << "</testcase>\n";
     }
@@ -328,29 +375,34 @@ void write_reports(const std::filesystem::path& output, std::size_t selected_cas
     // HTML.
     std::filesystem::create_directories(output / "cases");
     std::ostringstream h;
-    h << "<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>refraster conformance</title>" << kStyle
-      << "</head><body><h1>refraster conformance run</h1>";
+    h << "<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>refraster conformance</title>"
+      << kStyle << "</head><body><h1>refraster conformance run</h1>";
     if (!results.empty() && results.front().contains("actual")) {
         const auto& pv = results.front()["actual"].value("provenance", json::object());
-        h << "<p>Against <b>" << esc(results.front()["actual"].value("backend", "")) << "</b>: "
-          << esc(pv.value("renderer", "")) << ", " << esc(pv.value("gl_version", "")) << ", Mesa package "
-          << esc(pv.value("mesa_version", "")) << "; CPU " << esc(pv.value("cpu_flags", "")) << "; commit "
-          << esc(pv.value("commit", "")) << ".</p>";
+        h << "<p>Against <b>" << esc(results.front()["actual"].value("backend", ""))
+          << "</b>: " << esc(pv.value("renderer", "")) << ", " << esc(pv.value("gl_version", ""))
+          << ", Mesa package " << esc(pv.value("mesa_version", "")) << "; CPU "
+          << esc(pv.value("cpu_flags", "")) << "; commit " << esc(pv.value("commit", ""))
+          << ".</p>";
     }
-    if (!results.empty() && results.front().contains("reference") && results.front()["reference"].contains("provenance")) {
+    if (!results.empty() && results.front().contains("reference") &&
+        results.front()["reference"].contains("provenance")) {
         const auto& pv = results.front()["reference"]["provenance"];
-        h << "<p id=\"reference-profile\">Reference profile <b>" << esc(pv.value("profile", "")) << "</b> ("
-          << esc(pv.value("profile_source", "built-in"));
-        if (pv.contains("profile_overrides")) h << ", --profile-set " << esc(pv.value("profile_overrides", ""));
+        h << "<p id=\"reference-profile\">Reference profile <b>" << esc(pv.value("profile", ""))
+          << "</b> (" << esc(pv.value("profile_source", "built-in"));
+        if (pv.contains("profile_overrides"))
+            h << ", --profile-set " << esc(pv.value("profile_overrides", ""));
         h << "): <code>" << esc(pv.value("profile_rules", "")) << "</code>.</p>";
     }
     h << "<table id=\"summary\"><tr><th>status</th><th>cases</th></tr>";
     for (const auto& [st, n] : counts) {
-        h << "<tr><td class=\"st\" style=\"color:" << status_color(st) << "\">" << esc(st) << "</td><td class=\"num\">"
-          << n << "</td></tr>";
+        h << "<tr><td class=\"st\" style=\"color:" << status_color(st) << "\">" << esc(st)
+          << "</td><td class=\"num\">" << n << "</td></tr>";
     }
-    h << "<tr><th>finished</th><td class=\"num\">" << results.size() << " of " << selected_cases << "</td></tr></table>";
-    h << "<h2>By area</h2><table id=\"areas\"><tr><th>area</th><th>passed</th><th>failed</th><th>skipped</th></tr>";
+    h << "<tr><th>finished</th><td class=\"num\">" << results.size() << " of " << selected_cases
+      << "</td></tr></table>";
+    h << "<h2>By area</h2><table "
+         "id=\"areas\"><tr><th>area</th><th>passed</th><th>failed</th><th>skipped</th></tr>";
     for (const auto& [area, st] : areas) {
         std::size_t p = 0, f = 0, k = 0;
         for (const auto& [s, n] : st) {
@@ -362,11 +414,12 @@ void write_reports(const std::filesystem::path& output, std::size_t selected_cas
                 p += n;
             }
         }
-        h << "<tr><td>" << esc(area) << "</td><td class=\"num\">" << p << "</td><td class=\"num\">" << f
-          << "</td><td class=\"num\">" << k << "</td></tr>";
+        h << "<tr><td>" << esc(area) << "</td><td class=\"num\">" << p << "</td><td class=\"num\">"
+          << f << "</td><td class=\"num\">" << k << "</td></tr>";
     }
     h << "</table><h2>Error against run time</h2>" << chart(results);
-    h << "<h2>Cases</h2><table id=\"cases\"><tr><th>case</th><th>status</th><th>mismatched px</th><th>max colour "
+    h << "<h2>Cases</h2><table id=\"cases\"><tr><th>case</th><th>status</th><th>mismatched "
+         "px</th><th>max colour "
          "error</th><th>reference ms</th><th>backend ms</th></tr>";
     for (const auto& r : results) {
         const std::string name = r.value("case", "");
@@ -375,10 +428,11 @@ void write_reports(const std::filesystem::path& output, std::size_t selected_cas
         if (r.contains("comparison") && r["comparison"].contains("max_color")) {
             maxc = std::to_string(r["comparison"]["max_color"].value("amount", 0));
         }
-        h << "<tr><td><a href=\"cases/" << esc(name) << ".html\">" << esc(name) << "</a></td><td class=\"st\" style=\"color:"
-          << status_color(st) << "\">" << esc(st) << "</td><td class=\"num\">" << mismatched(r) << "</td><td class=\"num\">"
-          << maxc << "</td><td class=\"num\">" << fixed(seconds(r, "reference") * 1000, 3) << "</td><td class=\"num\">"
-          << fixed(seconds(r, "actual") * 1000, 3) << "</td></tr>";
+        h << "<tr><td><a href=\"cases/" << esc(name) << ".html\">" << esc(name)
+          << "</a></td><td class=\"st\" style=\"color:" << status_color(st) << "\">" << esc(st)
+          << "</td><td class=\"num\">" << mismatched(r) << "</td><td class=\"num\">" << maxc
+          << "</td><td class=\"num\">" << fixed(seconds(r, "reference") * 1000, 3)
+          << "</td><td class=\"num\">" << fixed(seconds(r, "actual") * 1000, 3) << "</td></tr>";
         write_file(output / "cases" / (name + ".html"), case_page(r, output / "images"));
     }
     h << "</table></body></html>\n";

@@ -35,11 +35,12 @@ std::vector<CaseFile> discover_cases(const std::filesystem::path& root) {
         if (!e.is_regular_file() || e.path().extension() != ".json") continue;
         cases.push_back({case_name_for(root, e.path()), e.path()});
     }
-    std::sort(cases.begin(), cases.end(), [](const auto& a, const auto& b) { return a.name < b.name; });
+    std::sort(cases.begin(), cases.end(),
+              [](const auto& a, const auto& b) { return a.name < b.name; });
     for (std::size_t i = 1; i < cases.size(); ++i) {
         if (cases[i].name == cases[i - 1].name) {
-            throw std::runtime_error("duplicate case name " + cases[i].name + ": " + cases[i - 1].file.string() +
-                                     " and " + cases[i].file.string());
+            throw std::runtime_error("duplicate case name " + cases[i].name + ": " +
+                                     cases[i - 1].file.string() + " and " + cases[i].file.string());
         }
     }
     return cases;
@@ -69,7 +70,9 @@ std::vector<std::string> read_lines(const std::filesystem::path& file, const cha
 
 }  // namespace
 
-std::vector<std::string> read_caselist(const std::filesystem::path& file) { return read_lines(file, "case list"); }
+std::vector<std::string> read_caselist(const std::filesystem::path& file) {
+    return read_lines(file, "case list");
+}
 
 std::map<std::string, std::string> read_baseline(const std::filesystem::path& file) {
     std::ifstream in(file);
@@ -83,16 +86,20 @@ std::map<std::string, std::string> read_baseline(const std::filesystem::path& fi
         if (b == std::string::npos) continue;
         line = line.substr(b, line.find_last_not_of(" \t\r") - b + 1);
         const auto comma = line.find(',');
-        const std::string status = comma == std::string::npos ? "" : line.substr(comma + 1, line.find(',', comma + 1) - comma - 1);
+        const std::string status =
+            comma == std::string::npos
+                ? ""
+                : line.substr(comma + 1, line.find(',', comma + 1) - comma - 1);
         const auto expected = baseline_status(status);
         if (comma == std::string::npos || !expected) {
-            throw std::runtime_error(file.string() + ":" + std::to_string(n) +
-                                     ": expected name,Status with one of deqp-runner's statuses (Pass, Fail, Skip, "
-                                     "Crash, Timeout, Warn, Flake, Missing, ExpectedFail, UnexpectedPass)");
+            throw std::runtime_error(
+                file.string() + ":" + std::to_string(n) +
+                ": expected name,Status with one of deqp-runner's statuses (Pass, Fail, Skip, "
+                "Crash, Timeout, Warn, Flake, Missing, ExpectedFail, UnexpectedPass)");
         }
         if (out.count(line.substr(0, comma)) != 0) {
-            throw std::runtime_error(file.string() + ":" + std::to_string(n) + ": " + line.substr(0, comma) +
-                                     " is listed twice");
+            throw std::runtime_error(file.string() + ":" + std::to_string(n) + ": " +
+                                     line.substr(0, comma) + " is listed twice");
         }
         out[line.substr(0, comma)] = *expected;
     }
@@ -120,7 +127,7 @@ namespace {
 // interrupted run: resuming refuses rather than guess which records to trust.
 struct Recovered {
     std::map<std::string, nlohmann::json> records;  // by case name
-    std::size_t torn_bytes = 0;                      // the torn last line that was cut off
+    std::size_t torn_bytes = 0;                     // the torn last line that was cut off
 };
 
 Recovered recover(const std::filesystem::path& jsonl) {
@@ -145,16 +152,20 @@ Recovered recover(const std::filesystem::path& jsonl) {
         try {
             j = nlohmann::json::parse(text.substr(start, nl - start));
         } catch (const nlohmann::json::exception&) {
-            throw std::runtime_error(where + ": not a result record; refusing to resume (only a torn last line "
-                                     "is dropped)");
+            throw std::runtime_error(
+                where +
+                ": not a result record; refusing to resume (only a torn last line "
+                "is dropped)");
         }
         if (!j.is_object() || !j.contains("case") || !j["case"].is_string()) {
-            throw std::runtime_error(where + ": a record without a \"case\" name; refusing to resume");
+            throw std::runtime_error(where +
+                                     ": a record without a \"case\" name; refusing to resume");
         }
         // The name is read before the record is moved into the map.
         std::string name = j["case"].get<std::string>();
         if (r.records.count(name) != 0) {
-            throw std::runtime_error(where + ": case " + name + " is recorded twice; refusing to resume");
+            throw std::runtime_error(where + ": case " + name +
+                                     " is recorded twice; refusing to resume");
         }
         r.records.emplace(std::move(name), std::move(j));
         start = nl + 1;
@@ -165,8 +176,9 @@ Recovered recover(const std::filesystem::path& jsonl) {
 
 // A kept record must come from the same comparison as the run that continues it: the same
 // reference (and profile) and the same backend and driver.
-void check_same_run(const std::map<std::string, nlohmann::json>& records, const std::string& reference,
-                    const std::string& profile, const std::string& actual, const std::filesystem::path& jsonl) {
+void check_same_run(const std::map<std::string, nlohmann::json>& records,
+                    const std::string& reference, const std::string& profile,
+                    const std::string& actual, const std::filesystem::path& jsonl) {
     for (const auto& [name, j] : records) {
         // Records of cases that never rendered (a bad scene file) carry no backends.
         const auto recorded = [&](const char* side, const char* key, const std::string& otherwise) {
@@ -183,9 +195,10 @@ void check_same_run(const std::map<std::string, nlohmann::json>& records, const 
         const std::string rec_profile = recorded("reference", "profile", profile);
         const std::string rec_actual = recorded("actual", "backend", actual);
         if (rec_ref != reference || rec_profile != profile || rec_actual != actual) {
-            throw std::runtime_error(jsonl.string() + ": case " + name + " was run as " + rec_ref + " (" + rec_profile +
-                                     ") against " + rec_actual + "; this run is " + reference + " (" + profile +
-                                     ") against " + actual + ": refusing to resume into it");
+            throw std::runtime_error(jsonl.string() + ": case " + name + " was run as " + rec_ref +
+                                     " (" + rec_profile + ") against " + rec_actual +
+                                     "; this run is " + reference + " (" + profile + ") against " +
+                                     actual + ": refusing to resume into it");
         }
     }
 }
@@ -203,10 +216,12 @@ bool judge(harness::CaseResult& r, const std::map<std::string, std::string>* bas
         r.status = harness::CaseStatus::ExpectedFail;
         return false;
     };
-    if (r.status == harness::CaseStatus::NotSupported) return false;  // skipping is never a regression
+    if (r.status == harness::CaseStatus::NotSupported)
+        return false;  // skipping is never a regression
     if (expected == "Flake") return failure ? expected_failure() : false;
     if (expected == "ExpectedFail" && failure) return expected_failure();
-    if (expected == "Fail" && r.status == harness::CaseStatus::InternalError) return expected_failure();
+    if (expected == "Fail" && r.status == harness::CaseStatus::InternalError)
+        return expected_failure();
     if (got == expected) return failure ? expected_failure() : false;
     if (r.status == harness::CaseStatus::Pass && expected != "NotSupported") {
         r.raw_status = r.status;
@@ -215,18 +230,19 @@ bool judge(harness::CaseResult& r, const std::map<std::string, std::string>* bas
     return expected != "NotSupported" || failure;
 }
 
-harness::CaseResult run_one(const CaseFile& c, harness::Backend& reference, harness::Backend& actual,
-                            const refraster::Profile& profile) {
+harness::CaseResult run_one(const CaseFile& c, harness::Backend& reference,
+                            harness::Backend& actual, const refraster::Profile& profile) {
     try {
         const harness::Scene scene = harness::load_scene(c.file);
         auto r = harness::run_case(scene, c.name, reference, actual);
         if (!scene.file.name.empty() && scene.file.name != c.name) {
             r.status = harness::CaseStatus::InternalError;
-            r.message = c.file.string() + ": name \"" + scene.file.name + "\" does not match its path (expected \"" +
-                        c.name + "\")";
+            r.message = c.file.string() + ": name \"" + scene.file.name +
+                        "\" does not match its path (expected \"" + c.name + "\")";
         }
         // A failure is explained at its pixel of largest difference (explain.hpp).
-        if (r.status == harness::CaseStatus::Fail && r.comparison && reference.kind() == harness::BackendKind::Ref) {
+        if (r.status == harness::CaseStatus::Fail && r.comparison &&
+            reference.kind() == harness::BackendKind::Ref) {
             const auto& cmp = *r.comparison;
             if (cmp.max_color || cmp.max_depth) {
                 const int x = static_cast<int>(cmp.max_color ? cmp.max_color->x : cmp.max_depth->x);
@@ -252,7 +268,8 @@ void write_images(const harness::CaseResult& r, const std::filesystem::path& dir
     const auto save = [&](const std::optional<harness::RenderResult>& rr, const std::string& who) {
         if (!rr || rr->status != harness::RenderStatus::Ok) return;
         harness::write_color_image(
-            rr->image, dir / (r.name + "." + who + std::string(harness::image_extension(rr->image.color_format))));
+            rr->image, dir / (r.name + "." + who +
+                              std::string(harness::image_extension(rr->image.color_format))));
     };
     save(r.reference, r.reference_name);
     save(r.actual, r.actual_name);
@@ -292,9 +309,10 @@ std::string format_duration(double s) {
 }  // namespace
 
 RunSummary run_suite(const RunOptions& options, std::ostream& console) {
-    if (options.shard_count < 1 || options.shard_index < 0 || options.shard_index >= options.shard_count) {
-        throw std::runtime_error("shard index " + std::to_string(options.shard_index) + " is not in [0, " +
-                                 std::to_string(options.shard_count) + ")");
+    if (options.shard_count < 1 || options.shard_index < 0 ||
+        options.shard_index >= options.shard_count) {
+        throw std::runtime_error("shard index " + std::to_string(options.shard_index) +
+                                 " is not in [0, " + std::to_string(options.shard_count) + ")");
     }
     std::vector<std::string> listed;
     if (options.caselist) listed = read_caselist(*options.caselist);
@@ -304,11 +322,14 @@ RunSummary run_suite(const RunOptions& options, std::ostream& console) {
     std::vector<CaseFile> cases;
     std::size_t index = 0;
     for (auto& c : discover_cases(options.scenes_root)) {
-        if (!matches_any(c.name, options.case_globs) || (!options.exclude_globs.empty() && matches_any(c.name, options.exclude_globs))) {
+        if (!matches_any(c.name, options.case_globs) ||
+            (!options.exclude_globs.empty() && matches_any(c.name, options.exclude_globs))) {
             continue;
         }
         if (options.caselist && !matches_any(c.name, listed)) continue;
-        if (index++ % static_cast<std::size_t>(options.shard_count) != static_cast<std::size_t>(options.shard_index)) continue;
+        if (index++ % static_cast<std::size_t>(options.shard_count) !=
+            static_cast<std::size_t>(options.shard_index))
+            continue;
         cases.push_back(std::move(c));
     }
     if (cases.empty()) throw std::runtime_error("no scene matched the selection");
@@ -321,17 +342,19 @@ RunSummary run_suite(const RunOptions& options, std::ostream& console) {
     std::map<std::string, nlohmann::json> done;
     if (options.resume) {
         auto recovered = recover(results_path);
-        check_same_run(recovered.records, reference->name(), options.reference.profile.name, actual->name(),
-                       results_path);
+        check_same_run(recovered.records, reference->name(), options.reference.profile.name,
+                       actual->name(), results_path);
         done = std::move(recovered.records);
-        console << "resume: kept " << done.size() << " finished case" << (done.size() == 1 ? "" : "s") << " of "
-                << results_path.string();
-        if (recovered.torn_bytes > 0) console << ", cut a torn last line of " << recovered.torn_bytes << " bytes";
+        console << "resume: kept " << done.size() << " finished case"
+                << (done.size() == 1 ? "" : "s") << " of " << results_path.string();
+        if (recovered.torn_bytes > 0)
+            console << ", cut a torn last line of " << recovered.torn_bytes << " bytes";
         console << "\n" << std::flush;
     } else {
         std::ofstream(results_path, std::ios::trunc);
     }
-    if (!std::filesystem::exists(results_path)) throw std::runtime_error(results_path.string() + ": cannot write");
+    if (!std::filesystem::exists(results_path))
+        throw std::runtime_error(results_path.string() + ": cannot write");
 
     RunSummary s;
     const auto count = [&](harness::CaseStatus st) {
@@ -364,8 +387,9 @@ RunSummary run_suite(const RunOptions& options, std::ostream& console) {
             if (std::string(harness::to_string(again.status)) != first) {
                 r.raw_status = r.raw_status.value_or(r.status);
                 r.status = harness::CaseStatus::Flake;
-                r.message = "unexpected " + first + ", then " + std::string(harness::to_string(again.status)) +
-                            " on the re-run" + (r.message.empty() ? "" : ": " + r.message);
+                r.message = "unexpected " + first + ", then " +
+                            std::string(harness::to_string(again.status)) + " on the re-run" +
+                            (r.message.empty() ? "" : ": " + r.message);
             }
         }
         try {
@@ -380,11 +404,13 @@ RunSummary run_suite(const RunOptions& options, std::ostream& console) {
         count(r.status);
         ++finished;
         if (options.progress) {
-            const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            const double elapsed =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
             const double per = elapsed / static_cast<double>(finished - resumed);
-            console << "\r\033[K[" << finished << "/" << cases.size() << "] " << s.passed << " pass, " << s.failed
-                    << " fail, " << s.skipped << " skip, ETA " << format_duration(per * static_cast<double>(cases.size() - finished))
-                    << " " << std::flush;
+            console << "\r\033[K[" << finished << "/" << cases.size() << "] " << s.passed
+                    << " pass, " << s.failed << " fail, " << s.skipped << " skip, ETA "
+                    << format_duration(per * static_cast<double>(cases.size() - finished)) << " "
+                    << std::flush;
         }
         if (harness::counts_as_failure(r.status) || !options.progress) {
             if (options.progress) console << "\r\033[K";
@@ -396,8 +422,8 @@ RunSummary run_suite(const RunOptions& options, std::ostream& console) {
     }
     if (options.progress) console << "\r\033[K";
     write_reports(options.output, cases.size());
-    console << "results: " << results_path.string() << "; report: " << (options.output / "index.html").string()
-            << "\n";
+    console << "results: " << results_path.string()
+            << "; report: " << (options.output / "index.html").string() << "\n";
     console << s.passed << " passed, " << s.failed << " failed, " << s.skipped << " skipped\n";
     return s;
 }

@@ -44,7 +44,7 @@ struct RenderResult {
 };
 
 class Backend {
-public:
+  public:
     virtual ~Backend() = default;
     virtual BackendKind kind() const = 0;
     virtual std::string name() const = 0;  // e.g. "ref", "osmesa-llvmpipe"

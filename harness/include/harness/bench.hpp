@@ -48,7 +48,7 @@ struct BenchOptions {
     int rounds = 5;
     double scale = 1.0;
     std::uint64_t seed = 1;
-    bool gl = true;          // also the GL configurations (needs the OSMesa worker)
+    bool gl = true;  // also the GL configurations (needs the OSMesa worker)
     double timeout_seconds = 600.0;
     refraster::Profile profile;  // the reference's rules (llvmpipe-22.3 unless told otherwise)
 };

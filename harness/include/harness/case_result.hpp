@@ -39,7 +39,7 @@ struct CaseResult {
     std::string scene_path;
     CaseStatus status = CaseStatus::InternalError;
     std::optional<CaseStatus> raw_status;  // before the baseline, when one changed it
-    std::string message;  // one line: why, for anything but Pass
+    std::string message;                   // one line: why, for anything but Pass
     Expect expect;
     std::string reference_name;
     std::string actual_name;

@@ -34,8 +34,8 @@ enum class PixelClass : std::uint8_t {
 struct ChannelDifference {
     std::uint64_t amount = 0;  // last-bit units (rgba8) or ULPs (rgba32f)
     std::uint32_t x = 0;
-    std::uint32_t y = 0;  // window coordinates, row 0 at the bottom
-    std::uint32_t channel = 0;  // 0..3 = r, g, b, a
+    std::uint32_t y = 0;                // window coordinates, row 0 at the bottom
+    std::uint32_t channel = 0;          // 0..3 = r, g, b, a
     std::array<double, 4> reference{};  // both pixels' values, in the format's own units
     std::array<double, 4> actual{};
 };
@@ -55,7 +55,7 @@ struct Comparison {
     std::uint64_t extra = 0;
     std::uint64_t color_only = 0;
     std::uint64_t depth_only = 0;
-    std::uint64_t coverage = 0;       // owners only: different primitives own the pixel
+    std::uint64_t coverage = 0;  // owners only: different primitives own the pixel
     bool classified_by_owners = false;
     std::optional<ChannelDifference> max_color;  // largest colour difference, if any differs
     std::optional<DepthDifference> max_depth;
@@ -70,7 +70,7 @@ struct Comparison {
 // clear stores (colour as the reference quantises the clear, and depth), or, when both
 // renders carry owners, when no primitive owns it.
 class PixelClassifier {
-public:
+  public:
     // The two framebuffers must have the same size and formats; they are referenced, not
     // copied.
     PixelClassifier(const refraster::Framebuffer& reference, const refraster::Framebuffer& actual,
@@ -90,7 +90,7 @@ public:
     std::uint8_t clear_color8(std::size_t channel) const { return clear_.color8[channel]; }
     float clear_color32f(std::size_t channel) const { return clear_.color32f[channel]; }
 
-private:
+  private:
     const refraster::Framebuffer& ref_;
     const refraster::Framebuffer& act_;
     Expect expect_;
@@ -106,8 +106,8 @@ bool owners_plausible(const std::vector<std::uint32_t>& owner, const refraster::
                       const refraster::ClearValues& clear);
 
 Comparison compare_images(const refraster::Framebuffer& reference,
-                          const refraster::Framebuffer& actual,
-                          const refraster::ClearValues& clear, const Expect& expect);
+                          const refraster::Framebuffer& actual, const refraster::ClearValues& clear,
+                          const Expect& expect);
 
 std::array<std::uint8_t, 4> mask_color(PixelClass c);
 

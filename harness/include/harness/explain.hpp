@@ -59,13 +59,13 @@ struct Explanation {
 
 // A pixel outside the target (a usage error, not a rendering failure).
 class PixelOutsideTarget : public std::invalid_argument {
-public:
+  public:
     using std::invalid_argument::invalid_argument;
 };
 
 // One scene, its renders and its alternative renders, kept for explaining many pixels.
 class Explainer {
-public:
+  public:
     // Renders the reference and, when `backend` is given, the backend (each with primitive
     // owners where the backend can report them believably). Throws std::runtime_error when the
     // reference or the backend cannot render the scene.
@@ -80,11 +80,13 @@ public:
     Explanation explain(int x, int y, bool full = true);
 
     const refraster::Framebuffer& reference_image() const { return reference_; }
-    const RenderResult* backend_render() const { return backend_result_ ? &*backend_result_ : nullptr; }
+    const RenderResult* backend_render() const {
+        return backend_result_ ? &*backend_result_ : nullptr;
+    }
     // The class of every pixel (compare.hpp), for choosing which pixels to explain.
     const PixelClassifier* classifier() const { return classifier_.get(); }
 
-private:
+  private:
     struct Alternative;
     void render_alternatives();
 
@@ -99,7 +101,8 @@ private:
 };
 
 // One pixel: an Explainer used once.
-Explanation explain_pixel(const Scene& scene, const refraster::Profile& profile, int x, int y, Backend* backend);
+Explanation explain_pixel(const Scene& scene, const refraster::Profile& profile, int x, int y,
+                          Backend* backend);
 
 std::string explanation_text(const Explanation& e);
 std::string explanation_json(const Explanation& e);

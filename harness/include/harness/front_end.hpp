@@ -6,7 +6,8 @@
 //           (0 when f == n), clip = (ndc_x*w, ndc_y*w, ndc_z*w, w)
 //   clip:   p'[r] = ((m[r]*x + m[4+r]*y) + m[8+r]*z) + m[12+r]*w with the optional matrix.
 // The matrix product is written out by hand: glm's mat4*vec4 sums pairwise (its
-// detail/func_matrix code adds the column products two by two), which is not the order the format prescribes.
+// detail/func_matrix code adds the column products two by two), which is not the order the format
+// prescribes.
 //
 // Deliberately does not: clip, cull or apply the viewport; backends and the reference do.
 #pragma once

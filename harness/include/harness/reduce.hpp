@@ -39,7 +39,8 @@ struct ReduceResult {
 };
 
 // Throws std::runtime_error when the scene does not mismatch to begin with.
-ReduceResult reduce_scene(const SceneFile& scene, const std::string& label, const refraster::Profile& profile,
-                          Backend& backend, std::ostream& log, const MismatchToKeep& keep = {});
+ReduceResult reduce_scene(const SceneFile& scene, const std::string& label,
+                          const refraster::Profile& profile, Backend& backend, std::ostream& log,
+                          const MismatchToKeep& keep = {});
 
 }  // namespace harness

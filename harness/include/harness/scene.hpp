@@ -70,16 +70,16 @@ struct Scene {
 //   FILE:LINE:COLUMN: what was expected       (a file that does not parse)
 //   FILE: what went wrong                     (a file that cannot be read)
 class SceneError : public std::runtime_error {
-public:
-    SceneError(std::string file, std::string json_path, std::string message,
-               std::size_t line = 0, std::size_t column = 0);
+  public:
+    SceneError(std::string file, std::string json_path, std::string message, std::size_t line = 0,
+               std::size_t column = 0);
     const std::string& file() const { return file_; }
     const std::string& json_path() const { return json_path_; }
     const std::string& detail() const { return detail_; }
     std::size_t line() const { return line_; }
     std::size_t column() const { return column_; }
 
-private:
+  private:
     std::string file_;
     std::string json_path_;
     std::string detail_;

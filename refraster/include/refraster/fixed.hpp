@@ -31,7 +31,7 @@ class Fixed {
     static_assert(std::is_integral_v<Rep> && std::is_signed_v<Rep>);
     static_assert(FracBits >= 0 && FracBits < static_cast<int>(sizeof(Rep) * 8) - 1);
 
-public:
+  public:
     static constexpr int kFracBits = FracBits;
     static constexpr Rep kOne = Rep{1} << FracBits;
 
@@ -45,7 +45,7 @@ public:
     constexpr double to_double() const { return static_cast<double>(raw_) / kOne; }
     friend constexpr bool operator==(Fixed, Fixed) = default;
 
-private:
+  private:
     Rep raw_ = 0;
 };
 
@@ -56,14 +56,18 @@ std::optional<Rep> round_scaled(float v, SnapRounding mode) {
     if (!std::isfinite(v)) return std::nullopt;
     double r = 0.0;
     switch (mode) {
-        case SnapRounding::NearestEven: r = std::nearbyint(static_cast<double>(v)); break;
+        case SnapRounding::NearestEven:
+            r = std::nearbyint(static_cast<double>(v));
+            break;
         case SnapRounding::HalfAwayFromZero:
             // util_iround on x86-64: (int)(v + 0.5f) or (int)(v - 0.5f), in float. The float
             // add can itself round (v + 0.5f for v just below a half-integer), which is the
             // behaviour being reproduced; the truncation is exact.
             r = std::trunc(static_cast<double>(v >= 0.0f ? v + 0.5f : v - 0.5f));
             break;
-        case SnapRounding::Truncate: r = std::trunc(static_cast<double>(v)); break;
+        case SnapRounding::Truncate:
+            r = std::trunc(static_cast<double>(v));
+            break;
     }
     if (r < static_cast<double>(std::numeric_limits<Rep>::min()) ||
         r > static_cast<double>(std::numeric_limits<Rep>::max())) {

@@ -29,7 +29,8 @@ enum class RenderStatus : std::uint8_t { Ok, NotSupported };
 struct RenderOutcome {
     RenderStatus status = RenderStatus::Ok;
     std::string message;  // why, when status != Ok
-    std::uint64_t fragments = 0;  // pixels traversal found covered, counted with RenderStage::Raster
+    std::uint64_t fragments =
+        0;  // pixels traversal found covered, counted with RenderStage::Raster
 };
 
 // Where a render may stop, for measuring what each stage costs (`refraster bench`): after

@@ -31,11 +31,11 @@ struct EdgeTrace {
 struct FragmentTrace {
     std::array<float, 3> z_plane{};  // A0, dz/dx, dz/dy (A0 at the centre of pixel (0, 0))
     std::array<float, 3> w_plane{};  // the same for 1/w
-    float z_offset = 0.0f;            // polygon offset added to z
-    float z = 0.0f;                   // z after offset and clamp
+    float z_offset = 0.0f;           // polygon offset added to z
+    float z = 0.0f;                  // z after offset and clamp
     bool depth_tested = false;
-    std::uint32_t depth_value = 0;    // quantised (z32f: the float's bits)
-    std::uint32_t depth_stored = 0;   // what the depth buffer held
+    std::uint32_t depth_value = 0;   // quantised (z32f: the float's bits)
+    std::uint32_t depth_stored = 0;  // what the depth buffer held
     bool depth_pass = true;
     std::array<float, 4> shader_color{};  // the interpolated colour
     std::array<float, 4> destination{};   // the framebuffer before this fragment
@@ -44,7 +44,7 @@ struct FragmentTrace {
 
 struct SetupTrace {
     std::vector<std::array<float, 4>> window;  // x, y, z, 1/w in setup's input order
-    bool clipped = false;                          // made by the clipper
+    bool clipped = false;                      // made by the clipper
     std::string outcome;  // "drawn", "zero area", "culled (back)", "culled by draw module", ...
     int subpixel_bits = 8;
     std::vector<std::int32_t> x;  // snapped corners (triangles: after the orientation swap)
@@ -60,9 +60,9 @@ struct SetupTrace {
 
 struct PrimitiveTrace {
     std::size_t draw = 0;
-    std::size_t primitive = 0;  // index of the assembled primitive within its draw
-    std::string kind = "triangle";             // "triangle", "line", "point"
-    std::vector<std::uint32_t> vertices;       // vertex indices, in setup order
+    std::size_t primitive = 0;            // index of the assembled primitive within its draw
+    std::string kind = "triangle";        // "triangle", "line", "point"
+    std::vector<std::uint32_t> vertices;  // vertex indices, in setup order
     std::vector<std::array<float, 4>> clip;
     std::vector<std::uint32_t> clipmask;
     bool in_draw_pipeline = false;  // its vertex segment needed clipping

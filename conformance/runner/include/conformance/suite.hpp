@@ -62,15 +62,15 @@ struct RunOptions {
     int shard_index = 0;
     int shard_count = 1;
     bool resume = false;
-    bool progress = false;  // a live progress line (terminals only)
+    bool progress = false;              // a live progress line (terminals only)
     harness::BackendOptions reference;  // ref by default
     harness::BackendOptions against;
     std::filesystem::path output;
 };
 
 struct RunSummary {
-    std::size_t passed = 0;  // Pass, ExpectedFail, Flake
-    std::size_t failed = 0;  // Fail, Crash, Timeout, InternalError, UnexpectedPass
+    std::size_t passed = 0;   // Pass, ExpectedFail, Flake
+    std::size_t failed = 0;   // Fail, Crash, Timeout, InternalError, UnexpectedPass
     std::size_t skipped = 0;  // NotSupported
 };
 
