@@ -15,6 +15,7 @@
 #include "observer.hpp"
 #include "refraster/trace.hpp"
 #include "setup.hpp"
+#include "vertex_stage.hpp"  // StageVertex complete: the clipper polygons are held by value
 
 namespace refraster::detail {
 
