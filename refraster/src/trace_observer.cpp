@@ -1,6 +1,7 @@
 #include "trace_observer.hpp"
 
 #include <algorithm>
+#include <cstdint>
 
 #include "exact_coverage.hpp"
 #include "line_point.hpp"
@@ -148,8 +149,12 @@ bool TraceObserver::near(const PrimitiveTrace& pt) const {
         const auto [xmin, xmax] = std::minmax_element(s.x.begin(), s.x.end());
         const auto [ymin, ymax] = std::minmax_element(s.y.begin(), s.y.end());
         const int b = s.subpixel_bits;
-        if (trace_.x >= (*xmin >> b) && trace_.x <= ((*xmax - 1) >> b) + 1 &&
-            trace_.y >= (*ymin >> b) && trace_.y <= ((*ymax - 1) >> b) + 1) {
+        // In 64 bits: a position that converted to 0x80000000 (llvmpipe_walk.hpp) is no
+        // overflow here.
+        const auto lo = [b](std::int32_t v) { return std::int64_t{v} >> b; };
+        const auto hi = [b](std::int32_t v) { return ((std::int64_t{v} - 1) >> b) + 1; };
+        if (trace_.x >= lo(*xmin) && trace_.x <= hi(*xmax) && trace_.y >= lo(*ymin) &&
+            trace_.y <= hi(*ymax)) {
             return true;
         }
     }
