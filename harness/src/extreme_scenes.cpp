@@ -402,6 +402,13 @@ SceneFile nan_planes(const std::string& kind, Rng& r, DepthFormat depth, ColorFo
 // draw module's float cull and llvmpipe's fixed-point cull disagree on some of them; vertices
 // outside the view volume in some segments only, so that only those segments go through the
 // draw pipeline's float cull.
+// Indices 0 .. n-1: the same primitives as the unindexed draw, through glDrawElements.
+std::vector<std::uint32_t> identity_indices(std::size_t n) {
+    std::vector<std::uint32_t> v(n);
+    for (std::size_t i = 0; i < n; ++i) v[i] = static_cast<std::uint32_t>(i);
+    return v;
+}
+
 SceneFile segments(const std::string& kind, Rng& r, PrimitiveType prim, bool first,
                    bool indexed = false) {
     const char* what = prim == PrimitiveType::Triangles       ? "a triangle list of 4,800 vertices"
@@ -485,11 +492,7 @@ SceneFile segments(const std::string& kind, Rng& r, PrimitiveType prim, bool fir
                           0, colour_of(k));
         }
     }
-    if (indexed) {
-        std::vector<std::uint32_t> identity(n);
-        for (std::size_t i = 0; i < n; ++i) identity[i] = static_cast<std::uint32_t>(i);
-        d.indices = std::move(identity);
-    }
+    if (indexed) d.indices = identity_indices(n);
     s.draws.push_back(std::move(d));
     return s;
 }
@@ -565,11 +568,7 @@ SceneFile segments_fan_split(const std::string& kind, Rng& r, bool first, std::s
     rim[1450 + 50] = {cx, cy + 3.0f / 1024.0f, 1.5f};
     for (std::size_t i = 0; i < n; ++i)
         window_vertex(d, rim[i][0], rim[i][1], rim[i][2], colour_of(i));
-    if (indexed) {
-        std::vector<std::uint32_t> identity(n);
-        for (std::size_t i = 0; i < n; ++i) identity[i] = static_cast<std::uint32_t>(i);
-        d.indices = std::move(identity);
-    }
+    if (indexed) d.indices = identity_indices(n);
     s.draws.push_back(std::move(d));
     return s;
 }

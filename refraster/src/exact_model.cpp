@@ -14,18 +14,10 @@ template <class Observer>
 void ExactModel::setup(VertexStage& stage, Observer& obs, const ListSink<List>& sink) {
     const Draw& d = ctx_.draw;
     const bool first = ctx_.params.provoking_first;
-    const auto tris =
-        assemble_triangles(d.primitive, d.element_count(), first,
-                           ctx_.profile.quirks.draw_segment_vertices, d.indices.has_value());
+    const auto tris = draw_triangles(ctx_);
     // Only for the trace: whether the triangle's vertex segment would go through the draw
     // pipeline (the oracle itself has no pipeline).
-    std::vector<bool> segment_clipped;
-    for (const auto& t : tris) {
-        if (t.segment >= segment_clipped.size()) segment_clipped.resize(t.segment + 1, false);
-        for (auto e : t.element) {
-            if (stage.vertex(d.element(e)).clipmask != 0) segment_clipped[t.segment] = true;
-        }
-    }
+    const std::vector<bool> segment_clipped = clipped_segments(stage, d, tris);
     ExactList list;
     for (std::size_t p = 0; p < tris.size(); ++p) {
         if (list.full()) {

@@ -84,18 +84,10 @@ template <class Observer>
 void LlvmpipeModel::triangles(VertexStage& stage, Observer& obs) {
     const Draw& d = ctx_.draw;
     const bool first = ctx_.params.provoking_first;
-    const auto tris =
-        assemble_triangles(d.primitive, d.element_count(), first,
-                           ctx_.profile.quirks.draw_segment_vertices, d.indices.has_value());
+    const auto tris = draw_triangles(ctx_);
 
     // Segments with any vertex outside the view volume go through the draw pipeline.
-    std::vector<bool> segment_clipped;
-    for (const auto& t : tris) {
-        if (t.segment >= segment_clipped.size()) segment_clipped.resize(t.segment + 1, false);
-        for (auto e : t.element) {
-            if (stage.vertex(d.element(e)).clipmask != 0) segment_clipped[t.segment] = true;
-        }
-    }
+    const std::vector<bool> segment_clipped = clipped_segments(stage, d, tris);
     if (nine_vertex_quirk_drops(stage, tris, segment_clipped)) {
         obs.dropped_draw(ctx_.index, "draw dropped by llvmpipe's nine-vertex rectangle analysis");
         return;
@@ -240,9 +232,7 @@ void LlvmpipeModel::unfilled(VertexStage& stage, Observer& obs) {
     const Draw& d = ctx_.draw;
     const SetupParams& params = ctx_.params;
     const bool first = params.provoking_first;
-    const auto tris =
-        assemble_triangles(d.primitive, d.element_count(), first,
-                           ctx_.profile.quirks.draw_segment_vertices, d.indices.has_value());
+    const auto tris = draw_triangles(ctx_);
     const char* kind =
         d.state.polygon_mode == PolygonMode::Line ? "polygon edges" : "polygon vertices";
     std::vector<StageTriangle> staged;

@@ -15,8 +15,10 @@
 
 #include <cstddef>
 #include <functional>
+#include <vector>
 
 #include "fragment.hpp"
+#include "refraster/assembly.hpp"
 #include "refraster/draw.hpp"
 #include "refraster/profile.hpp"
 #include "setup.hpp"
@@ -38,6 +40,28 @@ struct DrawContext {
     }
     FragmentOptions fragment_options() const { return {fma, profile.gl.flush_denormals}; }
 };
+
+// The draw's triangles in the driver's order with their vertex segments (assembly.hpp), for
+// the segment sizes of the profile and of the draw's indexing.
+inline std::vector<AssembledTriangle> draw_triangles(const DrawContext& ctx) {
+    const Draw& d = ctx.draw;
+    return assemble_triangles(d.primitive, d.element_count(), ctx.params.provoking_first,
+                              ctx.profile.quirks.draw_segment_vertices, d.indices.has_value());
+}
+
+// Which vertex segments hold a vertex outside the view volume: the draw module sends exactly
+// those through its pipeline (draw_pt_fetch_shade_pipeline_llvm.c).
+inline std::vector<bool> clipped_segments(const VertexStage& stage, const Draw& d,
+                                          const std::vector<AssembledTriangle>& tris) {
+    std::vector<bool> clipped;
+    for (const auto& t : tris) {
+        if (t.segment >= clipped.size()) clipped.resize(t.segment + 1, false);
+        for (auto e : t.element) {
+            if (stage.vertex(d.element(e)).clipmask != 0) clipped[t.segment] = true;
+        }
+    }
+    return clipped;
+}
 
 // Receives each full list of set-up primitives, and the last one, in API order.
 template <class List>
