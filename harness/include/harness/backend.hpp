@@ -38,7 +38,12 @@ using Provenance = std::map<std::string, std::string>;
 struct RenderResult {
     RenderStatus status = RenderStatus::Ok;
     std::string message;  // one line, when status != Ok
+    // What the scene's target shows: for a 4x target, the resolve (glBlitFramebuffer's
+    // colour; depth and owners of sample 0).
     refraster::Framebuffer image;
+    // Every sample of a 4x target (samples == 4, colour, depth and, when asked for, owners a
+    // sample); empty (0 x 0) for a single-sample target.
+    refraster::Framebuffer samples;
     Provenance provenance;
     double seconds = 0.0;  // time spent rendering, as the backend measured it
 };

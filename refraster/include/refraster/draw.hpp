@@ -88,6 +88,9 @@ struct DrawState {
     float line_width = 1.0f;
     float point_size = 1.0f;
     BlendPreset blend = BlendPreset::None;
+    // GL_MULTISAMPLE. It only matters on a 4x target: false draws with the single-sample
+    // rules and writes the result to every sample (mesa-22.3 facts, part 2, 3.7).
+    bool multisample = true;
     friend bool operator==(const DrawState&, const DrawState&) = default;
 };
 

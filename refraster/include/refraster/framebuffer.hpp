@@ -6,9 +6,10 @@
 // glReadPixels returns them), and the depth values exactly as the scene format compares them:
 // z16 as 16-bit integers, z24 as 24-bit integers, z32f as the float's bit pattern.
 //
-// Deliberately does not: resolve multisampling (a 4x target is compared after resolve, as
-// glBlitFramebuffer produces it; render() draws single-sample targets only today), or know
-// about image files.
+// Also: the resolve of a 4x framebuffer as glBlitFramebuffer computes it in Mesa 22.3, and
+// the plane of one sample (a single-sample framebuffer holding sample s of every pixel).
+//
+// Deliberately does not: know about image files.
 #pragma once
 
 #include <cstdint>
@@ -50,6 +51,16 @@ struct Framebuffer {
     }
     friend bool operator==(const Framebuffer&, const Framebuffer&) = default;
 };
+
+// The single-sample image glBlitFramebuffer makes of `ms` (samples 1 or 4): colour averaged
+// as Mesa 22.3's resolve shader does (u_simple_shaders.c: util_make_fs_msaa_resolve: each
+// sample fetched as float, summed in sample order, times 0.25, then stored in the target's
+// format); depth is sample 0's (the resolved image's depth is informative only: every
+// sample's depth is compared on its own). Owners, when present, are sample 0's too.
+Framebuffer resolve_samples(const Framebuffer& ms);
+
+// Sample `s` of every pixel of `ms`, as a single-sample framebuffer (owners included).
+Framebuffer sample_plane(const Framebuffer& ms, std::uint32_t s);
 
 // The owner value of primitive `primitive` (GL's gl_PrimitiveID) of draw `draw`.
 constexpr std::uint32_t owner_id(std::size_t draw, std::size_t primitive) {
