@@ -51,6 +51,13 @@ class RefBackend final : public Backend {
         if (outcome.status == refraster::RenderStatus::NotSupported) {
             r.status = RenderStatus::NotSupported;
             r.message = outcome.message;
+            return r;
+        }
+        if (r.image.samples > 1) {
+            // The target keeps every sample; the image is its resolve, as glBlitFramebuffer
+            // makes it.
+            r.samples = std::move(r.image);
+            r.image = refraster::resolve_samples(r.samples);
         }
         return r;
     }

@@ -48,7 +48,7 @@ class ExactKernel {
             }
         }
     }
-    FragmentTrace trace(const ExactList&, const ExactPrimitive&, int, int,
+    FragmentTrace trace(const ExactList&, const ExactPrimitive&, int, int, unsigned,
                         const Framebuffer&) const {
         return {};
     }

@@ -8,6 +8,7 @@
 
 #include "refraster/assert.hpp"
 #include "rules.hpp"
+#include "samples.hpp"
 
 namespace refraster::detail {
 
@@ -162,8 +163,11 @@ void triangle_planes(const std::array<const StageVertex*, 3>& v, const VertexSta
     }
 
     SetupTerms s;
-    s.x0c = fp.sub(p0[0], 0.5f);
-    s.y0c = fp.sub(p0[1], 0.5f);
+    // lp_state_setup.c: the pixel centre offset, which multisampling sets to 0 (the shader
+    // then adds 0.5, mesa-22.3 facts part 2, 3.2).
+    const float pixel_offset = options.multisample ? 0.0f : 0.5f;
+    s.x0c = fp.sub(p0[0], pixel_offset);
+    s.y0c = fp.sub(p0[1], pixel_offset);
     s.dx20o = fp.mul(d20[0], ooa);
     s.dy20o = fp.mul(d20[1], ooa);
     s.dx01o = fp.mul(d01[0], ooa);
@@ -266,10 +270,11 @@ void write_color_as(const Draw& draw, Framebuffer& fb, std::size_t i, const std:
 }
 
 // One draw's per-pixel stage, for one combination of its state; D is DepthFormat::None when
-// the draw has no depth test. Samples: one a pixel (sample 0 of each packet pixel).
+// the draw has no depth test. Samples: one a pixel (sample 0 of each packet pixel), or four
+// (a 4x target): colour once a pixel, depth, blending and stores a sample.
 template <ShadeModel S, DepthFormat D, ColorFormat C, BlendPreset B, unsigned kSamples>
 struct Kernel {
-    static_assert(kSamples == 1, "multisampled kernels are not implemented yet");
+    static_assert(kSamples == 1 || kSamples == kMsaaSamples, "1 or 4 samples a pixel");
 
     // lp_bld_interp.c attribs_update_simple: fmuladd(dady, py, fmuladd(dadx, px, A0)).
     static float plane_at(const Plane& p, float px, float py, const KernelState& k, const Fp& fp) {
@@ -302,8 +307,74 @@ struct Kernel {
         return c;
     }
 
+    // A 4x target (mesa-22.3 facts, part 2, 3.1-3.3, 3.7, 3.8). With multisampling on, the
+    // planes were set up with pixel offset 0: colour is evaluated once at the pixel centre
+    // (px + 0.5, py + 0.5) and goes to every covered sample; depth is evaluated at each
+    // covered sample's position (px + sx, py + sy), tested and written per sample; blending
+    // reads each sample's own destination. With it off (a single-sample draw into a 4x
+    // target), coverage, colour and depth are the single-sample ones, at the pixel, and each
+    // covered pixel is tested, blended and written in all four samples (lp_rast.c:
+    // lp_rast_shade_quads_mask repeats the pixel mask for every sample).
+    static void shade_4x(const KernelState& k, const SetupList& list, const SetupPrimitive& prim,
+                         std::span<const QuadPacket> quads, Framebuffer& fb) {
+        const Fp fp{k.options.flush_denormals};
+        const Plane* planes = list.planes.data() + prim.planes;
+        const float* flat = list.flat.data() + prim.flat;
+        const bool owners = !fb.owner.empty();
+        const bool ms = k.options.multisample;
+        const float centre = ms ? 0.5f : 0.0f;
+        SourceColor<C> flat_source{};
+        if constexpr (S == ShadeModel::Flat)
+            flat_source = source_color<C>(color(planes, flat, 0, 0, k, fp));
+        for (const QuadPacket& q : quads) {
+            unsigned mask = q.mask;
+            if (!ms) mask = (mask & kSample0Pixels) * 0x1111u;  // every sample of the pixel
+            for (unsigned p = 0; p < 4; ++p) {
+                if ((mask & (0x1111u << p)) == 0) continue;
+                const auto x = static_cast<std::uint32_t>(q.x) + (p & 1u);
+                const auto y = static_cast<std::uint32_t>(q.y) + (p >> 1);
+                const float px = static_cast<float>(x);
+                const float py = static_cast<float>(y);
+                SourceColor<C> source{};
+                if constexpr (S == ShadeModel::Flat) {
+                    source = flat_source;
+                } else {
+                    source = source_color<C>(color(planes, flat, px + centre, py + centre, k, fp));
+                }
+                [[maybe_unused]] std::uint32_t pixel_depth = 0;
+                if constexpr (D != DepthFormat::None) {
+                    float z = 0.0f;
+                    if (!ms) pixel_depth = depth_value(planes, prim.z_offset, px, py, k, fp, z);
+                }
+                for (unsigned s = 0; s < kMsaaSamples; ++s) {
+                    if ((mask & (1u << quad_bit(p, s))) == 0) continue;
+                    const std::size_t i = fb.sample_index(x, y, s);
+                    if constexpr (D != DepthFormat::None) {
+                        std::uint32_t value = pixel_depth;
+                        if (ms) {
+                            float z = 0.0f;
+                            const auto& pos = kSamplePositions4x[s];
+                            value = depth_value(planes, prim.z_offset, px + pos.x, py + pos.y, k,
+                                                fp, z);
+                        }
+                        if ((k.depth_pass &
+                             depth_outcome<D == DepthFormat::Z32f>(value, fb.depth[i])) == 0)
+                            continue;
+                        if (k.depth_write) fb.depth[i] = value;
+                    }
+                    store_color<C, B>(fb, i, source, fp);
+                    if (owners) fb.owner[i] = prim.owner;
+                }
+            }
+        }
+    }
+
     static void shade(const KernelState& k, const SetupList& list, const SetupPrimitive& prim,
                       std::span<const QuadPacket> quads, Framebuffer& fb) {
+        if constexpr (kSamples == kMsaaSamples) {
+            shade_4x(k, list, prim, quads, fb);
+            return;
+        }
         const Fp fp{k.options.flush_denormals};
         const Plane* planes = list.planes.data() + prim.planes;
         const float* flat = list.flat.data() + prim.flat;
@@ -340,16 +411,22 @@ struct Kernel {
         }
     }
 
+    // Sample `sample` of the pixel (0 for a single-sample target).
     static FragmentTrace trace(const KernelState& k, const SetupList& list,
-                               const SetupPrimitive& prim, int x, int y,
+                               const SetupPrimitive& prim, int x, int y, unsigned sample,
                                const Framebuffer& fb_before) {
         const Fp fp{k.options.flush_denormals};
         const Plane* planes = list.planes.data() + prim.planes;
         const float* flat = list.flat.data() + prim.flat;
         const float px = static_cast<float>(x);
         const float py = static_cast<float>(y);
-        const std::size_t i =
-            fb_before.sample_index(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y), 0);
+        const std::size_t i = fb_before.sample_index(static_cast<std::uint32_t>(x),
+                                                     static_cast<std::uint32_t>(y), sample);
+        // Where colour and depth are evaluated (shade_4x).
+        const bool ms = kSamples == kMsaaSamples && k.options.multisample;
+        const float centre = ms ? 0.5f : 0.0f;
+        const float zx = ms ? px + kSamplePositions4x[sample].x : px;
+        const float zy = ms ? py + kSamplePositions4x[sample].y : py;
         FragmentTrace t;
         const Plane& zp = planes[kZPlane];
         const Plane& wp = planes[kWPlane];
@@ -358,12 +435,12 @@ struct Kernel {
         t.z_offset = prim.z_offset;
         t.depth_tested = D != DepthFormat::None;
         if constexpr (D != DepthFormat::None) {
-            t.depth_value = depth_value(planes, prim.z_offset, px, py, k, fp, t.z);
+            t.depth_value = depth_value(planes, prim.z_offset, zx, zy, k, fp, t.z);
             t.depth_stored = fb_before.depth[i];
             t.depth_pass = (k.depth_pass & depth_outcome<D == DepthFormat::Z32f>(
                                                t.depth_value, t.depth_stored)) != 0;
         }
-        t.shader_color = color(planes, flat, px, py, k, fp);
+        t.shader_color = color(planes, flat, px + centre, py + centre, k, fp);
         Framebuffer one(1, 1, fb_before.color_format, DepthFormat::None);
         for (std::size_t c = 0; c < 4; ++c) {
             if constexpr (C == ColorFormat::Rgba8) {
@@ -384,6 +461,10 @@ struct Kernel {
 
 template <ShadeModel S, DepthFormat D, ColorFormat C, BlendPreset B>
 FragmentKernel make_kernel(KernelState state) {
+    if (state.samples == kMsaaSamples) {
+        using K4 = Kernel<S, D, C, B, kMsaaSamples>;
+        return {state, &K4::shade, &K4::trace};
+    }
     using K = Kernel<S, D, C, B, 1>;
     return {state, &K::shade, &K::trace};
 }
@@ -430,6 +511,7 @@ FragmentKernel choose_fragment_kernel(const Draw& draw, const Target& target,
                                       FragmentOptions options) {
     KernelState state;
     state.options = options;
+    state.samples = target.samples;
     if (draw.state.depth_test && target.depth != DepthFormat::None) {
         state.depth_pass = static_cast<std::uint8_t>(*draw.state.depth_test);
         state.depth_write = draw.state.depth_write;

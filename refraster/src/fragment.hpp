@@ -30,9 +30,12 @@
 //    functions). A draw without a depth test does no depth work, a flat draw evaluates no
 //    attribute plane, and a flat colour is converted once per primitive.
 //
-// Deliberately does not: multisampling (the kernels exist for one sample a pixel; the quad
-// packets and the framebuffer already leave room for four), stencil, colour masks, blend
-// equations other than the two presets.
+//  - 4x targets: kernels for four samples a pixel (colour once at the centre, depth and the
+//    output merge per sample), or the single-sample result repeated into every sample when
+//    the draw turns multisampling off.
+//
+// Deliberately does not: stencil, colour masks, blend equations other than the two presets,
+// sample shading or centroid interpolation.
 #pragma once
 
 #include <array>
@@ -53,6 +56,9 @@ namespace refraster::detail {
 struct FragmentOptions {
     bool fma = true;
     bool flush_denormals = true;
+    // SetupParams::multisample: planes are set up with pixel offset 0 (A0 at the pixel's
+    // corner) and evaluated at the pixel centre for colour, at each sample for depth.
+    bool multisample = false;
 };
 
 // Writes one primitive's planes into a SetupList: window z and 1/w first, then its
@@ -93,6 +99,7 @@ void triangle_planes(const std::array<const StageVertex*, 3>& v, const VertexSta
 struct KernelState {
     std::uint8_t depth_pass = 7;  // outcomes that pass: 1 less, 2 equal, 4 greater
     bool depth_write = false;
+    std::uint32_t samples = 1;  // of the target: 1 or 4
     FragmentOptions options;
 };
 
@@ -103,7 +110,7 @@ class FragmentKernel {
     using ShadeFn = void (*)(const KernelState&, const SetupList&, const SetupPrimitive&,
                              std::span<const QuadPacket>, Framebuffer&);
     using TraceFn = FragmentTrace (*)(const KernelState&, const SetupList&, const SetupPrimitive&,
-                                      int, int, const Framebuffer&);
+                                      int, int, unsigned, const Framebuffer&);
     FragmentKernel(KernelState state, ShadeFn shade_fn, TraceFn trace_fn)
         : state_(state), shade_(shade_fn), trace_(trace_fn) {}
 
@@ -111,11 +118,11 @@ class FragmentKernel {
                Framebuffer& fb) const {
         shade_(state_, list, prim, quads, fb);
     }
-    // The decisions about pixel (x, y) of `prim` (which must cover it), given the
-    // framebuffer before the primitive is shaded.
+    // The decisions about sample `sample` of pixel (x, y) of `prim` (which must cover it),
+    // given the framebuffer before the primitive is shaded.
     FragmentTrace trace(const SetupList& list, const SetupPrimitive& prim, int x, int y,
-                        const Framebuffer& fb_before) const {
-        return trace_(state_, list, prim, x, y, fb_before);
+                        unsigned sample, const Framebuffer& fb_before) const {
+        return trace_(state_, list, prim, x, y, sample, fb_before);
     }
 
   private:

@@ -211,6 +211,52 @@ std::optional<LineSetup> setup_line(const StageVertex& sv1, const StageVertex& s
     return L;
 }
 
+std::optional<LineSetup> setup_rect_line(const StageVertex& sv1, const StageVertex& sv2,
+                                         float line_width, const SetupParams& p) {
+    // try_setup_line, the rectangular branch (line_rectangular, which the state tracker sets
+    // for multisampling, st_atom_rasterizer.c): a rectangle of the unrounded width around
+    // the segment, its half-width vector snapped once, no pixel offset and no diamond rule.
+    const float* v1 = sv1.window.data();
+    const float* v2 = sv2.window.data();
+    const float dx = v1[0] - v2[0];
+    const float dy = v1[1] - v2[1];
+    const float area = dx * dx + dy * dy;
+    if (area == 0) return std::nullopt;
+    // GL clamps the width to the implementation's range (1..255 in llvmpipe).
+    const float width = std::clamp(line_width, 1.0f, 255.0f);
+    const float scale = (width * 0.5f) / std::sqrt(area);
+    const auto tx = snap(-dy * scale, p.bits);
+    const auto ty = snap(dx * scale, p.bits);
+    const auto x1 = snap(v1[0] - p.pixel_center_offset, p.bits);
+    const auto y1 = snap(v1[1] - p.pixel_center_offset, p.bits);
+    const auto x2 = snap(v2[0] - p.pixel_center_offset, p.bits);
+    const auto y2 = snap(v2[1] - p.pixel_center_offset, p.bits);
+    if (!tx || !ty || !x1 || !y1 || !x2 || !y2) return std::nullopt;
+    LineSetup L;
+    L.bits = p.bits;
+    L.x_major = std::fabs(dx) >= std::fabs(dy);
+    L.x = {*x1 - *tx, *x2 - *tx, *x2 + *tx, *x1 + *tx};
+    L.y = {*y1 - *ty, *y2 - *ty, *y2 + *ty, *y1 + *ty};
+    for (std::size_t i = 0; i < 4; ++i) {
+        const std::size_t j = (i + 1) % 4;
+        L.edges[i] = edge(L.x[i], L.y[i], L.x[j], L.y[j], p.tie_rule);
+    }
+    // Every pixel holding a sample inside the rectangle: from the one containing the
+    // smallest corner to the one containing the largest, less a subpixel.
+    const auto [xmin, xmax] = std::minmax_element(L.x.begin(), L.x.end());
+    const auto [ymin, ymax] = std::minmax_element(L.y.begin(), L.y.end());
+    L.bbox = intersect({*xmin >> p.bits, *ymin >> p.bits, (*xmax - 1) >> p.bits,
+                        (*ymax - 1) >> p.bits},
+                       p.draw_region);
+    if (L.bbox.empty()) return std::nullopt;
+    // The box llvmpipe bins (try_setup_line: rounded up, x0 and y0 clamped to 0).
+    L.scissor_leak = multisample_scissor_leak(
+        {std::max(ceil_shift(*xmin, p.bits), 0), std::max(ceil_shift(*ymin, p.bits), 0),
+         ceil_shift(*xmax, p.bits) - 1, ceil_shift(*ymax, p.bits) - 1},
+        p, L.bbox);
+    return L;
+}
+
 void line_planes(const StageVertex& v1, const StageVertex& v2, const VertexStage& stage,
                  const Draw& draw, bool provoking_first, FragmentOptions options, SetupList& list,
                  SetupPrimitive& prim) {
@@ -224,7 +270,10 @@ void line_planes(const StageVertex& v1, const StageVertex& v2, const VertexStage
     const float oneoverarea = f(1.0f / area);
     float info_dx = dx;
     float info_dy = dy;
-    if (std::fabs(dx) >= std::fabs(dy)) {
+    if (options.multisample) {
+        // The rectangular branch leaves the gradient along the segment as it is (the wide-line
+        // scaling below belongs to the other branch of try_setup_line).
+    } else if (std::fabs(dx) >= std::fabs(dy)) {
         const float dydx = f(dy / dx);
         info_dx = f(info_dx * f(1.0f + f(dydx * dydx)));
         info_dy = 0.0f;
@@ -233,6 +282,9 @@ void line_planes(const StageVertex& v1, const StageVertex& v2, const VertexStage
         info_dx = 0.0f;
         info_dy = f(info_dy * f(1.0f + f(dxdy * dxdy)));
     }
+    // linear_coef: setup->pixel_offset, which stays 0.5 under multisampling (only the
+    // snap drops it there, and the shader then evaluates at the pixel centre): measured,
+    // docs/precision.md "Multisampling".
     const float x0c = f(a[0] - 0.5f);
     const float y0c = f(a[1] - 0.5f);
     const auto linear = [&](float a1, float a2) {
@@ -285,6 +337,11 @@ std::optional<PointSetup> setup_point(const StageVertex& v, float size, const Se
     const int by1 = owns_top_edges(p.tie_rule) ? (y1 >> p.bits) : ceil_shift(y1, p.bits) - 1;
     s.bbox = intersect({x0 >> p.bits, y0 >> p.bits, bx1, by1}, p.draw_region);
     if (s.bbox.empty()) return std::nullopt;
+    // The box llvmpipe bins (try_setup_point: rounded up, x0 and y0 clamped to 0).
+    s.scissor_leak = multisample_scissor_leak(
+        {std::max(ceil_shift(x0, p.bits), 0), std::max(ceil_shift(y0, p.bits), 0),
+         ceil_shift(x1, p.bits) - 1, ceil_shift(y1, p.bits) - 1},
+        p, s.bbox);
     return s;
 }
 

@@ -16,7 +16,10 @@
 //    (constant_coef, point_persp_coeff).
 //
 // Deliberately does not: smooth (antialiased) lines, stipple, legacy (non-sprite) points,
-// point sprite texture coordinates, per-vertex point size, multisampling.
+// point sprite texture coordinates, per-vertex point size.
+//
+// Under multisampling (SetupParams::multisample) lines are rectangles (setup_rect_line) and
+// points keep their quads, both snapped without the pixel offset and tested per sample.
 #pragma once
 
 #include <array>
@@ -37,11 +40,19 @@ struct LineSetup {
     std::array<EdgeFunction, 4> edges;
     PixelRect bbox;
     bool x_major = true;
+    std::uint8_t scissor_leak = 0;  // multisample_scissor_leak (setup.hpp)
 };
 
 // nullopt: a zero-length line, or one outside the draw region.
 std::optional<LineSetup> setup_line(const StageVertex& v1, const StageVertex& v2, float width,
                                     const SetupParams& p);
+
+// A line of a multisampled draw (lp_setup_line.c, the rectangular branch): the rectangle
+// v1 - t, v2 - t, v2 + t, v1 + t with t = snap((-dy, dx) * (width / 2) / |v1 - v2|), every
+// position snapped half away from zero without the pixel offset, edges and tie biases as a
+// triangle's; nullopt as setup_line.
+std::optional<LineSetup> setup_rect_line(const StageVertex& v1, const StageVertex& v2, float width,
+                                         const SetupParams& p);
 
 // The line's planes into `list` for `prim` (one per attribute float, or constants when flat).
 void line_planes(const StageVertex& v1, const StageVertex& v2, const VertexStage& stage,
@@ -52,6 +63,7 @@ struct PointSetup {
     int bits = 8;
     std::array<EdgeFunction, 4> edges;  // left, right, bottom, top
     PixelRect bbox;
+    std::uint8_t scissor_leak = 0;  // multisample_scissor_leak (setup.hpp)
 };
 
 std::optional<PointSetup> setup_point(const StageVertex& v, float size, const SetupParams& p);

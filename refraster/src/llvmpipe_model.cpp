@@ -21,6 +21,7 @@ void copy_coverage(const TriangleSetup& t, SetupPrimitive& p, SetupList& list) {
     p.edge_count = 3;
     std::copy(t.edges.begin(), t.edges.end(), p.edges.begin());
     p.bbox = t.bbox;
+    p.scissor_leak = t.scissor_leak;
     if (t.llvmpipe_walk) {
         p.walk = static_cast<std::int32_t>(list.walks.size());
         list.walks.push_back(t.walk);
@@ -33,6 +34,7 @@ void copy_quad_coverage(const Setup& s, SetupPrimitive& p) {
     p.edge_count = 4;
     p.edges = s.edges;
     p.bbox = s.bbox;
+    p.scissor_leak = s.scissor_leak;
 }
 
 }  // namespace
@@ -52,6 +54,7 @@ void LlvmpipeModel::setup(VertexStage& stage, Observer& obs, const ListSink<List
     sink_ = &sink;
     list_.clear();
     list_.attribute_floats = stage.attribute_floats();
+    list_.multisample = ctx_.params.multisample;
     // A full list's planes: z, 1/w and one per attribute float for each primitive.
     list_.primitives.reserve(SetupList::kCapacity);
     list_.planes.reserve(SetupList::kCapacity * (kFirstAttributePlane + list_.attribute_floats));
@@ -149,7 +152,7 @@ void LlvmpipeModel::snapped_triangle(const VertexStage& stage, const StageTriang
     copy_coverage(t, prim, list_);
     prim.owner = owner_;
     const FragmentOptions fo = ctx_.fragment_options();
-    const FragmentOptions setup_fo{fo.fma, fo.flush_denormals && setup_ftz};
+    const FragmentOptions setup_fo{fo.fma, fo.flush_denormals && setup_ftz, fo.multisample};
     triangle_planes(
         {&st.v[static_cast<std::size_t>(t.order[0])], &st.v[static_cast<std::size_t>(t.order[1])],
          &st.v[static_cast<std::size_t>(t.order[2])]},
@@ -184,7 +187,9 @@ void LlvmpipeModel::lines(VertexStage& stage, Observer& obs) {
 template <class Observer>
 void LlvmpipeModel::segment(const VertexStage& stage, const StageVertex& v1, const StageVertex& v2,
                             Observer& obs) {
-    const auto setup = setup_line(v1, v2, ctx_.draw.state.line_width, ctx_.params);
+    const float width = ctx_.draw.state.line_width;
+    const auto setup = ctx_.params.multisample ? setup_rect_line(v1, v2, width, ctx_.params)
+                                               : setup_line(v1, v2, width, ctx_.params);
     if (!setup) return;
     SetupPrimitive& prim = list_.primitives.emplace_back();
     copy_quad_coverage(*setup, prim);

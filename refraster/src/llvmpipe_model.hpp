@@ -38,7 +38,13 @@ class LlvmpipeModel {
         const auto quads = [&](const std::uint64_t* rows, int tx, int ty) {
             emit_tile_quads(rows, tx, ty, emit);
         };
-        if (p.walk >= 0) {
+        if (list.multisample) {
+            if (p.edge_count == 3) {
+                convex_quads_4x<3>(p, emit);
+            } else {
+                convex_quads_4x<4>(p, emit);
+            }
+        } else if (p.walk >= 0) {
             lp::walk_tiles(list.walks[static_cast<std::size_t>(p.walk)], quads);
         } else if (p.edge_count == 3) {
             convex_tiles<3>(p, quads);

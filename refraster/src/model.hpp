@@ -38,7 +38,9 @@ struct DrawContext {
     VertexStageOptions vertex_options() const {
         return {fma, profile.gl.flush_denormals, profile.gl.clipping == Clipping::GuardBand};
     }
-    FragmentOptions fragment_options() const { return {fma, profile.gl.flush_denormals}; }
+    FragmentOptions fragment_options() const {
+        return {fma, profile.gl.flush_denormals, params.multisample};
+    }
 };
 
 // The draw's triangles in the driver's order with their vertex segments (assembly.hpp), for

@@ -60,14 +60,13 @@ RenderOutcome clear(const DrawList& list, Framebuffer& out) {
     if (list.target.color == ColorFormat::Rgba8) {
         std::array<std::uint8_t, 4> bytes{};
         for (std::size_t k = 0; k < 4; ++k) bytes[k] = detail::clear_to_unorm8(c[k]);
-        for (std::size_t i = 0; i < out.pixel_count(); ++i) {
+        for (std::size_t i = 0; i < out.color8.size(); i += 4) {
             std::copy(bytes.begin(), bytes.end(),
-                      out.color8.begin() + static_cast<std::ptrdiff_t>(i * 4));
+                      out.color8.begin() + static_cast<std::ptrdiff_t>(i));
         }
     } else {
-        for (std::size_t i = 0; i < out.pixel_count(); ++i) {
-            std::copy(c.begin(), c.end(),
-                      out.color32f.begin() + static_cast<std::ptrdiff_t>(i * 4));
+        for (std::size_t i = 0; i < out.color32f.size(); i += 4) {
+            std::copy(c.begin(), c.end(), out.color32f.begin() + static_cast<std::ptrdiff_t>(i));
         }
     }
     std::fill(out.depth.begin(), out.depth.end(),
@@ -80,22 +79,26 @@ bool is_triangle(PrimitiveType p) {
            p == PrimitiveType::TriangleFan;
 }
 
-std::string unsupported(const Draw& d, const Profile& profile) {
-    if ((!is_triangle(d.primitive) || d.state.polygon_mode != PolygonMode::Fill) &&
-        profile.model == CoverageModel::Exact) {
+std::string unsupported(const Draw& d, const Target& target, const Profile& profile) {
+    if (profile.model != CoverageModel::Exact) return {};
+    if (!is_triangle(d.primitive) || d.state.polygon_mode != PolygonMode::Fill) {
         return "the exact profile covers filled triangles only";
     }
+    if (target.samples != 1) return "the exact profile covers single-sample targets only";
     return {};
 }
 
 }  // namespace
 
 RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebuffer& out) {
-    out = Framebuffer(list.target.width, list.target.height, list.target.color, list.target.depth);
-    if (options.record_owners) out.owner.assign(out.pixel_count(), 0);
-    if (list.target.samples != 1) {
-        return {RenderStatus::NotSupported, "multisampled targets are not implemented yet"};
+    const std::uint32_t samples = list.target.samples;
+    if (samples != 1 && samples != 4) {
+        return {RenderStatus::NotSupported,
+                "targets of " + std::to_string(samples) + " samples (1 and 4 exist)"};
     }
+    out = Framebuffer(list.target.width, list.target.height, list.target.color, list.target.depth,
+                      samples);
+    if (options.record_owners) out.owner.assign(out.pixel_count() * samples, 0);
     if (auto c = clear(list, out); c.status != RenderStatus::Ok) return c;
     PixelTrace* trace = options.trace;
     if (trace != nullptr) {
@@ -105,7 +108,7 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
     for (std::size_t i = 0; i < list.draws.size(); ++i) {
         const Draw& d = list.draws[i];
         if (primitive_count(d.primitive, d.element_count()) == 0) continue;
-        if (auto why = unsupported(d, options.profile); !why.empty()) {
+        if (auto why = unsupported(d, list.target, options.profile); !why.empty()) {
             return {RenderStatus::NotSupported, why + " (draws[" + std::to_string(i) + "])"};
         }
     }
@@ -123,7 +126,7 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
                                       fma,
                                       !out.owner.empty()};
         if (trace != nullptr) {
-            detail::TraceObserver obs(*trace);
+            detail::TraceObserver obs(*trace, ctx.params.multisample);
             outcome.fragments += detail::run_draw(ctx, obs, options.stop_after, out);
         } else {
             detail::NoObserver obs;
@@ -133,8 +136,10 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
     if (trace != nullptr && trace->x >= 0 && trace->y >= 0 &&
         static_cast<std::uint32_t>(trace->x) < out.width &&
         static_cast<std::uint32_t>(trace->y) < out.height) {
-        const std::size_t i = 4 * out.index(static_cast<std::uint32_t>(trace->x),
-                                            static_cast<std::uint32_t>(trace->y));
+        const auto sample = static_cast<std::uint32_t>(std::clamp(trace->sample, 0, 3)) %
+                            out.samples;
+        const std::size_t i = 4 * out.sample_index(static_cast<std::uint32_t>(trace->x),
+                                                   static_cast<std::uint32_t>(trace->y), sample);
         for (std::size_t k = 0; k < 4; ++k) {
             trace->final_color[k] =
                 out.color_format == ColorFormat::Rgba8 ? out.color8[i + k] : out.color32f[i + k];

@@ -24,6 +24,10 @@ SetupParams setup_params(const Profile& profile, const DrawState& state, const T
     p.pixel_center_offset = profile.gl.pixel_center_offset;
     p.tie_rule = profile.gl.tie_rule;
     p.wrapping = profile.quirks.wrapping_arithmetic;
+    // lp_setup_tri.c / lp_setup_line.c / lp_setup_point.c: with the rasterizer's
+    // multisample state on, the snap has no pixel offset (mesa-22.3 facts, part 2, 3.1).
+    p.multisample = target.samples > 1 && state.multisample;
+    if (p.multisample) p.pixel_center_offset = 0.0f;
     p.cull = state.cull;
     // st_atom_rasterizer.c: front_ccw = (FrontFace == GL_CCW), flipped for an FBO.
     p.front_ccw = state.front_face != FrontFace::Ccw;
@@ -196,8 +200,10 @@ SetupOutcome setup_triangle(const std::array<std::array<float, 2>, 3>& w, const 
     }
     t.order = {0, 1, 2};
     // llvmpipe's arithmetic is reproduced for its own precision and rounding only.
-    const bool llvmpipe_widths =
-        p.wrapping && p.bits == lp::kFixedOrder && p.rounding == SnapRounding::NearestEven;
+    // Not under multisampling, whose 64-bit rasterizer is not modelled beyond the budget:
+    // there a triangle with a position outside it draws nothing (docs/precision.md).
+    const bool llvmpipe_widths = p.wrapping && !p.multisample && p.bits == lp::kFixedOrder &&
+                                 p.rounding == SnapRounding::NearestEven;
     if (beyond) return llvmpipe_widths ? setup_beyond_budget(p, t) : SetupOutcome::OutOfRange;
     t.area = checked_sub(wide_mul(checked_sub(t.x[0], t.x[1]), checked_sub(t.y[2], t.y[0])),
                          wide_mul(checked_sub(t.x[2], t.x[0]), checked_sub(t.y[0], t.y[1])));
@@ -215,7 +221,27 @@ SetupOutcome setup_triangle(const std::array<std::array<float, 2>, 3>& w, const 
     if (t.bbox.empty()) return SetupOutcome::Outside;
     if (llvmpipe_widths && !uses_32bit_rasterizer(raw) && widths_matter(raw, t))
         attach_llvmpipe_walk(p, t);
+    t.scissor_leak = multisample_scissor_leak(
+        {std::max(raw.x0, 0), std::max(raw.y0, 0), raw.x1, raw.y1}, p, t.bbox);
     return SetupOutcome::Ok;
+}
+
+std::uint8_t multisample_scissor_leak(const PixelRect& binned, const SetupParams& p,
+                                      PixelRect& bbox) {
+    if (!p.multisample || bbox.empty()) return 0;
+    const PixelRect& r = p.draw_region;
+    // lp_setup_bin_triangle: one tile when the box crosses no power-of-two boundary of 64.
+    const bool one_tile = ((binned.x0 ^ binned.x1) | (binned.y0 ^ binned.y1)) < (1 << lp::kTileOrder);
+    std::uint8_t leak = 0;
+    if (binned.x0 < r.x0 && (one_tile || r.x0 % (1 << lp::kTileOrder) != 0)) {
+        bbox.x0 = r.x0 - 1;
+        leak |= kLeakLeft;
+    }
+    if (binned.y0 < r.y0 && (one_tile || r.y0 % (1 << lp::kTileOrder) != 0)) {
+        bbox.y0 = r.y0 - 1;
+        leak |= kLeakBottom;
+    }
+    return leak;
 }
 
 }  // namespace refraster::detail

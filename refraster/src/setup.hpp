@@ -17,7 +17,10 @@
 // "Coordinate spaces"), so llvmpipe's bottom_edge_rule is 0 and the tie rule maps to GL terms
 // directly.
 //
-// Deliberately does not: multisample setup (pixel_offset 0), or attribute planes.
+// Multisampling (SetupParams::multisample) changes only the snapping, which then has no
+// half-pixel offset; the edges and their tie biases are the same, tested at the samples.
+//
+// Deliberately does not: attribute planes.
 #pragma once
 
 #include <array>
@@ -60,11 +63,18 @@ struct EdgeFunction {
     std::int64_t c = 0;  // includes the tie bias
     bool owns_ties = false;
 
-    // E at the pixel (px, py); the pixel centre is the origin of the snapped grid.
+    // E at the pixel (px, py); the pixel centre is the origin of the snapped grid (its
+    // bottom-left corner when multisampling).
     std::int64_t at(int px, int py, int bits) const {
         const std::int64_t one = std::int64_t{1} << bits;
         return checked_add(checked_sub(c, checked_mul(wide_mul(a, px), one)),
                            checked_mul(wide_mul(b, py), one));
+    }
+    // What a sample at (sx, sy) subpixels from the pixel's origin adds to at(px, py): the
+    // multisample rasterizer's (sy * dcdy - sx * dcdx) >> FIXED_ORDER, exact because dcdx and
+    // dcdy are pre-shifted (lp_rast_tri_tmp.h, MULTISAMPLE).
+    std::int64_t sample_offset(std::int32_t sx, std::int32_t sy) const {
+        return checked_sub(wide_mul(b, sy), wide_mul(a, sx));
     }
 };
 
@@ -83,6 +93,7 @@ struct TriangleSetup {
     // llvmpipe_walk.hpp decides coverage; `edges` stay zero.
     bool llvmpipe_walk = false;
     lp::Triangle walk;
+    std::uint8_t scissor_leak = 0;  // multisample_scissor_leak
 };
 
 enum class SetupOutcome : std::uint8_t { Ok, ZeroArea, Culled, Outside, OutOfRange };
@@ -100,6 +111,9 @@ struct SetupParams {
     // Profile.wrapping_arithmetic: reproduce llvmpipe's conversion of out-of-range
     // positions and its 32-bit wrapping (llvmpipe_walk.hpp) instead of refusing them.
     bool wrapping = true;
+    // A 4x target drawn with GL_MULTISAMPLE on: positions snap without the half-pixel offset
+    // (pixel_center_offset is 0) and coverage is tested at each sample (samples.hpp).
+    bool multisample = false;
 };
 
 // The profile's subpixel bits must be at most kMaxSubpixelBits and the target at most
@@ -121,6 +135,30 @@ void attach_llvmpipe_walk(const SetupParams& p, TriangleSetup& t);
 
 SetupOutcome setup_triangle(const std::array<std::array<float, 2>, 3>& window, const SetupParams& p,
                             TriangleSetup& out);
+
+// Multisampling's scissor leak. llvmpipe's scissor planes get +127 under multisampling
+// (lp_setup.c, lp_setup_add_scissor_planes), which moves the left and bottom planes half a
+// pixel outwards: the column left of the draw region keeps the samples whose x offset is
+// above half a pixel (samples 1 and 3) and the row below it those whose y offset is (2 and 3),
+// wherever the primitive covers them. A plane exists only when the primitive's binned box
+// `binned` (llvmpipe's, x0 and y0 clamped to 0) crosses that side of the region, and its leak
+// is drawn only in tiles the binner visits: always when the box lies in one 64x64 tile,
+// otherwise only when the region's side is not on a tile boundary (lp_setup_bin_triangle).
+// Widens `bbox` (already intersected with the region) over the leaked column and row, and
+// returns which of them it widened (kLeakLeft, kLeakBottom); 0 without multisampling.
+inline constexpr std::uint8_t kLeakLeft = 1;
+inline constexpr std::uint8_t kLeakBottom = 2;
+std::uint8_t multisample_scissor_leak(const PixelRect& binned, const SetupParams& p,
+                                      PixelRect& bbox);
+
+// The samples of pixel (x, y) a leak lets through (all four away from the leaked column and
+// row): a mask with bit s for sample s.
+inline unsigned leak_samples(std::uint8_t leak, const PixelRect& bbox, int x, int y) {
+    unsigned m = 0xf;
+    if ((leak & kLeakLeft) && x == bbox.x0) m &= 0xa;    // samples 1 and 3: x offset > 1/2
+    if ((leak & kLeakBottom) && y == bbox.y0) m &= 0xc;  // samples 2 and 3: y offset > 1/2
+    return m;
+}
 
 // The plain test: every edge value positive at the pixel.
 inline bool covers_pixel(const TriangleSetup& t, int px, int py) {

@@ -39,6 +39,7 @@ struct SetupPrimitive {
     std::uint32_t planes = 0;  // index in SetupList::planes of its z plane
     std::uint32_t flat = 0;    // index in SetupList::flat of its first constant (flat draws)
     float z_offset = 0.0f;     // polygon offset added to z
+    std::uint8_t scissor_leak = 0;  // multisample_scissor_leak (setup.hpp)
     std::uint32_t owner = 0;   // owner_id of the API primitive
 };
 
@@ -54,6 +55,9 @@ struct SetupList {
     static constexpr std::size_t kCapacity = 256;
 
     std::size_t attribute_floats = 0;
+    // Coverage is per sample (SetupParams::multisample): traversal tests each of a pixel's
+    // four samples.
+    bool multisample = false;
     std::vector<SetupPrimitive> primitives;
     std::vector<Plane> planes;
     std::vector<float> flat;

@@ -5,6 +5,7 @@
 
 #include "exact_coverage.hpp"
 #include "line_point.hpp"
+#include "samples.hpp"
 #include "traverse.hpp"
 #include "vertex_stage.hpp"
 
@@ -23,6 +24,7 @@ void TraceObserver::begin_primitive(std::string_view kind, std::size_t draw, std
         pt_.clipmask.push_back(stage.vertex(v).clipmask);
     }
     pt_.in_draw_pipeline = in_pipeline;
+    pt_.multisample = multisample_;
     polygons_.clear();
     open_.clear();
 }
@@ -55,13 +57,35 @@ void TraceObserver::triangle_outcome(const char* outcome) {
     pt_.setups.push_back(s_);
 }
 
+std::int64_t TraceObserver::point_offset(const EdgeFunction& e, int bits) const {
+    if (!multisample_) return 0;
+    const auto& pos = kSamplePositions4x[static_cast<std::size_t>(trace_.sample)];
+    const float one = static_cast<float>(1 << bits);
+    return e.sample_offset(static_cast<std::int32_t>(pos.x * one),
+                           static_cast<std::int32_t>(pos.y * one));
+}
+
 template <class Setup>
 void TraceObserver::record_edges(const Setup& t, std::size_t edge_count) {
     for (std::size_t k = 0; k < edge_count; ++k) {
         const auto& e = t.edges[k];
-        const std::int64_t v = e.at(trace_.x, trace_.y, t.bits);
+        const std::int64_t v = e.at(trace_.x, trace_.y, t.bits) + point_offset(e, t.bits);
         s_.edges.push_back({e.a, e.b, e.c, e.owns_ties, v, v - (e.owns_ties ? 1 : 0) == 0});
     }
+}
+
+// Every edge positive at the traced point (the pixel, or its sample), inside the box.
+template <class Setup>
+bool TraceObserver::covers(const Setup& t, std::size_t edge_count) const {
+    if (!in_box(t.bbox)) return false;
+    if (multisample_ &&
+        (leak_samples(t.scissor_leak, t.bbox, trace_.x, trace_.y) & (1u << trace_.sample)) == 0)
+        return false;
+    for (std::size_t k = 0; k < edge_count; ++k) {
+        const auto& e = t.edges[k];
+        if (e.at(trace_.x, trace_.y, t.bits) + point_offset(e, t.bits) <= 0) return false;
+    }
+    return true;
 }
 
 void TraceObserver::triangle_setup(const TriangleSetup& t) {
@@ -89,7 +113,7 @@ void TraceObserver::covered(bool in, std::size_t list_index) {
 }
 
 void TraceObserver::triangle_drawn(const TriangleSetup& t, std::size_t list_index) {
-    bool in = in_box(t.bbox) && covers_pixel(t, trace_.x, trace_.y);
+    bool in = covers(t, 3);
     if (t.llvmpipe_walk) {
         // llvmpipe's own walk decides instead (llvmpipe_walk.hpp).
         in = false;
@@ -109,9 +133,7 @@ void TraceObserver::line_drawn(const StageVertex& v1, const StageVertex& v2, con
     s_.y.assign(s.y.begin(), s.y.end());
     s_.subpixel_bits = s.bits;
     record_edges(s, 4);
-    bool in = in_box(s.bbox);
-    for (const auto& e : s.edges) in = in && e.at(trace_.x, trace_.y, s.bits) > 0;
-    covered(in, list_index);
+    covered(covers(s, 4), list_index);
 }
 
 void TraceObserver::point_drawn(const StageVertex& v, const PointSetup& s, std::size_t list_index) {
@@ -119,9 +141,7 @@ void TraceObserver::point_drawn(const StageVertex& v, const PointSetup& s, std::
     s_.window = {v.window};
     s_.subpixel_bits = s.bits;
     record_edges(s, 4);
-    bool in = in_box(s.bbox);
-    for (const auto& e : s.edges) in = in && e.at(trace_.x, trace_.y, s.bits) > 0;
-    covered(in, list_index);
+    covered(covers(s, 4), list_index);
 }
 
 void TraceObserver::exact_setup(const ExactCoverage& ex) {

@@ -23,7 +23,10 @@ class TraceObserver {
   public:
     static constexpr bool kReadsEveryPlane = true;  // the trace shows the z and 1/w planes
 
-    explicit TraceObserver(PixelTrace& trace) : trace_(trace) {}
+    // `multisample`: the draw's coverage is tested at the samples (SetupParams::multisample);
+    // edges are then evaluated at sample trace.sample of the pixel.
+    explicit TraceObserver(PixelTrace& trace, bool multisample = false)
+        : trace_(trace), multisample_(multisample) {}
 
     void begin_primitive(std::string_view kind, std::size_t draw, std::size_t primitive,
                          std::span<const std::uint32_t> vertices, const VertexStage& stage,
@@ -48,7 +51,7 @@ class TraceObserver {
         while (next_ < ready_.size() && ready_[next_].list_index == list_index) {
             const Pending& p = ready_[next_++];
             trace_.primitives[p.primitive].setups[p.setup].fragment =
-                kernel.trace(list, prim, trace_.x, trace_.y, fb);
+                kernel.trace(list, prim, trace_.x, trace_.y, static_cast<unsigned>(trace_.sample), fb);
         }
     }
     void list_done() {
@@ -68,8 +71,13 @@ class TraceObserver {
     void covered(bool in, std::size_t list_index);
     bool in_box(const PixelRect& b) const;
     bool near(const PrimitiveTrace& pt) const;
+    // The traced point's offset on edge e: the sample's, or 0 at the pixel.
+    std::int64_t point_offset(const EdgeFunction& e, int bits) const;
+    template <class Setup>
+    bool covers(const Setup& t, std::size_t edge_count) const;
 
     PixelTrace& trace_;
+    bool multisample_ = false;
     PrimitiveTrace pt_;
     SetupTrace s_;
     std::vector<std::vector<StageVertex>> polygons_;

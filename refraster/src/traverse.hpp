@@ -12,13 +12,16 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cstdint>
 #include <iterator>
+#include <span>
 #include <tuple>
 #include <utility>
 
 #include "quad.hpp"
+#include "samples.hpp"
 #include "setup.hpp"
 
 namespace refraster::detail {
@@ -126,6 +129,77 @@ void convex_tiles(const Setup& t, OnTile&& on_tile) {
             };
             block(block, tx, ty, kTileSize, kAll);
             if (any) on_tile(static_cast<const std::uint64_t*>(rows), tx, ty);
+        }
+    }
+}
+
+// Per-sample coverage of a convex primitive set up without the pixel offset (multisampling):
+// calls emit(span of quad packets) once for every 64x64 tile with covered samples, tiles in
+// raster order, each packet's mask holding all four samples of its four pixels. A sample is
+// covered iff every edge is positive at it: the edge at the pixel's origin plus the sample's
+// offset (EdgeFunction::sample_offset), as llvmpipe's multisample rasterizer tests it
+// (lp_rast_tri_tmp.h, MULTISAMPLE: c + (sy * dcdy - sx * dcdx) >> FIXED_ORDER); its tile and
+// block rejections are conservative over the whole pixel area, so only the per-sample test
+// decides. The box must hold every pixel with a covered sample.
+template <unsigned kEdges, class Setup, class Emit>
+void convex_quads_4x(const Setup& t, Emit&& emit) {
+    const PixelRect box = t.bbox;
+    if (box.empty()) return;
+    const int bits = t.bits;
+    const std::int64_t one = std::int64_t{1} << bits;
+    // Sample offsets on the primitive's subpixel grid: the positions are multiples of 1/8, so
+    // any grid of at least 3 bits holds them exactly.
+    std::array<std::array<std::int64_t, kMsaaSamples>, kEdges> offset{};
+    for (unsigned e = 0; e < kEdges; ++e) {
+        for (unsigned s = 0; s < kMsaaSamples; ++s) {
+            const auto& pos = kSamplePositions4x[s];
+            const auto sx = static_cast<std::int32_t>(pos.x * static_cast<float>(one));
+            const auto sy = static_cast<std::int32_t>(pos.y * static_cast<float>(one));
+            offset[e][s] = t.edges[e].sample_offset(sx, sy);
+        }
+    }
+    const auto grow = [&](const EdgeFunction& e, int n) {
+        return (e.a < 0 ? -wide_mul(e.a, n) : 0) * one + (e.b > 0 ? wide_mul(e.b, n) : 0) * one;
+    };
+    std::array<QuadPacket, kQuadsPerTile> quads;
+    const int tx0 = box.x0 & ~(kTileSize - 1);
+    const int ty0 = box.y0 & ~(kTileSize - 1);
+    for (int ty = ty0; ty <= box.y1; ty += kTileSize) {
+        for (int tx = tx0; tx <= box.x1; tx += kTileSize) {
+            // A tile no sample of which an edge reaches: the edge's largest value over the
+            // tile's area is not positive.
+            bool rejected = false;
+            for (unsigned e = 0; e < kEdges && !rejected; ++e) {
+                rejected = t.edges[e].at(tx, ty, bits) + grow(t.edges[e], kTileSize) <= 0;
+            }
+            if (rejected) continue;
+            const int x_lo = std::max(tx, box.x0) & ~1;
+            const int x_hi = std::min(tx + kTileSize - 1, box.x1);
+            const int y_lo = std::max(ty, box.y0) & ~1;
+            const int y_hi = std::min(ty + kTileSize - 1, box.y1);
+            std::size_t n = 0;
+            for (int qy = y_lo; qy <= y_hi; qy += 2) {
+                for (int qx = x_lo; qx <= x_hi; qx += 2) {
+                    unsigned mask = 0;
+                    for (unsigned p = 0; p < 4; ++p) {
+                        const int x = qx + static_cast<int>(p & 1u);
+                        const int y = qy + static_cast<int>(p >> 1);
+                        if (x < box.x0 || x > box.x1 || y < box.y0 || y > box.y1) continue;
+                        unsigned in = leak_samples(t.scissor_leak, box, x, y);
+                        for (unsigned e = 0; e < kEdges && in != 0; ++e) {
+                            const std::int64_t v = t.edges[e].at(x, y, bits);
+                            for (unsigned s = 0; s < kMsaaSamples; ++s) {
+                                if (v + offset[e][s] <= 0) in &= ~(1u << s);
+                            }
+                        }
+                        for (unsigned s = 0; s < kMsaaSamples; ++s) {
+                            if (in & (1u << s)) mask |= 1u << quad_bit(p, s);
+                        }
+                    }
+                    if (mask != 0) quads[n++] = {qx, qy, static_cast<std::uint16_t>(mask)};
+                }
+            }
+            if (n != 0) emit(std::span<const QuadPacket>(quads.data(), n));
         }
     }
 }

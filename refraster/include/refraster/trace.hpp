@@ -23,8 +23,10 @@ struct EdgeTrace {
     std::int32_t b = 0;  // X_i - X_{i+1}
     std::int64_t c = 0;  // with the tie bias
     bool owns_ties = false;
-    std::int64_t value = 0;  // E at the pixel (bias included): covered needs > 0 on all edges
-    bool tie = false;        // the pixel centre lies exactly on this edge (E minus bias is 0)
+    // E at the pixel (at the traced sample when the draw multisamples), bias included:
+    // covered needs > 0 on all edges.
+    std::int64_t value = 0;
+    bool tie = false;  // the pixel centre (sample) lies exactly on this edge (E minus bias is 0)
 };
 
 // What the fragment stage did at the pixel.
@@ -70,11 +72,15 @@ struct PrimitiveTrace {
     std::vector<SetupTrace> setups;
     std::string note;
     bool covered = false;
+    bool multisample = false;  // coverage tested at the traced sample, not the pixel centre
 };
 
 struct PixelTrace {
     int x = 0;
     int y = 0;
+    // The sample traced on a 4x target (0..3): edge values, coverage, depth and the bytes
+    // written are that sample's; colour is shaded once for the pixel. 0 otherwise.
+    int sample = 0;
     std::string profile;
     std::vector<PrimitiveTrace> primitives;
     std::array<float, 4> final_color{};  // as stored (rgba8 targets: byte values)
