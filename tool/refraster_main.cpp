@@ -333,6 +333,7 @@ struct ExplainArgs {
     std::string svg;
     BackendArgs against{"osmesa"};
     bool no_backend = false;
+    int sample = -1;  // -1: the resolved pixel
 };
 
 int run_explain(ExplainArgs a) {
@@ -351,12 +352,18 @@ int run_explain(ExplainArgs a) {
                   << target.height << " target\n";
         return kExitBadInput;
     }
+    if (a.sample >= 0 && target.samples != 4) {
+        std::cerr << a.scene << ": --sample " << a.sample << ": the target has "
+                  << target.samples << " sample" << (target.samples == 1 ? "" : "s")
+                  << " (--sample needs a 4x target)\n";
+        return kExitBadInput;
+    }
     refraster::Profile profile;
     std::unique_ptr<harness::Backend> backend;
     if (const auto rc = profile_and_backend(a.against, a.scene, !a.no_backend, profile, backend))
         return *rc;
     try {
-        const auto e = harness::explain_pixel(*scene, profile, x, y, backend.get());
+        const auto e = harness::explain_pixel(*scene, profile, x, y, backend.get(), a.sample);
         std::cout << (a.json ? harness::explanation_json(e) + "\n" : harness::explanation_text(e));
         if (!a.svg.empty()) harness::write_file_atomically(a.svg, harness::explanation_svg(e));
         return e.agree ? kExitOk : kExitMismatch;
@@ -602,6 +609,9 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"osmesa", "egl"}))
         ->capture_default_str();
     xcmd->add_flag("--no-backend", explain.no_backend, "Trace the reference alone");
+    xcmd->add_option("--sample", explain.sample,
+                     "On a 4x target, explain sample S (0..3) of the pixel instead of its resolve")
+        ->check(CLI::Range(0, 3));
     add_driver_options(xcmd, explain.against);
     add_profile_options(xcmd, explain.against.profile);
 

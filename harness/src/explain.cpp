@@ -231,11 +231,19 @@ refraster::RenderOutcome render_reference(const refraster::DrawList& dl,
 
 }  // namespace
 
-Explainer::Explainer(const Scene& scene, const refraster::Profile& profile, Backend* backend)
-    : scene_(scene), profile_(profile) {
+Explainer::Explainer(const Scene& scene, const refraster::Profile& profile, Backend* backend,
+                     int sample)
+    : scene_(scene), profile_(profile), sample_(sample) {
+    const auto& target = scene_.draw_list.target;
+    if (sample_ >= 0 && (target.samples != 4 || sample_ > 3)) {
+        throw std::invalid_argument("sample " + std::to_string(sample_) + " of a target of " +
+                                    std::to_string(target.samples) + " sample" +
+                                    (target.samples == 1 ? "" : "s") +
+                                    " (a 4x target has samples 0 to 3)");
+    }
+    const bool multisampled = target.samples > 1;
     // Owners are wanted only when the backend can report them believably; otherwise coverage
     // is judged by the clear values on both sides.
-    std::optional<RenderResult> owners;
     if (backend != nullptr) {
         backend_result_ = backend->render(scene_);
         if (backend_result_->status != RenderStatus::Ok) {
@@ -243,22 +251,43 @@ Explainer::Explainer(const Scene& scene, const refraster::Profile& profile, Back
                                      std::string(to_string(backend_result_->status)) + ": " +
                                      backend_result_->message);
         }
-        owners = backend->render_owners(scene_);
-        if (owners->status == RenderStatus::Ok &&
-            owners_plausible(owners->image.owner, backend_result_->image, scene_.draw_list.clear)) {
-            backend_result_->image.owner = std::move(owners->image.owner);
+        if (multisampled && backend_result_->samples.samples != target.samples) {
+            throw std::runtime_error(backend->name() + " did not return the samples of the " +
+                                     std::to_string(target.samples) + "x target");
+        }
+        auto owners = backend->render_owners(scene_);
+        auto& into = multisampled ? backend_result_->samples : backend_result_->image;
+        if (owners.status == RenderStatus::Ok) {
+            into.owner = std::move(multisampled ? owners.samples.owner : owners.image.owner);
+        }
+        // The resolved image is the backend's own resolve; its owners are sample 0's.
+        if (multisampled && sample_ < 0) {
+            backend_view_ = backend_result_->image;
+            if (!into.owner.empty())
+                backend_view_.owner = refraster::sample_plane(into, 0).owner;
         } else {
-            backend_result_->image.owner.clear();
+            backend_view_ = view(into);
+        }
+        if (!owners_plausible(backend_view_.owner, backend_view_, scene_.draw_list.clear)) {
+            backend_view_.owner.clear();
+            into.owner.clear();
         }
     }
-    const bool with_owners = backend_result_ && !backend_result_->image.owner.empty();
-    const auto r = render_reference(scene_.draw_list, profile_, with_owners, reference_);
+    const bool with_owners = backend_result_ && !backend_view_.owner.empty();
+    const auto r = render_reference(scene_.draw_list, profile_, with_owners, reference_samples_);
     if (r.status != refraster::RenderStatus::Ok)
         throw std::runtime_error("the reference cannot render it: " + r.message);
+    reference_ = view(reference_samples_);
     if (backend_result_) {
-        classifier_ = std::make_unique<PixelClassifier>(reference_, backend_result_->image,
+        classifier_ = std::make_unique<PixelClassifier>(reference_, backend_view_,
                                                         scene_.draw_list.clear, scene_.file.expect);
     }
+}
+
+refraster::Framebuffer Explainer::view(const refraster::Framebuffer& fb) const {
+    if (fb.samples == 1) return fb;
+    if (sample_ >= 0) return refraster::sample_plane(fb, static_cast<std::uint32_t>(sample_));
+    return refraster::resolve_samples(fb);
 }
 
 Explainer::~Explainer() = default;
@@ -266,7 +295,7 @@ Explainer::~Explainer() = default;
 void Explainer::render_alternatives() {
     if (alternatives_ready_) return;
     alternatives_ready_ = true;
-    const bool owners = !backend_result_->image.owner.empty();
+    const bool owners = !backend_view_.owner.empty();
     for (const auto& [rule, change] : alternatives_of(profile_)) {
         auto& a = alternatives_.emplace_back();
         a.rule = rule;
@@ -274,14 +303,16 @@ void Explainer::render_alternatives() {
         refraster::Profile p = profile_;
         refraster::set_profile_parameter(p, change.substr(0, change.find('=')),
                                          change.substr(change.find('=') + 1));
-        a.image = std::make_unique<refraster::Framebuffer>();
-        if (render_reference(scene_.draw_list, p, owners, *a.image).status !=
+        refraster::Framebuffer rendered;
+        if (render_reference(scene_.draw_list, p, owners, rendered).status !=
             refraster::RenderStatus::Ok) {
             alternatives_.pop_back();
             continue;
         }
-        a.classifier = std::make_unique<PixelClassifier>(
-            *a.image, backend_result_->image, scene_.draw_list.clear, scene_.file.expect);
+        a.image = std::make_unique<refraster::Framebuffer>(view(rendered));
+        a.classifier = std::make_unique<PixelClassifier>(*a.image, backend_view_,
+                                                         scene_.draw_list.clear,
+                                                         scene_.file.expect);
         for (std::size_t i = 0; i < reference_.pixel_count(); ++i) {
             const auto before = classifier_->at(i).cls;
             const auto after = a.classifier->at(i).cls;
@@ -305,6 +336,8 @@ Explanation Explainer::explain(int x, int y, bool full) {
     e.profile = profile_;
     e.trace.x = x;
     e.trace.y = y;
+    e.trace.sample = std::max(sample_, 0);
+    e.sample = sample_;
     bool traced = false;
     const auto trace = [&] {
         if (traced) return;
@@ -312,24 +345,57 @@ Explanation Explainer::explain(int x, int y, bool full) {
         refraster::RenderOptions o;
         o.profile = profile_;
         o.trace = &e.trace;
-        (void)refraster::render(scene_.draw_list, o, e.reference_image);
+        refraster::Framebuffer rendered;
+        (void)refraster::render(scene_.draw_list, o, rendered);
+        e.reference_image = view(rendered);
     };
     if (full) trace();
     e.reference_color = color_at(reference_, x, y);
     e.reference_depth = depth_at(reference_, x, y);
-    const std::string px = px_text(x, y);
+    const auto samples_of = [&](const refraster::Framebuffer& ms,
+                                std::vector<std::array<float, 4>>& colors,
+                                std::vector<std::optional<std::uint32_t>>& depths) {
+        for (std::uint32_t s = 0; s < ms.samples && ms.samples > 1; ++s) {
+            const auto plane = refraster::sample_plane(ms, s);
+            colors.push_back(color_at(plane, x, y));
+            depths.push_back(depth_at(plane, x, y));
+        }
+    };
+    samples_of(reference_samples_, e.reference_samples, e.reference_sample_depths);
+    const std::string px =
+        px_text(x, y) + (sample_ >= 0 ? " sample " + std::to_string(sample_) : "");
     if (!backend_result_) {
         e.verdict = "reference only at " + px;
         return e;
     }
     e.backend = *backend_result_;
-    e.backend_color = color_at(backend_result_->image, x, y);
-    e.backend_depth = depth_at(backend_result_->image, x, y);
+    e.backend_color = color_at(backend_view_, x, y);
+    e.backend_depth = depth_at(backend_view_, x, y);
+    samples_of(backend_result_->samples, e.backend_samples, e.backend_sample_depths);
     const std::size_t i =
         reference_.index(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y));
     const auto cls = classifier_->at(i);
     e.agree =
         same_color(e.reference_color, e.backend_color) && e.reference_depth == e.backend_depth;
+    if (cls.cls == PixelClass::Equal && sample_ < 0 && !e.reference_samples.empty()) {
+        // The resolve can hide a sample that differs.
+        std::string differing;
+        for (std::size_t k = 0; k < e.reference_samples.size() && k < e.backend_samples.size();
+             ++k) {
+            if (!same_color(e.reference_samples[k], e.backend_samples[k]) ||
+                e.reference_sample_depths[k] != e.backend_sample_depths[k]) {
+                differing += (differing.empty() ? "" : ", ") + std::to_string(k);
+            }
+        }
+        if (!differing.empty()) {
+            e.agree = false;
+            e.difference = "sample";
+            e.verdict = "the resolved pixel " + px + " agrees, but sample" +
+                        (differing.size() > 1 ? "s " : " ") + differing +
+                        " differ; explain one with --sample";
+            return e;
+        }
+    }
     if (cls.cls == PixelClass::Equal) {
         e.verdict = e.agree ? "the reference and the backend agree at " + px
                             : "the reference and the backend agree at " + px +
@@ -349,12 +415,12 @@ Explanation Explainer::explain(int x, int y, bool full) {
             break;
         case PixelClass::Extra:
             what = "the backend draws pixel " + px +
-                   (owners ? " (" + owner_text(backend_result_->image.owner[i]) + ")" : "") +
+                   (owners ? " (" + owner_text(backend_view_.owner[i]) + ")" : "") +
                    " and the reference leaves it untouched";
             break;
         case PixelClass::Coverage:
             what = "pixel " + px + " comes from " + owner_text(reference_.owner[i]) +
-                   " in the reference and from " + owner_text(backend_result_->image.owner[i]) +
+                   " in the reference and from " + owner_text(backend_view_.owner[i]) +
                    " in the backend";
             break;
         case PixelClass::ColorOnly:
@@ -498,9 +564,9 @@ Explanation Explainer::explain(int x, int y, bool full) {
 }
 
 Explanation explain_pixel(const Scene& scene, const refraster::Profile& profile, int x, int y,
-                          Backend* backend) {
+                          Backend* backend, int sample) {
     require_inside(scene.draw_list.target, x, y);  // before the backend renders anything
-    Explainer ex(scene, profile, backend);
+    Explainer ex(scene, profile, backend, sample);
     return ex.explain(x, y);
 }
 
@@ -521,17 +587,75 @@ std::string color_text(const std::array<float, 4>& c, bool is8) {
 
 }  // namespace
 
+namespace {
+
+// The 4x sample positions (lp_rast.c, lp_sample_pos_4x), for the text.
+constexpr std::array<std::array<double, 2>, 4> kSampleOffsets{
+    {{0.375, 0.125}, {0.875, 0.375}, {0.125, 0.625}, {0.625, 0.875}}};
+
+// The resolve of one pixel's samples as glBlitFramebuffer computes it, step by step
+// (refraster::resolve_samples: ((f0 + f1) + f2) + f3 in float, times 0.25, then stored).
+std::string resolve_text(const std::vector<std::array<float, 4>>& samples, bool is8) {
+    refraster::Framebuffer ms(1, 1, is8 ? refraster::ColorFormat::Rgba8
+                                        : refraster::ColorFormat::Rgba32f,
+                              refraster::DepthFormat::None, 4);
+    for (std::size_t s = 0; s < 4 && s < samples.size(); ++s) {
+        for (std::size_t c = 0; c < 4; ++c) {
+            if (is8) {
+                ms.color8[s * 4 + c] = static_cast<std::uint8_t>(samples[s][c]);
+            } else {
+                ms.color32f[s * 4 + c] = samples[s][c];
+            }
+        }
+    }
+    const auto out = refraster::resolve_samples(ms);
+    std::ostringstream o;
+    o.precision(9);
+    o << "resolve (each sample" << (is8 ? " as byte * fl(1/255)" : "")
+      << ", summed in sample order, times 0.25):\n";
+    static const char* const kChannel = "RGBA";
+    for (std::size_t c = 0; c < 4; ++c) {
+        float sum = 0.0f;
+        o << "  " << kChannel[c] << ": ";
+        for (std::size_t s = 0; s < 4; ++s) {
+            const float f = is8 ? static_cast<float>(ms.color8[s * 4 + c]) * (1.0f / 255.0f)
+                                : ms.color32f[s * 4 + c];
+            sum = s == 0 ? f : sum + f;
+            o << (s == 0 ? "" : " + ") << f;
+        }
+        o << " = " << sum << ", times 0.25 = " << sum * 0.25f;
+        if (is8) {
+            o << " -> " << static_cast<int>(out.color8[c]);
+        } else {
+            o << " -> " << out.color32f[c];
+        }
+        o << "\n";
+    }
+    return o.str();
+}
+
+}  // namespace
+
 std::string explanation_text(const Explanation& e) {
     std::ostringstream o;
     const auto& t = e.trace;
     const bool is8 = e.reference_image.color_format == refraster::ColorFormat::Rgba8;
     o << "pixel (" << t.x << ", " << t.y << "), centre (" << t.x + 0.5 << ", " << t.y + 0.5
-      << "), profile " << t.profile << "\n";
+      << ")";
+    if (!e.reference_samples.empty()) {
+        const auto k = static_cast<std::size_t>(t.sample);
+        o << ", sample " << t.sample << " at (" << t.x + kSampleOffsets[k][0] << ", "
+          << t.y + kSampleOffsets[k][1] << ")" << (e.sample < 0 ? " (the resolved pixel)" : "");
+    }
+    o << ", profile " << t.profile << "\n";
     o << "rules: " << profile_rules(e.profile) << "\n";
     if (t.primitives.empty()) o << "  no primitive reaches this pixel\n";
     for (const auto& p : t.primitives) {
         o << "\n"
-          << where(p) << (p.covered ? ": covers the pixel" : ": does not cover the pixel") << "\n";
+          << where(p)
+          << (p.multisample ? (p.covered ? ": covers the sample" : ": does not cover the sample")
+                            : (p.covered ? ": covers the pixel" : ": does not cover the pixel"))
+          << "\n";
         for (std::size_t i = 0; i < p.clip.size(); ++i) {
             o << "  vertex " << p.vertices[i] << " clip (" << p.clip[i][0] << ", " << p.clip[i][1]
               << ", " << p.clip[i][2] << ", " << p.clip[i][3] << ") clip mask " << p.clipmask[i]
@@ -551,7 +675,8 @@ std::string explanation_text(const Explanation& e) {
                 o << "    window (" << w[0] << ", " << w[1] << ") z " << w[2] << " 1/w " << w[3]
                   << "\n";
             if (!s.x.empty()) {
-                o << "    snapped (1/" << (1 << s.subpixel_bits) << " px, pixel centre at 0):";
+                o << "    snapped (1/" << (1 << s.subpixel_bits)
+                  << (p.multisample ? " px, pixel corner at 0):" : " px, pixel centre at 0):");
                 for (std::size_t i = 0; i < s.x.size(); ++i)
                     o << " (" << s.x[i] << ", " << s.y[i] << ")";
                 o << "\n";
@@ -561,10 +686,13 @@ std::string explanation_text(const Explanation& e) {
             for (std::size_t k = 0; k < s.edges.size(); ++k) {
                 const auto& ed = s.edges[k];
                 o << "    edge " << k << ": a " << ed.a << " b " << ed.b << " c " << ed.c
-                  << ", E at pixel " << ed.value
-                  << (ed.tie ? "  <- centre exactly on this edge; " : "")
+                  << (p.multisample ? ", E at the sample " : ", E at pixel ") << ed.value
+                  << (ed.tie ? (p.multisample ? "  <- sample exactly on this edge; "
+                                              : "  <- centre exactly on this edge; ")
+                             : "")
                   << (ed.tie ? (ed.owns_ties ? "owned" : "not owned") : "") << "\n";
             }
+            if (!s.coverage_note.empty()) o << "    " << s.coverage_note << "\n";
             if (s.has_fragment) {
                 const auto& f = s.fragment;
                 o << "    z plane A0 " << f.z_plane[0] << " dz/dx " << f.z_plane[1] << " dz/dy "
@@ -580,11 +708,31 @@ std::string explanation_text(const Explanation& e) {
             }
         }
     }
-    o << "\nreference: " << color_text(e.reference_color, is8);
+    if (!e.reference_samples.empty()) {
+        o << "\nsamples (position in the pixel; reference" << (e.backend ? " | backend" : "")
+          << "):\n";
+        for (std::size_t k = 0; k < e.reference_samples.size(); ++k) {
+            o << "  " << k << " (" << kSampleOffsets[k][0] << ", " << kSampleOffsets[k][1]
+              << "): " << color_text(e.reference_samples[k], is8);
+            if (e.reference_sample_depths[k]) o << " depth " << *e.reference_sample_depths[k];
+            if (k < e.backend_samples.size()) {
+                o << " | " << color_text(e.backend_samples[k], is8);
+                if (e.backend_sample_depths[k]) o << " depth " << *e.backend_sample_depths[k];
+                if (!same_color(e.reference_samples[k], e.backend_samples[k]) ||
+                    e.reference_sample_depths[k] != e.backend_sample_depths[k])
+                    o << "  <- differs";
+            }
+            o << "\n";
+        }
+        o << resolve_text(e.reference_samples, is8);
+    }
+    o << "\nreference" << (e.sample >= 0 ? " sample " + std::to_string(e.sample) : "") << ": "
+      << color_text(e.reference_color, is8);
     if (e.reference_depth) o << " depth " << *e.reference_depth;
     o << "\n";
     if (e.backend) {
-        o << "backend:   " << color_text(e.backend_color, is8);
+        o << "backend" << (e.sample >= 0 ? " sample " + std::to_string(e.sample) : "") << ":   "
+          << color_text(e.backend_color, is8);
         if (e.backend_depth) o << " depth " << *e.backend_depth;
         o << "\n";
     }
@@ -596,6 +744,7 @@ std::string explanation_json(const Explanation& e) {
     nlohmann::ordered_json j;
     const auto& t = e.trace;
     j["pixel"] = {t.x, t.y};
+    if (!e.reference_samples.empty()) j["sample"] = e.sample;
     j["profile"] = t.profile;
     j["profile_rules"] = profile_rules(e.profile);
     j["verdict"] = e.verdict;
@@ -611,6 +760,21 @@ std::string explanation_json(const Explanation& e) {
         j["backend"] = {{"color", e.backend_color}};
         if (e.backend_depth) j["backend"]["depth"] = *e.backend_depth;
     }
+    const auto samples_json = [](const std::vector<std::array<float, 4>>& colors,
+                                 const std::vector<std::optional<std::uint32_t>>& depths) {
+        auto a = nlohmann::ordered_json::array();
+        for (std::size_t k = 0; k < colors.size(); ++k) {
+            nlohmann::ordered_json sj{{"color", colors[k]}};
+            if (depths[k]) sj["depth"] = *depths[k];
+            a.push_back(sj);
+        }
+        return a;
+    };
+    if (!e.reference_samples.empty()) {
+        j["reference"]["samples"] = samples_json(e.reference_samples, e.reference_sample_depths);
+        if (e.backend)
+            j["backend"]["samples"] = samples_json(e.backend_samples, e.backend_sample_depths);
+    }
     auto& prims = j["primitives"] = nlohmann::ordered_json::array();
     for (const auto& p : t.primitives) {
         nlohmann::ordered_json pj;
@@ -618,6 +782,7 @@ std::string explanation_json(const Explanation& e) {
         pj["primitive"] = p.primitive;
         pj["kind"] = p.kind;
         pj["covered"] = p.covered;
+        pj["per_sample"] = p.multisample;
         pj["vertices"] = p.vertices;
         pj["clip"] = p.clip;
         pj["clipmask"] = p.clipmask;
@@ -645,6 +810,7 @@ std::string explanation_json(const Explanation& e) {
                               {"tie", ed.tie}});
             }
             x["covered"] = s.covered;
+            if (!s.coverage_note.empty()) x["coverage_note"] = s.coverage_note;
             if (s.has_fragment) {
                 const auto& f = s.fragment;
                 x["fragment"] = {{"z_plane", f.z_plane},

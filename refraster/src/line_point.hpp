@@ -63,7 +63,7 @@ struct PointSetup {
     int bits = 8;
     std::array<EdgeFunction, 4> edges;  // left, right, bottom, top
     PixelRect bbox;
-    std::uint8_t scissor_leak = 0;  // multisample_scissor_leak (setup.hpp)
+    std::uint8_t scissor_leak = 0;  // always 0: points show no scissor leak
 };
 
 std::optional<PointSetup> setup_point(const StageVertex& v, float size, const SetupParams& p);

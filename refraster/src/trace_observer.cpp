@@ -76,11 +76,18 @@ void TraceObserver::record_edges(const Setup& t, std::size_t edge_count) {
 
 // Every edge positive at the traced point (the pixel, or its sample), inside the box.
 template <class Setup>
-bool TraceObserver::covers(const Setup& t, std::size_t edge_count) const {
+bool TraceObserver::covers(const Setup& t, std::size_t edge_count) {
     if (!in_box(t.bbox)) return false;
-    if (multisample_ &&
-        (leak_samples(t.scissor_leak, t.bbox, trace_.x, trace_.y) & (1u << trace_.sample)) == 0)
-        return false;
+    if (multisample_ && leak_samples(t.scissor_leak, t.bbox, trace_.x, trace_.y) != 0xf) {
+        const bool kept =
+            (leak_samples(t.scissor_leak, t.bbox, trace_.x, trace_.y) & (1u << trace_.sample)) != 0;
+        s_.coverage_note =
+            std::string("the pixel is just outside the scissor's left or bottom side, where "
+                        "llvmpipe's multisample scissor planes (+127) keep the samples more "
+                        "than half a pixel in: this sample is ") +
+            (kept ? "kept" : "cut");
+        if (!kept) return false;
+    }
     for (std::size_t k = 0; k < edge_count; ++k) {
         const auto& e = t.edges[k];
         if (e.at(trace_.x, trace_.y, t.bits) + point_offset(e, t.bits) <= 0) return false;

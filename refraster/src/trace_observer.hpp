@@ -74,7 +74,7 @@ class TraceObserver {
     // The traced point's offset on edge e: the sample's, or 0 at the pixel.
     std::int64_t point_offset(const EdgeFunction& e, int bits) const;
     template <class Setup>
-    bool covers(const Setup& t, std::size_t edge_count) const;
+    bool covers(const Setup& t, std::size_t edge_count);
 
     PixelTrace& trace_;
     bool multisample_ = false;

@@ -5,8 +5,7 @@
 // backend's bytes there, and a verdict in two steps. First what differs, from the two
 // renders alone: coverage (one side leaves the pixel untouched, or another primitive owns it),
 // colour (the same coverage, other colour bytes), depth (colours agree, depth values differ),
-// sample (per-sample coverage of a multisampled target; the reference refuses those targets
-// today, so it is never reached). Then the rule within that class: every parameter of the
+// sample (on a 4x target, the resolved pixel agrees but a sample does not). Then the rule within that class: every parameter of the
 // profile that can change it is tried in turn on the whole scene (the other tie rules, the
 // other snap roundings and subpixel precisions, fused or unfused arithmetic, denormal
 // flushing, the draw module's float cull, the nine-vertex analysis, the clipper's mode), and a
@@ -20,6 +19,11 @@
 // put down to the line (point) rule; anything else is "undecided". Three renderings of it all:
 // text, JSON, and an SVG of the neighbourhood at subpixel zoom (pixel grid, centres, the
 // snapped edges, covered pixels in their colours, tie-breaks ringed) for teaching.
+//
+// On a 4x target the explanation is about one sample when one is named (its edge values and
+// tie decisions at the sample, its depth, the bytes written to it; the two sides' sample
+// planes are compared), and about the resolved pixel otherwise (sample 0 is traced); either
+// way it lists the pixel's four samples on both sides and the resolve's float sum.
 //
 // Deliberately does not: model the backend. Verdicts come from the two results, the
 // reference's trace and the reference re-run under other rules.
@@ -48,6 +52,13 @@ struct Explanation {
     std::optional<RenderResult> backend;  // the GL render, when one was asked for
     std::array<float, 4> backend_color{};
     std::optional<std::uint32_t> backend_depth;
+    // A 4x target: the sample explained (-1: the resolved pixel), and each side's four samples
+    // of the pixel (colour and depth), the reference's first.
+    int sample = -1;
+    std::vector<std::array<float, 4>> reference_samples;
+    std::vector<std::optional<std::uint32_t>> reference_sample_depths;
+    std::vector<std::array<float, 4>> backend_samples;
+    std::vector<std::optional<std::uint32_t>> backend_sample_depths;
     bool agree = true;
     std::string difference = "none";  // "coverage", "colour", "depth", "sample", "none"
     std::string rule = "none";        // "tie rule", "snapping", ..., "undecided", "none"
@@ -68,8 +79,11 @@ class Explainer {
   public:
     // Renders the reference and, when `backend` is given, the backend (each with primitive
     // owners where the backend can report them believably). Throws std::runtime_error when the
-    // reference or the backend cannot render the scene.
-    Explainer(const Scene& scene, const refraster::Profile& profile, Backend* backend);
+    // reference or the backend cannot render the scene. `sample` (0..3, a 4x target only)
+    // compares that sample of every pixel instead of the resolved image; std::invalid_argument
+    // when the target has no such sample.
+    Explainer(const Scene& scene, const refraster::Profile& profile, Backend* backend,
+              int sample = -1);
     ~Explainer();
     Explainer(const Explainer&) = delete;
     Explainer& operator=(const Explainer&) = delete;
@@ -79,20 +93,28 @@ class Explainer {
     // linear in its pixels), so the trace and the evidence in the verdict's text may be missing.
     Explanation explain(int x, int y, bool full = true);
 
+    // The images compared: the resolved ones, or the planes of the sample asked for.
     const refraster::Framebuffer& reference_image() const { return reference_; }
     const RenderResult* backend_render() const {
         return backend_result_ ? &*backend_result_ : nullptr;
     }
+    const refraster::Framebuffer& backend_image() const { return backend_view_; }
     // The class of every pixel (compare.hpp), for choosing which pixels to explain.
     const PixelClassifier* classifier() const { return classifier_.get(); }
 
   private:
     struct Alternative;
     void render_alternatives();
+    // What is compared of a render of the target: the image itself (single-sample), or of a
+    // 4x render its resolve or the plane of sample_.
+    refraster::Framebuffer view(const refraster::Framebuffer& fb) const;
 
     const Scene& scene_;
     refraster::Profile profile_;
+    int sample_ = -1;
+    refraster::Framebuffer reference_samples_;  // every sample of a 4x target
     refraster::Framebuffer reference_;
+    refraster::Framebuffer backend_view_;
     std::optional<RenderResult> backend_result_;
     std::unique_ptr<PixelClassifier> classifier_;
     bool alternatives_ready_ = false;
@@ -102,7 +124,7 @@ class Explainer {
 
 // One pixel: an Explainer used once.
 Explanation explain_pixel(const Scene& scene, const refraster::Profile& profile, int x, int y,
-                          Backend* backend);
+                          Backend* backend, int sample = -1);
 
 std::string explanation_text(const Explanation& e);
 std::string explanation_json(const Explanation& e);

@@ -56,6 +56,7 @@ struct SetupTrace {
     bool front_facing = true;
     std::vector<EdgeTrace> edges;  // 3 for triangles, 4 for lines and points
     bool covered = false;
+    std::string coverage_note;  // a rule besides the edges that decided coverage, if any
     bool has_fragment = false;
     FragmentTrace fragment;  // when covered
 };
