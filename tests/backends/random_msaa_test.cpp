@@ -126,7 +126,7 @@ class MsaaGenerator {
                   : b == 1 ? refraster::BlendPreset::Add
                            : refraster::BlendPreset::None;
         const int sh = uniform_int(0, 4);
-        s.shade = sh < 2    ? refraster::ShadeModel::Smooth
+        s.shade = sh < 2   ? refraster::ShadeModel::Smooth
                   : sh < 4 ? refraster::ShadeModel::Flat
                            : refraster::ShadeModel::NoPerspective;
         s.provoking_vertex = uniform_int(0, 1) ? refraster::ProvokingVertex::First
@@ -142,9 +142,9 @@ class MsaaGenerator {
     void push_window(refraster::Draw& d, float x, float y, float w) {
         const float z = uniform(-0.95f, 0.95f) * w;
         const auto c = random_color();
-        d.vertices.data.insert(d.vertices.data.end(), {(x / 16.0f - 1.0f) * w,
-                                                       (y / 16.0f - 1.0f) * w, z, w, c[0], c[1],
-                                                       c[2], c[3]});
+        d.vertices.data.insert(
+            d.vertices.data.end(),
+            {(x / 16.0f - 1.0f) * w, (y / 16.0f - 1.0f) * w, z, w, c[0], c[1], c[2], c[3]});
     }
     // A clip position at full float precision: ndc in [-range, range] times a random w.
     void push_float(refraster::Draw& d, float range, float wlo, float whi) {
@@ -206,8 +206,8 @@ class MsaaGenerator {
             const auto p = d.vertices.position(k);
             n[k] = {double{p[0]} / double{p[3]}, double{p[1]} / double{p[3]}};
         }
-        const double area = (n[1][0] - n[0][0]) * (n[2][1] - n[0][1]) -
-                            (n[2][0] - n[0][0]) * (n[1][1] - n[0][1]);
+        const double area =
+            (n[1][0] - n[0][0]) * (n[2][1] - n[0][1]) - (n[2][0] - n[0][0]) * (n[1][1] - n[0][1]);
         counts.ccw += area > 0;
         counts.cw += area < 0;
         counts.flat += d.state.shade == refraster::ShadeModel::Flat;
@@ -392,7 +392,8 @@ CellDiff cell_diff(const harness::RenderResult& ref, const harness::RenderResult
     }
     const auto& s = r.samples;
     const std::size_t n = std::size_t{kSize} * kSize * kSamples;
-    if (s.width != kSize || s.height != kSize || s.samples != kSamples || s.color8.size() != 4 * n ||
+    if (s.width != kSize || s.height != kSize || s.samples != kSamples ||
+        s.color8.size() != 4 * n ||
         (depth != refraster::DepthFormat::None && s.depth.size() != n)) {
         return ::testing::AssertionFailure()
                << who << " returned no samples of the 4x target (" << s.width << "x" << s.height
@@ -409,7 +410,7 @@ CellDiff cell_diff(const harness::RenderResult& ref, const harness::RenderResult
 struct RunResult {
     int bad_cells = 0;
     std::uint64_t differing_samples = 0;
-    std::uint64_t lit_samples = 0;  // llvmpipe samples that differ from the clear colour
+    std::uint64_t lit_samples = 0;     // llvmpipe samples that differ from the clear colour
     std::uint64_t partial_pixels = 0;  // llvmpipe pixels whose samples are not all equal
     bool ok = true;
 };
@@ -421,8 +422,7 @@ RunResult run(std::uint64_t seed, int triangles, int lines, int points, Counts& 
     auto [ref, osmesa] = testscenes::make_renderers(profile);
     RunResult out;
     for (int batch = 0;
-         counts.triangles < triangles || counts.lines < lines || counts.points < points;
-         ++batch) {
+         counts.triangles < triangles || counts.lines < lines || counts.points < points; ++batch) {
         const auto depth =
             batch % 2 == 0 ? refraster::DepthFormat::Z24 : refraster::DepthFormat::Z32f;
         const auto cells = gen.next_batch(counts, triangles, lines, points, depth);
