@@ -328,6 +328,8 @@ struct CellDiff {
     std::uint64_t samples = 0;  // differing samples (colour or depth)
     std::uint64_t pixels = 0;   // differing resolved pixels (colour or depth)
     std::string first;
+    std::uint32_t x = 0;  // the first difference's pixel
+    std::uint32_t y = 0;
 };
 
 std::string bytes(const std::vector<std::uint8_t>& c, std::size_t at) {
@@ -360,6 +362,8 @@ CellDiff cell_diff(const harness::RenderResult& ref, const harness::RenderResult
                 const bool z = depth && a.depth[k] != b.depth[k];
                 if (!colour && !z) continue;
                 if (out.samples++ == 0) {
+                    out.x = x;
+                    out.y = y;
                     out.first = "pixel (" + std::to_string(x) + ", " + std::to_string(y) +
                                 ") sample " + std::to_string(s) + ": reference colour " +
                                 bytes(a.color8, 4 * k) + " depth " +
@@ -373,6 +377,8 @@ CellDiff cell_diff(const harness::RenderResult& ref, const harness::RenderResult
             const bool z = !ref.image.depth.empty() && ref.image.depth[p] != gl.image.depth[p];
             if (!colour && !z) continue;
             if (out.pixels++ == 0 && out.samples == 0) {
+                out.x = x;
+                out.y = y;
                 out.first = "resolved pixel (" + std::to_string(x) + ", " + std::to_string(y) +
                             "): reference " + bytes(ref.image.color8, 4 * p) + ", llvmpipe " +
                             bytes(gl.image.color8, 4 * p);
@@ -405,6 +411,20 @@ CellDiff cell_diff(const harness::RenderResult& ref, const harness::RenderResult
         return ::testing::AssertionFailure() << who << " returned no resolved image";
     }
     return ::testing::AssertionSuccess();
+}
+
+// Under 4x llvmpipe's scissor admits some samples of the column left of it and the row
+// below it, so a primitive of the cell to the right or above can reach into a cell's last
+// column or top row: name it too when the difference lies there.
+std::string neighbours(const std::vector<Cell>& cells, std::size_t i, const CellDiff& d) {
+    std::string s;
+    const auto cx = static_cast<std::uint32_t>(i % kGrid) * kCell;
+    const auto cy = static_cast<std::uint32_t>(i / kGrid) * kCell;
+    if (d.x == cx + kCell - 1 && i % kGrid + 1 < kGrid && i + 1 < cells.size())
+        s += "; the cell to the right holds " + describe(cells[i + 1].draw);
+    if (d.y == cy + kCell - 1 && i + kGrid < cells.size())
+        s += "; the cell above holds " + describe(cells[i + kGrid].draw);
+    return s;
 }
 
 struct RunResult {
@@ -475,7 +495,8 @@ RunResult run(std::uint64_t seed, int triangles, int lines, int points, Counts& 
                 ADD_FAILURE() << "seed " << seed << " batch " << batch << " cell " << i << " ("
                               << refraster::to_string(depth) << "): " << d.samples
                               << " samples and " << d.pixels << " resolved pixels differ; first "
-                              << d.first << "; primitive " << describe(cells[i].draw);
+                              << d.first << "; primitive " << describe(cells[i].draw)
+                              << neighbours(cells, i, d);
             }
         }
     }
