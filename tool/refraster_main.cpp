@@ -353,8 +353,8 @@ int run_explain(ExplainArgs a) {
         return kExitBadInput;
     }
     if (a.sample >= 0 && target.samples != 4) {
-        std::cerr << a.scene << ": --sample " << a.sample << ": the target has "
-                  << target.samples << " sample" << (target.samples == 1 ? "" : "s")
+        std::cerr << a.scene << ": --sample " << a.sample << ": the target has " << target.samples
+                  << " sample" << (target.samples == 1 ? "" : "s")
                   << " (--sample needs a 4x target)\n";
         return kExitBadInput;
     }

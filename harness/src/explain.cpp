@@ -263,8 +263,7 @@ Explainer::Explainer(const Scene& scene, const refraster::Profile& profile, Back
         // The resolved image is the backend's own resolve; its owners are sample 0's.
         if (multisampled && sample_ < 0) {
             backend_view_ = backend_result_->image;
-            if (!into.owner.empty())
-                backend_view_.owner = refraster::sample_plane(into, 0).owner;
+            if (!into.owner.empty()) backend_view_.owner = refraster::sample_plane(into, 0).owner;
         } else {
             backend_view_ = view(into);
         }
@@ -310,9 +309,8 @@ void Explainer::render_alternatives() {
             continue;
         }
         a.image = std::make_unique<refraster::Framebuffer>(view(rendered));
-        a.classifier = std::make_unique<PixelClassifier>(*a.image, backend_view_,
-                                                         scene_.draw_list.clear,
-                                                         scene_.file.expect);
+        a.classifier = std::make_unique<PixelClassifier>(
+            *a.image, backend_view_, scene_.draw_list.clear, scene_.file.expect);
         for (std::size_t i = 0; i < reference_.pixel_count(); ++i) {
             const auto before = classifier_->at(i).cls;
             const auto after = a.classifier->at(i).cls;
@@ -596,8 +594,8 @@ constexpr std::array<std::array<double, 2>, 4> kSampleOffsets{
 // The resolve of one pixel's samples as glBlitFramebuffer computes it, step by step
 // (refraster::resolve_samples: ((f0 + f1) + f2) + f3 in float, times 0.25, then stored).
 std::string resolve_text(const std::vector<std::array<float, 4>>& samples, bool is8) {
-    refraster::Framebuffer ms(1, 1, is8 ? refraster::ColorFormat::Rgba8
-                                        : refraster::ColorFormat::Rgba32f,
+    refraster::Framebuffer ms(1, 1,
+                              is8 ? refraster::ColorFormat::Rgba8 : refraster::ColorFormat::Rgba32f,
                               refraster::DepthFormat::None, 4);
     for (std::size_t s = 0; s < 4 && s < samples.size(); ++s) {
         for (std::size_t c = 0; c < 4; ++c) {
@@ -640,8 +638,7 @@ std::string explanation_text(const Explanation& e) {
     std::ostringstream o;
     const auto& t = e.trace;
     const bool is8 = e.reference_image.color_format == refraster::ColorFormat::Rgba8;
-    o << "pixel (" << t.x << ", " << t.y << "), centre (" << t.x + 0.5 << ", " << t.y + 0.5
-      << ")";
+    o << "pixel (" << t.x << ", " << t.y << "), centre (" << t.x + 0.5 << ", " << t.y + 0.5 << ")";
     if (!e.reference_samples.empty()) {
         const auto k = static_cast<std::size_t>(t.sample);
         o << ", sample " << t.sample << " at (" << t.x + kSampleOffsets[k][0] << ", "

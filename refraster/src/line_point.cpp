@@ -245,9 +245,9 @@ std::optional<LineSetup> setup_rect_line(const StageVertex& sv1, const StageVert
     // smallest corner to the one containing the largest, less a subpixel.
     const auto [xmin, xmax] = std::minmax_element(L.x.begin(), L.x.end());
     const auto [ymin, ymax] = std::minmax_element(L.y.begin(), L.y.end());
-    L.bbox = intersect({*xmin >> p.bits, *ymin >> p.bits, (*xmax - 1) >> p.bits,
-                        (*ymax - 1) >> p.bits},
-                       p.draw_region);
+    L.bbox =
+        intersect({*xmin >> p.bits, *ymin >> p.bits, (*xmax - 1) >> p.bits, (*ymax - 1) >> p.bits},
+                  p.draw_region);
     if (L.bbox.empty()) return std::nullopt;
     // The box llvmpipe bins (try_setup_line: rounded up, x0 and y0 clamped to 0).
     L.scissor_leak = multisample_scissor_leak(

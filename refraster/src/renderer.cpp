@@ -136,8 +136,8 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
     if (trace != nullptr && trace->x >= 0 && trace->y >= 0 &&
         static_cast<std::uint32_t>(trace->x) < out.width &&
         static_cast<std::uint32_t>(trace->y) < out.height) {
-        const auto sample = static_cast<std::uint32_t>(std::clamp(trace->sample, 0, 3)) %
-                            out.samples;
+        const auto sample =
+            static_cast<std::uint32_t>(std::clamp(trace->sample, 0, 3)) % out.samples;
         const std::size_t i = 4 * out.sample_index(static_cast<std::uint32_t>(trace->x),
                                                    static_cast<std::uint32_t>(trace->y), sample);
         for (std::size_t k = 0; k < 4; ++k) {

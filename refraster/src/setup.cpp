@@ -231,7 +231,8 @@ std::uint8_t multisample_scissor_leak(const PixelRect& binned, const SetupParams
     if (!p.multisample || bbox.empty()) return 0;
     const PixelRect& r = p.draw_region;
     // lp_setup_bin_triangle: one tile when the box crosses no power-of-two boundary of 64.
-    const bool one_tile = ((binned.x0 ^ binned.x1) | (binned.y0 ^ binned.y1)) < (1 << lp::kTileOrder);
+    const bool one_tile =
+        ((binned.x0 ^ binned.x1) | (binned.y0 ^ binned.y1)) < (1 << lp::kTileOrder);
     std::uint8_t leak = 0;
     if (binned.x0 < r.x0 && (one_tile || r.x0 % (1 << lp::kTileOrder) != 0)) {
         bbox.x0 = r.x0 - 1;

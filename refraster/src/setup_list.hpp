@@ -36,11 +36,11 @@ struct SetupPrimitive {
     // When llvmpipe's integer widths decide the pixels (TriangleSetup::llvmpipe_walk): the
     // index of its planes in SetupList::walks; -1 otherwise.
     std::int32_t walk = -1;
-    std::uint32_t planes = 0;  // index in SetupList::planes of its z plane
-    std::uint32_t flat = 0;    // index in SetupList::flat of its first constant (flat draws)
-    float z_offset = 0.0f;     // polygon offset added to z
+    std::uint32_t planes = 0;       // index in SetupList::planes of its z plane
+    std::uint32_t flat = 0;         // index in SetupList::flat of its first constant (flat draws)
+    float z_offset = 0.0f;          // polygon offset added to z
     std::uint8_t scissor_leak = 0;  // multisample_scissor_leak (setup.hpp)
-    std::uint32_t owner = 0;   // owner_id of the API primitive
+    std::uint32_t owner = 0;        // owner_id of the API primitive
 };
 
 // Planes of a primitive in SetupList::planes, from SetupPrimitive::planes on.

@@ -81,11 +81,11 @@ bool TraceObserver::covers(const Setup& t, std::size_t edge_count) {
     if (multisample_ && leak_samples(t.scissor_leak, t.bbox, trace_.x, trace_.y) != 0xf) {
         const bool kept =
             (leak_samples(t.scissor_leak, t.bbox, trace_.x, trace_.y) & (1u << trace_.sample)) != 0;
-        s_.coverage_note =
-            std::string("the pixel is just outside the scissor's left or bottom side, where "
-                        "llvmpipe's multisample scissor planes (+127) keep the samples more "
-                        "than half a pixel in: this sample is ") +
-            (kept ? "kept" : "cut");
+        s_.coverage_note = std::string(
+                               "the pixel is just outside the scissor's left or bottom side, where "
+                               "llvmpipe's multisample scissor planes (+127) keep the samples more "
+                               "than half a pixel in: this sample is ") +
+                           (kept ? "kept" : "cut");
         if (!kept) return false;
     }
     for (std::size_t k = 0; k < edge_count; ++k) {

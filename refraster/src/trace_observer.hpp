@@ -50,8 +50,8 @@ class TraceObserver {
                           const Kernel& kernel, const Framebuffer& fb) {
         while (next_ < ready_.size() && ready_[next_].list_index == list_index) {
             const Pending& p = ready_[next_++];
-            trace_.primitives[p.primitive].setups[p.setup].fragment =
-                kernel.trace(list, prim, trace_.x, trace_.y, static_cast<unsigned>(trace_.sample), fb);
+            trace_.primitives[p.primitive].setups[p.setup].fragment = kernel.trace(
+                list, prim, trace_.x, trace_.y, static_cast<unsigned>(trace_.sample), fb);
         }
     }
     void list_done() {

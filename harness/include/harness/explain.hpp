@@ -5,15 +5,15 @@
 // backend's bytes there, and a verdict in two steps. First what differs, from the two
 // renders alone: coverage (one side leaves the pixel untouched, or another primitive owns it),
 // colour (the same coverage, other colour bytes), depth (colours agree, depth values differ),
-// sample (on a 4x target, the resolved pixel agrees but a sample does not). Then the rule within that class: every parameter of the
-// profile that can change it is tried in turn on the whole scene (the other tie rules, the
-// other snap roundings and subpixel precisions, fused or unfused arithmetic, denormal
-// flushing, the draw module's float cull, the nine-vertex analysis, the clipper's mode), and a
-// rule is named only when one of its alternatives reproduces the backend at this pixel; where
-// several do, the one that brings most of the image into agreement is named, then the one the
-// pixel's trace gives direct evidence for (a centre exactly on an edge for the tie rule, an
-// edge within one subpixel step for snapping, ...), and the others are listed; two that stay
-// equal make it "undecided". A coverage rule that reproduces a colour or depth difference
+// sample (on a 4x target, the resolved pixel agrees but a sample does not). Then the rule within
+// that class: every parameter of the profile that can change it is tried in turn on the whole scene
+// (the other tie rules, the other snap roundings and subpixel precisions, fused or unfused
+// arithmetic, denormal flushing, the draw module's float cull, the nine-vertex analysis, the
+// clipper's mode), and a rule is named only when one of its alternatives reproduces the backend at
+// this pixel; where several do, the one that brings most of the image into agreement is named, then
+// the one the pixel's trace gives direct evidence for (a centre exactly on an edge for the tie
+// rule, an edge within one subpixel step for snapping, ...), and the others are listed; two that
+// stay equal make it "undecided". A coverage rule that reproduces a colour or depth difference
 // reclasses it as coverage (a primitive beneath differs, seen through blending or depth).
 // Coverage that differs only at lines (or points) and that no parameter reproduces is
 // put down to the line (point) rule; anything else is "undecided". Three renderings of it all:
