@@ -456,7 +456,7 @@ int run_hashes(const std::string& scenes, const ProfileArgs& profile) {
             const auto r = backend->render(harness::load_scene(c.file));
             std::cout << c.name << " "
                       << (r.status == harness::RenderStatus::Ok
-                              ? harness::image_hash(r.image)
+                              ? harness::render_hash(r.image, r.samples)
                               : std::string(harness::to_string(r.status)))
                       << "\n";
         }

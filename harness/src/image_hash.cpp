@@ -34,4 +34,16 @@ std::string image_hash(const refraster::Framebuffer& fb) {
     return buf;
 }
 
+std::string render_hash(const refraster::Framebuffer& image,
+                        const refraster::Framebuffer& samples) {
+    if (samples.samples <= 1) return image_hash(image);
+    Fnv1a f;
+    f.u32(samples.samples);
+    const std::string h = image_hash(samples);
+    for (const char c : h) f.byte(static_cast<std::uint8_t>(c));
+    char buf[17];
+    std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(f.h));
+    return buf;
+}
+
 }  // namespace harness

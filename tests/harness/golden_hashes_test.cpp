@@ -35,7 +35,7 @@ TEST(GoldenHashes, ReferenceImagesAreUnchanged) {
         ASSERT_TRUE(golden.count(name)) << "no golden hash: regenerate ref-hashes.txt";
         const auto r = ref->render(harness::load_scene(e.path()));
         const std::string got = r.status == harness::RenderStatus::Ok
-                                    ? harness::image_hash(r.image)
+                                    ? harness::render_hash(r.image, r.samples)
                                     : std::string(harness::to_string(r.status));
         EXPECT_EQ(got, golden.at(name));
         ++checked;

@@ -62,12 +62,9 @@ unsigned lit_samples(const refraster::Framebuffer& fb, std::uint32_t x, std::uin
 
 // A quad (two triangles) over [x0, x1] x [y0, y1].
 refraster::Draw quad(float x0, float y0, float x1, float y1) {
-    return window_draw(PrimitiveType::Triangles, {{x0, y0, 0},
-                                                  {x1, y0, 0},
-                                                  {x1, y1, 0},
-                                                  {x0, y0, 0},
-                                                  {x1, y1, 0},
-                                                  {x0, y1, 0}});
+    return window_draw(
+        PrimitiveType::Triangles,
+        {{x0, y0, 0}, {x1, y0, 0}, {x1, y1, 0}, {x0, y0, 0}, {x1, y1, 0}, {x0, y1, 0}});
 }
 
 TEST(Multisample, TheTieRuleIsDecidedAtTheSample) {
@@ -119,7 +116,8 @@ TEST(Multisample, ColourOncePerPixelDepthPerSample) {
 
 TEST(Multisample, OffOnA4xTargetFillsEverySampleOfACoveredPixel) {
     auto l = target_4x();
-    auto d = window_draw(PrimitiveType::Triangles, {{1.3f, 1.7f, 0}, {29.1f, 5.2f, 0}, {7.9f, 27.4f, 0}});
+    auto d = window_draw(PrimitiveType::Triangles,
+                         {{1.3f, 1.7f, 0}, {29.1f, 5.2f, 0}, {7.9f, 27.4f, 0}});
     d.state.multisample = false;
     l.draws.push_back(d);
     const auto fb = render(l);
@@ -216,8 +214,8 @@ TEST(Multisample, PointsAreSquaresTestedAtTheSamples) {
 TEST(Multisample, ResolveIsTheFloatMeanInSampleOrder) {
     // The measured resolves of mesa-22.3 facts part 1, 7.4 (samples -> resolved byte).
     const std::vector<std::pair<std::array<std::uint8_t, 4>, std::uint8_t>> table{
-        {{255, 0, 0, 0}, 64},   {{255, 255, 0, 0}, 128}, {{255, 255, 255, 0}, 191},
-        {{1, 1, 0, 0}, 0},      {{3, 0, 0, 0}, 1},       {{10, 11, 0, 0}, 5},
+        {{255, 0, 0, 0}, 64},   {{255, 255, 0, 0}, 128},    {{255, 255, 255, 0}, 191},
+        {{1, 1, 0, 0}, 0},      {{3, 0, 0, 0}, 1},          {{10, 11, 0, 0}, 5},
         {{128, 129, 0, 0}, 64}, {{254, 255, 255, 255}, 255}};
     for (const auto& [samples, resolved] : table) {
         refraster::Framebuffer ms(1, 1, ColorFormat::Rgba8, DepthFormat::None, 4);

@@ -97,13 +97,33 @@ TEST(Render, UnormClearRoundsLikeFloatToUbyte) {
     EXPECT_EQ(fb.color8[3], 255);
 }
 
-TEST(Render, MultisampledTargetsAreNotSupportedYet) {
-    auto l = cleared_list(refraster::DepthFormat::None, 1.0f);
+TEST(Render, A4xTargetIsClearedInEverySample) {
+    auto l = cleared_list(refraster::DepthFormat::Z24, 0.25f);
     l.target.samples = 4;
     refraster::Framebuffer fb;
-    const auto r = refraster::render(l, fb);
+    ASSERT_EQ(refraster::render(l, fb).status, refraster::RenderStatus::Ok);
+    ASSERT_EQ(fb.samples, 4u);
+    ASSERT_EQ(fb.color8.size(), fb.pixel_count() * 4 * 4);
+    for (std::size_t i = 0; i < fb.pixel_count() * 4; ++i) {
+        EXPECT_EQ(fb.color8[4 * i + 0], 255);
+        EXPECT_EQ(fb.color8[4 * i + 2], 51);
+        EXPECT_EQ(fb.depth[i], 4194304u);  // RNE(0.25 * (2^24 - 1)) in double
+    }
+    // Only 1 and 4 samples exist; the exact profile draws single-sample targets only.
+    l.target.samples = 2;
+    auto r = refraster::render(l, fb);
     EXPECT_EQ(r.status, refraster::RenderStatus::NotSupported);
-    EXPECT_NE(r.message.find("multisampled"), std::string::npos);
+    EXPECT_NE(r.message.find("2 samples"), std::string::npos);
+    l.target.samples = 4;
+    refraster::Draw d;
+    d.vertices.attributes = {{"color", 4}};
+    d.vertices.data.assign(3 * 8, 0.0f);
+    l.draws.push_back(d);
+    refraster::RenderOptions o;
+    o.profile = refraster::gl_exact_profile();
+    r = refraster::render(l, o, fb);
+    EXPECT_EQ(r.status, refraster::RenderStatus::NotSupported);
+    EXPECT_NE(r.message.find("single-sample"), std::string::npos);
 }
 
 TEST(Render, ExactProfileRefusesLines) {

@@ -24,8 +24,9 @@ TEST(Cli, RefBackendRefusesPrimitivesWithExitFour) {
       "target": {"width": 4, "height": 4, "samples": 4},
       "draws": [{"primitive": "lines", "vertices": [{"position": [0, 0]}, {"position": [4, 0]}]}]})");
     const auto out = dir.path() / "o.png";
-    const auto r =
-        testutil::run_cli({"render", scene.string(), "--backend", "ref", "-o", out.string()});
+    // The exact profile draws filled triangles of single-sample targets only.
+    const auto r = testutil::run_cli({"render", scene.string(), "--backend", "ref", "--profile",
+                                      "gl-exact", "-o", out.string()});
     EXPECT_EQ(r.exit_code, 4) << r.err;
     EXPECT_EQ(testutil::count_lines(r.err), 1u) << r.err;
     EXPECT_NE(r.err.find("NotSupported"), std::string::npos);

@@ -15,4 +15,8 @@ namespace harness {
 
 std::string image_hash(const refraster::Framebuffer& fb);
 
+// A render's digest: of every sample for a 4x target (the resolve follows from them), of the
+// image otherwise, so that single-sample digests are those of image_hash.
+std::string render_hash(const refraster::Framebuffer& image, const refraster::Framebuffer& samples);
+
 }  // namespace harness
