@@ -352,8 +352,8 @@ struct TargetObjects {
     }
 };
 
-// Throws GlFailure for an allocation that ran out of memory as Unsupported, as the scene then
-// asks for more than this driver can hold.
+// After an allocation: GL_OUT_OF_MEMORY is Unsupported (the scene asks for more than this
+// driver can hold), any other error a GlFailure.
 void check_allocation(const char* what) {
     const GLenum e = glGetError();
     if (e == GL_OUT_OF_MEMORY) throw Unsupported(std::string(what) + ": out of memory");
@@ -363,8 +363,8 @@ void check_allocation(const char* what) {
     }
 }
 
-// A full-screen triangle from gl_VertexID: (-1,-1), (3,-1), (-1,3). Every pixel centre of the
-// viewport lies strictly inside it.
+// A full-screen triangle from gl_VertexID: (-1,-1), (3,-1), (-1,3). Every pixel centre and
+// every sample position of the viewport lies strictly inside it.
 constexpr const char* kFullScreenVertexShader =
     "#version 330\n"
     "void main() {\n"
