@@ -11,7 +11,8 @@
 // - colour written per sample reads back exactly, and glBlitFramebuffer's resolve equals
 //   refraster::resolve_samples of those samples byte for byte (rgba8) and bit for bit
 //   (rgba32f).
-// Only the worker's code (gl_render.cpp) is linked in, never the harness's GL-free backend.
+// The workers' GL code (gl_render.cpp) is compiled in; OSMesa is the only GL library in the
+// process.
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/gl.h>
 #include <GL/glext.h>
