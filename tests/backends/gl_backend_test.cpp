@@ -434,6 +434,39 @@ TEST_P(GlBackend, MultisampleDepthOfEverySampleMatchesSingleSample) {
     }
 }
 
+// The scissor test at 4x, as llvmpipe 22.3 does it (measured): a full quad scissored to
+// [3, 5) x [3, 5) writes every sample inside, and also the samples of the pixels left of and
+// below the rectangle that lie within half a pixel of it (sample positions (0.375, 0.125),
+// (0.875, 0.375), (0.125, 0.625), (0.625, 0.875)); nothing right of or above it.
+TEST_P(GlBackend, MultisampleScissorPassesSamplesAsMeasured) {
+    auto b = make();
+    DrawList list;
+    list.target = Target{8, 8, ColorFormat::Rgba8, DepthFormat::None, 4};
+    Draw d = full_quad(list.target, 0.0f, {1, 1, 1, 1});
+    d.state.scissor = Rect{3, 3, 2, 2};
+    list.draws.push_back(d);
+    const auto r = render_4x(*b, make_scene("msaa-scissor", list));
+    if (!r) return;
+    for (std::uint32_t y = 0; y < 8; ++y) {
+        for (std::uint32_t x = 0; x < 8; ++x) {
+            unsigned mask = 0;
+            for (std::uint32_t s = 0; s < 4; ++s) {
+                if (r->samples.color8[r->samples.sample_index(x, y, s) * 4] == 255) {
+                    mask |= 1u << s;
+                }
+            }
+            const bool in_x = x == 3 || x == 4;
+            const bool in_y = y == 3 || y == 4;
+            unsigned want = 0;
+            if (in_x && in_y) want = 0xf;
+            if (x == 2 && in_y) want = 0xa;  // samples 1 and 3: x offsets 0.875, 0.625
+            if (in_x && y == 2) want = 0xc;  // samples 2 and 3: y offsets 0.625, 0.875
+            if (x == 2 && y == 2) want = 0x8;
+            EXPECT_EQ(mask, want) << "pixel " << x << "," << y;
+        }
+    }
+}
+
 TEST_P(GlBackend, MultisampleOwnersPerSample) {
     auto b = make();
     DrawList list;
