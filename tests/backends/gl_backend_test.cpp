@@ -697,6 +697,20 @@ TEST_P(GlBackend, EglAndOsmesaAgreeBitForBit) {
         const auto b = render_ok(*egl, s);
         EXPECT_EQ(a.color8, b.color8) << "depth format " << to_string(depth);
         EXPECT_EQ(a.depth, b.depth) << "depth format " << to_string(depth);
+
+        // And at 4x, every sample (llvmpipe only: softpipe has no multisampling).
+        if (softpipe()) continue;
+        list.target.samples = 4;
+        for (std::size_t k = 0; k < list.draws.size(); ++k) {
+            list.draws[k].state.multisample = k % 3 != 2;
+        }
+        const auto s4 = make_scene("cross-backend-4x", list);
+        const auto a4 = osmesa.render_owners(s4);
+        const auto b4 = egl->render_owners(s4);
+        ASSERT_EQ(a4.status, RenderStatus::Ok) << a4.message;
+        ASSERT_EQ(b4.status, RenderStatus::Ok) << b4.message;
+        EXPECT_EQ(a4.samples, b4.samples) << "4x, depth format " << to_string(depth);
+        EXPECT_EQ(a4.image, b4.image) << "4x, depth format " << to_string(depth);
     }
 }
 #endif
