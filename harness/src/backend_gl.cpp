@@ -466,18 +466,26 @@ RenderResult GlWorkerBackend::render_frame(const Scene& scene, bool owners) {
     }
 
     const auto& t = scene.draw_list.target;
-    const auto& fb = r.image;
-    const std::size_t n = std::size_t{t.width} * t.height;
-    const bool shape_ok =
-        fb.width == t.width && fb.height == t.height && fb.color_format == t.color &&
-        fb.depth_format == t.depth &&
-        (t.color == refraster::ColorFormat::Rgba8 ? fb.color8.size() : fb.color32f.size()) ==
-            n * 4 &&
-        fb.depth.size() == (t.depth == refraster::DepthFormat::None ? 0 : n) &&
-        fb.owner.size() == (owners ? n : 0);
-    if (!shape_ok) {
+    // `samples` values a pixel: the image has one, the sample set t.samples.
+    const auto shape_ok = [&](const refraster::Framebuffer& fb, std::uint32_t samples) {
+        const std::size_t n = std::size_t{t.width} * t.height * samples;
+        return fb.width == t.width && fb.height == t.height && fb.samples == samples &&
+               fb.color_format == t.color && fb.depth_format == t.depth &&
+               fb.color8.size() == (t.color == refraster::ColorFormat::Rgba8 ? n * 4 : 0) &&
+               fb.color32f.size() == (t.color == refraster::ColorFormat::Rgba32f ? n * 4 : 0) &&
+               fb.depth.size() == (t.depth == refraster::DepthFormat::None ? 0 : n) &&
+               fb.owner.size() == (owners ? n : 0);
+    };
+    if (!shape_ok(r.image, 1)) {
         return failure(RenderStatus::InternalError,
                        who + " returned an image that does not match the target of " + label);
+    }
+    const bool samples_ok =
+        t.samples == 1 ? r.samples == refraster::Framebuffer{} : shape_ok(r.samples, t.samples);
+    if (!samples_ok) {
+        return failure(RenderStatus::InternalError,
+                       who + " returned samples that do not match the " +
+                           std::to_string(t.samples) + "x target of " + label);
     }
     return r;
 }

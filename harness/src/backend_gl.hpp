@@ -5,7 +5,9 @@
 // the frame protocol of wire.hpp over two pipes. A worker that dies is reported as
 // RenderStatus::Crash naming the scene and the signal; one that does not answer within
 // BackendOptions::timeout_seconds is killed and reported as RenderStatus::Timeout. Either way
-// the next render starts a fresh worker. GL lives only in the workers: a crash in Mesa cannot
+// the next render starts a fresh worker. The reply of a 4x target carries every sample
+// (RenderResult::samples) beside the resolved image; a reply whose image or samples do not
+// have the target's shape is an InternalError. GL lives only in the workers: a crash in Mesa cannot
 // take the harness down, and OSMesa and glvnd (which export the same gl* symbols) never share
 // an address space.
 //

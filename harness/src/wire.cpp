@@ -166,6 +166,7 @@ void put_state(Encoder& e, const refraster::DrawState& s) {
     e.f32(s.line_width);
     e.f32(s.point_size);
     e.enumeration(s.blend);
+    e.boolean(s.multisample);
 }
 
 refraster::DrawState get_state(Decoder& d) {
@@ -191,7 +192,35 @@ refraster::DrawState get_state(Decoder& d) {
     s.line_width = d.f32();
     s.point_size = d.f32();
     s.blend = d.enumeration(BlendPreset::Add);
+    s.multisample = d.boolean();
     return s;
+}
+
+void put_framebuffer(Encoder& e, const refraster::Framebuffer& fb) {
+    e.u32(fb.width);
+    e.u32(fb.height);
+    e.enumeration(fb.color_format);
+    e.enumeration(fb.depth_format);
+    e.u32(fb.samples);
+    e.array(fb.color8);
+    e.array(fb.color32f);
+    e.array(fb.depth);
+    e.array(fb.owner);
+}
+
+refraster::Framebuffer get_framebuffer(Decoder& d) {
+    refraster::Framebuffer fb;
+    fb.width = d.u32();
+    fb.height = d.u32();
+    fb.color_format = d.enumeration(refraster::ColorFormat::Rgba32f);
+    fb.depth_format = d.enumeration(refraster::DepthFormat::Z32f);
+    fb.samples = d.u32();
+    if (fb.samples != 1 && fb.samples != 4) d.fail("sample count other than 1 or 4");
+    fb.color8 = d.array<std::uint8_t>();
+    fb.color32f = d.array<float>();
+    fb.depth = d.array<std::uint32_t>();
+    fb.owner = d.array<std::uint32_t>();
+    return fb;
 }
 
 void put_header(std::uint8_t (&h)[kHeaderBytes], std::uint32_t type, std::uint64_t length) {
@@ -280,19 +309,14 @@ refraster::DrawList decode_draw_list(std::span<const std::uint8_t> payload) {
 
 std::vector<std::uint8_t> encode_result(const harness::RenderResult& r) {
     Encoder e;
-    const auto& fb = r.image;
-    e.reserve(256 + r.message.size() + fb.color8.size() + fb.color32f.size() * 4 +
-              fb.depth.size() * 4);
+    const auto bytes = [](const refraster::Framebuffer& fb) {
+        return fb.color8.size() + (fb.color32f.size() + fb.depth.size() + fb.owner.size()) * 4;
+    };
+    e.reserve(256 + r.message.size() + bytes(r.image) + bytes(r.samples));
     e.enumeration(r.status);
     e.string(r.message);
-    e.u32(fb.width);
-    e.u32(fb.height);
-    e.enumeration(fb.color_format);
-    e.enumeration(fb.depth_format);
-    e.array(fb.color8);
-    e.array(fb.color32f);
-    e.array(fb.depth);
-    e.array(fb.owner);
+    put_framebuffer(e, r.image);
+    put_framebuffer(e, r.samples);
     e.u64(r.provenance.size());
     for (const auto& [k, v] : r.provenance) {
         e.string(k);
@@ -307,15 +331,8 @@ harness::RenderResult decode_result(std::span<const std::uint8_t> payload) {
     harness::RenderResult r;
     r.status = d.enumeration(harness::RenderStatus::InternalError);
     r.message = d.string();
-    auto& fb = r.image;
-    fb.width = d.u32();
-    fb.height = d.u32();
-    fb.color_format = d.enumeration(refraster::ColorFormat::Rgba32f);
-    fb.depth_format = d.enumeration(refraster::DepthFormat::Z32f);
-    fb.color8 = d.array<std::uint8_t>();
-    fb.color32f = d.array<float>();
-    fb.depth = d.array<std::uint32_t>();
-    fb.owner = d.array<std::uint32_t>();
+    r.image = get_framebuffer(d);
+    r.samples = get_framebuffer(d);
     const std::size_t entries = d.count(16);
     for (std::size_t i = 0; i < entries; ++i) {
         std::string k = d.string();

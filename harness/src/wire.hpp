@@ -2,9 +2,9 @@
 //
 // Implements: framing over file descriptors (pipes) and the (de)serialisation of the two
 // messages that cross them, a refraster::DrawList (request) and a harness::RenderResult
-// (reply). A frame is a 12-byte header, uint32 type then uint64 payload length, followed by
-// the payload. Numbers are little-endian; floats travel as their bit patterns, so a DrawList
-// arrives bit for bit as it was sent.
+// (reply: the image and, for a 4x target, every sample). A frame is a 12-byte header, uint32 type
+// then uint64 payload length, followed by the payload. Numbers are little-endian; floats travel as
+// their bit patterns, so a DrawList arrives bit for bit as it was sent.
 //
 // Reading and writing are incremental (FrameReader/FrameWriter do one read(2)/write(2) per
 // call) so that a caller can put poll(2) with a deadline between calls; blocking helpers
@@ -40,8 +40,9 @@ enum class FrameType : std::uint32_t {
 };
 
 inline constexpr std::size_t kHeaderBytes = 12;
-// Larger than any legal message (a 67M-pixel rgba32f image with depth is about 1.3 GiB), and
-// small enough that a corrupt length is refused rather than allocated.
+// Larger than any legal message (67M rgba32f samples with depth and owners, plus their
+// resolved image, come to about 2 GiB), and small enough that a corrupt length is refused
+// rather than allocated.
 inline constexpr std::uint64_t kMaxPayloadBytes = std::uint64_t{4} << 30;
 
 // A protocol or I/O failure. `error_number()` is the errno of a failed system call, 0 when the

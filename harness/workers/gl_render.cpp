@@ -14,10 +14,12 @@
 #include <bit>
 #include <chrono>
 #include <climits>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <vector>
@@ -330,35 +332,449 @@ std::string debian_package_version(std::string_view package) {
 struct TargetObjects {
     refraster::Target key;
     bool valid = false;
-    GLuint fbo = 0;  // single-sample: rendered into (1x) or resolved into (4x), then read
+    // Single-sample renderbuffers: rendered into and read (1x), or the blit's colour (4x).
+    GLuint fbo = 0;
     GLuint color_rb = 0;
     GLuint depth_rb = 0;
-    GLuint ms_fbo = 0;  // 4x only
-    GLuint ms_color_rb = 0;
-    GLuint ms_depth_rb = 0;
+    // 4x only: multisample textures, so that every sample can be fetched.
+    GLuint ms_fbo = 0;
+    GLuint ms_color_tex = 0;
+    GLuint ms_depth_tex = 0;
 
     void release() {
         const GLuint fbos[] = {fbo, ms_fbo};
-        const GLuint rbs[] = {color_rb, depth_rb, ms_color_rb, ms_depth_rb};
+        const GLuint rbs[] = {color_rb, depth_rb};
+        const GLuint texs[] = {ms_color_tex, ms_depth_tex};
         glDeleteFramebuffers(2, fbos);
-        glDeleteRenderbuffers(4, rbs);
+        glDeleteRenderbuffers(2, rbs);
+        glDeleteTextures(2, texs);
         *this = TargetObjects{};
     }
 };
 
+// After an allocation: GL_OUT_OF_MEMORY is Unsupported (the scene asks for more than this
+// driver can hold), any other error a GlFailure.
+void check_allocation(const char* what) {
+    const GLenum e = glGetError();
+    if (e == GL_OUT_OF_MEMORY) throw Unsupported(std::string(what) + ": out of memory");
+    if (e != GL_NO_ERROR) {
+        throw GlFailure(std::string("GL error ") + hex(e) + " (" + gl_error_name(e) + ") at " +
+                        what);
+    }
+}
+
+// A full-screen triangle from gl_VertexID: (-1,-1), (3,-1), (-1,3). Every pixel centre and
+// every sample position of the viewport lies strictly inside it.
+constexpr const char* kFullScreenVertexShader =
+    "#version 330\n"
+    "void main() {\n"
+    "    vec2 p = vec2(float((gl_VertexID & 1) * 4 - 1), float((gl_VertexID & 2) * 2 - 1));\n"
+    "    gl_Position = vec4(p, 0.0, 1.0);\n"
+    "}\n";
+
+GLuint link_program(const std::string& vs_source, const std::string& fs_source) {
+    const GLuint v = compile_shader(GL_VERTEX_SHADER, vs_source);
+    GLuint f = 0;
+    try {
+        f = compile_shader(GL_FRAGMENT_SHADER, fs_source);
+    } catch (...) {
+        glDeleteShader(v);
+        throw;
+    }
+    const GLuint p = glCreateProgram();
+    glAttachShader(p, v);
+    glAttachShader(p, f);
+    glLinkProgram(p);
+    glDeleteShader(v);
+    glDeleteShader(f);
+    GLint ok = GL_FALSE;
+    glGetProgramiv(p, GL_LINK_STATUS, &ok);
+    if (ok != GL_TRUE) {
+        std::array<char, 2048> log{};
+        glGetProgramInfoLog(p, static_cast<GLsizei>(log.size()), nullptr, log.data());
+        glDeleteProgram(p);
+        std::string msg(log.data());
+        std::replace(msg.begin(), msg.end(), '\n', ' ');
+        throw GlFailure("program link failed: " + msg);
+    }
+    return p;
+}
+
 }  // namespace
+
+std::optional<std::uint32_t> depth_from_fetch(refraster::DepthFormat format,
+                                              std::uint32_t fetched) {
+    const std::uint32_t bits = refraster::depth_bits(format);
+    if (bits != 16 && bits != 24) return std::nullopt;
+    const std::uint32_t max = (1u << bits) - 1;
+    // The constant llvmpipe multiplies by: 1 / (2^n - 1) in double, then made a float.
+    const auto scale = static_cast<float>(1.0 / static_cast<double>(max));
+    const float d = std::bit_cast<float>(fetched);
+    if (!(d >= 0.0f && d <= 1.0f)) return std::nullopt;
+    const std::int64_t estimate = std::llround(static_cast<double>(d) * max);
+    // Downwards, so that 1.0, the fetch of both 2^24 - 2 and 2^24 - 1, gives the larger.
+    for (std::int64_t z = std::min<std::int64_t>(estimate + 2, max);
+         z >= std::max<std::int64_t>(estimate - 2, 0); --z) {
+        const float back = static_cast<float>(z) * scale;
+        if (std::bit_cast<std::uint32_t>(back) == fetched) return static_cast<std::uint32_t>(z);
+    }
+    return std::nullopt;
+}
+
+namespace {
+
+// What the z24 fetch pass writes for a sample that fetched as 1.0 but failed the depth test
+// GL_GREATER against 1.0 in the marking pass, that is, a stored 2^24 - 2 (a NaN's bits: no
+// fetch of a depth in [0, 1] gives it).
+constexpr std::uint32_t kZ24BelowOne = 0x7fc0fffeu;
+constexpr std::uint32_t kZ24Max = (1u << 24) - 1;
+
+}  // namespace
+
+struct SampleReader::Impl {
+    GLuint vao = 0;
+    GLuint fbo = 0;
+    // Attachment 0: colour (RGBA8 or RGBA32UI), 1: depth bits (R32UI), 2: owners (R32UI).
+    std::array<GLuint, 3> rbs{};
+    std::uint32_t width = 0;
+    std::uint32_t height = 0;
+    refraster::ColorFormat color_format = refraster::ColorFormat::Rgba8;
+    std::map<std::uint32_t, GLuint> programs;  // by program_key
+    // The z24 marking pass: an R32UI texture of the source's shape, and the framebuffer that
+    // pairs it with the source's depth.
+    GLuint mark_fbo = 0;
+    GLuint mark_tex = 0;
+    std::array<std::uint32_t, 3> mark_shape{};  // width, height, samples
+    GLuint mark_program = 0;
+
+    static bool marks(const SampleSources& s) {
+        return s.depth_format == refraster::DepthFormat::Z24 && s.depth_texture != 0 &&
+               !s.raw_depth;
+    }
+    static std::uint32_t program_key(const SampleSources& s) {
+        return (s.samples == 4 ? 1u : 0u) | (s.color_texture ? 2u : 0u) |
+               (s.color_format == refraster::ColorFormat::Rgba32f ? 4u : 0u) |
+               (s.depth_texture ? 8u : 0u) | (s.owner_texture ? 16u : 0u) | (marks(s) ? 32u : 0u);
+    }
+    GLuint program(const SampleSources& s);
+    void prepare_targets(const SampleSources& s);
+    void mark_below_one(const SampleSources& s);
+    void release_targets() {
+        glDeleteFramebuffers(1, &fbo);
+        glDeleteRenderbuffers(3, rbs.data());
+        fbo = 0;
+        rbs = {};
+        width = height = 0;
+    }
+    void release_marks() {
+        glDeleteFramebuffers(1, &mark_fbo);
+        glDeleteTextures(1, &mark_tex);
+        mark_fbo = mark_tex = 0;
+        mark_shape = {};
+    }
+};
+
+// llvmpipe fetches both 2^24 - 2 and 2^24 - 1 of a z24 texture as 1.0. They differ in the
+// depth test, which compares the stored integers: a fragment at depth 1.0 (stored as
+// 2^24 - 1) passes GL_GREATER exactly where the stored value is below 2^24 - 1. This pass
+// draws such a fragment over every sample, writing 1 into the mark texture where it passes;
+// the fetch pass then tells the two apart.
+void SampleReader::Impl::mark_below_one(const SampleSources& s) {
+    const GLenum tex_target = s.samples == 4 ? GL_TEXTURE_2D_MULTISAMPLE : GL_TEXTURE_2D;
+    const std::array<std::uint32_t, 3> shape{s.width, s.height, s.samples};
+    const auto w = static_cast<GLsizei>(s.width);
+    const auto h = static_cast<GLsizei>(s.height);
+    if (mark_fbo == 0 || mark_shape != shape) {
+        release_marks();
+        glGenTextures(1, &mark_tex);
+        glBindTexture(tex_target, mark_tex);
+        if (s.samples == 4) {
+            glTexImage2DMultisample(GL_TEXTURE_2D_MULTISAMPLE, 4, GL_R32UI, w, h, GL_TRUE);
+        } else {
+            glTexImage2D(GL_TEXTURE_2D, 0, GL_R32UI, w, h, 0, GL_RED_INTEGER, GL_UNSIGNED_INT,
+                         nullptr);
+            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
+        }
+        glBindTexture(tex_target, 0);
+        check_allocation("allocating the z24 marks");
+        glGenFramebuffers(1, &mark_fbo);
+        mark_shape = shape;
+    }
+    if (mark_program == 0) {
+        mark_program = link_program(kFullScreenVertexShader,
+                                    "#version 330\n"
+                                    "layout(location = 0) out uint mark;\n"
+                                    "void main() {\n"
+                                    "    mark = 1u;\n"
+                                    "    gl_FragDepth = 1.0;\n"
+                                    "}\n");
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, mark_fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, tex_target, mark_tex, 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, tex_target, s.depth_texture, 0);
+    const GLenum buf = GL_COLOR_ATTACHMENT0;
+    glDrawBuffers(1, &buf);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+        throw GlFailure("the z24 marking framebuffer is incomplete");
+    }
+    const GLuint zero[4] = {0, 0, 0, 0};
+    glClearBufferuiv(GL_COLOR, 0, zero);
+    // Every sample tested on its own, nothing written but the marks.
+    set_enabled(GL_MULTISAMPLE, s.samples == 4);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_GREATER);
+    glDepthMask(GL_FALSE);
+    glDepthRange(0.0, 1.0);
+    glDisable(GL_DEPTH_CLAMP);
+    glUseProgram(mark_program);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glDisable(GL_DEPTH_TEST);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_MULTISAMPLE);
+    // The depth texture is read next: it must not stay attached to a framebuffer.
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, tex_target, 0, 0);
+    check_gl("marking z24 samples below 1.0");
+}
+
+// The fetch program of one combination of sources. With one sample a pixel the samplers are
+// sampler2D, read at level 0; the conversions from the stored formats are the same.
+GLuint SampleReader::Impl::program(const SampleSources& s) {
+    const std::uint32_t key = program_key(s);
+    if (auto it = programs.find(key); it != programs.end()) return it->second;
+    const bool ms = s.samples == 4;
+    const std::string dim = ms ? "2DMS" : "2D";
+    const std::string at = ms ? "sample_index" : "0";
+    const bool float_color = s.color_format == refraster::ColorFormat::Rgba32f;
+    std::string fs = "#version 330\nuniform int sample_index;\n";
+    std::string body = "    ivec2 p = ivec2(gl_FragCoord.xy);\n";
+    if (s.color_texture) {
+        fs += "uniform sampler" + dim + " color_in;\n";
+        if (float_color) {
+            fs += "layout(location = 0) out uvec4 color_out;\n";
+            body += "    color_out = floatBitsToUint(texelFetch(color_in, p, " + at + "));\n";
+        } else {
+            fs += "layout(location = 0) out vec4 color_out;\n";
+            body += "    color_out = texelFetch(color_in, p, " + at + ");\n";
+        }
+    }
+    if (s.depth_texture) {
+        fs += "uniform sampler" + dim + " depth_in;\nlayout(location = 1) out uint depth_out;\n";
+        body += "    float d = texelFetch(depth_in, p, " + at + ").r;\n";
+        body += "    depth_out = floatBitsToUint(d);\n";
+        if (marks(s)) {
+            fs += "uniform usampler" + dim + " mark_in;\n";
+            body += "    if (d == 1.0 && texelFetch(mark_in, p, " + at + ").r != 0u) {\n";
+            body += "        depth_out = " + std::to_string(kZ24BelowOne) + "u;\n    }\n";
+        }
+    }
+    if (s.owner_texture) {
+        fs += "uniform usampler" + dim + " owner_in;\nlayout(location = 2) out uint owner_out;\n";
+        body += "    owner_out = texelFetch(owner_in, p, " + at + ").r;\n";
+    }
+    fs += "void main() {\n" + body + "}\n";
+    const GLuint p = link_program(kFullScreenVertexShader, fs);
+    glUseProgram(p);
+    glUniform1i(glGetUniformLocation(p, "color_in"), 0);
+    glUniform1i(glGetUniformLocation(p, "depth_in"), 1);
+    glUniform1i(glGetUniformLocation(p, "owner_in"), 2);
+    glUniform1i(glGetUniformLocation(p, "mark_in"), 3);
+    check_gl("building a sample fetch program");
+    programs.emplace(key, p);
+    return p;
+}
+
+void SampleReader::Impl::prepare_targets(const SampleSources& s) {
+    if (fbo != 0 && width == s.width && height == s.height && color_format == s.color_format) {
+        return;
+    }
+    release_targets();
+    const auto w = static_cast<GLsizei>(s.width);
+    const auto h = static_cast<GLsizei>(s.height);
+    const GLenum color = s.color_format == refraster::ColorFormat::Rgba32f ? GL_RGBA32UI : GL_RGBA8;
+    const GLenum formats[3] = {color, GL_R32UI, GL_R32UI};
+    glGenFramebuffers(1, &fbo);
+    glGenRenderbuffers(3, rbs.data());
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    for (GLuint i = 0; i < 3; ++i) {
+        glBindRenderbuffer(GL_RENDERBUFFER, rbs[i]);
+        glRenderbufferStorage(GL_RENDERBUFFER, formats[i], w, h);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + i, GL_RENDERBUFFER,
+                                  rbs[i]);
+    }
+    glBindRenderbuffer(GL_RENDERBUFFER, 0);
+    check_allocation("allocating the sample read-back targets");
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+        throw GlFailure("the sample read-back framebuffer is incomplete");
+    }
+    width = s.width;
+    height = s.height;
+    color_format = s.color_format;
+}
+
+SampleReader::SampleReader() : impl_(std::make_unique<Impl>()) {
+    glGenVertexArrays(1, &impl_->vao);
+}
+
+SampleReader::~SampleReader() {
+    impl_->release_targets();
+    impl_->release_marks();
+    if (impl_->mark_program != 0) glDeleteProgram(impl_->mark_program);
+    for (const auto& [key, p] : impl_->programs) glDeleteProgram(p);
+    glDeleteVertexArrays(1, &impl_->vao);
+}
+
+refraster::Framebuffer SampleReader::read(const SampleSources& src) {
+    if (src.samples != 1 && src.samples != 4) throw GlFailure("samples other than 1 or 4");
+    if ((src.depth_texture != 0) != (src.depth_format != refraster::DepthFormat::None)) {
+        throw GlFailure("a depth texture without a depth format, or the reverse");
+    }
+    auto& m = *impl_;
+    const auto w = static_cast<GLsizei>(src.width);
+    const auto h = static_cast<GLsizei>(src.height);
+    const std::size_t n = std::size_t{src.width} * src.height;
+    refraster::Framebuffer fb(src.width, src.height, src.color_format, src.depth_format,
+                              src.samples);
+    if (src.owner_texture) fb.owner.assign(n * src.samples, 0);
+    if (n == 0) return fb;
+
+    m.prepare_targets(src);
+    const GLuint program = m.program(src);
+    glBindVertexArray(m.vao);
+    glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_SCISSOR_TEST);
+    glDisable(GL_RASTERIZER_DISCARD);
+    glDisable(GL_SAMPLE_MASK);
+    glDisable(GL_POLYGON_OFFSET_FILL);
+    glViewport(0, 0, w, h);
+    if (Impl::marks(src)) m.mark_below_one(src);
+
+    // Nothing may stand between the fetched value and the target.
+    glBindFramebuffer(GL_FRAMEBUFFER, m.fbo);
+    const GLenum bufs[3] = {src.color_texture ? GLenum{GL_COLOR_ATTACHMENT0} : GLenum{GL_NONE},
+                            src.depth_texture ? GLenum{GL_COLOR_ATTACHMENT1} : GLenum{GL_NONE},
+                            src.owner_texture ? GLenum{GL_COLOR_ATTACHMENT2} : GLenum{GL_NONE}};
+    glDrawBuffers(3, bufs);
+    glViewport(0, 0, w, h);
+    constexpr std::array<GLenum, 15> kOff = {GL_SCISSOR_TEST,
+                                             GL_DEPTH_TEST,
+                                             GL_STENCIL_TEST,
+                                             GL_BLEND,
+                                             GL_CULL_FACE,
+                                             GL_POLYGON_OFFSET_FILL,
+                                             GL_SAMPLE_MASK,
+                                             GL_ALPHA_TEST,
+                                             GL_COLOR_LOGIC_OP,
+                                             GL_DITHER,
+                                             GL_RASTERIZER_DISCARD,
+                                             GL_MULTISAMPLE,
+                                             GL_SAMPLE_ALPHA_TO_COVERAGE,
+                                             GL_SAMPLE_COVERAGE,
+                                             GL_FRAMEBUFFER_SRGB};
+    for (GLenum cap : kOff) glDisable(cap);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    glClampColor(GL_CLAMP_FRAGMENT_COLOR, GL_FALSE);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glPixelStorei(GL_PACK_ROW_LENGTH, 0);
+    glPixelStorei(GL_PACK_SKIP_ROWS, 0);
+    glPixelStorei(GL_PACK_SKIP_PIXELS, 0);
+    glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+
+    const GLenum tex_target = src.samples == 4 ? GL_TEXTURE_2D_MULTISAMPLE : GL_TEXTURE_2D;
+    const GLuint textures[4] = {src.color_texture, src.depth_texture, src.owner_texture,
+                                Impl::marks(src) ? m.mark_tex : 0};
+    for (GLuint unit = 0; unit < 4; ++unit) {
+        glActiveTexture(GL_TEXTURE0 + unit);
+        glBindTexture(tex_target, textures[unit]);
+        if (src.samples == 1 && textures[unit] != 0) {
+            // texelFetch of level 0 needs a complete texture, whatever its mipmaps.
+            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
+            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_NONE);
+        }
+    }
+    glActiveTexture(GL_TEXTURE0);
+    glUseProgram(program);
+    glBindVertexArray(m.vao);
+    check_gl("setting up the sample fetch");
+
+    const GLint sample_location = glGetUniformLocation(program, "sample_index");
+    std::vector<std::uint8_t> bytes(src.color_texture && !fb.color8.empty() ? n * 4 : 0);
+    std::vector<std::uint32_t> words(n * 4);
+    const std::size_t k = src.samples;
+    for (std::uint32_t s = 0; s < src.samples; ++s) {
+        glUniform1i(sample_location, static_cast<GLint>(s));
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+        check_gl("fetching samples");
+        if (src.color_texture) {
+            glReadBuffer(GL_COLOR_ATTACHMENT0);
+            if (src.color_format == refraster::ColorFormat::Rgba8) {
+                glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, bytes.data());
+                for (std::size_t i = 0; i < n; ++i) {
+                    std::memcpy(&fb.color8[(i * k + s) * 4], &bytes[i * 4], 4);
+                }
+            } else {
+                glReadPixels(0, 0, w, h, GL_RGBA_INTEGER, GL_UNSIGNED_INT, words.data());
+                for (std::size_t i = 0; i < n; ++i) {
+                    std::memcpy(&fb.color32f[(i * k + s) * 4], &words[i * 4], 16);
+                }
+            }
+            check_gl("reading colour samples");
+        }
+        if (src.depth_texture) {
+            glReadBuffer(GL_COLOR_ATTACHMENT1);
+            glReadPixels(0, 0, w, h, GL_RED_INTEGER, GL_UNSIGNED_INT, words.data());
+            check_gl("reading depth samples");
+            const bool unorm = src.depth_format == refraster::DepthFormat::Z16 ||
+                               src.depth_format == refraster::DepthFormat::Z24;
+            for (std::size_t i = 0; i < n; ++i) {
+                std::uint32_t v = words[i];
+                if (v == kZ24BelowOne && Impl::marks(src)) {
+                    fb.depth[i * k + s] = kZ24Max - 1;
+                    continue;
+                }
+                if (unorm && !src.raw_depth) {
+                    const auto z = depth_from_fetch(src.depth_format, v);
+                    if (!z) {
+                        throw GlFailure("a " + std::string(refraster::to_string(src.depth_format)) +
+                                        " depth sample fetched as float bits " + hex(v) +
+                                        " is no value of its format");
+                    }
+                    v = *z;
+                }
+                fb.depth[i * k + s] = v;
+            }
+        }
+        if (src.owner_texture) {
+            glReadBuffer(GL_COLOR_ATTACHMENT2);
+            glReadPixels(0, 0, w, h, GL_RED_INTEGER, GL_UNSIGNED_INT, words.data());
+            check_gl("reading owner samples");
+            for (std::size_t i = 0; i < n; ++i) fb.owner[i * k + s] = words[i];
+        }
+    }
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    return fb;
+}
 
 struct Renderer::Impl {
     harness::Provenance provenance;
     std::array<GLuint, 6> programs{};  // by ShadeModel, then with owners; 0 until first use
     bool owners = false;               // this render writes the owner attachment
-    GLuint owner_rb = 0;
+    GLuint owner_rb = 0;               // 1x
+    GLuint owner_tex = 0;              // 4x: a multisample texture
+    std::optional<SampleReader> sample_reader;  // made at the first 4x target
     GLuint current_draw = 0;
     GLuint vao = 0;
     GLuint vbo = 0;
     GLuint ibo = 0;
     TargetObjects target;
     GLint max_samples = 0;
+    GLint max_texture_samples = 0;  // the least of colour, depth and integer textures
+    GLint max_texture_size = 0;
     GLint max_renderbuffer = 0;
     std::array<GLint, 2> max_viewport{};
     std::array<GLfloat, 2> line_width_range{};
@@ -373,10 +789,11 @@ struct Renderer::Impl {
     void detach_owners();
 
     void prepare_target(const refraster::Target& t);
-    void set_fixed_state(bool multisample);
+    void set_fixed_state();
     void clear(const refraster::DrawList& list);
     void draw(const refraster::Target& t, const refraster::Draw& d);
-    refraster::Framebuffer read_back(const refraster::Target& t);
+    void read_back(const refraster::Target& t, harness::RenderResult& r);
+    refraster::Framebuffer read_single(const refraster::Target& t);
 };
 
 void Renderer::Impl::prepare_target(const refraster::Target& t) {
@@ -386,6 +803,15 @@ void Renderer::Impl::prepare_target(const refraster::Target& t) {
     if (t.samples == 4 && max_samples < 4) {
         throw Unsupported("4x multisampling: this driver reports GL_MAX_SAMPLES " +
                           std::to_string(max_samples));
+    }
+    if (t.samples == 4 && max_texture_samples < 4) {
+        throw Unsupported("4x multisample textures: this driver allows " +
+                          std::to_string(max_texture_samples) + " samples");
+    }
+    if (t.samples == 4 && (t.width > static_cast<GLuint>(max_texture_size) ||
+                           t.height > static_cast<GLuint>(max_texture_size))) {
+        throw Unsupported("4x target " + std::to_string(t.width) + "x" + std::to_string(t.height) +
+                          " (GL_MAX_TEXTURE_SIZE " + std::to_string(max_texture_size) + ")");
     }
     if (t.width == 0 || t.height == 0 || t.width > static_cast<GLuint>(max_renderbuffer) ||
         t.height > static_cast<GLuint>(max_renderbuffer)) {
@@ -400,6 +826,15 @@ void Renderer::Impl::prepare_target(const refraster::Target& t) {
     const GLenum cf = color_internal_format(t.color);
     const GLenum df = depth_internal_format(t.depth);
 
+    // The count actually granted, which may differ from the count asked for.
+    auto check_samples = [](GLsizei samples) {
+        const GLint got = gl_int(GL_SAMPLES);
+        const GLint want = samples > 1 ? samples : 0;
+        if (got != want) {
+            throw Unsupported("asked for " + std::to_string(samples) + " samples, got " +
+                              std::to_string(got));
+        }
+    };
     auto make_fbo = [&](GLsizei samples, bool with_depth, GLuint& fbo, GLuint& color,
                         GLuint& depth) {
         glGenFramebuffers(1, &fbo);
@@ -425,21 +860,39 @@ void Renderer::Impl::prepare_target(const refraster::Target& t) {
         if (status != GL_FRAMEBUFFER_COMPLETE) {
             throw Unsupported("framebuffer incomplete (status " + hex(status) + ")");
         }
-        // The count actually granted, which may differ from the count asked for.
-        const GLint got = gl_int(GL_SAMPLES);
-        const GLint want = samples > 1 ? samples : 0;
-        if (got != want) {
-            throw Unsupported("asked for " + std::to_string(samples) + " samples, got " +
-                              std::to_string(got));
+        check_samples(samples);
+    };
+    // 4x: colour and depth are multisample textures with fixed sample locations, which the
+    // sample reader fetches from.
+    auto make_ms_fbo = [&]() {
+        glGenFramebuffers(1, &target.ms_fbo);
+        glGenTextures(1, &target.ms_color_tex);
+        glGenTextures(1, &target.ms_depth_tex);
+        glBindFramebuffer(GL_FRAMEBUFFER, target.ms_fbo);
+        glBindTexture(GL_TEXTURE_2D_MULTISAMPLE, target.ms_color_tex);
+        glTexImage2DMultisample(GL_TEXTURE_2D_MULTISAMPLE, 4, cf, w, h, GL_TRUE);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D_MULTISAMPLE,
+                               target.ms_color_tex, 0);
+        glBindTexture(GL_TEXTURE_2D_MULTISAMPLE, target.ms_depth_tex);
+        glTexImage2DMultisample(GL_TEXTURE_2D_MULTISAMPLE, 4, df, w, h, GL_TRUE);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D_MULTISAMPLE,
+                               target.ms_depth_tex, 0);
+        glBindTexture(GL_TEXTURE_2D_MULTISAMPLE, 0);
+        check_allocation("creating the multisample framebuffer");
+        const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+        if (status != GL_FRAMEBUFFER_COMPLETE) {
+            throw Unsupported("multisample framebuffer incomplete (status " + hex(status) + ")");
         }
+        check_samples(4);
     };
 
     try {
         target.key = t;
         if (t.samples == 4) {
-            // Rendering always has depth; the resolve target only needs it to be read.
-            make_fbo(4, true, target.ms_fbo, target.ms_color_rb, target.ms_depth_rb);
-            make_fbo(0, t.depth != DepthFormat::None, target.fbo, target.color_rb, target.depth_rb);
+            // Rendering always has depth; the blit resolves colour only (the image's depth
+            // is sample 0's, read with the samples).
+            make_ms_fbo();
+            make_fbo(0, false, target.fbo, target.color_rb, target.depth_rb);
         } else {
             make_fbo(0, true, target.fbo, target.color_rb, target.depth_rb);
         }
@@ -452,7 +905,7 @@ void Renderer::Impl::prepare_target(const refraster::Target& t) {
     }
 }
 
-void Renderer::Impl::set_fixed_state(bool multisample) {
+void Renderer::Impl::set_fixed_state() {
     // Defaults the spec relies on; nothing below changes them, but a request must not depend
     // on what the context happened to start with.
     glDisable(GL_DITHER);
@@ -477,7 +930,6 @@ void Renderer::Impl::set_fixed_state(bool multisample) {
     // the conversion anyway.
     glClampColor(GL_CLAMP_FRAGMENT_COLOR, GL_FIXED_ONLY);
     glClampColor(GL_CLAMP_READ_COLOR, GL_FIXED_ONLY);
-    set_enabled(GL_MULTISAMPLE, multisample);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glPixelStorei(GL_PACK_ROW_LENGTH, 0);
     glPixelStorei(GL_PACK_SKIP_ROWS, 0);
@@ -512,6 +964,9 @@ void Renderer::Impl::draw(const refraster::Target& t, const refraster::Draw& d) 
         throw Unsupported("line width or point size above this driver's maximum");
     }
 
+    // GL_MULTISAMPLE has no effect on a single-sample target; it stays off there, as it
+    // always was.
+    set_enabled(GL_MULTISAMPLE, t.samples == 4 && s.multisample);
     glViewport(s.viewport.x, s.viewport.y, s.viewport.width, s.viewport.height);
     glDepthRange(static_cast<double>(s.depth_near), static_cast<double>(s.depth_far));
     set_enabled(GL_SCISSOR_TEST, s.scissor.has_value());
@@ -619,16 +1074,28 @@ void Renderer::Impl::draw(const refraster::Target& t, const refraster::Draw& d) 
     check_gl("drawing");
 }
 
-// The owner attachment: an R32UI renderbuffer at colour attachment 1 of the single-sample
-// FBO, cleared to 0, written by the owner programs alongside the colour.
+// The owner attachment at colour attachment 1 of the framebuffer drawn into, cleared to 0,
+// written by the owner programs alongside the colour: an R32UI renderbuffer (1x) or an R32UI
+// multisample texture (4x, fetched per sample).
 void Renderer::Impl::attach_owners(const refraster::Target& t) {
-    if (t.samples != 1) throw Unsupported("primitive owners of a multisampled target");
-    glGenRenderbuffers(1, &owner_rb);
-    glBindRenderbuffer(GL_RENDERBUFFER, owner_rb);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_R32UI, static_cast<GLsizei>(t.width),
-                          static_cast<GLsizei>(t.height));
-    glBindFramebuffer(GL_FRAMEBUFFER, target.fbo);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_RENDERBUFFER, owner_rb);
+    const auto w = static_cast<GLsizei>(t.width);
+    const auto h = static_cast<GLsizei>(t.height);
+    if (t.samples == 4) {
+        glGenTextures(1, &owner_tex);
+        glBindTexture(GL_TEXTURE_2D_MULTISAMPLE, owner_tex);
+        glTexImage2DMultisample(GL_TEXTURE_2D_MULTISAMPLE, 4, GL_R32UI, w, h, GL_TRUE);
+        glBindTexture(GL_TEXTURE_2D_MULTISAMPLE, 0);
+        check_allocation("creating the owner samples");
+        glBindFramebuffer(GL_FRAMEBUFFER, target.ms_fbo);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D_MULTISAMPLE,
+                               owner_tex, 0);
+    } else {
+        glGenRenderbuffers(1, &owner_rb);
+        glBindRenderbuffer(GL_RENDERBUFFER, owner_rb);
+        glRenderbufferStorage(GL_RENDERBUFFER, GL_R32UI, w, h);
+        glBindFramebuffer(GL_FRAMEBUFFER, target.fbo);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_RENDERBUFFER, owner_rb);
+    }
     const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
     glDrawBuffers(2, bufs);
     if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
@@ -640,30 +1107,77 @@ void Renderer::Impl::attach_owners(const refraster::Target& t) {
 }
 
 void Renderer::Impl::detach_owners() {
-    if (owner_rb == 0) return;
-    glBindFramebuffer(GL_FRAMEBUFFER, target.fbo);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_RENDERBUFFER, 0);
     const GLenum buf = GL_COLOR_ATTACHMENT0;
-    glDrawBuffers(1, &buf);
-    glDeleteRenderbuffers(1, &owner_rb);
-    owner_rb = 0;
+    if (owner_rb != 0) {
+        glBindFramebuffer(GL_FRAMEBUFFER, target.fbo);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_RENDERBUFFER, 0);
+        glDrawBuffers(1, &buf);
+        glDeleteRenderbuffers(1, &owner_rb);
+        owner_rb = 0;
+    }
+    if (owner_tex != 0) {
+        if (target.ms_fbo != 0) {
+            glBindFramebuffer(GL_FRAMEBUFFER, target.ms_fbo);
+            glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D_MULTISAMPLE,
+                                   0, 0);
+            glDrawBuffers(1, &buf);
+        }
+        glDeleteTextures(1, &owner_tex);
+        owner_tex = 0;
+    }
 }
 
-refraster::Framebuffer Renderer::Impl::read_back(const refraster::Target& t) {
+void Renderer::Impl::read_back(const refraster::Target& t, harness::RenderResult& r) {
+    if (t.samples == 1) {
+        r.image = read_single(t);
+        return;
+    }
     const auto w = static_cast<GLsizei>(t.width);
     const auto h = static_cast<GLsizei>(t.height);
-    if (t.samples == 4) {
-        // Blits obey the scissor test (and, in some drivers, the depth mask).
-        glDisable(GL_SCISSOR_TEST);
-        glDepthMask(GL_TRUE);
-        glBindFramebuffer(GL_READ_FRAMEBUFFER, target.ms_fbo);
-        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target.fbo);
-        GLbitfield mask = GL_COLOR_BUFFER_BIT;
-        if (t.depth != DepthFormat::None) mask |= GL_DEPTH_BUFFER_BIT;
-        glBlitFramebuffer(0, 0, w, h, 0, 0, w, h, mask, GL_NEAREST);
-        check_gl("multisample resolve");
-    }
+    // The resolve is the blit's, colour only. Blits obey the scissor test.
+    glDisable(GL_SCISSOR_TEST);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, target.ms_fbo);
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target.fbo);
+    glBlitFramebuffer(0, 0, w, h, 0, 0, w, h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    check_gl("multisample resolve");
 
+    refraster::Framebuffer image(t.width, t.height, t.color, t.depth);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, target.fbo);
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    if (t.color == ColorFormat::Rgba8) {
+        glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, image.color8.data());
+    } else {
+        glReadPixels(0, 0, w, h, GL_RGBA, GL_FLOAT, image.color32f.data());
+    }
+    check_gl("reading the resolved colour");
+
+    if (!sample_reader) sample_reader.emplace();
+    SampleSources src;
+    src.width = t.width;
+    src.height = t.height;
+    src.samples = 4;
+    src.color_format = t.color;
+    src.color_texture = target.ms_color_tex;
+    // A depth-less target's depth attachment is never written: not read either.
+    src.depth_format = t.depth;
+    src.depth_texture = t.depth != DepthFormat::None ? target.ms_depth_tex : 0;
+    src.owner_texture = owners ? owner_tex : 0;
+    r.samples = sample_reader->read(src);
+
+    // The image's depth and owners are sample 0's.
+    const std::size_t n = image.pixel_count();
+    for (std::size_t i = 0; i < image.depth.size(); ++i) image.depth[i] = r.samples.depth[i * 4];
+    if (owners) {
+        image.owner.resize(n);
+        for (std::size_t i = 0; i < n; ++i) image.owner[i] = r.samples.owner[i * 4];
+    }
+    r.image = std::move(image);
+}
+
+refraster::Framebuffer Renderer::Impl::read_single(const refraster::Target& t) {
+    const auto w = static_cast<GLsizei>(t.width);
+    const auto h = static_cast<GLsizei>(t.height);
     refraster::Framebuffer fb(t.width, t.height, t.color, t.depth);
     glBindFramebuffer(GL_READ_FRAMEBUFFER, target.fbo);
     glReadBuffer(GL_COLOR_ATTACHMENT0);
@@ -721,6 +1235,10 @@ Renderer::Renderer(std::string_view backend, std::string_view mesa_package)
     p["mesa_version"] = debian_package_version(mesa_package);
 
     impl_->max_samples = gl_int(GL_MAX_SAMPLES);
+    impl_->max_texture_samples =
+        std::min({gl_int(GL_MAX_COLOR_TEXTURE_SAMPLES), gl_int(GL_MAX_DEPTH_TEXTURE_SAMPLES),
+                  gl_int(GL_MAX_INTEGER_SAMPLES)});
+    impl_->max_texture_size = gl_int(GL_MAX_TEXTURE_SIZE);
     impl_->max_renderbuffer = gl_int(GL_MAX_RENDERBUFFER_SIZE);
     glGetIntegerv(GL_MAX_VIEWPORT_DIMS, impl_->max_viewport.data());
     glGetFloatv(GL_ALIASED_LINE_WIDTH_RANGE, impl_->line_width_range.data());
@@ -733,7 +1251,9 @@ Renderer::Renderer(std::string_view backend, std::string_view mesa_package)
 
 Renderer::~Renderer() {
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    impl_->detach_owners();
     impl_->target.release();
+    impl_->sample_reader.reset();
     for (GLuint p : impl_->programs) {
         if (p != 0) glDeleteProgram(p);
     }
@@ -753,7 +1273,7 @@ harness::RenderResult Renderer::render(const refraster::DrawList& list, bool own
     try {
         drain_gl_errors();
         impl_->prepare_target(list.target);
-        impl_->set_fixed_state(list.target.samples == 4);
+        impl_->set_fixed_state();
         impl_->clear(list);
         impl_->owners = owners;
         if (owners) impl_->attach_owners(list.target);
@@ -761,7 +1281,7 @@ harness::RenderResult Renderer::render(const refraster::DrawList& list, bool own
             impl_->current_draw = static_cast<GLuint>(i);
             impl_->draw(list.target, list.draws[i]);
         }
-        r.image = impl_->read_back(list.target);
+        impl_->read_back(list.target, r);
         impl_->detach_owners();
         impl_->owners = false;
     } catch (const Unsupported& e) {
@@ -781,6 +1301,7 @@ harness::RenderResult Renderer::render(const refraster::DrawList& list, bool own
         impl_->detach_owners();
         impl_->owners = false;
         r.image = refraster::Framebuffer{};
+        r.samples = refraster::Framebuffer{};
         drain_gl_errors();
     }
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

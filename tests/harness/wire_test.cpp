@@ -7,6 +7,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <bit>
 #include <cerrno>
 #include <cmath>
 #include <limits>
@@ -42,6 +43,7 @@ DrawList sample_draw_list() {
     a.state.line_width = 3.5f;
     a.state.point_size = 255.0f;
     a.state.blend = BlendPreset::Add;
+    a.state.multisample = false;
     a.vertices.attributes = {{"color", 4}, {"extra", 2}};
     for (int i = 0; i < 3 * 10; ++i) a.vertices.data.push_back(static_cast<float>(i) * 0.125f);
     a.vertices.data.push_back(-0.0f);  // the sign of zero must survive too
@@ -72,6 +74,18 @@ harness::RenderResult sample_result() {
     for (std::size_t i = 0; i < r.image.depth.size(); ++i) {
         r.image.depth[i] = static_cast<std::uint32_t>(i * 0x123457u);
     }
+    // A 4x sample set beside the resolve: every sample its own value.
+    r.samples = Framebuffer(3, 2, ColorFormat::Rgba8, DepthFormat::Z24, 4);
+    for (std::size_t i = 0; i < r.samples.color8.size(); ++i) {
+        r.samples.color8[i] = static_cast<std::uint8_t>(i * 11 + 5);
+    }
+    for (std::size_t i = 0; i < r.samples.depth.size(); ++i) {
+        r.samples.depth[i] = static_cast<std::uint32_t>(i * 0x10101u);
+    }
+    r.samples.owner.assign(r.samples.depth.size(), 0);
+    for (std::size_t i = 0; i < r.samples.owner.size(); ++i) {
+        r.samples.owner[i] = static_cast<std::uint32_t>((i % 3) << 24 | i);
+    }
     r.provenance = {{"renderer", "llvmpipe (LLVM 15.0.6, 256 bits)"}, {"env", ""}, {"k", "v"}};
     r.seconds = 0.1234567890123;
     return r;
@@ -100,15 +114,50 @@ TEST(Wire, ResultRoundTrip) {
     EXPECT_EQ(back.status, r.status);
     EXPECT_EQ(back.message, r.message);
     EXPECT_EQ(back.image, r.image);
+    EXPECT_EQ(back.samples, r.samples);
+    EXPECT_EQ(back.samples.samples, 4u);
     EXPECT_EQ(back.provenance, r.provenance);
     EXPECT_EQ(back.seconds, r.seconds);
 
     harness::RenderResult f;
     f.image = Framebuffer(2, 2, ColorFormat::Rgba32f, DepthFormat::Z32f);
     f.image.color32f[5] = -1.0e30f;
+    f.samples = Framebuffer(2, 2, ColorFormat::Rgba32f, DepthFormat::Z32f, 4);
+    f.samples.color32f[7] = std::numeric_limits<float>::denorm_min();
+    f.samples.color32f[9] = -std::numeric_limits<float>::infinity();
+    f.samples.color32f[11] = std::bit_cast<float>(0x7fc01234u);  // a NaN with a payload
     const auto fb = harness::wire::decode_result(harness::wire::encode_result(f));
     EXPECT_EQ(fb.image, f.image);
     EXPECT_EQ(fb.status, harness::RenderStatus::Ok);
+    // operator== cannot compare NaNs: the bits must survive.
+    ASSERT_EQ(fb.samples.color32f.size(), f.samples.color32f.size());
+    for (std::size_t i = 0; i < f.samples.color32f.size(); ++i) {
+        EXPECT_EQ(std::bit_cast<std::uint32_t>(fb.samples.color32f[i]),
+                  std::bit_cast<std::uint32_t>(f.samples.color32f[i]))
+            << "float " << i;
+    }
+    EXPECT_EQ(fb.samples.samples, 4u);
+}
+
+TEST(Wire, SingleSampleResultHasEmptySamples) {
+    harness::RenderResult r;
+    r.image = Framebuffer(4, 4, ColorFormat::Rgba8, DepthFormat::None);
+    const auto back = harness::wire::decode_result(harness::wire::encode_result(r));
+    EXPECT_EQ(back.samples.width, 0u);
+    EXPECT_EQ(back.samples.height, 0u);
+    EXPECT_TRUE(back.samples.color8.empty());
+    EXPECT_EQ(back.image, r.image);
+}
+
+TEST(Wire, MultisampleFlagRoundTripsPerDraw) {
+    DrawList list;
+    list.draws.resize(3);
+    list.draws[1].state.multisample = false;
+    const DrawList back = harness::wire::decode_draw_list(harness::wire::encode_draw_list(list));
+    ASSERT_EQ(back.draws.size(), 3u);
+    EXPECT_TRUE(back.draws[0].state.multisample);
+    EXPECT_FALSE(back.draws[1].state.multisample);
+    EXPECT_TRUE(back.draws[2].state.multisample);
 }
 
 TEST(Wire, EveryTruncationIsAnError) {
@@ -144,6 +193,16 @@ TEST(Wire, TrailingBytesAndBadEnumsAreErrors) {
     bytes = harness::wire::encode_result(harness::RenderResult{});
     bytes[0] = 5;
     EXPECT_THROW(harness::wire::decode_result(bytes), WireError);
+
+    // A framebuffer's sample count is 1 or 4. The image's follows the status (1 byte), the
+    // empty message (8) and width, height and the two formats (4 + 4 + 1 + 1).
+    bytes = harness::wire::encode_result(harness::RenderResult{});
+    constexpr std::size_t kSamplesAt = 1 + 8 + 4 + 4 + 1 + 1;
+    ASSERT_EQ(bytes[kSamplesAt], 1);
+    bytes[kSamplesAt] = 2;
+    EXPECT_THROW(harness::wire::decode_result(bytes), WireError);
+    bytes[kSamplesAt] = 4;
+    EXPECT_NO_THROW(harness::wire::decode_result(bytes));
 }
 
 struct Pipe {
