@@ -312,9 +312,9 @@ struct Kernel {
     // (px + 0.5, py + 0.5) and goes to every covered sample; depth is evaluated at each
     // covered sample's position (px + sx, py + sy), tested and written per sample; blending
     // reads each sample's own destination. With it off (a single-sample draw into a 4x
-    // target), coverage, colour and depth are the single-sample ones, at the pixel, and each
-    // covered pixel is tested, blended and written in all four samples (lp_rast.c:
-    // lp_rast_shade_quads_mask repeats the pixel mask for every sample).
+    // target), coverage, colour and depth are the single-sample ones, at the pixel: the depth
+    // test reads and writes sample 0 only, and a pixel that passes is blended and written in
+    // all four samples (measured: samples 1 to 3 keep their depth).
     static void shade_4x(const KernelState& k, const SetupList& list, const SetupPrimitive& prim,
                          std::span<const QuadPacket> quads, Framebuffer& fb) {
         const Fp fp{k.options.flush_denormals};
@@ -341,26 +341,33 @@ struct Kernel {
                 } else {
                     source = source_color<C>(color(planes, flat, px + centre, py + centre, k, fp));
                 }
-                [[maybe_unused]] std::uint32_t pixel_depth = 0;
                 if constexpr (D != DepthFormat::None) {
-                    float z = 0.0f;
-                    if (!ms) pixel_depth = depth_value(planes, prim.z_offset, px, py, k, fp, z);
+                    if (!ms) {
+                        // One depth test for the pixel, at sample 0.
+                        float z = 0.0f;
+                        const std::uint32_t value =
+                            depth_value(planes, prim.z_offset, px, py, k, fp, z);
+                        const std::size_t i0 = fb.sample_index(x, y, 0);
+                        if ((k.depth_pass &
+                             depth_outcome<D == DepthFormat::Z32f>(value, fb.depth[i0])) == 0)
+                            continue;
+                        if (k.depth_write) fb.depth[i0] = value;
+                    }
                 }
                 for (unsigned s = 0; s < kMsaaSamples; ++s) {
                     if ((mask & (1u << quad_bit(p, s))) == 0) continue;
                     const std::size_t i = fb.sample_index(x, y, s);
                     if constexpr (D != DepthFormat::None) {
-                        std::uint32_t value = pixel_depth;
                         if (ms) {
                             float z = 0.0f;
                             const auto& pos = kSamplePositions4x[s];
-                            value = depth_value(planes, prim.z_offset, px + pos.x, py + pos.y, k,
-                                                fp, z);
+                            const std::uint32_t value = depth_value(
+                                planes, prim.z_offset, px + pos.x, py + pos.y, k, fp, z);
+                            if ((k.depth_pass &
+                                 depth_outcome<D == DepthFormat::Z32f>(value, fb.depth[i])) == 0)
+                                continue;
+                            if (k.depth_write) fb.depth[i] = value;
                         }
-                        if ((k.depth_pass &
-                             depth_outcome<D == DepthFormat::Z32f>(value, fb.depth[i])) == 0)
-                            continue;
-                        if (k.depth_write) fb.depth[i] = value;
                     }
                     store_color<C, B>(fb, i, source, fp);
                     if (owners) fb.owner[i] = prim.owner;
@@ -436,7 +443,12 @@ struct Kernel {
         t.depth_tested = D != DepthFormat::None;
         if constexpr (D != DepthFormat::None) {
             t.depth_value = depth_value(planes, prim.z_offset, zx, zy, k, fp, t.z);
-            t.depth_stored = fb_before.depth[i];
+            // With multisampling off on a 4x target the test reads sample 0 (shade_4x).
+            const std::size_t di = kSamples == kMsaaSamples && !ms
+                                       ? fb_before.sample_index(static_cast<std::uint32_t>(x),
+                                                                static_cast<std::uint32_t>(y), 0)
+                                       : i;
+            t.depth_stored = fb_before.depth[di];
             t.depth_pass = (k.depth_pass & depth_outcome<D == DepthFormat::Z32f>(
                                                t.depth_value, t.depth_stored)) != 0;
         }

@@ -25,15 +25,17 @@ Framebuffer resolve_samples(const Framebuffer& ms) {
     const detail::Fp fp{true};
     for (std::size_t i = 0; i < n; ++i) {
         for (std::size_t c = 0; c < 4; ++c) {
-            // Summed in sample order, then scaled: ((f0 + f1) + f2) + f3, times 0.25
-            // (u_simple_shaders.c: util_make_fs_msaa_resolve).
+            // Summed in sample order from +0, then scaled: ((((+0 + f0) + f1) + f2) + f3),
+            // times 0.25 (u_simple_shaders.c: util_make_fs_msaa_resolve). Starting from +0
+            // only shows when every sample is -0 (or a flushed negative denormal): the sum
+            // is then +0, measured with rgba32f samples.
             float sum = 0.0f;
             for (std::size_t s = 0; s < 4; ++s) {
                 const std::size_t k = (i * 4 + s) * 4 + c;
                 const float f = ms.color_format == ColorFormat::Rgba8
                                     ? fp.mul(static_cast<float>(ms.color8[k]), kUnorm8ToFloat)
                                     : ms.color32f[k];
-                sum = s == 0 ? fp.f(f) : fp.add(sum, f);
+                sum = fp.add(sum, f);
             }
             const float mean = fp.mul(sum, 0.25f);
             if (ms.color_format == ColorFormat::Rgba8) {

@@ -89,7 +89,8 @@ struct DrawState {
     float point_size = 1.0f;
     BlendPreset blend = BlendPreset::None;
     // GL_MULTISAMPLE. It only matters on a 4x target: false draws with the single-sample
-    // rules and writes the result to every sample (mesa-22.3 facts, part 2, 3.7).
+    // rules; the depth test and write use sample 0, the colour goes to every sample
+    // (docs/precision.md, "Multisampling (4x)").
     bool multisample = true;
     friend bool operator==(const DrawState&, const DrawState&) = default;
 };
