@@ -139,9 +139,9 @@ TEST(SampleVerdict, ExpectBoundsSamplesToo) {
     for (const auto& [budget, status] :
          {std::pair{1, harness::CaseStatus::Fail}, std::pair{2, harness::CaseStatus::Pass}}) {
         std::string text = kScene4x;
-        text.replace(text.find(R"("draws")"), 7,
-                     R"("expect": {"max_mismatched_pixels": )" + std::to_string(budget) +
-                         R"(}, "draws")");
+        text.replace(
+            text.find(R"("draws")"), 7,
+            R"("expect": {"max_mismatched_pixels": )" + std::to_string(budget) + R"(}, "draws")");
         const auto scene = harness::load_scene_text(text, "ms.json");
         FixedBackend ref("ref", result_of(f.ref));
         FixedBackend act("fixed", result_of(f.act));

@@ -303,6 +303,10 @@ std::string case_page(const json& r, const std::filesystem::path& images) {
               << m.value("x", 0) << ", " << m.value("y", 0) << "): " << m.value("reference", 0)
               << " vs " << m.value("actual", 0) << "</td></tr>";
         }
+        h << "<tr><th>reference time</th><td class=\"num\">"
+          << fixed(seconds(r, "reference") * 1000, 3)
+          << " ms</td></tr><tr><th>backend time</th><td class=\"num\">"
+          << fixed(seconds(r, "actual") * 1000, 3) << " ms</td></tr>";
         if (has_samples(r)) {
             h << "</table><h3>Samples</h3><table id=\"sample-numbers\">";
             for (const char* k :
@@ -340,10 +344,7 @@ std::string case_page(const json& r, const std::filesystem::path& images) {
             h << "<tr><th>samples classified by</th><td>"
               << esc(c.value("samples_classified_by", "")) << "</td></tr>";
         }
-        h << "<tr><th>reference time</th><td class=\"num\">"
-          << fixed(seconds(r, "reference") * 1000, 3)
-          << " ms</td></tr><tr><th>backend time</th><td class=\"num\">"
-          << fixed(seconds(r, "actual") * 1000, 3) << " ms</td></tr></table>";
+        h << "</table>";
         h << "<h2>Explanation</h2><p id=\"case-explanation\">";
         if (c.value("mismatched_pixels", 0) == 0 && mismatched_samples(r) == 0) {
             h << (has_samples(r) ? "Every pixel and every sample agrees." : "Every pixel agrees.");
