@@ -128,6 +128,7 @@ struct RenderArgs {
     std::string scene;
     BackendArgs backend{"ref"};
     std::string output;
+    std::string samples_output;  // PREFIX: PREFIX.s0.png .. PREFIX.s3.png for a 4x target
 };
 
 int run_render(const RenderArgs& a) {
@@ -140,6 +141,18 @@ int run_render(const RenderArgs& a) {
                   << ", so the output must end in " << want_ext << "\n";
         return kExitBadInput;
     }
+    const std::uint32_t samples = scene->file.target.samples;
+    if (!a.samples_output.empty() && samples == 1) {
+        std::cerr << a.scene
+                  << ": --samples-output needs a multisampled target; target.samples is 1\n";
+        return kExitBadInput;
+    }
+    if (!a.samples_output.empty() &&
+        (a.samples_output.back() == '/' || std::filesystem::is_directory(a.samples_output))) {
+        std::cerr << a.samples_output << ": --samples-output takes a file name prefix (PREFIX.s0"
+                  << want_ext << " ...), not a directory\n";
+        return kExitBadInput;
+    }
     bool bad_profile = false;
     auto backend = backend_or_report(a.backend, a.scene, bad_profile);
     if (!backend) return bad_profile ? kExitBadInput : kExitBackendFailure;
@@ -149,14 +162,38 @@ int run_render(const RenderArgs& a) {
                   << r.message << "\n";
         return exit_code_for(r.status);
     }
+    // The image and every sample's, all or none.
+    std::vector<harness::ImageToWrite> images{{&r.image, out}};
+    std::vector<refraster::Framebuffer> planes;
+    std::vector<std::filesystem::path> sample_paths;
+    if (!a.samples_output.empty()) {
+        if (r.samples.samples != samples || r.samples.width != r.image.width ||
+            r.samples.height != r.image.height) {
+            std::cerr << a.scene << ": " << backend->name() << " returned no samples of the "
+                      << samples << "x target, so --samples-output has nothing to write\n";
+            return kExitBackendFailure;
+        }
+        sample_paths =
+            harness::sample_image_paths(a.samples_output, samples, scene->file.target.color);
+        for (std::uint32_t k = 0; k < samples; ++k) {
+            planes.push_back(refraster::sample_plane(r.samples, k));
+        }
+        for (std::uint32_t k = 0; k < samples; ++k)
+            images.emplace_back(&planes[k], sample_paths[k]);
+    }
     try {
-        harness::write_color_image(r.image, out);
-    } catch (const harness::ImageIoError& e) {
+        harness::write_color_images(images);
+    } catch (const std::exception& e) {
         std::cerr << e.what() << "\n";
         return kExitBadInput;
     }
     std::cout << "wrote " << out.string() << " (" << backend->name() << ", " << r.image.width << "x"
-              << r.image.height << ")\n";
+              << r.image.height << ")";
+    if (!sample_paths.empty()) {
+        std::cout << " and " << samples << " samples: " << sample_paths.front().string() << " .. "
+                  << sample_paths.back().string();
+    }
+    std::cout << "\n";
     return kExitOk;
 }
 
@@ -171,17 +208,24 @@ struct CompareArgs {
     std::string diff;
 };
 
-// Writes the mask to `diff` and both images beside it: OUT.<backend>.png.
+// Writes the mask to `diff` and both images beside it: OUT.<backend>.png, and for a 4x target
+// the sample mask as OUT.samples.png; all or none.
 void write_diff_images(const harness::CaseResult& r, const std::filesystem::path& diff) {
-    harness::write_color_image(r.comparison->mask, diff);
-    const auto beside = [&](const harness::RenderResult& rr, const std::string& who) {
+    const auto beside = [&](const std::string& what, std::string_view ext) {
         auto p = diff;
-        p.replace_filename(diff.stem().string() + "." + who +
-                           std::string(harness::image_extension(rr.image.color_format)));
-        harness::write_color_image(rr.image, p);
+        p.replace_filename(diff.stem().string() + "." + what + std::string(ext));
+        return p;
     };
-    beside(*r.reference, r.reference_name);
-    beside(*r.actual, r.actual_name);
+    std::vector<harness::ImageToWrite> images{{&r.comparison->mask, diff}};
+    for (const auto& [rr, who] :
+         {std::pair{&*r.reference, r.reference_name}, std::pair{&*r.actual, r.actual_name}}) {
+        images.emplace_back(&rr->image,
+                            beside(who, harness::image_extension(rr->image.color_format)));
+    }
+    if (r.sample_comparison && !r.sample_comparison->size_mismatch) {
+        images.emplace_back(&r.sample_comparison->mask, beside("samples", ".png"));
+    }
+    harness::write_color_images(images);
 }
 
 int run_compare(CompareArgs a) {
@@ -218,6 +262,7 @@ int run_compare(CompareArgs a) {
     std::cout << to_string(r.status) << " " << r.name << " (" << r.reference_name << " vs "
               << r.actual_name << ")";
     if (r.comparison) std::cout << ": " << r.comparison->summary();
+    if (r.sample_comparison) std::cout << "; " << r.sample_comparison->summary();
     std::cout << "\n";
     switch (r.status) {
         case harness::CaseStatus::Pass:
@@ -531,6 +576,9 @@ int main(int argc, char** argv) {
     rcmd->add_option("-o,--output", render.output,
                      "Output image: .png for rgba8 targets, .exr for rgba32f")
         ->required();
+    rcmd->add_option("--samples-output", render.samples_output,
+                     "For a 4x target, also each sample's image: PREFIX.s0.png .. PREFIX.s3.png "
+                     "(.exr for rgba32f)");
 
     CompareArgs compare;
     auto* ccmd = app.add_subcommand(
@@ -551,7 +599,8 @@ int main(int argc, char** argv) {
     ccmd->add_option("--json", compare.json, "Write the result record (JSON) here");
     ccmd->add_option(
         "--diff", compare.diff,
-        "Write the error mask here (.png), both images beside it as NAME.<backend>.png");
+        "Write the error mask here (.png), both images beside it as NAME.<backend>.png and, "
+        "for a 4x target, the sample mask as NAME.samples.png");
 
     ConformanceArgs conf;
     auto* conf_cmd = app.add_subcommand("conformance", "The conformance suite");

@@ -120,25 +120,92 @@ CaseResult run_case(const Scene& scene, const std::string& case_name, Backend& r
         c.message = worse_name + ": " + worse.message;
         return c;
     }
-    c.comparison = compare_images(c.reference->image, c.actual->image, scene.draw_list.clear,
-                                  scene.file.expect);
-    if (c.comparison->mismatched_pixels > 0 && !c.comparison->size_mismatch) {
-        // Class the mismatch by primitive: a second pass of each side reports which primitive
-        // owns every pixel. Where a side cannot tell, the clear-colour classes stand.
-        auto ro = reference.render_owners(scene);
-        auto ao = actual.render_owners(scene);
-        if (ro.status == RenderStatus::Ok && ao.status == RenderStatus::Ok &&
-            owners_plausible(ro.image.owner, c.reference->image, scene.draw_list.clear) &&
-            owners_plausible(ao.image.owner, c.actual->image, scene.draw_list.clear)) {
-            c.reference->image.owner = std::move(ro.image.owner);
-            c.actual->image.owner = std::move(ao.image.owner);
-            c.comparison = compare_images(c.reference->image, c.actual->image,
-                                          scene.draw_list.clear, scene.file.expect);
+    const auto& clear = scene.draw_list.clear;
+    const auto& expect = scene.file.expect;
+    const bool multisampled = scene.draw_list.target.samples > 1;
+    if (multisampled) {
+        // Every sample is compared, so both sides must have returned them.
+        for (const auto* side : {&*c.reference, &*c.actual}) {
+            const auto& ms = side->samples;
+            if (ms.samples != scene.draw_list.target.samples ||
+                ms.width != scene.draw_list.target.width ||
+                ms.height != scene.draw_list.target.height) {
+                c.status = CaseStatus::InternalError;
+                c.message = (side == &*c.reference ? c.reference_name : c.actual_name) +
+                            ": returned no samples of the " +
+                            std::to_string(scene.draw_list.target.samples) +
+                            "x target, so they cannot be compared";
+                return c;
+            }
         }
     }
-    c.status = c.comparison->within_expect ? CaseStatus::Pass : CaseStatus::Fail;
-    if (c.status == CaseStatus::Fail) c.message = c.comparison->summary();
+    const auto compare_all = [&] {
+        if (multisampled) {
+            c.comparison = compare_resolved(c.reference->image, c.actual->image, clear, expect);
+            c.sample_comparison =
+                compare_samples(c.reference->samples, c.actual->samples, clear, expect);
+        } else {
+            c.comparison = compare_images(c.reference->image, c.actual->image, clear, expect);
+        }
+    };
+    compare_all();
+    const bool mismatch = c.comparison->mismatched_pixels > 0 ||
+                          (c.sample_comparison && c.sample_comparison->mismatched_samples > 0);
+    const bool comparable = !c.comparison->size_mismatch &&
+                            !(c.sample_comparison && c.sample_comparison->size_mismatch);
+    if (mismatch && comparable) {
+        // Class the mismatch by primitive: a second pass of each side reports which primitive
+        // owns every pixel (of a 4x target: every sample). Where a side cannot tell, the
+        // clear-colour classes stand.
+        auto ro = reference.render_owners(scene);
+        auto ao = actual.render_owners(scene);
+        const auto believable = [&](const RenderResult& owners, const RenderResult& plain) {
+            if (owners.status != RenderStatus::Ok) return false;
+            return multisampled ? owners_plausible(owners.samples.owner, plain.samples, clear)
+                                : owners_plausible(owners.image.owner, plain.image, clear);
+        };
+        if (believable(ro, *c.reference) && believable(ao, *c.actual)) {
+            for (auto [owners, plain] :
+                 {std::pair{&ro, &*c.reference}, std::pair{&ao, &*c.actual}}) {
+                if (multisampled) {
+                    // The resolved image's owners are sample 0's.
+                    const std::size_t n = plain->samples.pixel_count();
+                    const std::size_t k = plain->samples.samples;
+                    plain->image.owner.resize(n);
+                    for (std::size_t i = 0; i < n; ++i) {
+                        plain->image.owner[i] = owners->samples.owner[i * k];
+                    }
+                    plain->samples.owner = std::move(owners->samples.owner);
+                } else {
+                    plain->image.owner = std::move(owners->image.owner);
+                }
+            }
+            compare_all();
+        }
+    }
+    const bool within =
+        c.comparison->within_expect && (!c.sample_comparison || c.sample_comparison->within_expect);
+    c.status = within ? CaseStatus::Pass : CaseStatus::Fail;
+    if (c.status == CaseStatus::Fail) {
+        c.message = c.comparison->summary();
+        if (c.sample_comparison) c.message += "; " + c.sample_comparison->summary();
+    }
     return c;
+}
+
+std::optional<std::array<int, 2>> pixel_of_largest_difference(const CaseResult& r) {
+    const auto at = [](const auto& d) {
+        return std::array<int, 2>{static_cast<int>(d.x), static_cast<int>(d.y)};
+    };
+    if (r.comparison && r.comparison->max_color) return at(*r.comparison->max_color);
+    if (r.sample_comparison && r.sample_comparison->max_color) {
+        return at(*r.sample_comparison->max_color);
+    }
+    if (r.comparison && r.comparison->max_depth) return at(*r.comparison->max_depth);
+    if (r.sample_comparison && r.sample_comparison->max_depth) {
+        return at(*r.sample_comparison->max_depth);
+    }
+    return std::nullopt;
 }
 
 CaseResult case_error(const std::string& case_name, const std::string& scene_path,
@@ -187,6 +254,44 @@ std::string to_json_line(const CaseResult& r) {
                               {"y", c.max_depth->y},
                               {"reference", c.max_depth->reference},
                               {"actual", c.max_depth->actual}};
+        }
+        if (r.sample_comparison) {
+            const SampleComparison& m = *r.sample_comparison;
+            k["samples"] = m.samples;
+            k["sample_size_mismatch"] = m.size_mismatch;
+            k["mismatched_samples"] = m.mismatched_samples;
+            k["pixels_with_mismatched_samples"] = m.pixels_with_mismatched_samples;
+            ojson per = ojson::array();
+            for (std::size_t s = 0; s < m.per_sample.size(); ++s) {
+                const Comparison& p = m.per_sample[s];
+                per.push_back({{"sample", s},
+                               {"mismatched", p.mismatched_pixels},
+                               {"missing", p.missing},
+                               {"extra", p.extra},
+                               {"other_primitive", p.coverage},
+                               {"color_only", p.color_only},
+                               {"depth_only", p.depth_only}});
+            }
+            k["per_sample"] = per;
+            k["samples_classified_by"] =
+                m.classified_by_owners ? "primitive owners" : "clear colour";
+            if (m.max_color) {
+                k["max_sample_color"] = {{"amount", m.max_color->amount},
+                                         {"x", m.max_color->x},
+                                         {"y", m.max_color->y},
+                                         {"sample", m.max_color->sample},
+                                         {"channel", m.max_color->channel},
+                                         {"reference", m.max_color->reference},
+                                         {"actual", m.max_color->actual}};
+            }
+            if (m.max_depth) {
+                k["max_sample_depth"] = {{"amount", m.max_depth->amount},
+                                         {"x", m.max_depth->x},
+                                         {"y", m.max_depth->y},
+                                         {"sample", m.max_depth->sample},
+                                         {"reference", m.max_depth->reference},
+                                         {"actual", m.max_depth->actual}};
+            }
         }
         j["comparison"] = k;
     }

@@ -119,9 +119,12 @@ PixelClassifier::Pixel PixelClassifier::at(std::size_t i) const {
 
 bool owners_plausible(const std::vector<std::uint32_t>& owner, const refraster::Framebuffer& fb,
                       const refraster::ClearValues& clear) {
-    if (owner.size() != fb.pixel_count()) return false;
+    // Samples are stored pixel-major, so every sample of every pixel is one slot of colour
+    // (four values) and one owner.
+    const std::size_t slots = fb.pixel_count() * fb.samples;
+    if (owner.size() != slots) return false;
     const PixelClassifier clear_of(fb, fb, clear, Expect{});
-    for (std::size_t i = 0; i < fb.pixel_count(); ++i) {
+    for (std::size_t i = 0; i < slots; ++i) {
         if (owner[i] != 0) continue;
         for (std::size_t k = 0; k < 4; ++k) {
             const bool same = fb.color_format == refraster::ColorFormat::Rgba8
@@ -134,8 +137,13 @@ bool owners_plausible(const std::vector<std::uint32_t>& owner, const refraster::
     return true;
 }
 
-Comparison compare_images(const refraster::Framebuffer& ref, const refraster::Framebuffer& act,
-                          const refraster::ClearValues& clear, const Expect& expect) {
+namespace {
+
+// compare_images, also writing each pixel's class to `classes` (every `stride`-th entry from
+// `classes[0]`) when it is given.
+Comparison compare_classified(const refraster::Framebuffer& ref, const refraster::Framebuffer& act,
+                              const refraster::ClearValues& clear, const Expect& expect,
+                              PixelClass* classes, std::size_t stride) {
     Comparison c;
     if (ref.width != act.width || ref.height != act.height ||
         ref.color_format != act.color_format || ref.depth_format != act.depth_format) {
@@ -191,6 +199,7 @@ Comparison compare_images(const refraster::Framebuffer& ref, const refraster::Fr
                     break;
             }
             if (px.cls != PixelClass::Equal) ++c.mismatched_pixels;
+            if (classes != nullptr) classes[i * stride] = px.cls;
             const auto mc = mask_color(px.cls);
             std::copy(mc.begin(), mc.end(),
                       c.mask.color8.begin() + static_cast<std::ptrdiff_t>(4 * i));
@@ -198,6 +207,148 @@ Comparison compare_images(const refraster::Framebuffer& ref, const refraster::Fr
     }
     c.within_expect = c.mismatched_pixels <= expect.max_mismatched_pixels;
     return c;
+}
+
+}  // namespace
+
+Comparison compare_images(const refraster::Framebuffer& ref, const refraster::Framebuffer& act,
+                          const refraster::ClearValues& clear, const Expect& expect) {
+    return compare_classified(ref, act, clear, expect, nullptr, 0);
+}
+
+Comparison compare_resolved(const refraster::Framebuffer& ref, const refraster::Framebuffer& act,
+                            const refraster::ClearValues& clear, const Expect& expect) {
+    if (ref.depth_format == refraster::DepthFormat::None ||
+        act.depth_format == refraster::DepthFormat::None) {
+        return compare_images(ref, act, clear, expect);
+    }
+    const auto colour_only = [](const refraster::Framebuffer& fb) {
+        refraster::Framebuffer c = fb;
+        c.depth_format = refraster::DepthFormat::None;
+        c.depth.clear();
+        return c;
+    };
+    return compare_images(colour_only(ref), colour_only(act), clear, expect);
+}
+
+std::array<std::uint32_t, 2> sample_mask_pixel(std::uint32_t x, std::uint32_t y, std::uint32_t s) {
+    REFRASTER_ASSERT(s < kSamplePositions4x.size(), "a sample of a 4x pixel");
+    const auto& p = kSamplePositions4x[s];
+    return {2 * x + (p[0] >= 0.5f ? 1u : 0u), 2 * y + (p[1] >= 0.5f ? 1u : 0u)};
+}
+
+SampleComparison compare_samples(const refraster::Framebuffer& ref,
+                                 const refraster::Framebuffer& act,
+                                 const refraster::ClearValues& clear, const Expect& expect) {
+    SampleComparison c;
+    constexpr std::uint32_t kSamples = 4;
+    c.samples = kSamples;
+    const auto storage_ok = [](const refraster::Framebuffer& fb) {
+        const std::size_t slots = fb.pixel_count() * fb.samples;
+        const bool colour = fb.color_format == refraster::ColorFormat::Rgba8
+                                ? fb.color8.size() == 4 * slots
+                                : fb.color32f.size() == 4 * slots;
+        const bool depth =
+            fb.depth_format == refraster::DepthFormat::None || fb.depth.size() == slots;
+        return colour && depth && (fb.owner.empty() || fb.owner.size() == slots);
+    };
+    if (ref.samples != kSamples || act.samples != kSamples || ref.width != act.width ||
+        ref.height != act.height || ref.pixel_count() == 0 ||
+        ref.color_format != act.color_format || ref.depth_format != act.depth_format ||
+        !storage_ok(ref) || !storage_ok(act)) {
+        c.size_mismatch = true;
+        c.mismatched_samples =
+            std::max(ref.pixel_count() * ref.samples, act.pixel_count() * act.samples);
+        return c;
+    }
+    // Owners classify only when both sides carry them for every sample.
+    const bool owners = !ref.owner.empty() && !act.owner.empty();
+    c.classified_by_owners = owners;
+    const std::size_t n = ref.pixel_count();
+    c.classes.assign(n * kSamples, PixelClass::Equal);
+    for (std::uint32_t s = 0; s < kSamples; ++s) {
+        auto rp = refraster::sample_plane(ref, s);
+        auto ap = refraster::sample_plane(act, s);
+        if (!owners) {
+            rp.owner.clear();
+            ap.owner.clear();
+        }
+        Comparison k = compare_classified(rp, ap, clear, expect, c.classes.data() + s, kSamples);
+        c.mismatched_samples += k.mismatched_pixels;
+        c.missing += k.missing;
+        c.extra += k.extra;
+        c.color_only += k.color_only;
+        c.depth_only += k.depth_only;
+        c.coverage += k.coverage;
+        // Strictly larger only: among equal amounts the lowest sample keeps it.
+        if (k.max_color && (!c.max_color || k.max_color->amount > c.max_color->amount)) {
+            c.max_color = k.max_color;
+            c.max_color->sample = s;
+        }
+        if (k.max_depth && (!c.max_depth || k.max_depth->amount > c.max_depth->amount)) {
+            c.max_depth = k.max_depth;
+            c.max_depth->sample = s;
+        }
+        c.per_sample.push_back(std::move(k));
+    }
+    c.mask = refraster::Framebuffer(2 * ref.width, 2 * ref.height, refraster::ColorFormat::Rgba8,
+                                    refraster::DepthFormat::None);
+    for (std::uint32_t y = 0; y < ref.height; ++y) {
+        for (std::uint32_t x = 0; x < ref.width; ++x) {
+            const std::size_t i = ref.index(x, y);
+            bool any = false;
+            for (std::uint32_t s = 0; s < kSamples; ++s) {
+                const PixelClass cls = c.classes[i * kSamples + s];
+                any = any || cls != PixelClass::Equal;
+                const auto at = sample_mask_pixel(x, y, s);
+                const auto mc = mask_color(cls);
+                std::copy(mc.begin(), mc.end(),
+                          c.mask.color8.begin() +
+                              static_cast<std::ptrdiff_t>(4 * c.mask.index(at[0], at[1])));
+            }
+            c.pixels_with_mismatched_samples += any ? 1 : 0;
+        }
+    }
+    c.within_expect = c.mismatched_samples <= expect.max_mismatched_pixels;
+    return c;
+}
+
+PixelClass SampleComparison::class_at(std::uint32_t x, std::uint32_t y, std::uint32_t s) const {
+    const std::size_t w = mask.width / 2;
+    const std::size_t h = mask.height / 2;
+    if (classes.empty() || x >= w || y >= h || s >= samples) return PixelClass::Equal;
+    return classes[(std::size_t{y} * w + x) * samples + s];
+}
+
+std::string SampleComparison::summary() const {
+    if (size_mismatch) return "the samples differ in count, size or format";
+    std::ostringstream s;
+    const std::uint64_t total = std::uint64_t{mask.pixel_count() / 4} * samples;
+    s << mismatched_samples << " of " << total << " samples mismatched";
+    if (mismatched_samples > 0) {
+        s << " in " << pixels_with_mismatched_samples << " pixels (by sample";
+        for (std::size_t k = 0; k < per_sample.size(); ++k) {
+            s << (k ? ", " : " ") << k << ": " << per_sample[k].mismatched_pixels;
+        }
+        s << "; missing " << missing << ", extra " << extra;
+        if (classified_by_owners) s << ", other primitive " << coverage;
+        s << ", colour only " << color_only << ", depth only " << depth_only << ")";
+    }
+    if (max_color) {
+        static const char* names[] = {"R", "G", "B", "A"};
+        s << "; max sample colour error " << max_color->amount << " @ (" << max_color->x << ", "
+          << max_color->y << ", sample " << max_color->sample << ", " << names[max_color->channel]
+          << ") values are ";
+        for (std::size_t k = 0; k < 4; ++k) s << (k ? "," : "") << max_color->reference[k];
+        s << " vs ";
+        for (std::size_t k = 0; k < 4; ++k) s << (k ? "," : "") << max_color->actual[k];
+    }
+    if (max_depth) {
+        s << "; max sample depth error " << max_depth->amount << " @ (" << max_depth->x << ", "
+          << max_depth->y << ", sample " << max_depth->sample << ") values are "
+          << max_depth->reference << " vs " << max_depth->actual;
+    }
+    return s.str();
 }
 
 std::string Comparison::summary() const {

@@ -15,8 +15,9 @@ std::string_view image_extension(refraster::ColorFormat f) {
     return f == refraster::ColorFormat::Rgba8 ? ".png" : ".exr";
 }
 
-void write_color_image(const refraster::Framebuffer& fb, const std::filesystem::path& path) {
-    const bool is8 = fb.color_format == refraster::ColorFormat::Rgba8;
+namespace {
+
+void check_extension(const refraster::Framebuffer& fb, const std::filesystem::path& path) {
     const std::string ext = path.extension().string();
     if (ext != std::string(image_extension(fb.color_format))) {
         throw ImageIoError(path.string() + ": a " + std::string(to_string(fb.color_format)) +
@@ -24,31 +25,70 @@ void write_color_image(const refraster::Framebuffer& fb, const std::filesystem::
                            std::string(image_extension(fb.color_format)) + ", not " +
                            (ext.empty() ? "a file without extension" : ext));
     }
-    // Written beside the destination and moved into place (files.hpp): never a partial image.
+}
+
+// Writes `fb` into the file `tmp`; messages name `path`, the file it becomes.
+void write_image_file(const refraster::Framebuffer& fb, const std::filesystem::path& path,
+                      const std::filesystem::path& tmp) {
+    const bool is8 = fb.color_format == refraster::ColorFormat::Rgba8;
+    const std::string ext = path.extension().string();
+    auto out = OIIO::ImageOutput::create(tmp.string());
+    if (!out) throw ImageIoError(path.string() + ": cannot create an image writer for " + ext);
+    const OIIO::TypeDesc type = is8 ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT;
+    OIIO::ImageSpec spec(static_cast<int>(fb.width), static_cast<int>(fb.height), 4, type);
+    // Pixels are stored as rendered: PNG alpha is unassociated, and without this attribute
+    // OpenImageIO would divide the colour by alpha on the way out.
+    spec.attribute("oiio:UnassociatedAlpha", 1);
+    if (!out->open(tmp.string(), spec)) {
+        throw ImageIoError(path.string() + ": cannot write: " + out->geterror());
+    }
+    // Image files store the top row first: file row 0 is window row height-1.
+    const std::size_t row_floats = std::size_t{fb.width} * 4;
+    bool ok = true;
+    for (std::uint32_t row = 0; ok && row < fb.height; ++row) {
+        const std::uint32_t src = fb.height - 1 - row;
+        const void* data = is8 ? static_cast<const void*>(fb.color8.data() + src * row_floats)
+                               : static_cast<const void*>(fb.color32f.data() + src * row_floats);
+        ok = out->write_scanline(static_cast<int>(row), 0, type, data);
+    }
+    ok = out->close() && ok;
+    if (!ok) throw ImageIoError(path.string() + ": cannot write: " + out->geterror());
+}
+
+// Writes images[k..] inside one another's write_atomically: every file is written before the
+// first is moved into place, and a failure removes every partial file.
+void write_nested(const std::vector<ImageToWrite>& images, std::size_t k) {
+    if (k == images.size()) return;
+    const auto& [fb, path] = images[k];
     write_atomically(path, [&](const std::filesystem::path& tmp) {
-        auto out = OIIO::ImageOutput::create(tmp.string());
-        if (!out) throw ImageIoError(path.string() + ": cannot create an image writer for " + ext);
-        const OIIO::TypeDesc type = is8 ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT;
-        OIIO::ImageSpec spec(static_cast<int>(fb.width), static_cast<int>(fb.height), 4, type);
-        // Pixels are stored as rendered: PNG alpha is unassociated, and without this attribute
-        // OpenImageIO would divide the colour by alpha on the way out.
-        spec.attribute("oiio:UnassociatedAlpha", 1);
-        if (!out->open(tmp.string(), spec)) {
-            throw ImageIoError(path.string() + ": cannot write: " + out->geterror());
-        }
-        // Image files store the top row first: file row 0 is window row height-1.
-        const std::size_t row_floats = std::size_t{fb.width} * 4;
-        bool ok = true;
-        for (std::uint32_t row = 0; ok && row < fb.height; ++row) {
-            const std::uint32_t src = fb.height - 1 - row;
-            const void* data =
-                is8 ? static_cast<const void*>(fb.color8.data() + src * row_floats)
-                    : static_cast<const void*>(fb.color32f.data() + src * row_floats);
-            ok = out->write_scanline(static_cast<int>(row), 0, type, data);
-        }
-        ok = out->close() && ok;
-        if (!ok) throw ImageIoError(path.string() + ": cannot write: " + out->geterror());
+        write_image_file(*fb, path, tmp);
+        write_nested(images, k + 1);
     });
+}
+
+}  // namespace
+
+void write_color_image(const refraster::Framebuffer& fb, const std::filesystem::path& path) {
+    check_extension(fb, path);
+    // Written beside the destination and moved into place (files.hpp): never a partial image.
+    write_atomically(path,
+                     [&](const std::filesystem::path& tmp) { write_image_file(fb, path, tmp); });
+}
+
+void write_color_images(const std::vector<ImageToWrite>& images) {
+    for (const auto& [fb, path] : images) check_extension(*fb, path);
+    write_nested(images, 0);
+}
+
+std::vector<std::filesystem::path> sample_image_paths(const std::filesystem::path& prefix,
+                                                      std::uint32_t samples,
+                                                      refraster::ColorFormat format) {
+    std::vector<std::filesystem::path> out;
+    for (std::uint32_t s = 0; s < samples; ++s) {
+        out.emplace_back(prefix.string() + ".s" + std::to_string(s) +
+                         std::string(image_extension(format)));
+    }
+    return out;
 }
 
 refraster::Framebuffer read_color_image(const std::filesystem::path& path) {

@@ -61,6 +61,7 @@ ojson state_json(const refraster::DrawState& s, const refraster::Target& t) {
     if (s.line_width != d.line_width) j["line_width"] = s.line_width;
     if (s.point_size != d.point_size) j["point_size"] = s.point_size;
     if (s.blend != d.blend) j["blend"] = s.blend == BlendPreset::Alpha ? "alpha" : "add";
+    if (!s.multisample) j["multisample"] = false;
     return j;
 }
 

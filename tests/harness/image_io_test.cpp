@@ -44,3 +44,42 @@ TEST(ImageIo, WrongExtensionIsRefusedBeforeWriting) {
 }
 
 }  // namespace
+
+namespace {
+
+// Several images are written together or not at all: one that cannot be written leaves none of
+// the others behind, and no partial file.
+TEST(ImageIo, ImagesAreWrittenAllOrNone) {
+    testutil::TempDir dir;
+    refraster::Framebuffer a(2, 1, refraster::ColorFormat::Rgba8, refraster::DepthFormat::None);
+    refraster::Framebuffer b = a;
+    a.color8[0] = 10;
+    b.color8[0] = 20;
+    const auto pa = dir.path() / "a.png";
+    const auto pb = dir.path() / "b.png";
+    EXPECT_THROW(
+        harness::write_color_images({{&a, pa}, {&b, pb}, {&a, dir.path() / "no" / "c.png"}}),
+        harness::ImageIoError);
+    EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
+    // A wrong extension anywhere is refused before anything is written.
+    EXPECT_THROW(harness::write_color_images({{&a, pa}, {&b, dir.path() / "b.exr"}}),
+                 harness::ImageIoError);
+    EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
+    harness::write_color_images({{&a, pa}, {&b, pb}});
+    EXPECT_EQ(harness::read_color_image(pa).color8[0], 10);
+    EXPECT_EQ(harness::read_color_image(pb).color8[0], 20);
+    EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir.path()),
+                            std::filesystem::directory_iterator{}),
+              2);
+}
+
+TEST(ImageIo, SampleImagePathsFollowThePrefix) {
+    const auto png = harness::sample_image_paths("out/x", 4, refraster::ColorFormat::Rgba8);
+    ASSERT_EQ(png.size(), 4u);
+    EXPECT_EQ(png[0], std::filesystem::path("out/x.s0.png"));
+    EXPECT_EQ(png[3], std::filesystem::path("out/x.s3.png"));
+    const auto exr = harness::sample_image_paths("y", 4, refraster::ColorFormat::Rgba32f);
+    EXPECT_EQ(exr[2], std::filesystem::path("y.s2.exr"));
+}
+
+}  // namespace

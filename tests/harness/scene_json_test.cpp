@@ -7,6 +7,7 @@
 #include <random>
 #include <set>
 
+#include "harness/reduce.hpp"
 #include "harness/scene.hpp"
 #include "test_util.hpp"
 
@@ -141,7 +142,27 @@ std::vector<Malformed> malformed_cases() {
              R"([{"primitive": "points", "space": "clip", "matrix": [3e38,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1], "vertices": [{"position": [3e38, 0, 0, 1]}]}])"),
          "draws[0].vertices[0].position", "non-finite"},
         {"line_width_zero", scene_with(kTarget, tri(v0, R"(, "state": {"line_width": 0})")),
-         "draws[0].state.line_width", "expected a number in [1, 255]"},
+         "draws[0].state.line_width", "expected a number in (0, 255], got 0"},
+        {"line_width_negative", scene_with(kTarget, tri(v0, R"(, "state": {"line_width": -0.5})")),
+         "draws[0].state.line_width", "expected a number in (0, 255], got -0.5"},
+        {"line_width_rounds_to_zero_in_float32",
+         scene_with(kTarget, tri(v0, R"(, "state": {"line_width": 1e-50})")),
+         "draws[0].state.line_width", "expected a number in (0, 255], got 1e-50"},
+        {"point_size_zero", scene_with(kTarget, tri(v0, R"(, "state": {"point_size": 0})")),
+         "draws[0].state.point_size", "expected a number in (0, 255], got 0"},
+        {"point_size_above_255", scene_with(kTarget, tri(v0, R"(, "state": {"point_size": 256})")),
+         "draws[0].state.point_size", "expected a number in (0, 255], got 256"},
+        {"point_size_string", scene_with(kTarget, tri(v0, R"(, "state": {"point_size": "1"})")),
+         "draws[0].state.point_size", "expected a number, got the string \"1\""},
+        {"multisample_number", scene_with(kTarget, tri(v0, R"(, "state": {"multisample": 1})")),
+         "draws[0].state.multisample", "expected true or false, got 1"},
+        {"multisample_string",
+         scene_with(kTarget, tri(v0, R"(, "state": {"multisample": "false"})")),
+         "draws[0].state.multisample", "expected true or false, got the string \"false\""},
+        {"multisample_null", scene_with(kTarget, tri(v0, R"(, "state": {"multisample": null})")),
+         "draws[0].state.multisample", "expected true or false, got null"},
+        {"requires_multisample_not_a_string", scene_with(kTarget, "[]", R"("requires": [true], )"),
+         "requires[0]", "expected a string, got true"},
         {"depth_range_above_one",
          scene_with(kTarget, tri(v0, R"(, "state": {"depth_range": [0, 1.5]})")),
          "draws[0].state.depth_range[1]", "expected a number in [0, 1]"},
@@ -204,7 +225,7 @@ std::vector<Malformed> malformed_cases() {
          "draws[0].state.line_width", "number 100000000000... (400 characters) is out of range"},
         {"line_width_above_255",
          scene_with(kTarget, tri(v0, R"(, "state": {"line_width": 255.00001})")),
-         "draws[0].state.line_width", "expected a number in [1, 255], got 255.00001"},
+         "draws[0].state.line_width", "expected a number in (0, 255], got 255.00001"},
         {"integer_1e300", scene_with(R"({"width": 1e300, "height": 8})", "[]"), "target.width",
          "expected an integer in [1, 16384], got 1e+300"},
         // Work limits (docs/limits.md), at their default values.
@@ -380,6 +401,68 @@ TEST(SceneFiles, UnknownRequiredExtensionIsNotSupportedNotAnError) {
     const auto s = harness::load_scene_text(
         scene_with(kTarget, "[]", R"("requires": ["textures"], )"), "mem.json");
     EXPECT_EQ(s.unsupported_extensions, (std::vector<std::string>{"textures"}));
+}
+
+// "multisample" is implemented: listing it leaves the scene supported, and only the other
+// names stay unsupported.
+TEST(SceneFiles, MultisampleExtensionIsKnown) {
+    auto s = harness::load_scene_text(scene_with(kTarget, "[]", R"("requires": ["multisample"], )"),
+                                      "mem.json");
+    EXPECT_EQ(s.file.requires_extensions, (std::vector<std::string>{"multisample"}));
+    EXPECT_TRUE(s.unsupported_extensions.empty());
+    s = harness::load_scene_text(
+        scene_with(kTarget, "[]", R"("requires": ["textures", "multisample", "Multisample"], )"),
+        "mem.json");
+    EXPECT_EQ(s.unsupported_extensions, (std::vector<std::string>{"textures", "Multisample"}));
+}
+
+// reduce writes a scene the loader reads back the same: "multisample": false is kept, the
+// default is left out, and thin widths survive.
+TEST(SceneFiles, SceneToJsonKeepsMultisampleAndThinWidths) {
+    const std::string text = scene_with(R"({"width": 8, "height": 8, "samples": 4})",
+                                        R"([{"primitive": "lines", "vertices": [],
+          "state": {"multisample": false, "line_width": 0.5}},
+         {"primitive": "points", "vertices": [], "state": {"point_size": 0.7}}])",
+                                        R"("requires": ["multisample"], )");
+    const auto first = harness::parse_scene(text, "mem.json");
+    const std::string written = harness::scene_to_json(first);
+    const auto j = nlohmann::json::parse(written);
+    EXPECT_EQ(j["draws"][0]["state"]["multisample"], false);
+    EXPECT_EQ(j["draws"][0]["state"]["line_width"], 0.5);
+    EXPECT_FALSE(j["draws"][1]["state"].contains("multisample"));
+    EXPECT_EQ(j["requires"], nlohmann::json::array({"multisample"}));
+    const auto again = harness::parse_scene(written, "again.json");
+    ASSERT_EQ(again.draws.size(), 2u);
+    EXPECT_EQ(again.draws[0].state, first.draws[0].state);
+    EXPECT_EQ(again.draws[1].state, first.draws[1].state);
+    EXPECT_EQ(again.draws[1].state.point_size, 0.7f);
+}
+
+// The draw state key "multisample" (default true), allowed without "requires", reaches the
+// draw list; widths and sizes below 1 load as written.
+TEST(SceneFiles, MultisampleStateAndThinLinesAndSmallPoints) {
+    const std::string text = scene_with(R"({"width": 8, "height": 8, "samples": 4})",
+                                        R"([{"primitive": "lines", "vertices": [],
+          "state": {"multisample": false, "line_width": 0.5}},
+         {"primitive": "points", "vertices": [], "state": {"multisample": true, "point_size": 0.7}},
+         {"primitive": "points", "vertices": []}])");
+    const auto s = harness::load_scene_text(text, "mem.json");
+    ASSERT_EQ(s.draw_list.draws.size(), 3u);
+    EXPECT_FALSE(s.file.draws[0].state.multisample);
+    EXPECT_FALSE(s.draw_list.draws[0].state.multisample);
+    EXPECT_EQ(s.draw_list.draws[0].state.line_width, 0.5f);
+    EXPECT_TRUE(s.draw_list.draws[1].state.multisample);
+    EXPECT_EQ(s.draw_list.draws[1].state.point_size, 0.7f);
+    EXPECT_TRUE(s.draw_list.draws[2].state.multisample);
+    EXPECT_EQ(s.draw_list.draws[2].state.line_width, 1.0f);
+    EXPECT_TRUE(s.unsupported_extensions.empty());
+    // The smallest positive float32 and 255 itself are inside the range.
+    EXPECT_EQ(harness::load_scene_text(scene_with(kTarget, R"([{"primitive": "points",
+          "vertices": [], "state": {"point_size": 1.4e-45, "line_width": 255}}])"),
+                                       "mem.json")
+                  .draw_list.draws[0]
+                  .state.line_width,
+              255.0f);
 }
 
 // A file name with a newline in it still gives a one-line message.

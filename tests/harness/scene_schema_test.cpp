@@ -1,6 +1,7 @@
 // The published schema and the shipped scenes agree with the loader.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 #include "harness/scene.hpp"
@@ -44,6 +45,59 @@ TEST(SceneSchema, StateEnumsMatchTheLoader) {
     }
     EXPECT_EQ(checked,
               26);  // cull 4, front_face 2, depth_test 9, shade 3, provoking 2, mode 3, blend 3
+}
+
+bool loads(const std::string& key, const json& value) {
+    try {
+        (void)harness::load_scene_text(scene_with_state(key, value), "m.json");
+        return true;
+    } catch (const harness::SceneError&) {
+        return false;
+    }
+}
+
+// Every boolean state key takes true and false and nothing else; every ranged number takes its
+// bounds as the schema states them (an exclusive minimum refused, the next float32 above it
+// accepted; the maximum accepted, the next float32 above it refused).
+TEST(SceneSchema, StateBooleansAndRangesMatchTheLoader) {
+    const json props =
+        schema()["properties"]["draws"]["items"]["properties"]["state"]["properties"];
+    std::vector<std::string> booleans;
+    std::vector<std::string> ranges;
+    for (const auto& [key, spec] : props.items()) {
+        SCOPED_TRACE(key);
+        const std::string type = spec.value("type", "");
+        if (type == "boolean") {
+            EXPECT_TRUE(loads(key, true));
+            EXPECT_TRUE(loads(key, false));
+            EXPECT_FALSE(loads(key, 1));
+            EXPECT_FALSE(loads(key, "true"));
+            EXPECT_FALSE(loads(key, nullptr));
+            booleans.push_back(key);
+        }
+        if (type == "number" && spec.contains("maximum")) {
+            const float hi = spec["maximum"].get<float>();
+            EXPECT_TRUE(loads(key, hi));
+            EXPECT_FALSE(loads(key, double{std::nextafter(hi, 1e30f)}));
+            if (spec.contains("exclusiveMinimum")) {
+                const float lo = spec["exclusiveMinimum"].get<float>();
+                EXPECT_FALSE(loads(key, lo));
+                EXPECT_TRUE(loads(key, double{std::nextafter(lo, hi)}));
+                EXPECT_FALSE(loads(key, double{std::nextafter(lo, -1e30f)}));
+            } else {
+                ASSERT_TRUE(spec.contains("minimum"));
+                const float lo = spec["minimum"].get<float>();
+                EXPECT_TRUE(loads(key, lo));
+                EXPECT_FALSE(loads(key, double{std::nextafter(lo, -1e30f)}));
+            }
+            ranges.push_back(key);
+        }
+    }
+    EXPECT_EQ(booleans, (std::vector<std::string>{"depth_write", "multisample"}));
+    EXPECT_EQ(ranges, (std::vector<std::string>{"line_width", "point_size"}));
+    // The values 4x scenes use.
+    EXPECT_TRUE(loads("line_width", 0.5));
+    EXPECT_TRUE(loads("point_size", 0.7));
 }
 
 TEST(SceneSchema, PrimitivesMatchTheLoader) {

@@ -69,4 +69,74 @@ TEST(Cli, OutputExtensionMustMatchTarget) {
     EXPECT_NE(r.err.find(".exr"), std::string::npos);
 }
 
+TEST(Cli, SamplesOutputNeedsAMultisampledTarget) {
+    testutil::TempDir dir;
+    const auto scene = dir.write("s.json", R"({"format": "refraster-scene/1",
+      "target": {"width": 3, "height": 2}, "draws": []})");
+    const auto out = dir.path() / "o.png";
+    const auto r = testutil::run_cli({"render", scene.string(), "-o", out.string(),
+                                      "--samples-output", (dir.path() / "o").string()});
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_EQ(testutil::count_lines(r.err), 1u) << r.err;
+    EXPECT_EQ(r.err, scene.string() +
+                         ": --samples-output needs a multisampled target; target.samples is 1\n");
+    EXPECT_FALSE(std::filesystem::exists(out));
+    EXPECT_FALSE(std::filesystem::exists(dir.path() / "o.s0.png"));
+}
+
+TEST(Cli, SamplesOutputIsAPrefixNotADirectory) {
+    testutil::TempDir dir;
+    const auto scene = dir.write("s.json", R"({"format": "refraster-scene/1",
+      "target": {"width": 3, "height": 2, "samples": 4}, "draws": []})");
+    const auto out = dir.path() / "o.png";
+    const auto r = testutil::run_cli(
+        {"render", scene.string(), "-o", out.string(), "--samples-output", dir.path().string()});
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_EQ(testutil::count_lines(r.err), 1u) << r.err;
+    EXPECT_NE(r.err.find("takes a file name prefix (PREFIX.s0.png ...), not a directory"),
+              std::string::npos)
+        << r.err;
+    EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+// A 4x scene through the reference: either the reference refuses 4x (NotSupported, nothing
+// written), or it writes the resolve and the four samples, whose resolve is the image.
+TEST(Cli, SamplesOutputWritesEverySampleOrNothing) {
+    testutil::TempDir dir;
+    const auto scene = dir.write("s.json", R"({"format": "refraster-scene/1",
+      "target": {"width": 4, "height": 4, "samples": 4}, "clear": {"color": [0, 0, 1, 1]},
+      "draws": [{"primitive": "triangles", "vertices": [{"position": [0, 0]},
+        {"position": [4, 0]}, {"position": [0, 4]}], "state": {"multisample": true}}]})");
+    const auto out = dir.path() / "o.png";
+    const auto prefix = dir.path() / "o";
+    const auto r = testutil::run_cli(
+        {"render", scene.string(), "-o", out.string(), "--samples-output", prefix.string()});
+    const auto paths = harness::sample_image_paths(prefix, 4, refraster::ColorFormat::Rgba8);
+    if (r.exit_code == 4) {
+        EXPECT_NE(r.err.find("NotSupported"), std::string::npos) << r.err;
+        EXPECT_FALSE(std::filesystem::exists(out));
+        for (const auto& p : paths) EXPECT_FALSE(std::filesystem::exists(p)) << p;
+        return;
+    }
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    refraster::Framebuffer ms(4, 4, refraster::ColorFormat::Rgba8, refraster::DepthFormat::None, 4);
+    for (std::uint32_t s = 0; s < 4; ++s) {
+        const auto plane = harness::read_color_image(paths[s]);
+        ASSERT_EQ(plane.width, 4u);
+        for (std::size_t i = 0; i < plane.pixel_count(); ++i) {
+            for (std::size_t k = 0; k < 4; ++k) {
+                ms.color8[(i * 4 + s) * 4 + k] = plane.color8[i * 4 + k];
+            }
+        }
+    }
+    EXPECT_EQ(refraster::resolve_samples(ms).color8, harness::read_color_image(out).color8);
+}
+
+TEST(Cli, HelpNamesTheSampleOutputs) {
+    EXPECT_NE(testutil::run_cli({"render", "--help"}).out.find("--samples-output"),
+              std::string::npos);
+    EXPECT_NE(testutil::run_cli({"compare", "--help"}).out.find("NAME.samples.png"),
+              std::string::npos);
+}
+
 }  // namespace

@@ -68,6 +68,46 @@ std::uint64_t mismatched(const json& r) {
                                     : 0;
 }
 
+// A 4x case's record holds per-sample fields in its comparison; a single-sample one does not.
+bool has_samples(const json& r) {
+    return r.contains("comparison") && r["comparison"].contains("mismatched_samples");
+}
+
+std::uint64_t mismatched_samples(const json& r) {
+    return has_samples(r) ? r["comparison"].value("mismatched_samples", std::uint64_t{0}) : 0;
+}
+
+// "3 at (1, 2) sample 0" for a largest difference that names its pixel (and sample).
+std::string difference_at(const json& m) {
+    std::string t = std::to_string(m.value("amount", std::uint64_t{0})) + " at (" +
+                    std::to_string(m.value("x", 0)) + ", " + std::to_string(m.value("y", 0)) + ")";
+    if (m.contains("sample")) t += " sample " + std::to_string(m.value("sample", 0));
+    return t;
+}
+
+// One line of a 4x case's sample numbers: "5 of 64 samples mismatched (by sample 0: 1, ...)".
+std::string samples_line(const json& r) {
+    const auto& c = r["comparison"];
+    std::string t = std::to_string(mismatched_samples(r)) + " mismatched samples in " +
+                    std::to_string(c.value("pixels_with_mismatched_samples", std::uint64_t{0})) +
+                    " pixels";
+    if (c.contains("per_sample") && c["per_sample"].is_array()) {
+        std::string by;
+        for (const auto& p : c["per_sample"]) {
+            by += (by.empty() ? "" : ", ") + std::to_string(p.value("sample", 0)) + ": " +
+                  std::to_string(p.value("mismatched", std::uint64_t{0}));
+        }
+        t += " (by sample " + by + ")";
+    }
+    if (c.contains("max_sample_color")) {
+        t += "; max sample colour error " + difference_at(c["max_sample_color"]);
+    }
+    if (c.contains("max_sample_depth")) {
+        t += "; max sample depth error " + difference_at(c["max_sample_depth"]);
+    }
+    return t;
+}
+
 std::string area_of(const std::string& name) {
     const auto a = name.find('.');
     if (a == std::string::npos) return name;
@@ -230,6 +270,17 @@ std::string case_page(const json& r, const std::filesystem::path& images) {
     figure(name + ".mask.png",
            "error mask: magenta missing, red extra, orange another primitive, yellow colour only, "
            "blue depth only");
+    // A 4x case's sample mask is 2W x 2H: shown at the size of the others, a sample a quarter
+    // of a pixel.
+    if (std::filesystem::exists(images / (name + ".samples.png"))) {
+        const std::string caption =
+            "sample mask: each pixel's four samples in their places (top: 2 3, bottom: 0 1), "
+            "coloured as the error mask";
+        h << "<figure id=\"sample-mask\"><img class=\"zoomable\" data-scale=\"0.5\" "
+             "src=\"../images/"
+          << esc(name + ".samples.png") << "\" alt=\"" << esc(caption) << "\"><figcaption>"
+          << esc(caption) << "</figcaption></figure>";
+    }
     h << "</div>";
 
     if (r.contains("comparison")) {
@@ -255,10 +306,48 @@ std::string case_page(const json& r, const std::filesystem::path& images) {
         h << "<tr><th>reference time</th><td class=\"num\">"
           << fixed(seconds(r, "reference") * 1000, 3)
           << " ms</td></tr><tr><th>backend time</th><td class=\"num\">"
-          << fixed(seconds(r, "actual") * 1000, 3) << " ms</td></tr></table>";
+          << fixed(seconds(r, "actual") * 1000, 3) << " ms</td></tr>";
+        if (has_samples(r)) {
+            h << "</table><h3>Samples</h3><table id=\"sample-numbers\">";
+            for (const char* k :
+                 {"samples", "mismatched_samples", "pixels_with_mismatched_samples"}) {
+                h << "<tr><th>" << k << "</th><td class=\"num\">" << c.value(k, 0) << "</td></tr>";
+            }
+            if (c.contains("per_sample") && c["per_sample"].is_array()) {
+                h << "<tr><th>by sample</th><td><table id=\"per-sample\"><tr><th>sample</th>";
+                const char* keys[] = {"mismatched",      "missing",    "extra",
+                                      "other_primitive", "color_only", "depth_only"};
+                for (const char* k : keys) h << "<th>" << k << "</th>";
+                h << "</tr>";
+                for (const auto& p : c["per_sample"]) {
+                    h << "<tr><td class=\"num\">" << p.value("sample", 0) << "</td>";
+                    for (const char* k : keys) {
+                        h << "<td class=\"num\">" << p.value(k, 0) << "</td>";
+                    }
+                    h << "</tr>";
+                }
+                h << "</table></td></tr>";
+            }
+            if (c.contains("max_sample_color")) {
+                const auto& m = c["max_sample_color"];
+                h << "<tr><th>max sample colour error</th><td class=\"num\">" << difference_at(m)
+                  << " channel "
+                  << "RGBA"[m.value("channel", 0) & 3] << ": " << esc(m["reference"].dump())
+                  << " vs " << esc(m["actual"].dump()) << "</td></tr>";
+            }
+            if (c.contains("max_sample_depth")) {
+                const auto& m = c["max_sample_depth"];
+                h << "<tr><th>max sample depth error</th><td class=\"num\">" << difference_at(m)
+                  << ": " << m.value("reference", 0) << " vs " << m.value("actual", 0)
+                  << "</td></tr>";
+            }
+            h << "<tr><th>samples classified by</th><td>"
+              << esc(c.value("samples_classified_by", "")) << "</td></tr>";
+        }
+        h << "</table>";
         h << "<h2>Explanation</h2><p id=\"case-explanation\">";
-        if (c.value("mismatched_pixels", 0) == 0) {
-            h << "Every pixel agrees.";
+        if (c.value("mismatched_pixels", 0) == 0 && mismatched_samples(r) == 0) {
+            h << (has_samples(r) ? "Every pixel and every sample agrees." : "Every pixel agrees.");
         } else if (r.contains("explanation")) {
             const auto& e = r["explanation"];
             h << "<b>" << esc(e.value("difference", "")) << ", " << esc(e.value("rule", ""))
@@ -271,6 +360,13 @@ std::string case_page(const json& r, const std::filesystem::path& images) {
             h << "The largest difference is at pixel (" << m.value("x", 0) << ", "
               << m.value("y", 0)
               << "). Trace every decision there with <code id=\"explain-command\">"
+              << esc(explain_command(r, m.value("x", 0), m.value("y", 0))) << "</code>.";
+        } else if (c.contains("max_sample_color") || c.contains("max_sample_depth")) {
+            const auto& m =
+                c.contains("max_sample_color") ? c["max_sample_color"] : c["max_sample_depth"];
+            h << "The resolved pixels agree; the largest sample difference is at pixel ("
+              << m.value("x", 0) << ", " << m.value("y", 0) << "), sample " << m.value("sample", 0)
+              << ". Trace every decision there with <code id=\"explain-command\">"
               << esc(explain_command(r, m.value("x", 0), m.value("y", 0))) << "</code>.";
         }
         h << "</p>";
@@ -290,7 +386,8 @@ std::string case_page(const json& r, const std::filesystem::path& images) {
          "z=document.getElementById('zoom'),v=document.getElementById('zoom-value');"
          "function apply(){var "
          "s=+z.value;v.textContent=s;document.querySelectorAll('img.zoomable').forEach("
-         "function(i){if(i.naturalWidth){i.style.width=(i.naturalWidth*s)+'px';}});}"
+         "function(i){if(i.naturalWidth){i.style.width=(i.naturalWidth*s*(+i.dataset.scale||1))+"
+         "'px';}});}"
          "z.addEventListener('input',apply);document.querySelectorAll('img.zoomable').forEach("
          "function(i){"
          "i.addEventListener('load',apply);});apply();})();</script>";
@@ -325,6 +422,38 @@ void write_reports(const std::filesystem::path& output, std::size_t selected_cas
     }
     write_file(output / "results.csv", csv.str());
     write_file(output / "failures.csv", failures.str());
+
+    // The samples of 4x cases, which deqp-runner's three columns have no room for.
+    std::ostringstream samples;
+    samples << "name,status,mismatched_pixels,mismatched_samples,pixels_with_mismatched_samples,"
+               "sample0,sample1,sample2,sample3,max_sample_color,max_sample_color_x,"
+               "max_sample_color_y,max_sample_color_sample,max_sample_depth,max_sample_depth_x,"
+               "max_sample_depth_y,max_sample_depth_sample\n";
+    for (const auto& r : results) {
+        if (!has_samples(r)) continue;
+        const auto& c = r["comparison"];
+        samples << r.value("case", "") << "," << r.value("status", "") << "," << mismatched(r)
+                << "," << mismatched_samples(r) << ","
+                << c.value("pixels_with_mismatched_samples", std::uint64_t{0});
+        for (std::size_t k = 0; k < 4; ++k) {
+            samples << ",";
+            if (c.contains("per_sample") && c["per_sample"].is_array() &&
+                k < c["per_sample"].size()) {
+                samples << c["per_sample"][k].value("mismatched", std::uint64_t{0});
+            }
+        }
+        for (const char* key : {"max_sample_color", "max_sample_depth"}) {
+            if (c.contains(key)) {
+                const auto& m = c[key];
+                samples << "," << m.value("amount", std::uint64_t{0}) << "," << m.value("x", 0)
+                        << "," << m.value("y", 0) << "," << m.value("sample", 0);
+            } else {
+                samples << ",,,,";
+            }
+        }
+        samples << "\n";
+    }
+    write_file(output / "samples.csv", samples.str());
 
     // Counts, overall and per area.
     std::map<std::string, std::size_t> counts;
@@ -366,6 +495,11 @@ void write_reports(const std::filesystem::path& output, std::size_t selected_cas
         } else if (failed(st)) {
             x << "<failure type=\"" << esc(st) << "\" message=\"" << esc(r.value("message", st))
               << "\"/>";
+        }
+        if (has_samples(r)) {
+            x << "<system-out>"
+              << esc(std::to_string(mismatched(r)) + " mismatched pixels; " + samples_line(r))
+              << "</system-out>";
         }
         x << "</testcase>\n";
     }
@@ -419,7 +553,7 @@ void write_reports(const std::filesystem::path& output, std::size_t selected_cas
     }
     h << "</table><h2>Error against run time</h2>" << chart(results);
     h << "<h2>Cases</h2><table id=\"cases\"><tr><th>case</th><th>status</th><th>mismatched "
-         "px</th><th>max colour "
+         "px</th><th>mismatched samples</th><th>max colour "
          "error</th><th>reference ms</th><th>backend ms</th></tr>";
     for (const auto& r : results) {
         const std::string name = r.value("case", "");
@@ -430,9 +564,11 @@ void write_reports(const std::filesystem::path& output, std::size_t selected_cas
         }
         h << "<tr><td><a href=\"cases/" << esc(name) << ".html\">" << esc(name)
           << "</a></td><td class=\"st\" style=\"color:" << status_color(st) << "\">" << esc(st)
-          << "</td><td class=\"num\">" << mismatched(r) << "</td><td class=\"num\">" << maxc
-          << "</td><td class=\"num\">" << fixed(seconds(r, "reference") * 1000, 3)
-          << "</td><td class=\"num\">" << fixed(seconds(r, "actual") * 1000, 3) << "</td></tr>";
+          << "</td><td class=\"num\">" << mismatched(r) << "</td><td class=\"num\">"
+          << (has_samples(r) ? std::to_string(mismatched_samples(r)) : std::string())
+          << "</td><td class=\"num\">" << maxc << "</td><td class=\"num\">"
+          << fixed(seconds(r, "reference") * 1000, 3) << "</td><td class=\"num\">"
+          << fixed(seconds(r, "actual") * 1000, 3) << "</td></tr>";
         write_file(output / "cases" / (name + ".html"), case_page(r, output / "images"));
     }
     h << "</table></body></html>\n";

@@ -243,10 +243,9 @@ harness::CaseResult run_one(const CaseFile& c, harness::Backend& reference,
         // A failure is explained at its pixel of largest difference (explain.hpp).
         if (r.status == harness::CaseStatus::Fail && r.comparison &&
             reference.kind() == harness::BackendKind::Ref) {
-            const auto& cmp = *r.comparison;
-            if (cmp.max_color || cmp.max_depth) {
-                const int x = static_cast<int>(cmp.max_color ? cmp.max_color->x : cmp.max_depth->x);
-                const int y = static_cast<int>(cmp.max_color ? cmp.max_color->y : cmp.max_depth->y);
+            if (const auto at = harness::pixel_of_largest_difference(r)) {
+                const int x = (*at)[0];
+                const int y = (*at)[1];
                 try {
                     const auto e = harness::explain_pixel(scene, profile, x, y, &actual);
                     r.explained_pixel = std::array<int, 2>{x, y};
@@ -275,6 +274,11 @@ void write_images(const harness::CaseResult& r, const std::filesystem::path& dir
     save(r.actual, r.actual_name);
     if (r.comparison && r.comparison->mismatched_pixels > 0 && !r.comparison->size_mismatch) {
         harness::write_color_image(r.comparison->mask, dir / (r.name + ".mask.png"));
+    }
+    // A 4x target's sample mask: each pixel a 2x2 block of its samples' classes.
+    if (r.sample_comparison && r.sample_comparison->mismatched_samples > 0 &&
+        !r.sample_comparison->size_mismatch) {
+        harness::write_color_image(r.sample_comparison->mask, dir / (r.name + ".samples.png"));
     }
 }
 

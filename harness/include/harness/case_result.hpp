@@ -45,7 +45,11 @@ struct CaseResult {
     std::string actual_name;
     std::optional<RenderResult> reference;
     std::optional<RenderResult> actual;
+    // The resolved images (for a 4x target colour only, compare_resolved) and, for a 4x
+    // target, every sample (compare_samples). The case passes only when both are within the
+    // scene's expect.
     std::optional<Comparison> comparison;
+    std::optional<SampleComparison> sample_comparison;
     // For a failure: the pixel of largest difference and the rule that explains it.
     std::optional<std::array<int, 2>> explained_pixel;
     std::string explanation;
@@ -53,7 +57,9 @@ struct CaseResult {
     std::string explanation_rule;
 };
 
-// Renders `scene` through both backends and compares actual against reference.
+// Renders `scene` through both backends and compares actual against reference: the image, and
+// for a 4x target also every sample (a side that returns no samples for a 4x target is an
+// InternalError).
 CaseResult run_case(const Scene& scene, const std::string& case_name, Backend& reference,
                     Backend& actual);
 
@@ -61,7 +67,16 @@ CaseResult run_case(const Scene& scene, const std::string& case_name, Backend& r
 CaseResult case_error(const std::string& case_name, const std::string& scene_path,
                       const std::string& message);
 
-// One JSON object, on one line, without a trailing newline.
+// The pixel a failure is explained at: the resolved image's largest colour difference, else
+// the samples' largest colour difference, else the largest depth difference (the image's, or
+// for a 4x target the samples'). nullopt when nothing differs.
+std::optional<std::array<int, 2>> pixel_of_largest_difference(const CaseResult& r);
+
+// One JSON object, on one line, without a trailing newline. For a 4x target the comparison
+// also holds samples, mismatched_samples, pixels_with_mismatched_samples, per_sample (one
+// object a sample: sample, mismatched, missing, extra, other_primitive, color_only,
+// depth_only), samples_classified_by, and max_sample_color / max_sample_depth (with x, y and
+// sample); single-sample records hold none of these.
 std::string to_json_line(const CaseResult& r);
 
 }  // namespace harness

@@ -10,6 +10,8 @@
 
 #include <filesystem>
 #include <stdexcept>
+#include <utility>
+#include <vector>
 
 #include "refraster/framebuffer.hpp"
 
@@ -24,6 +26,16 @@ class ImageIoError : public std::runtime_error {
 std::string_view image_extension(refraster::ColorFormat f);
 
 void write_color_image(const refraster::Framebuffer& fb, const std::filesystem::path& path);
+
+// Writes every image or none: each is written to a hidden partial file beside its destination,
+// and they are moved into place only once all are written. Every extension is checked first.
+using ImageToWrite = std::pair<const refraster::Framebuffer*, std::filesystem::path>;
+void write_color_images(const std::vector<ImageToWrite>& images);
+
+// The files one image a sample goes to: PREFIX.s0.png .. PREFIX.s3.png (.exr for rgba32f).
+std::vector<std::filesystem::path> sample_image_paths(const std::filesystem::path& prefix,
+                                                      std::uint32_t samples,
+                                                      refraster::ColorFormat format);
 
 // Reads a PNG (as rgba8) or an EXR (as rgba32f). Depth is not stored in image files.
 refraster::Framebuffer read_color_image(const std::filesystem::path& path);
