@@ -241,20 +241,63 @@ std::optional<LineSetup> setup_rect_line(const StageVertex& sv1, const StageVert
         const std::size_t j = (i + 1) % 4;
         L.edges[i] = edge(L.x[i], L.y[i], L.x[j], L.y[j], p.tie_rule);
     }
-    // Every pixel holding a sample inside the rectangle: from the one containing the
-    // smallest corner to the one containing the largest, less a subpixel.
     const auto [xmin, xmax] = std::minmax_element(L.x.begin(), L.x.end());
     const auto [ymin, ymax] = std::minmax_element(L.y.begin(), L.y.end());
-    L.bbox =
-        intersect({*xmin >> p.bits, *ymin >> p.bits, (*xmax - 1) >> p.bits, (*ymax - 1) >> p.bits},
-                  p.draw_region);
-    if (L.bbox.empty()) return std::nullopt;
-    // The box llvmpipe bins (try_setup_line: rounded up, x0 and y0 clamped to 0).
-    L.scissor_leak = multisample_scissor_leak(
-        {std::max(ceil_shift(*xmin, p.bits), 0), std::max(ceil_shift(*ymin, p.bits), 0),
-         ceil_shift(*xmax, p.bits) - 1, ceil_shift(*ymax, p.bits) - 1},
-        p, L.bbox);
+    if (!multisample_line_box(*xmin, *xmax, *ymin, *ymax, p, L)) return std::nullopt;
     return L;
+}
+
+namespace {
+
+// What lp_setup_bin_triangle rasterizes of a multisampled primitive binned with box `b` (x0,
+// y0 >= 0): the 64x64 tile of the box when it crosses no tile boundary (the multisample
+// "contained" commands take the whole tile, measured), otherwise the tiles of the box
+// trimmed to the draw region.
+PixelRect binned_area(const PixelRect& b, const PixelRect& region) {
+    constexpr int kTile = 1 << lp::kTileOrder;
+    if (((b.x0 ^ b.x1) | (b.y0 ^ b.y1)) < kTile) {
+        const int tx = b.x0 & ~(kTile - 1);
+        const int ty = b.y0 & ~(kTile - 1);
+        return {tx, ty, tx + kTile - 1, ty + kTile - 1};
+    }
+    const PixelRect t = intersect(b, region);
+    return {t.x0 & ~(kTile - 1), t.y0 & ~(kTile - 1), (t.x1 & ~(kTile - 1)) + kTile - 1,
+            (t.y1 & ~(kTile - 1)) + kTile - 1};
+}
+
+}  // namespace
+
+// try_setup_line's box, rounded up at both ends ((v + 255) >> 8, the high end less one),
+// decides which scissor planes the line gets and what the binner rasterizes
+// (binned_area); the rectangle's samples may reach one pixel below the box's low ends, and
+// there only the planes and the binned area limit them. A left (bottom) scissor plane, when
+// the box crosses that side, keeps samples 1 and 3 (2 and 3) of the column (row) just outside
+// (lp_setup_add_scissor_planes, +127 under multisampling); where the box does not cross it
+// there is no plane, and the column just outside keeps every sample the rectangle covers.
+// Right and top planes cut at the pixel. Measured: docs/precision.md, "Multisampling (4x)".
+bool multisample_line_box(std::int32_t xmin, std::int32_t xmax, std::int32_t ymin,
+                          std::int32_t ymax, const SetupParams& p, LineSetup& L) {
+    const PixelRect& r = p.draw_region;
+    const PixelRect box{ceil_shift(xmin, p.bits), ceil_shift(ymin, p.bits),
+                        ceil_shift(xmax, p.bits) - 1, ceil_shift(ymax, p.bits) - 1};
+    if (intersect(box, r).empty()) return false;
+    const PixelRect pos{std::max(box.x0, 0), std::max(box.y0, 0), box.x1, box.y1};
+    const bool left = pos.x0 < r.x0;
+    const bool bottom = pos.y0 < r.y0;
+    const PixelRect area = binned_area(pos, r);
+    // Pixels holding a sample the rectangle may cover, within what is rasterized, the
+    // framebuffer and the scissor planes.
+    PixelRect b{std::max({xmin >> p.bits, area.x0, p.framebuffer.x0, r.x0 - 1}),
+                std::max({ymin >> p.bits, area.y0, p.framebuffer.y0, r.y0 - 1}),
+                std::min({(xmax - 1) >> p.bits, area.x1, r.x1}),
+                std::min({(ymax - 1) >> p.bits, area.y1, r.y1})};
+    if (b.empty()) return false;
+    std::uint8_t leak = 0;
+    if (b.x0 == r.x0 - 1 && left) leak |= kLeakLeft;
+    if (b.y0 == r.y0 - 1 && bottom) leak |= kLeakBottom;
+    L.bbox = b;
+    L.scissor_leak = leak;
+    return true;
 }
 
 void line_planes(const StageVertex& v1, const StageVertex& v2, const VertexStage& stage,

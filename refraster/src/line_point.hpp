@@ -54,6 +54,11 @@ std::optional<LineSetup> setup_line(const StageVertex& v1, const StageVertex& v2
 std::optional<LineSetup> setup_rect_line(const StageVertex& v1, const StageVertex& v2, float width,
                                          const SetupParams& p);
 
+// The box a multisampled line is traversed in, and its scissor leak (line_point.cpp); false
+// when nothing of it is rasterized.
+bool multisample_line_box(std::int32_t xmin, std::int32_t xmax, std::int32_t ymin,
+                          std::int32_t ymax, const SetupParams& p, LineSetup& L);
+
 // The line's planes into `list` for `prim` (one per attribute float, or constants when flat).
 void line_planes(const StageVertex& v1, const StageVertex& v2, const VertexStage& stage,
                  const Draw& draw, bool provoking_first, FragmentOptions options, SetupList& list,

@@ -16,12 +16,16 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "harness/backend.hpp"
+#include "harness/files.hpp"
+#include "harness/reduce.hpp"
 #include "harness/scene.hpp"
 #include "random_scenes.hpp"
 #include "refraster/framebuffer.hpp"
@@ -297,8 +301,38 @@ harness::Scene msaa_scene(const std::vector<Cell>& cells, refraster::DepthFormat
     s.file.clear.depth = clear_depth;
     s.draw_list.target = s.file.target;
     s.draw_list.clear = s.file.clear;
-    for (const auto& c : cells) s.draw_list.draws.push_back(c.draw);
+    for (const auto& c : cells) {
+        s.draw_list.draws.push_back(c.draw);
+        // The same draw as a scene file writes it (clip space), for REFRASTER_TEST_DUMP_DIR.
+        harness::SceneDraw sd;
+        sd.primitive = c.draw.primitive;
+        sd.space = harness::VertexSpace::Clip;
+        sd.state = c.draw.state;
+        sd.indices = c.draw.indices;
+        for (std::size_t i = 0; i < c.draw.vertices.size(); ++i) {
+            const auto v = c.draw.vertices.vertex(i);
+            harness::SceneVertex sv;
+            sv.position = {v[0], v[1], v[2], v[3]};
+            sv.position_size = 4;
+            sv.color = {v[4], v[5], v[6], v[7]};
+            sd.vertices.push_back(sv);
+        }
+        s.file.draws.push_back(sd);
+    }
     return s;
+}
+
+// With REFRASTER_TEST_DUMP_DIR set, a batch with differences is written there as a scene file
+// (msaa_SEED_BATCH.json), to be explained with `refraster explain --sample`.
+void dump_batch(const harness::Scene& scene, std::uint64_t seed, int batch) {
+    const char* dir = std::getenv("REFRASTER_TEST_DUMP_DIR");
+    if (dir == nullptr || *dir == '\0') return;
+    harness::SceneFile f = scene.file;
+    f.name = "random.msaa_" + std::to_string(seed) + "_" + std::to_string(batch);
+    const auto path = std::filesystem::path(dir) / "random" /
+                      ("msaa_" + std::to_string(seed) + "_" + std::to_string(batch) + ".json");
+    std::filesystem::create_directories(path.parent_path());
+    harness::write_file_atomically(path, harness::scene_to_json(f));
 }
 
 std::string describe(const refraster::Draw& d) {
@@ -487,9 +521,12 @@ RunResult run(std::uint64_t seed, int triangles, int lines, int points, Counts& 
             }
             out.partial_pixels += partial;
         }
+        bool dumped = false;
         for (std::size_t i = 0; i < cells.size(); ++i) {
             const auto d = cell_diff(a, b, i);
             if (d.samples == 0 && d.pixels == 0) continue;
+            if (!dumped && report) dump_batch(scene, seed, batch);
+            dumped = true;
             out.differing_samples += d.samples;
             if (++out.bad_cells <= 5 && report) {
                 ADD_FAILURE() << "seed " << seed << " batch " << batch << " cell " << i << " ("

@@ -55,8 +55,8 @@ struct Framebuffer {
 // The single-sample image glBlitFramebuffer makes of `ms` (samples 1 or 4): colour averaged
 // as Mesa 22.3's resolve shader does (u_simple_shaders.c: util_make_fs_msaa_resolve: each
 // sample fetched as float, summed in sample order starting from +0, times 0.25, then stored
-// in the target's format); depth is sample 0's (the resolved image's depth is informative only: every
-// sample's depth is compared on its own). Owners, when present, are sample 0's too.
+// in the target's format); depth is sample 0's (the resolved image's depth is informative only:
+// every sample's depth is compared on its own). Owners, when present, are sample 0's too.
 Framebuffer resolve_samples(const Framebuffer& ms);
 
 // Sample `s` of every pixel of `ms`, as a single-sample framebuffer (owners included).
