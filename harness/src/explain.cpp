@@ -866,8 +866,16 @@ std::string explanation_svg(const Explanation& e, int radius) {
             s << "<rect x=\"" << sx(x) << "\" y=\"" << sy(y + 1) << "\" width=\"" << S
               << "\" height=\"" << S << "\" fill=\"" << fill
               << "\" stroke=\"#888\" stroke-width=\"1\"/>\n";
-            s << "<circle cx=\"" << sx(x + 0.5) << "\" cy=\"" << sy(y + 0.5)
-              << "\" r=\"2.5\" fill=\"#888\"/>\n";
+            if (e.reference_samples.empty()) {
+                s << "<circle cx=\"" << sx(x + 0.5) << "\" cy=\"" << sy(y + 0.5)
+                  << "\" r=\"2.5\" fill=\"#888\"/>\n";
+            } else {
+                // A 4x target: its four sample positions.
+                for (const auto& o : kSampleOffsets) {
+                    s << "<circle cx=\"" << sx(x + o[0]) << "\" cy=\"" << sy(y + o[1])
+                      << "\" r=\"2\" fill=\"#888\"/>\n";
+                }
+            }
         }
     }
     // The traced pixel.
@@ -881,17 +889,30 @@ std::string explanation_svg(const Explanation& e, int radius) {
             const double one = static_cast<double>(1 << st.subpixel_bits);
             s << "<polygon fill=\"none\" stroke=\"" << (p.covered ? "#00c853" : "#2962ff")
               << "\" stroke-width=\"2\" points=\"";
+            // The snapped grid's origin: the pixel centre, or its corner when multisampling.
+            const double origin = p.multisample ? 0.0 : 0.5;
             for (std::size_t i = 0; i < st.x.size(); ++i) {
-                s << sx(st.x[i] / one + 0.5) << "," << sy(st.y[i] / one + 0.5) << " ";
+                s << sx(st.x[i] / one + origin) << "," << sy(st.y[i] / one + origin) << " ";
             }
             s << "\"><title>" << where(p) << " (" << st.outcome << ")</title></polygon>\n";
             for (const auto& ed : st.edges) tie = tie || ed.tie;
         }
     }
+    // The traced point: the pixel centre, or the traced sample of a 4x target.
+    double tx = cx + 0.5;
+    double ty = cy + 0.5;
+    if (!e.reference_samples.empty()) {
+        const auto& o = kSampleOffsets[static_cast<std::size_t>(e.trace.sample)];
+        tx = cx + o[0];
+        ty = cy + o[1];
+        s << "<circle cx=\"" << sx(tx) << "\" cy=\"" << sy(ty)
+          << "\" r=\"4\" fill=\"#ff00ff\"><title>sample " << e.trace.sample
+          << "</title></circle>\n";
+    }
     if (tie) {
-        s << "<circle cx=\"" << sx(cx + 0.5) << "\" cy=\"" << sy(cy + 0.5)
+        s << "<circle cx=\"" << sx(tx) << "\" cy=\"" << sy(ty)
           << "\" r=\"9\" fill=\"none\" stroke=\"#ff6d00\" "
-             "stroke-width=\"3\"><title>tie: the centre lies exactly on an edge</title></circle>\n";
+             "stroke-width=\"3\"><title>tie: the point lies exactly on an edge</title></circle>\n";
     }
     std::string verdict = e.verdict;
     for (auto& c : verdict) {
