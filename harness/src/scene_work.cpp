@@ -33,6 +33,12 @@ class DrawEstimate {
             region_.x1 = std::min(region_.x1, static_cast<double>(s.x) + s.width);
             region_.y1 = std::min(region_.y1, static_cast<double>(s.y) + s.height);
         }
+        if (t.samples > 1) {
+            // Under multisampling the scissor lets a column and a row outside it through
+            // (docs/precision.md, "Multisampling (4x)").
+            region_.x0 = std::max(0.0, region_.x0 - 1.0);
+            region_.y0 = std::max(0.0, region_.y0 - 1.0);
+        }
         region_area_ = area(region_);
     }
 
@@ -145,7 +151,8 @@ SceneWork estimate_work(const refraster::Draw& d, const refraster::Target& t) {
             for (std::size_t i = 1; i + 1 < n; ++i) f += e.triangle(el(0), el(i), el(i + 1));
             break;
     }
-    w.fragments = f;
+    // Every sample of a 4x pixel is tested, and shaded through depth and blending.
+    w.fragments = f * std::max<std::uint32_t>(t.samples, 1);
     return w;
 }
 

@@ -622,6 +622,11 @@ TEST(SceneWork, EstimatesBoundingBoxesClippedToTheRegion) {
     EXPECT_EQ(work(big, tri(v0)).primitives, 1u);
     EXPECT_EQ(work(big, tri(v0, R"(, "state": {"scissor": [0, 0, 4, 3]})")).fragments, 12u);
     EXPECT_EQ(work(big, tri(v0, R"(, "state": {"scissor": [0, 0, 0, 3]})")).fragments, 0u);
+    // 4x: every sample counts, and the scissor's region reaches a pixel further left and down
+    // (its multisample leak): scissor [2, 2, 4, 3] becomes [1, 1] to [5, 4], 5 x 4 pixels.
+    const std::string big4 = R"({"width": 1024, "height": 1024, "samples": 4})";
+    EXPECT_EQ(work(big4, tri(v0)).fragments, 4u * 49u);
+    EXPECT_EQ(work(big4, tri(v0, R"(, "state": {"scissor": [2, 2, 4, 3]})")).fragments, 4u * 20u);
     // Polygon mode point: three corners of 4 x 4 (a pixel and a margin each side), two of them
     // cut by the target's edge: 16 + 12 + 12.
     EXPECT_EQ(work(big, tri(v0, R"(, "state": {"polygon_mode": "point"})")).fragments, 40u);
