@@ -39,7 +39,12 @@ class LlvmpipeModel {
             emit_tile_quads(rows, tx, ty, emit);
         };
         if (list.multisample) {
-            if (p.edge_count == 3) {
+            if (p.walk >= 0) {
+                lp::walk_binned(list.walks[static_cast<std::size_t>(p.walk)],
+                                [&](const lp::Walk& w) {
+                                    emit_tile_quads_4x(w.rows, w.tile_x, w.tile_y, emit);
+                                });
+            } else if (p.edge_count == 3) {
                 convex_quads_4x<3>(p, emit);
             } else {
                 convex_quads_4x<4>(p, emit);

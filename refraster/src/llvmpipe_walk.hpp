@@ -25,9 +25,13 @@
 // beyond the guard band"), and one-tile triangles with far edges ("One-tile triangles with
 // far edges").
 //
+// Multisampling (Triangle::samples 4): the same tile and block tests on the pixels, then
+// do_block_4's MULTISAMPLE branch: for each sample, c plus (sy * dcdy - sx * dcdx) >> 8 in 64
+// bits, then the same int32 mask; the draw-region planes get +127 (lp_setup_add_scissor_planes).
+//
 // Deliberately does not: the 32-bit rasterizer (boxes of at most MAX_FIXED_LENGTH32 = 128
-// pixels, where nothing wraps; setup.cpp refuses such a triangle here), multisampling, or
-// any subpixel precision but llvmpipe's 8 bits.
+// pixels, where nothing wraps; setup.cpp refuses such a triangle here), or any subpixel
+// precision but llvmpipe's 8 bits.
 #pragma once
 
 #include <algorithm>
@@ -94,7 +98,12 @@ struct Triangle {
     PixelRect box;          // do_triangle_ccw's box, x0 and y0 clamped to 0, x1 and y1 not
     PixelRect draw_region;  // lp_setup.c draw_regions: framebuffer and scissor
     PixelRect framebuffer;  // pixels outside it are never stored
+    int samples = 1;        // 4: the multisample rasterizer
 };
+
+// lp_rast.c, lp_sample_pos_4x in FIXED_ORDER units: x, y of each sample (samples.hpp).
+inline constexpr std::array<std::array<std::int32_t, 2>, 4> kFixedSamplePos4x{
+    {{96, 32}, {224, 96}, {32, 160}, {160, 224}}};
 
 // do_triangle_ccw, SSE branch: the plane of the edge from vertex i to vertex i+1.
 inline Plane edge_plane(std::int32_t xi, std::int32_t yi, std::int32_t xj, std::int32_t yj,
@@ -114,21 +123,25 @@ inline Plane edge_plane(std::int32_t xi, std::int32_t yi, std::int32_t xj, std::
     return p;
 }
 
-// lp_setup_add_scissor_planes (single-sample), for the sides scissor_planes_needed picks.
+// lp_setup_add_scissor_planes, for the sides scissor_planes_needed picks; multisampling adds
+// 127 to every constant (the left and bottom planes then sit half a pixel outside).
 inline void add_region_planes(Triangle& t) {
     const PixelRect& b = t.box;
     const PixelRect& s = t.draw_region;
+    const std::int64_t adj = t.samples > 1 ? 127 : 0;
     const auto push = [&](std::int32_t dcdx, std::int32_t dcdy, std::int64_t c, std::uint32_t eo) {
         t.planes[static_cast<std::size_t>(t.count++)] = {c, dcdx, dcdy, eo};
     };
     if (b.x0 < s.x0)
-        push(shl32(-1, kFixedOrder), 0, -std::int64_t{shl32(s.x0 - 1, kFixedOrder)},
+        push(shl32(-1, kFixedOrder), 0, -(std::int64_t{shl32(s.x0 - 1, kFixedOrder)} + adj),
              1u << kFixedOrder);
-    if (b.x1 > s.x1) push(1 << kFixedOrder, 0, std::int64_t{shl32(s.x1, kFixedOrder)} + 127, 0);
+    if (b.x1 > s.x1)
+        push(1 << kFixedOrder, 0, std::int64_t{shl32(s.x1, kFixedOrder)} + 127 + adj, 0);
     if (b.y0 < s.y0)
-        push(0, 1 << kFixedOrder, -std::int64_t{shl32(s.y0 - 1, kFixedOrder)}, 1u << kFixedOrder);
+        push(0, 1 << kFixedOrder, -(std::int64_t{shl32(s.y0 - 1, kFixedOrder)} + adj),
+             1u << kFixedOrder);
     if (b.y1 > s.y1)
-        push(0, shl32(-1, kFixedOrder), std::int64_t{shl32(s.y1, kFixedOrder)} + 127, 0);
+        push(0, shl32(-1, kFixedOrder), std::int64_t{shl32(s.y1, kFixedOrder)} + 127 + adj, 0);
 }
 
 // build_mask_linear: bit j * 4 + i is the sign of c + i * dcdx + j * dcdy in int32.
@@ -146,33 +159,44 @@ inline unsigned mask_linear(std::int32_t c, std::int32_t dcdx, std::int32_t dcdy
     return mask;
 }
 
-// The planes a walk tests, and the covered pixels as 64-bit rows of one tile.
+// The planes a walk tests, and the covered pixels (of each sample) as 64-bit rows of one tile.
 struct Walk {
     std::array<Plane, kMaxPlanes> planes{};
     int count = 0;
     int tile_x = 0;
     int tile_y = 0;
-    std::uint64_t rows[64] = {};
+    int samples = 1;
+    std::uint64_t rows[4][64] = {};
 
     void fill(int x, int y, int n) {
-        for (int yy = y; yy < y + n; ++yy) {
-            for (int xx = x; xx < x + n; ++xx)
-                rows[yy - tile_y] |= std::uint64_t{1} << (xx - tile_x);
+        for (int s = 0; s < samples; ++s) {
+            for (int yy = y; yy < y + n; ++yy) {
+                for (int xx = x; xx < x + n; ++xx)
+                    rows[s][yy - tile_y] |= std::uint64_t{1} << (xx - tile_x);
+            }
         }
     }
 
-    // do_block_4, RASTER_64.
+    // do_block_4, RASTER_64; with samples, its MULTISAMPLE branch.
     void block_4(int x, int y, const std::int64_t* c) {
-        unsigned mask = 0xffff;
-        for (int k = 0; k < count; ++k) {
-            const Plane& p = planes[static_cast<std::size_t>(k)];
-            const auto q = static_cast<std::int32_t>(sub64(c[k], 1) >> kFixedOrder);
-            mask &= ~mask_linear(q, neg32(p.dcdx) >> kFixedOrder, p.dcdy >> kFixedOrder);
-        }
-        for (int j = 0; j < 4; ++j) {
-            for (int i = 0; i < 4; ++i) {
-                if (mask & (1u << (j * 4 + i)))
-                    rows[y + j - tile_y] |= std::uint64_t{1} << (x + i - tile_x);
+        for (int s = 0; s < samples; ++s) {
+            unsigned mask = 0xffff;
+            for (int k = 0; k < count; ++k) {
+                const Plane& p = planes[static_cast<std::size_t>(k)];
+                std::int64_t cs = c[k];
+                if (samples > 1) {
+                    const auto& pos = kFixedSamplePos4x[static_cast<std::size_t>(s)];
+                    cs = add64(cs, add64(mul64(pos[1], p.dcdy), mul64(pos[0], neg32(p.dcdx))) >>
+                                       kFixedOrder);
+                }
+                const auto q = static_cast<std::int32_t>(sub64(cs, 1) >> kFixedOrder);
+                mask &= ~mask_linear(q, neg32(p.dcdx) >> kFixedOrder, p.dcdy >> kFixedOrder);
+            }
+            for (int j = 0; j < 4; ++j) {
+                for (int i = 0; i < 4; ++i) {
+                    if (mask & (1u << (j * 4 + i)))
+                        rows[s][y + j - tile_y] |= std::uint64_t{1} << (x + i - tile_x);
+                }
             }
         }
     }
@@ -275,15 +299,26 @@ inline std::uint32_t floor_pot(std::uint32_t n) {
     return n == 0 ? 0 : std::bit_floor(n);
 }
 
-// lp_setup_bin_triangle with the tile walks it bins; calls on_tile(rows, tile_x, tile_y) with
-// each tile's covered pixels inside the framebuffer (bit x - tile_x of rows[y - tile_y]), tile
-// by tile in llvmpipe's binning order.
-template <class OnTile>
-void walk_tiles(const Triangle& t, OnTile&& on_tile) {
+// Keeps every sample's rows inside the framebuffer; whether any is left.
+inline bool clip_walk(Walk& w, const PixelRect& fb) {
+    bool any = false;
+    for (int s = 0; s < w.samples; ++s) {
+        any = clip_to_framebuffer(w.rows[static_cast<std::size_t>(s)], w.tile_x, w.tile_y, fb) ||
+              any;
+    }
+    return any;
+}
+
+// lp_setup_bin_triangle with the tile walks it bins; calls on_walk(walk) with each tile's
+// covered pixels inside the framebuffer (bit x - tile_x of rows[s][y - tile_y] for sample s),
+// tile by tile in llvmpipe's binning order.
+template <class OnWalk>
+void walk_binned(const Triangle& t, OnWalk&& on_walk) {
     const PixelRect& b = t.box;
     const auto walk_tile = [&](int tx, int ty, unsigned plane_mask) {
         if (tx > t.framebuffer.x1 || ty > t.framebuffer.y1) return;
         Walk w;
+        w.samples = t.samples;
         for (int k = 0; k < t.count; ++k) {
             if (plane_mask & (1u << k))
                 w.planes[static_cast<std::size_t>(w.count++)] =
@@ -292,8 +327,7 @@ void walk_tiles(const Triangle& t, OnTile&& on_tile) {
         w.tile_x = tx;
         w.tile_y = ty;
         w.tile();
-        if (clip_to_framebuffer(w.rows, tx, ty, t.framebuffer))
-            on_tile(static_cast<const std::uint64_t*>(w.rows), tx, ty);
+        if (clip_walk(w, t.framebuffer)) on_walk(static_cast<const Walk&>(w));
     };
     const unsigned all = (1u << t.count) - 1;
     const std::uint32_t dx = floor_pot(static_cast<std::uint32_t>((b.x0 ^ b.x1) | (b.y0 ^ b.y1)));
@@ -343,17 +377,24 @@ void walk_tiles(const Triangle& t, OnTile&& on_tile) {
             } else {
                 in = true;
                 Walk w;
+                w.samples = t.samples;
                 w.tile_x = x * 64;
                 w.tile_y = y * 64;
                 w.fill(w.tile_x, w.tile_y, 64);
-                if (clip_to_framebuffer(w.rows, w.tile_x, w.tile_y, t.framebuffer)) {
-                    on_tile(static_cast<const std::uint64_t*>(w.rows), w.tile_x, w.tile_y);
-                }
+                if (clip_walk(w, t.framebuffer)) on_walk(static_cast<const Walk&>(w));
             }
             for (int i = 0; i < t.count; ++i) cx[i] = add64(cx[i], xstep[i]);
         }
         for (int i = 0; i < t.count; ++i) c[i] = add64(c[i], ystep[i]);
     }
+}
+
+// The single-sample walk: on_tile(rows, tile_x, tile_y).
+template <class OnTile>
+void walk_tiles(const Triangle& t, OnTile&& on_tile) {
+    walk_binned(t, [&](const Walk& w) {
+        on_tile(static_cast<const std::uint64_t*>(w.rows[0]), w.tile_x, w.tile_y);
+    });
 }
 
 }  // namespace refraster::detail::lp

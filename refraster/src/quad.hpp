@@ -64,6 +64,33 @@ void emit_tile_quads(const std::uint64_t* rows, int tx, int ty, Emit&& emit) {
     if (n != 0) emit(std::span<const QuadPacket>(quads.data(), n));
 }
 
+// Four samples' rows of the tile at (tx, ty) (rows[s][r]: sample s of row ty + r) as quad
+// packets with every sample's bit, handed to emit(span) in one call.
+template <class Emit>
+void emit_tile_quads_4x(const std::uint64_t (&rows)[4][kTileSize], int tx, int ty, Emit&& emit) {
+    std::array<QuadPacket, kQuadsPerTile> quads;
+    std::size_t n = 0;
+    for (int r = 0; r < kTileSize; r += 2) {
+        std::uint64_t m = 0;
+        for (const auto& sr : rows) m |= sr[r] | sr[r + 1];
+        while (m != 0) {
+            const int i = std::countr_zero(m) & ~1;
+            unsigned mask = 0;
+            for (unsigned s = 0; s < kMaxSamples; ++s) {
+                const std::uint64_t lo = rows[s][r] >> i;
+                const std::uint64_t hi = rows[s][r + 1] >> i;
+                for (unsigned p = 0; p < 4; ++p) {
+                    const std::uint64_t row = p < 2 ? lo : hi;
+                    if ((row >> (p & 1u)) & 1u) mask |= 1u << quad_bit(p, s);
+                }
+            }
+            quads[n++] = {tx + i, ty + r, static_cast<std::uint16_t>(mask)};
+            m &= ~(std::uint64_t{3} << i);
+        }
+    }
+    if (n != 0) emit(std::span<const QuadPacket>(quads.data(), n));
+}
+
 // The same rows as runs of covered pixels: visit(y, x_begin, x_end), x_end exclusive.
 template <class Visit>
 void emit_tile_spans(const std::uint64_t* rows, int tx, int ty, Visit&& visit) {

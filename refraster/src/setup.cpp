@@ -132,6 +132,7 @@ void attach_llvmpipe_walk(const SetupParams& p, TriangleSetup& t) {
     w.box = {std::max(raw.x0, 0), std::max(raw.y0, 0), raw.x1, raw.y1};
     w.draw_region = p.draw_region;
     w.framebuffer = p.framebuffer;
+    w.samples = p.multisample ? 4 : 1;
     lp::add_region_planes(w);
     t.llvmpipe_walk = true;
 }
@@ -183,7 +184,8 @@ SetupOutcome setup_beyond_budget(const SetupParams& p, TriangleSetup& t) {
     t.bbox = intersect(raw, p.draw_region);
     if (t.bbox.empty()) return SetupOutcome::Outside;
     // Wrapped positions always span more than 128 pixels; anything else is not modelled.
-    if (uses_32bit_rasterizer(raw)) return SetupOutcome::OutOfRange;
+    // The multisample commands are 64-bit whatever the box (lp_rast_ms_tri_tab).
+    if (!p.multisample && uses_32bit_rasterizer(raw)) return SetupOutcome::OutOfRange;
     attach_llvmpipe_walk(p, t);
     return SetupOutcome::Ok;
 }
@@ -200,10 +202,8 @@ SetupOutcome setup_triangle(const std::array<std::array<float, 2>, 3>& w, const 
     }
     t.order = {0, 1, 2};
     // llvmpipe's arithmetic is reproduced for its own precision and rounding only.
-    // Not under multisampling, whose 64-bit rasterizer is not modelled beyond the budget:
-    // there a triangle with a position outside it draws nothing (docs/precision.md).
-    const bool llvmpipe_widths = p.wrapping && !p.multisample && p.bits == lp::kFixedOrder &&
-                                 p.rounding == SnapRounding::NearestEven;
+    const bool llvmpipe_widths =
+        p.wrapping && p.bits == lp::kFixedOrder && p.rounding == SnapRounding::NearestEven;
     if (beyond) return llvmpipe_widths ? setup_beyond_budget(p, t) : SetupOutcome::OutOfRange;
     t.area = checked_sub(wide_mul(checked_sub(t.x[0], t.x[1]), checked_sub(t.y[2], t.y[0])),
                          wide_mul(checked_sub(t.x[2], t.x[0]), checked_sub(t.y[0], t.y[1])));
@@ -219,7 +219,8 @@ SetupOutcome setup_triangle(const std::array<std::array<float, 2>, 3>& w, const 
     const PixelRect raw = raw_box(p, t);
     t.bbox = intersect(raw, p.draw_region);
     if (t.bbox.empty()) return SetupOutcome::Outside;
-    if (llvmpipe_widths && !uses_32bit_rasterizer(raw) && widths_matter(raw, t))
+    if (llvmpipe_widths && (p.multisample || !uses_32bit_rasterizer(raw)) &&
+        widths_matter(raw, t))
         attach_llvmpipe_walk(p, t);
     t.scissor_leak = multisample_scissor_leak(
         {std::max(raw.x0, 0), std::max(raw.y0, 0), raw.x1, raw.y1}, p, t.bbox);

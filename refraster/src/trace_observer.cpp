@@ -121,7 +121,16 @@ void TraceObserver::covered(bool in, std::size_t list_index) {
 
 void TraceObserver::triangle_drawn(const TriangleSetup& t, std::size_t list_index) {
     bool in = covers(t, 3);
-    if (t.llvmpipe_walk) {
+    if (t.llvmpipe_walk && multisample_) {
+        // llvmpipe's own walk decides instead (llvmpipe_walk.hpp), sample by sample.
+        in = false;
+        lp::walk_binned(t.walk, [&](const lp::Walk& w) {
+            const int r = trace_.y - w.tile_y;
+            const int c = trace_.x - w.tile_x;
+            if (r < 0 || r >= 64 || c < 0 || c >= 64) return;
+            in = in || ((w.rows[trace_.sample][r] >> c) & 1u) != 0;
+        });
+    } else if (t.llvmpipe_walk) {
         // llvmpipe's own walk decides instead (llvmpipe_walk.hpp).
         in = false;
         traverse_triangle(t, [&](int y, int x0, int x1) {
