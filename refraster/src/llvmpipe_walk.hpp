@@ -303,8 +303,8 @@ inline std::uint32_t floor_pot(std::uint32_t n) {
 inline bool clip_walk(Walk& w, const PixelRect& fb) {
     bool any = false;
     for (int s = 0; s < w.samples; ++s) {
-        any = clip_to_framebuffer(w.rows[static_cast<std::size_t>(s)], w.tile_x, w.tile_y, fb) ||
-              any;
+        any =
+            clip_to_framebuffer(w.rows[static_cast<std::size_t>(s)], w.tile_x, w.tile_y, fb) || any;
     }
     return any;
 }

@@ -219,8 +219,7 @@ SetupOutcome setup_triangle(const std::array<std::array<float, 2>, 3>& w, const 
     const PixelRect raw = raw_box(p, t);
     t.bbox = intersect(raw, p.draw_region);
     if (t.bbox.empty()) return SetupOutcome::Outside;
-    if (llvmpipe_widths && (p.multisample || !uses_32bit_rasterizer(raw)) &&
-        widths_matter(raw, t))
+    if (llvmpipe_widths && (p.multisample || !uses_32bit_rasterizer(raw)) && widths_matter(raw, t))
         attach_llvmpipe_walk(p, t);
     t.scissor_leak = multisample_scissor_leak(
         {std::max(raw.x0, 0), std::max(raw.y0, 0), raw.x1, raw.y1}, p, t.bbox);
