@@ -19,6 +19,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <optional>
 #include <stdexcept>
@@ -220,6 +221,38 @@ GLuint compile_shader(GLenum type, const std::string& source) {
     return sh;
 }
 
+// Compiles and links a program; `before_link` binds locations first. Throws GlFailure with
+// the driver's log when either step fails.
+GLuint link_program(const std::string& vs_source, const std::string& fs_source,
+                    const std::function<void(GLuint)>& before_link = {}) {
+    const GLuint v = compile_shader(GL_VERTEX_SHADER, vs_source);
+    GLuint f = 0;
+    try {
+        f = compile_shader(GL_FRAGMENT_SHADER, fs_source);
+    } catch (...) {
+        glDeleteShader(v);
+        throw;
+    }
+    const GLuint p = glCreateProgram();
+    glAttachShader(p, v);
+    glAttachShader(p, f);
+    if (before_link) before_link(p);
+    glLinkProgram(p);
+    glDeleteShader(v);
+    glDeleteShader(f);
+    GLint ok = GL_FALSE;
+    glGetProgramiv(p, GL_LINK_STATUS, &ok);
+    if (ok != GL_TRUE) {
+        std::array<char, 2048> log{};
+        glGetProgramInfoLog(p, static_cast<GLsizei>(log.size()), nullptr, log.data());
+        glDeleteProgram(p);
+        std::string msg(log.data());
+        std::replace(msg.begin(), msg.end(), '\n', ' ');
+        throw GlFailure("program link failed: " + msg);
+    }
+    return p;
+}
+
 // The owner pass needs gl_PrimitiveID in the fragment shader (GLSL 1.50) and an unsigned
 // integer output; everything else is the colour program's.
 constexpr const char* kGlslOwnerVersion = "#version 150 compatibility\n";
@@ -253,34 +286,12 @@ GLuint build_program(refraster::ShadeModel shade, bool owners) {
                   "void main() {\n"
                   "    frag_color = v_color;\n"
                   "}\n";
-    const GLuint v = compile_shader(GL_VERTEX_SHADER, vs);
-    GLuint f = 0;
-    try {
-        f = compile_shader(GL_FRAGMENT_SHADER, fs);
-    } catch (...) {
-        glDeleteShader(v);
-        throw;
-    }
-    const GLuint p = glCreateProgram();
-    glAttachShader(p, v);
-    glAttachShader(p, f);
-    glBindAttribLocation(p, kPositionLocation, "position");
-    glBindAttribLocation(p, kColorLocation, "color");
-    glBindFragDataLocation(p, 0, "frag_color");
-    if (owners) glBindFragDataLocation(p, 1, "frag_owner");
-    glLinkProgram(p);
-    glDeleteShader(v);
-    glDeleteShader(f);
-    GLint ok = GL_FALSE;
-    glGetProgramiv(p, GL_LINK_STATUS, &ok);
-    if (ok != GL_TRUE) {
-        std::array<char, 2048> log{};
-        glGetProgramInfoLog(p, static_cast<GLsizei>(log.size()), nullptr, log.data());
-        glDeleteProgram(p);
-        std::string msg(log.data());
-        std::replace(msg.begin(), msg.end(), '\n', ' ');
-        throw GlFailure("program link failed: " + msg);
-    }
+    const GLuint p = link_program(vs, fs, [owners](GLuint program) {
+        glBindAttribLocation(program, kPositionLocation, "position");
+        glBindAttribLocation(program, kColorLocation, "color");
+        glBindFragDataLocation(program, 0, "frag_color");
+        if (owners) glBindFragDataLocation(program, 1, "frag_owner");
+    });
     check_gl("building the shader program");
     return p;
 }
@@ -371,34 +382,6 @@ constexpr const char* kFullScreenVertexShader =
     "    vec2 p = vec2(float((gl_VertexID & 1) * 4 - 1), float((gl_VertexID & 2) * 2 - 1));\n"
     "    gl_Position = vec4(p, 0.0, 1.0);\n"
     "}\n";
-
-GLuint link_program(const std::string& vs_source, const std::string& fs_source) {
-    const GLuint v = compile_shader(GL_VERTEX_SHADER, vs_source);
-    GLuint f = 0;
-    try {
-        f = compile_shader(GL_FRAGMENT_SHADER, fs_source);
-    } catch (...) {
-        glDeleteShader(v);
-        throw;
-    }
-    const GLuint p = glCreateProgram();
-    glAttachShader(p, v);
-    glAttachShader(p, f);
-    glLinkProgram(p);
-    glDeleteShader(v);
-    glDeleteShader(f);
-    GLint ok = GL_FALSE;
-    glGetProgramiv(p, GL_LINK_STATUS, &ok);
-    if (ok != GL_TRUE) {
-        std::array<char, 2048> log{};
-        glGetProgramInfoLog(p, static_cast<GLsizei>(log.size()), nullptr, log.data());
-        glDeleteProgram(p);
-        std::string msg(log.data());
-        std::replace(msg.begin(), msg.end(), '\n', ' ');
-        throw GlFailure("program link failed: " + msg);
-    }
-    return p;
-}
 
 }  // namespace
 
