@@ -1,7 +1,8 @@
-// explain's verdict on every mismatching pixel of every shipped scene: against softpipe (rules
-// that really differ) and against llvmpipe under deliberately wrong profiles (where the rule
-// that differs is known). Each verdict is checked against what the two renders show, and a
-// named rule is checked by rendering the scene again under the alternative it names.
+// explain's verdict on every mismatching pixel of every shipped scene (of a 4x scene, every
+// mismatching sample, one sample plane at a time): against softpipe (rules that really differ)
+// and against llvmpipe under deliberately wrong profiles (where the rule that differs is known).
+// Each verdict is checked against what the two renders show, and a named rule is checked by
+// rendering the scene again under the alternative it names.
 #include <gtest/gtest.h>
 
 #include <bit>
@@ -79,86 +80,104 @@ void check_every_pixel(harness::Backend& backend, const refraster::Profile& prof
                        const std::string& expected_rule, Tally& tally) {
     for (const auto& file : shipped_scenes()) {
         const harness::Scene scene = harness::load_scene(file);
-        if (scene.draw_list.target.samples != 1) continue;  // the reference refuses multisampling
-        harness::Explainer ex(scene, profile, &backend);
-        const auto& ref = ex.reference_image();
-        const auto& act = ex.backend_render()->image;
-        const auto clear = clear_pixel(scene);
-        const auto cmp =
-            harness::compare_images(ref, act, scene.draw_list.clear, scene.file.expect);
-        if (cmp.mismatched_pixels == 0) continue;
-        std::map<std::string, std::unique_ptr<refraster::Framebuffer>>
-            rerendered;  // by alternative
-        for (std::uint32_t y = 0; y < ref.height; ++y) {
-            for (std::uint32_t x = 0; x < ref.width; ++x) {
-                const std::size_t i = ref.index(x, y);
-                const auto cls = ex.classifier()->at(i).cls;
-                if (cls == harness::PixelClass::Equal) continue;
-                const auto e = ex.explain(static_cast<int>(x), static_cast<int>(y), false);
-                const std::string at = file.filename().string() + " (" + std::to_string(x) + ", " +
-                                       std::to_string(y) + "): " + e.verdict;
-                ++tally.pixels;
-                ++tally.by_verdict[e.difference + "/" + e.rule];
-                ASSERT_FALSE(e.agree) << at;
-                // The class follows from the pixels alone.
-                const bool ref_untouched =
-                    same_color(ref, i, clear, 0) && same_depth(ref, i, clear, 0);
-                const bool act_untouched =
-                    same_color(act, i, clear, 0) && same_depth(act, i, clear, 0);
-                if (ref_untouched != act_untouched) {
-                    EXPECT_EQ(e.difference, "coverage") << at;
-                }
-                if (same_color(ref, i, act, i) && e.difference != "coverage") {
-                    EXPECT_EQ(e.difference, "depth") << at;
-                }
-                if (!same_color(ref, i, act, i) && e.difference != "coverage") {
-                    EXPECT_EQ(e.difference, "colour") << at;
-                }
-                if (e.difference != "coverage") {
-                    EXPECT_EQ(kCoverageOnlyRules.count(e.rule), 0u) << at;
-                }
-                // A named rule is one whose alternative reproduces the backend at this pixel:
-                // render the scene under it and look.
-                const auto named = std::find_if(e.candidates.begin(), e.candidates.end(),
-                                                [&](const auto& c) { return c.first == e.rule; });
-                if (e.rule == "line rule" || e.rule == "point rule") {
-                    EXPECT_TRUE(e.candidates.empty()) << at;
-                } else if (e.rule == "undecided") {
-                    // Either nothing reproduces the backend, or several rules do equally well.
-                    EXPECT_NE(e.candidates.size(), 1u) << at;
-                } else {
-                    ASSERT_NE(named, e.candidates.end()) << at;
-                    auto& fb = rerendered[named->second];
-                    if (!fb) {
-                        refraster::RenderOptions o;
-                        o.profile = profile;
-                        harness::apply_profile_overrides(o.profile, {named->second});
-                        fb = std::make_unique<refraster::Framebuffer>();
-                        ASSERT_EQ(refraster::render(scene.draw_list, o, *fb).status,
-                                  refraster::RenderStatus::Ok);
+        // A 4x scene is explained sample by sample: each sample's plane is an image of its own.
+        const bool multisampled = scene.draw_list.target.samples > 1;
+        for (int sample = multisampled ? 0 : -1; sample < (multisampled ? 4 : 0); ++sample) {
+            std::unique_ptr<harness::Explainer> made;
+            try {
+                made = std::make_unique<harness::Explainer>(scene, profile, &backend, sample);
+            } catch (const std::runtime_error&) {
+                if (multisampled) break;  // a driver without multisampling (softpipe)
+                throw;
+            }
+            harness::Explainer& ex = *made;
+            const auto& ref = ex.reference_image();
+            const auto& act = ex.backend_image();
+            const auto clear = clear_pixel(scene);
+            const auto cmp =
+                harness::compare_images(ref, act, scene.draw_list.clear, scene.file.expect);
+            if (cmp.mismatched_pixels == 0) continue;
+            std::map<std::string, std::unique_ptr<refraster::Framebuffer>>
+                rerendered;  // by alternative
+            for (std::uint32_t y = 0; y < ref.height; ++y) {
+                for (std::uint32_t x = 0; x < ref.width; ++x) {
+                    const std::size_t i = ref.index(x, y);
+                    const auto cls = ex.classifier()->at(i).cls;
+                    if (cls == harness::PixelClass::Equal) continue;
+                    const auto e = ex.explain(static_cast<int>(x), static_cast<int>(y), false);
+                    const std::string at =
+                        file.filename().string() + " (" + std::to_string(x) + ", " +
+                        std::to_string(y) + ")" +
+                        (sample >= 0 ? " sample " + std::to_string(sample) : "") + ": " + e.verdict;
+                    ++tally.pixels;
+                    ++tally.by_verdict[e.difference + "/" + e.rule];
+                    ASSERT_FALSE(e.agree) << at;
+                    // The class follows from the pixels alone.
+                    const bool ref_untouched =
+                        same_color(ref, i, clear, 0) && same_depth(ref, i, clear, 0);
+                    const bool act_untouched =
+                        same_color(act, i, clear, 0) && same_depth(act, i, clear, 0);
+                    if (ref_untouched != act_untouched) {
+                        EXPECT_EQ(e.difference, "coverage") << at;
                     }
-                    const bool coverage_class = cls == harness::PixelClass::Missing ||
-                                                cls == harness::PixelClass::Extra ||
-                                                cls == harness::PixelClass::Coverage;
-                    if (coverage_class) {
-                        EXPECT_EQ(same_color(*fb, i, clear, 0) && same_depth(*fb, i, clear, 0),
-                                  act_untouched)
-                            << at;
+                    if (same_color(ref, i, act, i) && e.difference != "coverage") {
+                        EXPECT_EQ(e.difference, "depth") << at;
+                    }
+                    if (!same_color(ref, i, act, i) && e.difference != "coverage") {
+                        EXPECT_EQ(e.difference, "colour") << at;
+                    }
+                    if (e.difference != "coverage") {
+                        EXPECT_EQ(kCoverageOnlyRules.count(e.rule), 0u) << at;
+                    }
+                    // A named rule is one whose alternative reproduces the backend at this pixel:
+                    // render the scene under it and look.
+                    const auto named =
+                        std::find_if(e.candidates.begin(), e.candidates.end(),
+                                     [&](const auto& c) { return c.first == e.rule; });
+                    if (e.rule == "line rule" || e.rule == "point rule") {
+                        EXPECT_TRUE(e.candidates.empty()) << at;
+                    } else if (e.rule == "undecided") {
+                        // Either nothing reproduces the backend, or several rules do equally well.
+                        EXPECT_NE(e.candidates.size(), 1u) << at;
                     } else {
-                        // A colour or depth difference is reproduced byte for byte.
-                        EXPECT_TRUE(same_color(*fb, i, act, i) && same_depth(*fb, i, act, i)) << at;
+                        ASSERT_NE(named, e.candidates.end()) << at;
+                        auto& fb = rerendered[named->second];
+                        if (!fb) {
+                            refraster::RenderOptions o;
+                            o.profile = profile;
+                            harness::apply_profile_overrides(o.profile, {named->second});
+                            fb = std::make_unique<refraster::Framebuffer>();
+                            ASSERT_EQ(refraster::render(scene.draw_list, o, *fb).status,
+                                      refraster::RenderStatus::Ok);
+                            if (sample >= 0) {
+                                *fb = refraster::sample_plane(*fb,
+                                                              static_cast<std::uint32_t>(sample));
+                            }
+                        }
+                        const bool coverage_class = cls == harness::PixelClass::Missing ||
+                                                    cls == harness::PixelClass::Extra ||
+                                                    cls == harness::PixelClass::Coverage;
+                        if (coverage_class) {
+                            EXPECT_EQ(same_color(*fb, i, clear, 0) && same_depth(*fb, i, clear, 0),
+                                      act_untouched)
+                                << at;
+                        } else {
+                            // A colour or depth difference is reproduced byte for byte.
+                            EXPECT_TRUE(same_color(*fb, i, act, i) && same_depth(*fb, i, act, i))
+                                << at;
+                        }
                     }
-                }
-                if (!expected_rule.empty()) {
-                    const bool listed =
-                        std::any_of(e.candidates.begin(), e.candidates.end(),
-                                    [&](const auto& c) { return c.first == expected_rule; });
-                    EXPECT_TRUE(listed) << at;
-                    if (e.rule != "undecided") {
-                        EXPECT_EQ(e.rule, expected_rule) << at;
+                    if (!expected_rule.empty()) {
+                        const bool listed =
+                            std::any_of(e.candidates.begin(), e.candidates.end(),
+                                        [&](const auto& c) { return c.first == expected_rule; });
+                        EXPECT_TRUE(listed) << at;
+                        if (e.rule != "undecided") {
+                            EXPECT_EQ(e.rule, expected_rule) << at;
+                        }
                     }
+                    if (::testing::Test::HasFailure()) return;
                 }
-                if (::testing::Test::HasFailure()) return;
             }
         }
     }
