@@ -18,6 +18,25 @@ namespace refraster::detail {
 // with many fragment kernels otherwise exceeds the compiler's inlining budget and calls them.
 #define REFRASTER_FLOAT_OP [[gnu::always_inline]] inline
 
+// One fused multiply-add and one round-to-nearest-even in the current rounding mode, as the
+// compiler's builtins, so that a caller compiled for FMA or SSE4.1 (the run-time kernel
+// variants of fragment.cpp) gets the instruction inline and any other caller the library
+// function: the results are the same.
+REFRASTER_FLOAT_OP float fused_multiply_add(float a, float b, float c) {
+#if defined(__GNUC__) || defined(__clang__)
+    return __builtin_fmaf(a, b, c);
+#else
+    return std::fma(a, b, c);
+#endif
+}
+REFRASTER_FLOAT_OP float round_to_nearest_even(float v) {
+#if defined(__GNUC__) || defined(__clang__)
+    return __builtin_nearbyintf(v);
+#else
+    return std::nearbyint(v);
+#endif
+}
+
 // A denormal becomes a zero of the same sign.
 REFRASTER_FLOAT_OP float flush_denormal(float v) {
     return std::fabs(v) < std::numeric_limits<float>::min() ? std::copysign(0.0f, v) : v;
@@ -73,7 +92,7 @@ struct Fp {
         const float x = f(a);
         const float y = f(b);
         const float z = f(c);
-        const float r = std::fma(x, y, z);
+        const float r = fused_multiply_add(x, y, z);
         if (!flush) return r;
         if (std::fabs(r) != std::numeric_limits<float>::min()) return flush_denormal(r);
         // One rounding to 53 bits; it can only mislead within 2^-53 of the threshold itself.

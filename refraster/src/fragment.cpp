@@ -10,6 +10,14 @@
 #include "rules.hpp"
 #include "samples.hpp"
 
+// Kernels also compiled for a wider instruction set, chosen at run time (GCC and clang on
+// x86-64; elsewhere only the baseline kernels exist).
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define REFRASTER_KERNEL_ISA_VARIANTS 1
+#else
+#define REFRASTER_KERNEL_ISA_VARIANTS 0
+#endif
+
 namespace refraster::detail {
 
 std::uint8_t clear_to_unorm8(float c) {
@@ -17,12 +25,6 @@ std::uint8_t clear_to_unorm8(float c) {
     if (c >= 1.0f) return 255;
     const float t = c * (255.0f / 256.0f) + 32768.0f;
     return static_cast<std::uint8_t>(std::bit_cast<std::uint32_t>(t) & 0xffu);
-}
-
-std::uint8_t color_to_unorm8(float c) {
-    if (!(c > 0.0f)) return 0;
-    if (c >= 1.0f) return 255;
-    return static_cast<std::uint8_t>(std::nearbyint(c * 255.0f));
 }
 
 namespace {
@@ -47,18 +49,8 @@ Plane calc_coef(const Fp& fp, const SetupTerms& s, float a0, float a1, float a2)
 // minps/maxps instructions: each returns its second operand unless the first compares less
 // (greater). A NaN depth therefore becomes 1 (the far value, in every depth format), -0 becomes
 // +0, and infinities clamp to the ends.
-inline float x86_min(float a, float b) {
-    return a < b ? a : b;
-}
-inline float x86_max(float a, float b) {
-    return a > b ? a : b;
-}
 
 }  // namespace
-
-float clamp_depth(float z) {
-    return x86_max(x86_min(z, 1.0f), 0.0f);
-}
 
 namespace {
 
@@ -75,7 +67,7 @@ static_assert(
 // explicit); neither less nor equal counts as greater, as GREATER, NOTEQUAL and GEQUAL are
 // decided (!lt && !eq, !eq, !lt).
 template <bool kFloat>
-unsigned depth_outcome(std::uint32_t frag, std::uint32_t stored) {
+[[gnu::always_inline]] inline unsigned depth_outcome(std::uint32_t frag, std::uint32_t stored) {
     if constexpr (kFloat) {
         const float f = std::bit_cast<float>(frag);
         const float s = std::bit_cast<float>(stored);
@@ -204,7 +196,7 @@ using SourceColor =
     std::conditional_t<C == ColorFormat::Rgba8, std::array<std::uint8_t, 4>, std::array<float, 4>>;
 
 template <ColorFormat C>
-SourceColor<C> source_color(const std::array<float, 4>& c) {
+[[gnu::always_inline]] inline SourceColor<C> source_color(const std::array<float, 4>& c) {
     if constexpr (C == ColorFormat::Rgba8) {
         SourceColor<C> s{};
         for (std::size_t k = 0; k < 4; ++k) s[k] = color_to_unorm8(c[k]);
@@ -217,7 +209,8 @@ SourceColor<C> source_color(const std::array<float, 4>& c) {
 // Blending and the colour write of pixel `i` (lp_bld_blend; docs/precision.md "Colour output
 // and blending").
 template <ColorFormat C, BlendPreset B>
-void store_color(Framebuffer& fb, std::size_t i, const SourceColor<C>& s, const Fp& fp) {
+[[gnu::always_inline]] inline void store_color(Framebuffer& fb, std::size_t i,
+                                               const SourceColor<C>& s, const Fp& fp) {
     if constexpr (C == ColorFormat::Rgba8) {
         std::uint8_t* d = fb.color8.data() + 4 * i;
         if constexpr (B == BlendPreset::None) {
@@ -277,20 +270,24 @@ struct Kernel {
     static_assert(kSamples == 1 || kSamples == kMsaaSamples, "1 or 4 samples a pixel");
 
     // lp_bld_interp.c attribs_update_simple: fmuladd(dady, py, fmuladd(dadx, px, A0)).
-    static float plane_at(const Plane& p, float px, float py, const KernelState& k, const Fp& fp) {
+    [[gnu::always_inline]] static float plane_at(const Plane& p, float px, float py,
+                                                 const KernelState& k, const Fp& fp) {
         if (k.options.fma) return fp.fma(p.dady, py, fp.fma(p.dadx, px, p.a0));
         return fp.add(fp.mul(p.dady, py), fp.add(fp.mul(p.dadx, px), p.a0));
     }
 
     // z plus the offset, clamped, quantised (lp_bld_depth.c); `z` receives the clamped value.
-    static std::uint32_t depth_value(const Plane* planes, float z_offset, float px, float py,
-                                     const KernelState& k, const Fp& fp, float& z) {
+    [[gnu::always_inline]] static std::uint32_t depth_value(const Plane* planes, float z_offset,
+                                                            float px, float py,
+                                                            const KernelState& k, const Fp& fp,
+                                                            float& z) {
         z = clamp_depth(fp.add(plane_at(planes[kZPlane], px, py, k, fp), z_offset));
         return quantise_depth(z, D);
     }
 
-    static std::array<float, 4> color(const Plane* planes, const float* flat, float px, float py,
-                                      const KernelState& k, const Fp& fp) {
+    [[gnu::always_inline]] static std::array<float, 4> color(const Plane* planes, const float* flat,
+                                                             float px, float py,
+                                                             const KernelState& k, const Fp& fp) {
         std::array<float, 4> c{};
         if constexpr (S == ShadeModel::Flat) {
             std::copy(flat, flat + 4, c.begin());
@@ -378,6 +375,26 @@ struct Kernel {
 
     static void shade(const KernelState& k, const SetupList& list, const SetupPrimitive& prim,
                       std::span<const QuadPacket> quads, Framebuffer& fb) {
+        shade_body(k, list, prim, quads, fb);
+    }
+
+#if REFRASTER_KERNEL_ISA_VARIANTS
+    // The same kernel compiled for CPUs with FMA and SSE4.1 (chosen at run time, never
+    // assumed at build time): everything it calls is inlined into it (flatten), so that
+    // std::fma becomes one fused instruction and std::nearbyint one roundss instead of
+    // library calls. The operations and their order are the body's: the bytes do not change.
+    [[gnu::target("fma,sse4.1,popcnt"), gnu::flatten]] static void shade_fma(
+        const KernelState& k, const SetupList& list, const SetupPrimitive& prim,
+        std::span<const QuadPacket> quads, Framebuffer& fb) {
+        shade_body(k, list, prim, quads, fb);
+    }
+#endif
+
+    [[gnu::always_inline]] static inline void shade_body(const KernelState& k,
+                                                         const SetupList& list,
+                                                         const SetupPrimitive& prim,
+                                                         std::span<const QuadPacket> quads,
+                                                         Framebuffer& fb) {
         if constexpr (kSamples == kMsaaSamples) {
             shade_4x(k, list, prim, quads, fb);
             return;
@@ -471,6 +488,20 @@ struct Kernel {
     }
 };
 
+// Whether this CPU runs the kernels compiled for FMA and SSE4.1 (Kernel::shade_fma).
+bool host_runs_fma_kernels() {
+#if REFRASTER_KERNEL_ISA_VARIANTS
+    static const bool yes = [] {
+        __builtin_cpu_init();
+        return __builtin_cpu_supports("fma") && __builtin_cpu_supports("sse4.1") &&
+               __builtin_cpu_supports("popcnt");
+    }();
+    return yes;
+#else
+    return false;
+#endif
+}
+
 template <ShadeModel S, DepthFormat D, ColorFormat C, BlendPreset B>
 FragmentKernel make_kernel(KernelState state) {
     if (state.samples == kMsaaSamples) {
@@ -478,6 +509,10 @@ FragmentKernel make_kernel(KernelState state) {
         return {state, &K4::shade, &K4::trace};
     }
     using K = Kernel<S, D, C, B, 1>;
+#if REFRASTER_KERNEL_ISA_VARIANTS
+    if (state.options.wide_kernels && host_runs_fma_kernels())
+        return {state, &K::shade_fma, &K::trace};
+#endif
     return {state, &K::shade, &K::trace};
 }
 

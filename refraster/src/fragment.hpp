@@ -44,6 +44,7 @@
 #include <vector>
 
 #include "exact_coverage.hpp"
+#include "float_ops.hpp"
 #include "quad.hpp"
 #include "refraster/draw.hpp"
 #include "refraster/framebuffer.hpp"
@@ -59,6 +60,7 @@ struct FragmentOptions {
     // SetupParams::multisample: planes are set up with pixel offset 0 (A0 at the pixel's
     // corner) and evaluated at the pixel centre for colour, at each sample for depth.
     bool multisample = false;
+    bool wide_kernels = true;  // RenderOptions::wide_kernels
 };
 
 // Writes one primitive's planes into a SetupList: window z and 1/w first, then its
@@ -167,12 +169,24 @@ void write_fragment_color(const Draw& draw, Framebuffer& fb, std::size_t i,
 // R8G8B8A8_UNORM: f * (255/256) + 32768 in float, then the low byte of the float's bits.
 std::uint8_t clear_to_unorm8(float c);
 
-// Fragment depth clamped to [0, 1] as llvmpipe's generated code does it: a NaN becomes 1.
-float clamp_depth(float z);
+// Fragment depth clamped to [0, 1] as llvmpipe's generated code does it (lp_state_fs.c,
+// lp_build_depth_clamp: lp_build_clamp(z, 0, 1), which is lp_build_min(z, 1) then
+// lp_build_max(., 0), lowered to x86 minps/maxps: each returns its second operand unless the
+// first compares less (greater)). A NaN depth therefore becomes 1 (the far value, in every
+// depth format), -0 becomes +0, and infinities clamp to the ends. Inline: the kernels'
+// run-time variants must not call out of their instruction set.
+[[gnu::always_inline]] inline float clamp_depth(float z) {
+    const float lo = z < 1.0f ? z : 1.0f;
+    return lo > 0.0f ? lo : 0.0f;
+}
 
 // Fragment colour into rgba8: clamp to [0, 1], then RNE(fl(c * 255)) (lp_build_conv;
 // docs/precision.md "Colour output and blending").
-std::uint8_t color_to_unorm8(float c);
+[[gnu::always_inline]] inline std::uint8_t color_to_unorm8(float c) {
+    if (!(c > 0.0f)) return 0;
+    if (c >= 1.0f) return 255;
+    return static_cast<std::uint8_t>(round_to_nearest_even(c * 255.0f));
+}
 
 // llvmpipe's 8-bit product (lp_build_mul_norm): (x*y + ((x*y) >> 8) + 128) >> 8.
 constexpr std::uint8_t unorm8_mul(std::uint32_t x, std::uint32_t y) {

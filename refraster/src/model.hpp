@@ -34,12 +34,13 @@ struct DrawContext {
     SetupParams params;
     bool fma = false;            // the viewport transform and plane evaluation fuse
     bool record_owners = false;  // Framebuffer::owner is filled
+    bool wide_kernels = true;    // RenderOptions::wide_kernels
 
     VertexStageOptions vertex_options() const {
         return {fma, profile.gl.flush_denormals, profile.gl.clipping == Clipping::GuardBand};
     }
     FragmentOptions fragment_options() const {
-        return {fma, profile.gl.flush_denormals, params.multisample};
+        return {fma, profile.gl.flush_denormals, params.multisample, wide_kernels};
     }
 };
 

@@ -124,7 +124,8 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
                                       options.profile,
                                       detail::setup_params(options.profile, d.state, list.target),
                                       fma,
-                                      !out.owner.empty()};
+                                      !out.owner.empty(),
+                                      options.wide_kernels};
         if (trace != nullptr) {
             detail::TraceObserver obs(*trace, ctx.params.multisample);
             outcome.fragments += detail::run_draw(ctx, obs, options.stop_after, out);

@@ -20,7 +20,9 @@
 #include <cmath>
 #include <concepts>
 #include <cstdint>
+#include <type_traits>
 
+#include "float_ops.hpp"
 #include "refraster/draw.hpp"
 #include "refraster/profile.hpp"
 
@@ -45,12 +47,17 @@ constexpr std::uint32_t depth_unorm_max(DepthFormat f) {
 // lp_build_clamped_float_to_unsigned_norm computes it, for clears in double as util_pack_z does,
 // for the exact oracle in double); z32f the bits of z rounded to float; 0 without depth.
 template <std::floating_point Real>
-std::uint32_t quantise_depth(Real z, DepthFormat f) {
+[[gnu::always_inline]] inline std::uint32_t quantise_depth(Real z, DepthFormat f) {
     switch (f) {
         case DepthFormat::Z16:
         case DepthFormat::Z24:
-            return static_cast<std::uint32_t>(
-                std::nearbyint(z * static_cast<Real>(depth_unorm_max(f))));
+            if constexpr (std::is_same_v<Real, float>) {
+                return static_cast<std::uint32_t>(
+                    round_to_nearest_even(z * static_cast<Real>(depth_unorm_max(f))));
+            } else {
+                return static_cast<std::uint32_t>(
+                    std::nearbyint(z * static_cast<Real>(depth_unorm_max(f))));
+            }
         case DepthFormat::Z32f:
             return std::bit_cast<std::uint32_t>(static_cast<float>(z));
         case DepthFormat::None:

@@ -47,6 +47,10 @@ struct RenderOptions {
     // Fill Framebuffer::owner: which primitive wrote each pixel last.
     bool record_owners = false;
     RenderStage stop_after = RenderStage::Fragment;
+    // Run the fragment kernels compiled for the CPU's wider instruction set (FMA, SSE4.1)
+    // where it has one; false runs the baseline kernels only. Both give the same bytes (a test
+    // compares them); only the speed differs.
+    bool wide_kernels = true;
 };
 
 // Number of complete primitives a draw assembles under GL's rules (OpenGL 4.6 compatibility
