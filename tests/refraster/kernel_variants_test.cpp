@@ -5,9 +5,9 @@
 
 #include <array>
 #include <bit>
-#include <string>
 #include <cstdint>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "refraster/framebuffer.hpp"
@@ -76,18 +76,16 @@ TEST(KernelVariants, WideKernelsGiveTheBaselineBytes) {
                 std::size_t i = 0;
                 while (i < a.color8.size() && a.color8[i] == b.color8[i]) ++i;
                 std::size_t j = 0;
-                while (j < a.color32f.size() &&
-                       std::bit_cast<std::uint32_t>(a.color32f[j]) ==
-                           std::bit_cast<std::uint32_t>(b.color32f[j]))
+                while (j < a.color32f.size() && std::bit_cast<std::uint32_t>(a.color32f[j]) ==
+                                                    std::bit_cast<std::uint32_t>(b.color32f[j]))
                     ++j;
                 std::size_t k = 0;
                 while (k < a.depth.size() && a.depth[k] == b.depth[k]) ++k;
                 FAIL() << "scene " << scene << " fma " << fma << " colour8 at " << i << "/"
                        << a.color8.size() << " colour32f at " << j << "/" << a.color32f.size()
-                       << (j < a.color32f.size()
-                               ? " (" + std::to_string(a.color32f[j]) + " vs " +
-                                     std::to_string(b.color32f[j]) + ")"
-                               : std::string())
+                       << (j < a.color32f.size() ? " (" + std::to_string(a.color32f[j]) + " vs " +
+                                                       std::to_string(b.color32f[j]) + ")"
+                                                 : std::string())
                        << " depth at " << k << "/" << a.depth.size();
             }
             // Something was drawn: the comparison is not of two cleared targets.
