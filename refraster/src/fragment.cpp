@@ -156,7 +156,7 @@ void triangle_planes(const std::array<const StageVertex*, 3>& v, const VertexSta
 
     SetupTerms s;
     // lp_state_setup.c: the pixel centre offset, which multisampling sets to 0 (the shader
-    // then adds 0.5, mesa-22.3 facts part 2, 3.2).
+    // then adds 0.5; docs/precision.md, "Multisampling (4x)").
     const float pixel_offset = options.multisample ? 0.0f : 0.5f;
     s.x0c = fp.sub(p0[0], pixel_offset);
     s.y0c = fp.sub(p0[1], pixel_offset);
@@ -304,7 +304,7 @@ struct Kernel {
         return c;
     }
 
-    // A 4x target (mesa-22.3 facts, part 2, 3.1-3.3, 3.7, 3.8). With multisampling on, the
+    // A 4x target (docs/precision.md, "Multisampling (4x)"). With multisampling on, the
     // planes were set up with pixel offset 0: colour is evaluated once at the pixel centre
     // (px + 0.5, py + 0.5) and goes to every covered sample; depth is evaluated at each
     // covered sample's position (px + sx, py + sy), tested and written per sample; blending

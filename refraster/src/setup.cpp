@@ -25,7 +25,7 @@ SetupParams setup_params(const Profile& profile, const DrawState& state, const T
     p.tie_rule = profile.gl.tie_rule;
     p.wrapping = profile.quirks.wrapping_arithmetic;
     // lp_setup_tri.c / lp_setup_line.c / lp_setup_point.c: with the rasterizer's
-    // multisample state on, the snap has no pixel offset (mesa-22.3 facts, part 2, 3.1).
+    // multisample state on, the snap has no pixel offset (docs/precision.md, "Multisampling (4x)").
     p.multisample = target.samples > 1 && state.multisample;
     if (p.multisample) p.pixel_center_offset = 0.0f;
     p.cull = state.cull;
