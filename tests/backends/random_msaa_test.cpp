@@ -38,7 +38,8 @@ constexpr int kCells = kGrid * kGrid;
 constexpr int kSize = kCell * kGrid;
 constexpr int kSamples = 4;
 
-// The 4x sample positions from the pixel's bottom-left corner (docs/precision.md, "Multisampling (4x)").
+// The 4x sample positions from the pixel's bottom-left corner (docs/precision.md, "Multisampling
+// (4x)").
 constexpr std::array<std::array<float, 2>, 4> kSamplePos{
     {{0.375f, 0.125f}, {0.875f, 0.375f}, {0.125f, 0.625f}, {0.625f, 0.875f}}};
 
