@@ -48,6 +48,7 @@ class ExactKernel {
             }
         }
     }
+    bool hardware_denormals() const { return false; }
     FragmentTrace trace(const ExactList&, const ExactPrimitive&, int, int, unsigned,
                         const Framebuffer&) const {
         return {};
@@ -60,6 +61,7 @@ class ExactModel {
     using Primitive = ExactPrimitive;
 
     explicit ExactModel(const DrawContext& ctx) : ctx_(ctx) {}
+    static constexpr bool kRowBlocks = false;  // quad packets only
 
     template <class Observer>
     void setup(VertexStage& stage, Observer& obs, const ListSink<List>& sink);

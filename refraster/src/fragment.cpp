@@ -9,6 +9,7 @@
 #include "refraster/assert.hpp"
 #include "rules.hpp"
 #include "samples.hpp"
+#include "vector_kernels.hpp"
 
 // Kernels also compiled for a wider instruction set, chosen at run time (GCC and clang on
 // x86-64; elsewhere only the baseline kernels exist).
@@ -400,40 +401,85 @@ struct Kernel {
             return;
         }
         const Fp fp{k.options.flush_denormals};
-        const Plane* planes = list.planes.data() + prim.planes;
-        const float* flat = list.flat.data() + prim.flat;
-        const bool owners = !fb.owner.empty();
-        SourceColor<C> flat_source{};
-        if constexpr (S == ShadeModel::Flat)
-            flat_source = source_color<C>(color(planes, flat, 0, 0, k, fp));
+        const PrimitiveInputs in(k, list, prim, fb, fp);
         for (const QuadPacket& q : quads) {
             for (unsigned p = 0; p < 4; ++p) {
                 if ((q.mask & (1u << quad_bit(p, 0))) == 0) continue;
-                const auto x = static_cast<std::uint32_t>(q.x) + (p & 1u);
-                const auto y = static_cast<std::uint32_t>(q.y) + (p >> 1);
-                const float px = static_cast<float>(x);
-                const float py = static_cast<float>(y);
-                const std::size_t i = fb.index(x, y);
-                const std::size_t s0 = fb.sample_index(x, y, 0);
-                if constexpr (D != DepthFormat::None) {
-                    float z = 0.0f;
-                    const std::uint32_t value =
-                        depth_value(planes, prim.z_offset, px, py, k, fp, z);
-                    if ((k.depth_pass &
-                         depth_outcome<D == DepthFormat::Z32f>(value, fb.depth[s0])) == 0)
-                        continue;
-                    if (k.depth_write) fb.depth[s0] = value;
-                }
-                if constexpr (S == ShadeModel::Flat) {
-                    store_color<C, B>(fb, s0, flat_source, fp);
-                } else {
-                    store_color<C, B>(fb, s0, source_color<C>(color(planes, flat, px, py, k, fp)),
-                                      fp);
-                }
-                if (owners) fb.owner[i] = prim.owner;
+                shade_pixel(k, in, prim, static_cast<std::uint32_t>(q.x) + (p & 1u),
+                            static_cast<std::uint32_t>(q.y) + (p >> 1), fb, fp);
             }
         }
     }
+
+    // What every pixel of a primitive reads, fetched once.
+    struct PrimitiveInputs {
+        const Plane* planes;
+        const float* flat;
+        bool owners;
+        SourceColor<C> flat_source{};
+        [[gnu::always_inline]] PrimitiveInputs(const KernelState& k, const SetupList& list,
+                                               const SetupPrimitive& prim, const Framebuffer& fb,
+                                               const Fp& fp)
+            : planes(list.planes.data() + prim.planes),
+              flat(list.flat.data() + prim.flat),
+              owners(!fb.owner.empty()) {
+            if constexpr (S == ShadeModel::Flat)
+                flat_source = source_color<C>(color(planes, flat, 0, 0, k, fp));
+        }
+    };
+
+    // One pixel of a single-sample target: depth test and write, colour, blending, owner.
+    [[gnu::always_inline]] static inline void shade_pixel(const KernelState& k,
+                                                          const PrimitiveInputs& in,
+                                                          const SetupPrimitive& prim,
+                                                          std::uint32_t x, std::uint32_t y,
+                                                          Framebuffer& fb, const Fp& fp) {
+        const float px = static_cast<float>(x);
+        const float py = static_cast<float>(y);
+        const std::size_t i = fb.index(x, y);
+        if constexpr (D != DepthFormat::None) {
+            float z = 0.0f;
+            const std::uint32_t value = depth_value(in.planes, prim.z_offset, px, py, k, fp, z);
+            if ((k.depth_pass & depth_outcome<D == DepthFormat::Z32f>(value, fb.depth[i])) == 0)
+                return;
+            if (k.depth_write) fb.depth[i] = value;
+        }
+        if constexpr (S == ShadeModel::Flat) {
+            store_color<C, B>(fb, i, in.flat_source, fp);
+        } else {
+            store_color<C, B>(fb, i, source_color<C>(color(in.planes, in.flat, px, py, k, fp)), fp);
+        }
+        if (in.owners) fb.owner[i] = prim.owner;
+    }
+
+    // The same per-pixel stage over row blocks (single-sample targets only).
+    [[gnu::always_inline]] static inline void shade_rows_body(const KernelState& k,
+                                                              const SetupList& list,
+                                                              const SetupPrimitive& prim,
+                                                              const RowBlock& b, Framebuffer& fb) {
+        const Fp fp{k.options.flush_denormals};
+        const PrimitiveInputs in(k, list, prim, fb, fp);
+        for (int r = 0; r < b.rows; ++r) {
+            std::uint64_t m = b.mask[r];
+            const auto y = static_cast<std::uint32_t>(b.y0 + r);
+            while (m != 0) {
+                const auto x = static_cast<std::uint32_t>(b.x0 + std::countr_zero(m));
+                shade_pixel(k, in, prim, x, y, fb, fp);
+                m &= m - 1;
+            }
+        }
+    }
+    static void shade_rows(const KernelState& k, const SetupList& list, const SetupPrimitive& prim,
+                           const RowBlock& b, Framebuffer& fb) {
+        shade_rows_body(k, list, prim, b, fb);
+    }
+#if REFRASTER_KERNEL_ISA_VARIANTS
+    [[gnu::target("fma,sse4.1,popcnt,bmi"), gnu::flatten]] static void shade_rows_fma(
+        const KernelState& k, const SetupList& list, const SetupPrimitive& prim, const RowBlock& b,
+        Framebuffer& fb) {
+        shade_rows_body(k, list, prim, b, fb);
+    }
+#endif
 
     // Sample `sample` of the pixel (0 for a single-sample target).
     static FragmentTrace trace(const KernelState& k, const SetupList& list,
@@ -509,11 +555,18 @@ FragmentKernel make_kernel(KernelState state) {
         return {state, &K4::shade, &K4::trace};
     }
     using K = Kernel<S, D, C, B, 1>;
+    const KernelPath path = state.options.kernels;
+    if (path == KernelPath::Model) return {state, &K::shade, &K::trace};
+    if constexpr (C == ColorFormat::Rgba8) {
+        // The vector kernels write rgba8; rgba32f targets take the scalar path.
+        if (auto* fn = vector_shade_rows(path, S, D, B)) {
+            return {state, &K::shade, &K::trace, fn, state.options.flush_denormals};
+        }
+    }
 #if REFRASTER_KERNEL_ISA_VARIANTS
-    if (state.options.wide_kernels && host_runs_fma_kernels())
-        return {state, &K::shade_fma, &K::trace};
+    if (host_runs_fma_kernels()) return {state, &K::shade_fma, &K::trace, &K::shade_rows_fma};
 #endif
-    return {state, &K::shade, &K::trace};
+    return {state, &K::shade, &K::trace, &K::shade_rows};
 }
 
 template <ShadeModel S, DepthFormat D, ColorFormat C>

@@ -48,7 +48,9 @@
 #include "quad.hpp"
 #include "refraster/draw.hpp"
 #include "refraster/framebuffer.hpp"
+#include "refraster/renderer.hpp"
 #include "refraster/trace.hpp"
+#include "row_block.hpp"
 #include "setup_list.hpp"
 #include "vertex_stage.hpp"
 
@@ -60,7 +62,7 @@ struct FragmentOptions {
     // SetupParams::multisample: planes are set up with pixel offset 0 (A0 at the pixel's
     // corner) and evaluated at the pixel centre for colour, at each sample for depth.
     bool multisample = false;
-    bool wide_kernels = true;  // RenderOptions::wide_kernels
+    KernelPath kernels = KernelPath::Model;  // resolved (resolve_kernel_path)
 };
 
 // Writes one primitive's planes into a SetupList: window z and 1/w first, then its
@@ -111,15 +113,33 @@ class FragmentKernel {
   public:
     using ShadeFn = void (*)(const KernelState&, const SetupList&, const SetupPrimitive&,
                              std::span<const QuadPacket>, Framebuffer&);
+    using ShadeRowsFn = void (*)(const KernelState&, const SetupList&, const SetupPrimitive&,
+                                 const RowBlock&, Framebuffer&);
     using TraceFn = FragmentTrace (*)(const KernelState&, const SetupList&, const SetupPrimitive&,
                                       int, int, unsigned, const Framebuffer&);
-    FragmentKernel(KernelState state, ShadeFn shade_fn, TraceFn trace_fn)
-        : state_(state), shade_(shade_fn), trace_(trace_fn) {}
+    FragmentKernel(KernelState state, ShadeFn shade_fn, TraceFn trace_fn,
+                   ShadeRowsFn shade_rows_fn = nullptr, bool hardware_denormals = false)
+        : state_(state),
+          shade_(shade_fn),
+          trace_(trace_fn),
+          shade_rows_(shade_rows_fn),
+          hardware_denormals_(hardware_denormals) {}
 
     void shade(const SetupList& list, const SetupPrimitive& prim, std::span<const QuadPacket> quads,
                Framebuffer& fb) const {
         shade_(state_, list, prim, quads, fb);
     }
+    // Whether the kernel reads row blocks (single-sample targets, every path but the model);
+    // shade_rows then replaces shade.
+    bool shades_rows() const { return shade_rows_ != nullptr; }
+    void shade_rows(const SetupList& list, const SetupPrimitive& prim, const RowBlock& block,
+                    Framebuffer& fb) const {
+        shade_rows_(state_, list, prim, block, fb);
+    }
+    // Whether the kernel must run with the CPU's flush-to-zero and denormals-are-zero modes
+    // on (ScopedDenormalsAreZero, float_env.hpp): the vector kernels flush as llvmpipe's
+    // rasterizer threads do, by the hardware, instead of testing every result.
+    bool hardware_denormals() const { return hardware_denormals_; }
     // The decisions about sample `sample` of pixel (x, y) of `prim` (which must cover it),
     // given the framebuffer before the primitive is shaded.
     FragmentTrace trace(const SetupList& list, const SetupPrimitive& prim, int x, int y,
@@ -131,6 +151,8 @@ class FragmentKernel {
     KernelState state_;
     ShadeFn shade_;
     TraceFn trace_;
+    ShadeRowsFn shade_rows_;
+    bool hardware_denormals_;
 };
 
 // The kernel for a draw's state into `target`; `options` are the per-pixel stage's.

@@ -153,7 +153,7 @@ void LlvmpipeModel::snapped_triangle(const VertexStage& stage, const StageTriang
     prim.owner = owner_;
     const FragmentOptions fo = ctx_.fragment_options();
     const FragmentOptions setup_fo{fo.fma, fo.flush_denormals && setup_ftz, fo.multisample,
-                                   fo.wide_kernels};
+                                   fo.kernels};
     triangle_planes(
         {&st.v[static_cast<std::size_t>(t.order[0])], &st.v[static_cast<std::size_t>(t.order[1])],
          &st.v[static_cast<std::size_t>(t.order[2])]},

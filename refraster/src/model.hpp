@@ -32,15 +32,15 @@ struct DrawContext {
     const Target& target;
     const Profile& profile;
     SetupParams params;
-    bool fma = false;            // the viewport transform and plane evaluation fuse
-    bool record_owners = false;  // Framebuffer::owner is filled
-    bool wide_kernels = true;    // RenderOptions::wide_kernels
+    bool fma = false;                        // the viewport transform and plane evaluation fuse
+    bool record_owners = false;              // Framebuffer::owner is filled
+    KernelPath kernels = KernelPath::Model;  // resolved for this CPU (resolve_kernel_path)
 
     VertexStageOptions vertex_options() const {
         return {fma, profile.gl.flush_denormals, profile.gl.clipping == Clipping::GuardBand};
     }
     FragmentOptions fragment_options() const {
-        return {fma, profile.gl.flush_denormals, params.multisample, wide_kernels};
+        return {fma, profile.gl.flush_denormals, params.multisample, kernels};
     }
 };
 

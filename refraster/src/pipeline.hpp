@@ -11,8 +11,8 @@
 //                                                                lp_setup_point.c), planes in
 //                                                                fragment.cpp (lp_state_setup.c);
 //                                                                or exact_model.cpp (the oracle)
-//   traversal         quad packets of the covered pixels,        traverse.hpp (lp_rast_tri_tmp.h),
-//                     a tile at a time                           quad.hpp
+//   traversal         quad packets of the covered pixels, or     traverse.hpp (lp_rast_tri_tmp.h),
+//                     row blocks for the fast kernels            quad.hpp, row_block.hpp
 //   fragment kernel,  depth, colour, blending, stores            fragment.cpp (lp_bld_interp.c,
 //   chosen once a                                                lp_bld_depth.c, lp_bld_blend*.c)
 //   draw
@@ -32,6 +32,7 @@
 #include "quad.hpp"
 #include "refraster/framebuffer.hpp"
 #include "refraster/renderer.hpp"
+#include "vector_kernels.hpp"
 #include "vertex_stage.hpp"
 
 namespace refraster::detail {
@@ -47,9 +48,24 @@ std::uint64_t draw(const DrawContext& ctx, Observer& obs, RenderStage stop, Fram
     std::uint64_t fragments = 0;
     model.setup(stage, obs, [&](const typename Model::List& list) {
         if (stop == RenderStage::Setup) return;
+        // Traversal is integer arithmetic only: the float mode holds for the whole list.
+        const ScopedDenormalsAreZero float_mode(kernel.hardware_denormals() &&
+                                                stop == RenderStage::Fragment);
         for (std::size_t i = 0; i < list.primitives.size(); ++i) {
             const auto& prim = list.primitives[i];
             obs.before_fragments(i, list, prim, kernel, fb);
+            if constexpr (Model::kRowBlocks) {
+                if (kernel.shades_rows()) {
+                    Model::traverse_rows(list, prim, [&](const RowBlock& block) {
+                        if (stop == RenderStage::Raster) {
+                            fragments += static_cast<std::uint64_t>(covered_pixels(block));
+                        } else {
+                            kernel.shade_rows(list, prim, block, fb);
+                        }
+                    });
+                    continue;
+                }
+            }
             Model::traverse(list, prim, [&](std::span<const QuadPacket> quads) {
                 if (stop == RenderStage::Raster) {
                     fragments += static_cast<std::uint64_t>(covered_pixels(quads));

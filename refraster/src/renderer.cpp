@@ -114,6 +114,9 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
     }
     const FmaMode fma_mode = options.profile.gl.viewport_fma;
     const bool fma = fma_mode == FmaMode::On || (fma_mode == FmaMode::Auto && host_has_fma());
+    // A trace records what the model computes; every path computes the same.
+    const KernelPath kernels =
+        trace != nullptr ? KernelPath::Model : resolve_kernel_path(options.kernels);
     RenderOutcome outcome;
     for (std::size_t i = 0; i < list.draws.size(); ++i) {
         const Draw& d = list.draws[i];
@@ -125,7 +128,7 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
                                       detail::setup_params(options.profile, d.state, list.target),
                                       fma,
                                       !out.owner.empty(),
-                                      options.wide_kernels};
+                                      kernels};
         if (trace != nullptr) {
             detail::TraceObserver obs(*trace, ctx.params.multisample);
             outcome.fragments += detail::run_draw(ctx, obs, options.stop_after, out);

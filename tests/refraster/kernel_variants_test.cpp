@@ -65,35 +65,44 @@ TEST(KernelVariants, WideKernelsGiveTheBaselineBytes) {
         l.clear.depth = 0.75f;
         for (int d = 0; d < 6; ++d) l.draws.push_back(random_draw(rng));
         for (const bool fma : {true, false}) {
-            refraster::RenderOptions wide;
-            wide.profile.gl.viewport_fma = fma ? refraster::FmaMode::On : refraster::FmaMode::Off;
-            refraster::RenderOptions base = wide;
-            base.wide_kernels = false;
-            refraster::Framebuffer a, b;
-            ASSERT_EQ(refraster::render(l, wide, a).status, refraster::RenderStatus::Ok);
-            ASSERT_EQ(refraster::render(l, base, b).status, refraster::RenderStatus::Ok);
-            if (!same_bits(a, b)) {
-                std::size_t i = 0;
-                while (i < a.color8.size() && a.color8[i] == b.color8[i]) ++i;
-                std::size_t j = 0;
-                while (j < a.color32f.size() && std::bit_cast<std::uint32_t>(a.color32f[j]) ==
-                                                    std::bit_cast<std::uint32_t>(b.color32f[j]))
-                    ++j;
-                std::size_t k = 0;
-                while (k < a.depth.size() && a.depth[k] == b.depth[k]) ++k;
-                FAIL() << "scene " << scene << " fma " << fma << " colour8 at " << i << "/"
-                       << a.color8.size() << " colour32f at " << j << "/" << a.color32f.size()
-                       << (j < a.color32f.size() ? " (" + std::to_string(a.color32f[j]) + " vs " +
-                                                       std::to_string(b.color32f[j]) + ")"
-                                                 : std::string())
-                       << " depth at " << k << "/" << a.depth.size();
+            for (const auto path : {refraster::KernelPath::Scalar, refraster::KernelPath::Avx2,
+                                    refraster::KernelPath::Avx512}) {
+                if (!refraster::kernel_path_available(path)) continue;
+                refraster::RenderOptions wide;
+                wide.profile.gl.viewport_fma =
+                    fma ? refraster::FmaMode::On : refraster::FmaMode::Off;
+                wide.kernels = path;
+                refraster::RenderOptions base = wide;
+                base.kernels = refraster::KernelPath::Model;
+                refraster::Framebuffer a, b;
+                ASSERT_EQ(refraster::render(l, wide, a).status, refraster::RenderStatus::Ok);
+                ASSERT_EQ(refraster::render(l, base, b).status, refraster::RenderStatus::Ok);
+                if (!same_bits(a, b)) {
+                    std::size_t i = 0;
+                    while (i < a.color8.size() && a.color8[i] == b.color8[i]) ++i;
+                    std::size_t j = 0;
+                    while (j < a.color32f.size() && std::bit_cast<std::uint32_t>(a.color32f[j]) ==
+                                                        std::bit_cast<std::uint32_t>(b.color32f[j]))
+                        ++j;
+                    std::size_t k = 0;
+                    while (k < a.depth.size() && a.depth[k] == b.depth[k]) ++k;
+                    FAIL() << "scene " << scene << " fma " << fma << " path "
+                           << refraster::to_string(path) << " colour8 at " << i << "/"
+                           << a.color8.size() << " colour32f at " << j << "/" << a.color32f.size()
+                           << (j < a.color32f.size()
+                                   ? " (" + std::to_string(a.color32f[j]) + " vs " +
+                                         std::to_string(b.color32f[j]) + ")"
+                                   : std::string())
+                           << " depth at " << k << "/" << a.depth.size();
+                }
+                // Something was drawn: the comparison is not of two cleared targets.
+                refraster::Framebuffer cleared;
+                refraster::DrawList empty = l;
+                empty.draws.clear();
+                ASSERT_EQ(refraster::render(empty, base, cleared).status,
+                          refraster::RenderStatus::Ok);
+                compared += !same_bits(cleared, b);
             }
-            // Something was drawn: the comparison is not of two cleared targets.
-            refraster::Framebuffer cleared;
-            refraster::DrawList empty = l;
-            empty.draws.clear();
-            ASSERT_EQ(refraster::render(empty, base, cleared).status, refraster::RenderStatus::Ok);
-            compared += !same_bits(cleared, b);
         }
     }
     EXPECT_GT(compared, 200);

@@ -16,6 +16,7 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 
 #include "refraster/draw.hpp"
 #include "refraster/framebuffer.hpp"
@@ -40,6 +41,24 @@ struct RenderOutcome {
 // cleared but not drawn.
 enum class RenderStage : std::uint8_t { Load, Setup, Raster, Fragment };
 
+// Which implementation of the per-pixel stage a render runs. Every path gives the same bytes:
+// the same float operations in the same order, fused exactly where the profile fuses (tests
+// render random scenes through each and compare them with the model); only the speed differs.
+// A path this CPU cannot run falls back to the next narrower one it can
+// (kernel_path_available).
+enum class KernelPath : std::uint8_t {
+    Model,    // the scalar model: one pixel at a time from quad packets, baseline instructions
+    Scalar,   // one pixel at a time from row masks, compiled for FMA and SSE4.1 where present
+    Avx2,     // 8 pixels at a time (AVX2 and FMA)
+    Avx512,   // 16 pixels at a time (AVX-512 F, BW, DQ, VL and FMA)
+    Fastest,  // the widest this CPU runs
+};
+std::string_view to_string(KernelPath p);
+// Whether this CPU runs `p` itself (Model and Scalar always; Fastest always).
+bool kernel_path_available(KernelPath p);
+// The path a render asked for `p` runs on this CPU.
+KernelPath resolve_kernel_path(KernelPath p);
+
 struct RenderOptions {
     Profile profile;
     // When set, render() records every decision about pixel (trace->x, trace->y).
@@ -47,10 +66,8 @@ struct RenderOptions {
     // Fill Framebuffer::owner: which primitive wrote each pixel last.
     bool record_owners = false;
     RenderStage stop_after = RenderStage::Fragment;
-    // Run the fragment kernels compiled for the CPU's wider instruction set (FMA, SSE4.1)
-    // where it has one; false runs the baseline kernels only. Both give the same bytes (a test
-    // compares them); only the speed differs.
-    bool wide_kernels = true;
+    // The per-pixel stage's implementation (a traced render always runs the model).
+    KernelPath kernels = KernelPath::Fastest;
 };
 
 // Number of complete primitives a draw assembles under GL's rules (OpenGL 4.6 compatibility

@@ -1,0 +1,33 @@
+// row_block.hpp: covered pixels as row masks, the unit of work traversal hands to the fast
+// fragment kernels.
+//
+// Implements: RowBlock, up to 64 rows of up to 64 pixels each, one 64-bit mask a row (bit i
+// of mask[r] is the pixel (x0 + i, y0 + r)); a 64x64 tile of the traversal is one block, a
+// small primitive's box another. A kernel that reads row masks walks a row in runs of as many
+// pixels as its vector holds and never rebuilds 2x2 quads.
+//
+// Deliberately does not: carry samples (4x targets use quad packets, quad.hpp), or promise
+// that x0 or y0 is aligned: every bit set names a pixel inside the framebuffer, nothing else.
+#pragma once
+
+#include <bit>
+#include <cstdint>
+
+namespace refraster::detail {
+
+struct RowBlock {
+    std::int32_t x0 = 0;
+    std::int32_t y0 = 0;
+    std::int32_t rows = 0;  // at most 64
+    const std::uint64_t* mask = nullptr;
+};
+
+inline constexpr int kMaxBlockRows = 64;
+
+inline int covered_pixels(const RowBlock& b) {
+    int n = 0;
+    for (int r = 0; r < b.rows; ++r) n += std::popcount(b.mask[r]);
+    return n;
+}
+
+}  // namespace refraster::detail

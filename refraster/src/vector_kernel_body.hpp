@@ -1,0 +1,237 @@
+// vector_kernel_body.hpp: the vector fragment kernel, written once over a vector type `V`.
+//
+// Included only by the translation units that compile it for one instruction set
+// (vector_kernels_avx2.cpp, vector_kernels_avx512.cpp), after their target pragma and inside a
+// namespace of their own; `V` provides lanes of float (F), of int32 (I) and a lane mask (M).
+//
+// Implements, for every lane, the scalar model's pixel (fragment.cpp, Kernel::shade_pixel):
+//   z = clamp(plane_z(px, py) + offset)  [lp_bld_interp.c attribs_update_simple: fmuladd(dady,
+//        py, fmuladd(dadx, px, a0)), fused iff the profile fuses; lp_build_depth_clamp: min
+//        with 1 then max with 0, minps/maxps semantics]
+//   depth value: RNE(z * (2^n - 1)) for z16/z24, z's bits for z32f; test by the draw's mask of
+//        passing outcomes, then the write
+//   colour: flat (converted once), noperspective (the plane), smooth (the plane times
+//        1 / plane_w, a true division); rgba8 by clamp and RNE(c * 255) (lp_build_conv)
+//   blending: none, alpha as (x*y + ((x*y) >> 8) + 128) >> 8 per channel with a saturating
+//        add (lp_build_mul_norm), add as a saturating add
+// Pixels in the same lanes never depend on each other, so evaluating a whole vector when some
+// lanes are not covered or fail the depth test writes the same bytes: only covered lanes that
+// pass are stored.
+//
+// Deliberately does not: rgba32f or 4x targets.
+
+template <class V, ShadeModel S, DepthFormat D, BlendPreset B>
+struct VectorKernel {
+    using F = typename V::F;
+    using I = typename V::I;
+    using M = typename V::M;
+    static constexpr int kLanes = V::kLanes;
+    static_assert(64 % kLanes == 0, "a row mask splits into whole vectors");
+
+    struct PlaneV {
+        F a0, dx, dy;
+    };
+    static PlaneV splat(const Plane& p) {
+        return {V::splat(p.a0), V::splat(p.dadx), V::splat(p.dady)};
+    }
+    [[gnu::always_inline]] static F at(const PlaneV& p, F px, F py, bool fma) {
+        if (fma) return V::fma(p.dy, py, V::fma(p.dx, px, p.a0));
+        return V::add(V::mul(p.dy, py), V::add(V::mul(p.dx, px), p.a0));
+    }
+    // A float's bits as an int32 that orders as the float does (for non-NaN values): the
+    // magnitude, negated for negative values, so that -0 and +0 are both 0.
+    [[gnu::always_inline]] static I ordered_key(I bits) {
+        const I magnitude = V::and_i(bits, V::splati(0x7fffffff));
+        return V::select(V::lt_i(bits, V::splati(0)), magnitude, V::sub32(V::splati(0), magnitude));
+    }
+    // color_to_unorm8: 0 unless c > 0 (NaN too), 255 from 1 on, RNE(c * 255) between.
+    [[gnu::always_inline]] static I unorm8(F c) {
+        const I v = V::to_int_rne(V::mul(c, V::splat(255.0f)));
+        const I zero_below = V::select(V::gt_f(c, V::splat(0.0f)), V::splati(0), v);
+        return V::select(V::ge_f(c, V::splat(1.0f)), zero_below, V::splati(255));
+    }
+    // unorm8_mul on 16-bit lanes holding one channel each.
+    [[gnu::always_inline]] static I mul_norm16(I x, I y) {
+        const I p = V::mullo16(x, y);
+        return V::srl16(V::add16(V::add16(p, V::srl16(p, 8)), V::splat16(128)), 8);
+    }
+    [[gnu::always_inline]] static I blend(I s, I d) {
+        if constexpr (B == BlendPreset::None) {
+            (void)d;
+            return s;
+        } else if constexpr (B == BlendPreset::Add) {
+            return V::adds_u8(s, d);
+        } else {
+            const I low_bytes = V::splati(0x00ff00ff);
+            const I a = V::srl32(s, 24);
+            const I a16 = V::or_i(a, V::sll32(a, 16));
+            const I inv = V::sub16(V::splat16(255), a16);
+            const I lo = V::min_u16(V::add16(mul_norm16(V::and_i(s, low_bytes), a16),
+                                             mul_norm16(V::and_i(d, low_bytes), inv)),
+                                    V::splat16(255));
+            const I hi = V::min_u16(
+                V::add16(mul_norm16(V::srl16(s, 8), a16), mul_norm16(V::srl16(d, 8), inv)),
+                V::splat16(255));
+            return V::or_i(lo, V::sll16(hi, 8));
+        }
+    }
+
+    static void shade_rows(const KernelState& k, const SetupList& list, const SetupPrimitive& prim,
+                           const RowBlock& b, Framebuffer& fb) {
+        const Plane* planes = list.planes.data() + prim.planes;
+        const float* flat = list.flat.data() + prim.flat;
+        const bool fma = k.options.fma;
+        const bool owners = !fb.owner.empty();
+        const auto width = static_cast<std::int32_t>(fb.width);
+        const PlaneV zp = splat(planes[kZPlane]);
+        const PlaneV wp = splat(planes[kWPlane]);
+        PlaneV cp[4];
+        if constexpr (S != ShadeModel::Flat) {
+            for (std::size_t j = 0; j < 4; ++j) cp[j] = splat(planes[kFirstAttributePlane + j]);
+        }
+        I flat_color = V::splati(0);
+        if constexpr (S == ShadeModel::Flat) {
+            // Converted once per primitive, as the scalar model does (with the same results
+            // under the CPU's denormal modes: a denormal channel becomes 0 either way).
+            std::uint32_t packed = 0;
+            for (std::size_t j = 0; j < 4; ++j)
+                packed |= std::uint32_t{color_to_unorm8(flat[j])} << (8 * j);
+            flat_color = V::splati(static_cast<std::int32_t>(packed));
+        }
+        const F z_offset = V::splat(prim.z_offset);
+        const M want_lt = V::mask_if((k.depth_pass & 1u) != 0);
+        const M want_eq = V::mask_if((k.depth_pass & 2u) != 0);
+        const M want_gt = V::mask_if((k.depth_pass & 4u) != 0);
+        const I owner = V::splati(static_cast<std::int32_t>(prim.owner));
+        const F lanes = V::lane_index();
+        constexpr std::uint64_t kLaneBits = (std::uint64_t{1} << kLanes) - 1;
+
+        for (int r = 0; r < b.rows; ++r) {
+            std::uint64_t m = b.mask[r];
+            if (m == 0) continue;
+            const std::int32_t y = b.y0 + r;
+            const F py = V::splat(static_cast<float>(y));
+            const std::size_t row = static_cast<std::size_t>(y) * fb.width;
+            std::uint32_t* depth_row = fb.depth.empty() ? nullptr : fb.depth.data() + row;
+            auto* color_row = reinterpret_cast<std::uint32_t*>(fb.color8.data()) + row;
+            std::uint32_t* owner_row = owners ? fb.owner.data() + row : nullptr;
+            while (m != 0) {
+                const int base = std::countr_zero(m) & ~(kLanes - 1);
+                const auto bits = static_cast<unsigned>((m >> base) & kLaneBits);
+                m &= ~(kLaneBits << base);
+                const std::int32_t x = b.x0 + base;
+                // Lanes past the row's end are never covered; their memory is not touched.
+                const bool inside = x + kLanes <= width;
+                M live = V::from_bits(bits);
+                const F px = V::add(V::splat(static_cast<float>(x)), lanes);
+                if constexpr (D != DepthFormat::None) {
+                    F z = V::add(at(zp, px, py, fma), z_offset);
+                    z = V::max(V::min(z, V::splat(1.0f)), V::splat(0.0f));
+                    I value;
+                    if constexpr (D == DepthFormat::Z32f) {
+                        value = V::as_int(z);
+                    } else {
+                        value = V::to_int_rne(
+                            V::mul(z, V::splat(static_cast<float>(depth_unorm_max(D)))));
+                    }
+                    std::uint32_t* dp = depth_row + x;
+                    const I stored = inside ? V::load(dp) : V::load_masked(dp, live);
+                    M lt, eq;
+                    if constexpr (D == DepthFormat::Z32f) {
+                        // The scalar model compares the floats as plain C++ does, which the
+                        // CPU's denormals-are-zero mode would change for a stored denormal
+                        // (a cleared depth may be one): compare them as integers ordered as
+                        // the floats are instead (neither side is NaN; -0 equals +0).
+                        const I kz = ordered_key(value);
+                        const I ks = ordered_key(stored);
+                        lt = V::lt_i(kz, ks);
+                        eq = V::eq_i(kz, ks);
+                    } else {
+                        // Values below 2^24: signed compares order them as unsigned ones.
+                        lt = V::lt_i(value, stored);
+                        eq = V::eq_i(value, stored);
+                    }
+                    const M pass = V::m_or(V::m_or(V::m_and(lt, want_lt), V::m_and(eq, want_eq)),
+                                           V::m_andnot(V::m_or(lt, eq), want_gt));
+                    live = V::m_and(live, pass);
+                    if (V::none(live)) continue;
+                    if (k.depth_write) {
+                        if (inside) {
+                            V::store(dp, V::select(live, stored, value));
+                        } else {
+                            V::store_masked(dp, live, value);
+                        }
+                    }
+                }
+                I src;
+                if constexpr (S == ShadeModel::Flat) {
+                    src = flat_color;
+                } else {
+                    F c[4];
+                    if constexpr (S == ShadeModel::Smooth) {
+                        const F w = V::div(V::splat(1.0f), at(wp, px, py, fma));
+                        for (int j = 0; j < 4; ++j) c[j] = V::mul(at(cp[j], px, py, fma), w);
+                    } else {
+                        for (int j = 0; j < 4; ++j) c[j] = at(cp[j], px, py, fma);
+                    }
+                    src = V::or_i(V::or_i(unorm8(c[0]), V::sll32(unorm8(c[1]), 8)),
+                                  V::or_i(V::sll32(unorm8(c[2]), 16), V::sll32(unorm8(c[3]), 24)));
+                }
+                std::uint32_t* cp_ = color_row + x;
+                if (inside) {
+                    const I dst = V::load(cp_);
+                    V::store(cp_, V::select(live, dst, blend(src, dst)));
+                    if (owners) {
+                        std::uint32_t* op = owner_row + x;
+                        V::store(op, V::select(live, V::load(op), owner));
+                    }
+                } else {
+                    if constexpr (B == BlendPreset::None) {
+                        V::store_masked(cp_, live, src);
+                    } else {
+                        V::store_masked(cp_, live, blend(src, V::load_masked(cp_, live)));
+                    }
+                    if (owners) V::store_masked(owner_row + x, live, owner);
+                }
+            }
+        }
+    }
+};
+
+// The kernel for a draw's state, as a function pointer.
+template <class V>
+FragmentKernel::ShadeRowsFn pick_vector_kernel(ShadeModel s, DepthFormat d, BlendPreset b) {
+    const auto by_blend = [&]<ShadeModel kS, DepthFormat kD>() -> FragmentKernel::ShadeRowsFn {
+        switch (b) {
+            case BlendPreset::None:
+                return &VectorKernel<V, kS, kD, BlendPreset::None>::shade_rows;
+            case BlendPreset::Alpha:
+                return &VectorKernel<V, kS, kD, BlendPreset::Alpha>::shade_rows;
+            case BlendPreset::Add:
+                return &VectorKernel<V, kS, kD, BlendPreset::Add>::shade_rows;
+        }
+        return nullptr;
+    };
+    const auto by_depth = [&]<ShadeModel kS>() -> FragmentKernel::ShadeRowsFn {
+        switch (d) {
+            case DepthFormat::None:
+                return by_blend.template operator()<kS, DepthFormat::None>();
+            case DepthFormat::Z16:
+                return by_blend.template operator()<kS, DepthFormat::Z16>();
+            case DepthFormat::Z24:
+                return by_blend.template operator()<kS, DepthFormat::Z24>();
+            case DepthFormat::Z32f:
+                return by_blend.template operator()<kS, DepthFormat::Z32f>();
+        }
+        return nullptr;
+    };
+    switch (s) {
+        case ShadeModel::Flat:
+            return by_depth.template operator()<ShadeModel::Flat>();
+        case ShadeModel::Smooth:
+            return by_depth.template operator()<ShadeModel::Smooth>();
+        case ShadeModel::NoPerspective:
+            return by_depth.template operator()<ShadeModel::NoPerspective>();
+    }
+    return nullptr;
+}

@@ -1,0 +1,48 @@
+// vector_kernels.hpp: the per-pixel stage many pixels at a time, for the CPUs that have the
+// instructions, chosen at run time.
+//
+// Implements: the choice of a vector fragment kernel (8 lanes with AVX2 and FMA, 16 with
+// AVX-512) for a draw's state, the CPU checks behind that choice, and the floating-point mode
+// the kernels run under. A vector kernel reads row blocks (row_block.hpp) of a single-sample
+// rgba8 target and performs, lane by lane, exactly the float operations of the scalar model
+// (fragment.cpp, Kernel): the same planes evaluated in the same order, fused exactly where
+// the profile fuses, the same clamps, roundings and integer blending. Denormals are flushed
+// by the CPU itself (MXCSR flush-to-zero and denormals-are-zero, as llvmpipe's rasterizer
+// threads run, lp_rast.c util_fpstate_set_denorms_to_zero) where the profile flushes; the
+// scalar model emulates the same modes operation by operation (float_ops.hpp).
+//
+// Deliberately does not: rgba32f targets or 4x targets (the scalar kernels serve them), or
+// compile anything for an instruction set at build time: every vector kernel is compiled for
+// its target with a function-level target and called only when the CPU reports it.
+#pragma once
+
+#include <cstdint>
+
+#include "fragment.hpp"
+
+namespace refraster::detail {
+
+// The vector kernel for `path` (Avx2 or Avx512; Fastest takes the widest this CPU runs) and
+// the draw's state on an rgba8 single-sample target; nullptr when the path is not a vector
+// path or the CPU lacks its instructions.
+FragmentKernel::ShadeRowsFn vector_shade_rows(KernelPath path, ShadeModel shade, DepthFormat depth,
+                                              BlendPreset blend);
+
+bool host_runs_avx2();
+bool host_runs_avx512();
+
+// The CPU's flush-to-zero and denormals-are-zero modes on for the scope's duration (when
+// `on`), restored after: the float mode the vector kernels assume where the profile flushes.
+class ScopedDenormalsAreZero {
+  public:
+    explicit ScopedDenormalsAreZero(bool on);
+    ~ScopedDenormalsAreZero();
+    ScopedDenormalsAreZero(const ScopedDenormalsAreZero&) = delete;
+    ScopedDenormalsAreZero& operator=(const ScopedDenormalsAreZero&) = delete;
+
+  private:
+    bool on_;
+    std::uint32_t saved_ = 0;
+};
+
+}  // namespace refraster::detail
