@@ -106,32 +106,46 @@ void LlvmpipeModel::triangles(VertexStage& stage, Observer& obs) {
                                                d.element(at.element[2])};
         const bool in_pipeline = segment_clipped[at.segment];
         obs.begin_primitive("triangle", ctx_.index, p, idx, stage, in_pipeline);
+        const std::array<const StageVertex*, 3> v{&stage.vertex(idx[0]), &stage.vertex(idx[1]),
+                                                  &stage.vertex(idx[2])};
+        if ((v[0]->clipmask | v[1]->clipmask | v[2]->clipmask) == 0 &&
+            obs.clip_polygons() == nullptr) {
+            // Inside the view volume: the clipper would hand the triangle on unchanged.
+            obs.clipped(false);
+            const bool ftz = !in_pipeline || setup_ftz.empty() || setup_ftz[pipeline_output];
+            pipeline_output += in_pipeline;
+            snapped_triangle(stage, v, false, in_pipeline, ftz, obs);
+            obs.end_primitive(KeepRecord::CoveredOrNear);
+            continue;
+        }
         staged.clear();
         stage.clip_triangle(idx, first, staged, obs.clip_polygons());
         obs.clipped(staged.empty());
         for (const auto& st : staged) {
             const bool ftz = !in_pipeline || setup_ftz.empty() || setup_ftz[pipeline_output];
             pipeline_output += in_pipeline;
-            snapped_triangle(stage, st, in_pipeline, ftz, obs);
+            snapped_triangle(stage, {&st.v[0], &st.v[1], &st.v[2]}, st.clipped, in_pipeline, ftz,
+                             obs);
         }
         obs.end_primitive(KeepRecord::CoveredOrNear);
     }
 }
 
 template <class Observer>
-void LlvmpipeModel::snapped_triangle(const VertexStage& stage, const StageTriangle& st,
+void LlvmpipeModel::snapped_triangle(const VertexStage& stage,
+                                     const std::array<const StageVertex*, 3>& v, bool clipped,
                                      bool in_pipeline, bool setup_ftz, Observer& obs) {
     const Draw& d = ctx_.draw;
     const SetupParams& params = ctx_.params;
-    obs.triangle_start(st, params.bits);
+    obs.triangle_start(v, clipped, params.bits);
     if (in_pipeline && ctx_.profile.quirks.draw_pipeline_cull &&
-        !passes_draw_cull(st, d.state.cull, params.front_ccw)) {
+        !passes_draw_cull(v, d.state.cull, params.front_ccw)) {
         return obs.triangle_outcome("culled by the draw module's float cull");
     }
     TriangleSetup t;
-    const std::array<std::array<float, 2>, 3> w{{{st.v[0].window[0], st.v[0].window[1]},
-                                                 {st.v[1].window[0], st.v[1].window[1]},
-                                                 {st.v[2].window[0], st.v[2].window[1]}}};
+    const std::array<std::array<float, 2>, 3> w{{{v[0]->window[0], v[0]->window[1]},
+                                                 {v[1]->window[0], v[1]->window[1]},
+                                                 {v[2]->window[0], v[2]->window[1]}}};
     const auto outcome = setup_triangle(w, params, t);
     obs.triangle_setup(t);
     switch (outcome) {
@@ -155,8 +169,8 @@ void LlvmpipeModel::snapped_triangle(const VertexStage& stage, const StageTriang
     const FragmentOptions setup_fo{fo.fma, fo.flush_denormals && setup_ftz, fo.multisample,
                                    fo.kernels};
     triangle_planes(
-        {&st.v[static_cast<std::size_t>(t.order[0])], &st.v[static_cast<std::size_t>(t.order[1])],
-         &st.v[static_cast<std::size_t>(t.order[2])]},
+        {v[static_cast<std::size_t>(t.order[0])], v[static_cast<std::size_t>(t.order[1])],
+         v[static_cast<std::size_t>(t.order[2])]},
         stage, d, ctx_.target, params.provoking_first, setup_fo, fo.flush_denormals,
         plane_needs<Observer>(), list_, prim);
     obs.triangle_drawn(t, list_.primitives.size() - 1);
@@ -323,12 +337,39 @@ std::vector<bool> LlvmpipeModel::pipeline_setup_ftz(
     }
     std::size_t vertices = 0, indices = 0;
     std::vector<std::size_t> pending;  // indices into `out` of the triangles not yet set up
+    // Which vertices the current batch has counted: a stamp per original vertex (the batch
+    // and segment it was counted in), and a list for the clipper's new ones, which only the
+    // triangles of one polygon share.
+    std::vector<std::uint64_t> counted(d.vertices.size(), ~std::uint64_t{0});
     std::vector<std::uint64_t> emitted;
+    std::uint64_t batch = 0;
     const auto flush = [&](bool ftz) {
         for (const auto i : pending) out[i] = ftz;
         pending.clear();
         vertices = indices = 0;
         emitted.clear();
+        ++batch;
+    };
+    constexpr std::uint32_t kNotOriginal = 0xffffffffu;
+    const auto count_vertex = [&](std::uint32_t segment, const StageVertex& v,
+                                  std::uint32_t original) {
+        const std::uint64_t stamp = (batch << 32) | segment;
+        if (original != kNotOriginal) {
+            if (counted[original] != stamp) {
+                counted[original] = stamp;
+                ++vertices;
+            }
+            return;
+        }
+        const std::uint64_t key = (std::uint64_t{segment} << 32) | v.attributes;
+        if (std::find(emitted.begin(), emitted.end(), key) == emitted.end()) {
+            emitted.push_back(key);
+            ++vertices;
+        }
+    };
+    const auto reaches_setup = [&](const std::array<const StageVertex*, 3>& v) {
+        return !ctx_.profile.quirks.draw_pipeline_cull ||
+               passes_draw_cull(v, d.state.cull, ctx_.params.front_ccw);
     };
     std::vector<StageTriangle> staged;
     for (const auto& at : tris) {
@@ -336,23 +377,39 @@ std::vector<bool> LlvmpipeModel::pipeline_setup_ftz(
             if (!pending.empty()) flush(true);
             continue;
         }
+        const std::array<std::uint32_t, 3> idx{d.element(at.element[0]), d.element(at.element[1]),
+                                               d.element(at.element[2])};
+        const std::array<const StageVertex*, 3> v{&stage.vertex(idx[0]), &stage.vertex(idx[1]),
+                                                  &stage.vertex(idx[2])};
+        if ((v[0]->clipmask | v[1]->clipmask | v[2]->clipmask) == 0) {
+            // The clipper hands it on unchanged, with its own three vertices.
+            if (!reaches_setup(v)) {
+                out.push_back(true);
+                continue;
+            }
+            if (vertices + 3 > kMaxVertices || indices + 3 > kMaxIndices) flush(true);
+            for (std::size_t k = 0; k < 3; ++k) count_vertex(at.segment, *v[k], idx[k]);
+            indices += 3;
+            pending.push_back(out.size());
+            out.push_back(true);
+            continue;
+        }
         staged.clear();
-        stage.clip_triangle(
-            {d.element(at.element[0]), d.element(at.element[1]), d.element(at.element[2])},
-            ctx_.params.provoking_first, staged, nullptr);
+        stage.clip_triangle(idx, ctx_.params.provoking_first, staged, nullptr);
         for (const auto& st : staged) {
-            if (ctx_.profile.quirks.draw_pipeline_cull &&
-                !passes_draw_cull(st, d.state.cull, ctx_.params.front_ccw)) {
+            if (!reaches_setup({&st.v[0], &st.v[1], &st.v[2]})) {
                 out.push_back(true);  // never reaches setup
                 continue;
             }
             if (vertices + 3 > kMaxVertices || indices + 3 > kMaxIndices) flush(true);
-            for (const auto& v : st.v) {
-                const std::uint64_t key = (std::uint64_t{at.segment} << 32) | v.attributes;
-                if (std::find(emitted.begin(), emitted.end(), key) == emitted.end()) {
-                    emitted.push_back(key);
-                    ++vertices;
+            for (std::size_t k = 0; k < 3; ++k) {
+                // An original vertex of a clipped triangle is one of the three (the same
+                // attribute slot); a new or duplicated one is not.
+                std::uint32_t original = kNotOriginal;
+                for (std::size_t j = 0; j < 3; ++j) {
+                    if (v[j]->attributes == st.v[k].attributes) original = idx[j];
                 }
+                count_vertex(at.segment, st.v[k], original);
             }
             indices += 3;
             pending.push_back(out.size());

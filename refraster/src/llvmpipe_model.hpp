@@ -90,8 +90,8 @@ class LlvmpipeModel {
     template <class Observer>
     void unfilled(VertexStage& stage, Observer& obs);
     template <class Observer>
-    void snapped_triangle(const VertexStage& stage, const StageTriangle& st, bool in_pipeline,
-                          bool setup_ftz, Observer& obs);
+    void snapped_triangle(const VertexStage& stage, const std::array<const StageVertex*, 3>& v,
+                          bool clipped, bool in_pipeline, bool setup_ftz, Observer& obs);
     template <class Observer>
     void segment(const VertexStage& stage, const StageVertex& v1, const StageVertex& v2,
                  Observer& obs);

@@ -11,6 +11,7 @@
 // Deliberately does not: decide anything. No hook changes what is drawn.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -44,7 +45,7 @@ struct NoObserver {
     void dropped_draw(std::size_t, const char*) {}
     std::vector<std::vector<StageVertex>>* clip_polygons() { return nullptr; }
     void clipped(bool) {}
-    void triangle_start(const StageTriangle&, int) {}
+    void triangle_start(const std::array<const StageVertex*, 3>&, bool, int) {}
     void triangle_outcome(const char*) {}
     void triangle_setup(const TriangleSetup&) {}
     void triangle_drawn(const TriangleSetup&, std::size_t) {}

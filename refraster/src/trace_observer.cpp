@@ -45,10 +45,11 @@ void TraceObserver::clipped(bool nothing_left) {
     if (nothing_left) pt_.note = "clipped away entirely";
 }
 
-void TraceObserver::triangle_start(const StageTriangle& t, int bits) {
+void TraceObserver::triangle_start(const std::array<const StageVertex*, 3>& v, bool clipped,
+                                   int bits) {
     s_ = SetupTrace{};
-    for (std::size_t k = 0; k < 3; ++k) s_.window.push_back(t.v[k].window);
-    s_.clipped = t.clipped;
+    for (std::size_t k = 0; k < 3; ++k) s_.window.push_back(v[k]->window);
+    s_.clipped = clipped;
     s_.subpixel_bits = bits;
 }
 

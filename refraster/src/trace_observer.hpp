@@ -35,7 +35,7 @@ class TraceObserver {
     void dropped_draw(std::size_t draw, const char* why);
     std::vector<std::vector<StageVertex>>* clip_polygons() { return &polygons_; }
     void clipped(bool nothing_left);
-    void triangle_start(const StageTriangle& t, int bits);
+    void triangle_start(const std::array<const StageVertex*, 3>& v, bool clipped, int bits);
     void triangle_outcome(const char* outcome);
     void triangle_setup(const TriangleSetup& t);
     void triangle_drawn(const TriangleSetup& t, std::size_t list_index);

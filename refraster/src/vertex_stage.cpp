@@ -35,24 +35,28 @@ ViewportTransform viewport_transform(const DrawState& s) {
     return t;
 }
 
-VertexStage::VertexStage(const Draw& draw, VertexStageOptions options)
-    : draw_(draw), options_(options), vp_(viewport_transform(draw.state)) {
-    const Fp fp{options_.flush_denormals};
-    attribute_floats_ = draw.vertices.stride() - VertexArray::kPositionComponents;
-    REFRASTER_ASSERT(draw.vertices.data.size() % draw.vertices.stride() == 0,
-                     "whole vertex records");
+namespace {
+
+// Transforms vertices [begin, end) of `draw` into `out` and copies their attributes into
+// `pool` (already sized): the work of the constructor below, inlined into both of its
+// compilations.
+[[gnu::always_inline]] inline void transform_vertices(const Draw& draw, VertexStageOptions options,
+                                                      const ViewportTransform& vp,
+                                                      std::size_t attribute_floats,
+                                                      StageVertex* out, float* pool) {
+    const Fp fp{options.flush_denormals};
     const std::size_t n = draw.vertices.size();
-    vertices_.resize(n);
-    pool_.reserve(n * attribute_floats_ * 2);
+    const std::size_t stride = draw.vertices.stride();
+    const float* data = draw.vertices.data.data();
     for (std::size_t i = 0; i < n; ++i) {
-        const auto src = draw.vertices.vertex(i);
-        StageVertex& v = vertices_[i];
+        const float* src = data + i * stride;
+        StageVertex& v = out[i];
         for (std::size_t k = 0; k < 4; ++k) {
             REFRASTER_ASSERT(std::isfinite(src[k]), "finite clip coordinates");
             v.clip[k] = fp.f(src[k]);
         }
         const auto& c = v.clip;
-        if (options_.guard_band) {
+        if (options.guard_band) {
             // draw_cliptest_tmp.h, DO_CLIP_XY_GUARD_BAND: -0.50 * x + w >= 0 and friends, in
             // double (0.50 is a double literal).
             const auto outside = [](double t) { return !(t >= 0.0); };
@@ -71,13 +75,59 @@ VertexStage::VertexStage(const Draw& draw, VertexStageOptions options)
         const float oow = fp.div(1.0f, c[3]);
         for (std::size_t k = 0; k < 3; ++k) {
             const float ndc = fp.mul(c[k], oow);
-            v.window[k] = options_.fma ? fp.fma(ndc, vp_.scale[k], vp_.translate[k])
-                                       : fp.add(fp.mul(ndc, vp_.scale[k]), vp_.translate[k]);
+            v.window[k] = options.fma ? fp.fma(ndc, vp.scale[k], vp.translate[k])
+                                      : fp.add(fp.mul(ndc, vp.scale[k]), vp.translate[k]);
         }
         v.window[3] = oow;
-        v.attributes = static_cast<std::uint32_t>(pool_.size());
-        pool_.insert(pool_.end(), src.begin() + 4, src.end());
+        v.attributes = static_cast<std::uint32_t>(i * attribute_floats);
+        for (std::size_t a = 0; a < attribute_floats; ++a)
+            pool[i * attribute_floats + a] = src[VertexArray::kPositionComponents + a];
     }
+}
+
+void transform_baseline(const Draw& draw, VertexStageOptions options, const ViewportTransform& vp,
+                        std::size_t attribute_floats, StageVertex* out, float* pool) {
+    transform_vertices(draw, options, vp, attribute_floats, out, pool);
+}
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+// The same operations compiled for CPUs with FMA and SSE4.1 (chosen at run time), so that the
+// fused multiply-adds are single instructions rather than library calls: the same results.
+[[gnu::target("fma,sse4.1,popcnt"), gnu::flatten]] void transform_fma(
+    const Draw& draw, VertexStageOptions options, const ViewportTransform& vp,
+    std::size_t attribute_floats, StageVertex* out, float* pool) {
+    transform_vertices(draw, options, vp, attribute_floats, out, pool);
+}
+
+bool host_runs_fma() {
+    static const bool yes = [] {
+        __builtin_cpu_init();
+        return __builtin_cpu_supports("fma") && __builtin_cpu_supports("sse4.1") &&
+               __builtin_cpu_supports("popcnt");
+    }();
+    return yes;
+}
+#endif
+
+}  // namespace
+
+VertexStage::VertexStage(const Draw& draw, VertexStageOptions options)
+    : draw_(draw), options_(options), vp_(viewport_transform(draw.state)) {
+    attribute_floats_ = draw.vertices.stride() - VertexArray::kPositionComponents;
+    REFRASTER_ASSERT(draw.vertices.data.size() % draw.vertices.stride() == 0,
+                     "whole vertex records");
+    const std::size_t n = draw.vertices.size();
+    vertices_.resize(n);
+    // Room for some of the clipper's new vertices too, so that most draws never reallocate.
+    pool_.reserve(n * attribute_floats_ + n * attribute_floats_ / 4 + 256);
+    pool_.resize(n * attribute_floats_);
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+    if (host_runs_fma()) {
+        transform_fma(draw, options_, vp_, attribute_floats_, vertices_.data(), pool_.data());
+        return;
+    }
+#endif
+    transform_baseline(draw, options_, vp_, attribute_floats_, vertices_.data(), pool_.data());
 }
 
 StageVertex VertexStage::interpolate(float t, const StageVertex& out, const StageVertex& in) {
@@ -308,16 +358,16 @@ void apply_draw_offset(StageTriangle& t, float det, const PolygonOffset& o, Dept
     }
 }
 
-bool passes_draw_cull(const StageTriangle& t, CullMode cull, bool front_ccw) {
+bool passes_draw_cull(const std::array<const StageVertex*, 3>& v, CullMode cull, bool front_ccw) {
     if (cull == CullMode::None) return true;
     // draw_pipe_cull.c cull_tri: e = v0 - v2, f = v1 - v2, det = ex*fy - ey*fx (unfused).
     // The driver runs this under FTZ as well; a flushed product changes no sign tested here
     // except through a zero, which the flush cannot create from two nonzero normal factors
     // whose product is representable.
-    const float ex = t.v[0].window[0] - t.v[2].window[0];
-    const float ey = t.v[0].window[1] - t.v[2].window[1];
-    const float fx = t.v[1].window[0] - t.v[2].window[0];
-    const float fy = t.v[1].window[1] - t.v[2].window[1];
+    const float ex = v[0]->window[0] - v[2]->window[0];
+    const float ey = v[0]->window[1] - v[2]->window[1];
+    const float fx = v[1]->window[0] - v[2]->window[0];
+    const float fy = v[1]->window[1] - v[2]->window[1];
     const float det = flush_denormal(flush_denormal(ex * fy) - flush_denormal(ey * fx));
     if (det == 0.0f) return !is_culled(cull, false);  // zero area counts as back-facing
     const bool ccw = det < 0.0f;

@@ -116,7 +116,10 @@ class VertexStage {
 
 // draw_pipe_cull.c cull_tri: false when the triangle is culled by the draw module's float
 // determinant (computed from window coordinates; zero counts as back-facing).
-bool passes_draw_cull(const StageTriangle& t, CullMode cull, bool front_ccw);
+bool passes_draw_cull(const std::array<const StageVertex*, 3>& v, CullMode cull, bool front_ccw);
+inline bool passes_draw_cull(const StageTriangle& t, CullMode cull, bool front_ccw) {
+    return passes_draw_cull({&t.v[0], &t.v[1], &t.v[2]}, cull, front_ccw);
+}
 
 // draw_pipe_cull.c's determinant of window coordinates: (v0 - v2) x (v1 - v2).
 float draw_determinant(const StageTriangle& t, bool flush_denormals);
