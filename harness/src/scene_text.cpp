@@ -32,8 +32,8 @@ constexpr char kBase64Alphabet[] =
 void append_base64(std::string& out, const std::vector<std::uint8_t>& bytes) {
     std::size_t i = 0;
     for (; i + 3 <= bytes.size(); i += 3) {
-        const std::uint32_t v = (std::uint32_t{bytes[i]} << 16) |
-                                (std::uint32_t{bytes[i + 1]} << 8) | bytes[i + 2];
+        const std::uint32_t v =
+            (std::uint32_t{bytes[i]} << 16) | (std::uint32_t{bytes[i + 1]} << 8) | bytes[i + 2];
         for (int s = 18; s >= 0; s -= 6) out += kBase64Alphabet[(v >> s) & 63];
     }
     const std::size_t rest = bytes.size() - i;
@@ -52,8 +52,8 @@ void append_u32_le(std::vector<std::uint8_t>& bytes, std::uint32_t v) {
 }
 
 // `values` (count x components floats) as "values" or "float32_base64".
-void append_attribute(std::string& out, const std::vector<float>& values,
-                      std::uint32_t components, VertexForm form) {
+void append_attribute(std::string& out, const std::vector<float>& values, std::uint32_t components,
+                      VertexForm form) {
     out += "{\"components\": " + std::to_string(components);
     if (form == VertexForm::Values) {
         out += ", \"values\": [";
@@ -113,8 +113,7 @@ void append_vertices(std::string& out, const SceneDraw& d, VertexForm form) {
     out += "}";
 }
 
-void append_indices(std::string& out, const std::vector<std::uint32_t>& indices,
-                    VertexForm form) {
+void append_indices(std::string& out, const std::vector<std::uint32_t>& indices, VertexForm form) {
     out += "\"indices\": ";
     if (form == VertexForm::Base64) {
         std::vector<std::uint8_t> bytes;
