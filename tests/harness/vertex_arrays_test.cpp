@@ -119,8 +119,8 @@ std::string compact_scene(const std::string& draw, bool listed = true) {
            R"("target": {"width": 8, "height": 8}, "draws": [)" + draw + "]}";
 }
 std::string triangle(const std::string& position, const std::string& extra = "") {
-    return R"({"primitive": "triangles", "vertex_arrays": {"count": 3, "position": )" +
-           position + extra + "}}";
+    return R"({"primitive": "triangles", "vertex_arrays": {"count": 3, "position": )" + position +
+           extra + "}}";
 }
 
 // base64 of float32 values, little-endian.
@@ -176,8 +176,7 @@ std::vector<Refusal> refusals() {
          "draws[0].vertex_arrays", "belongs to the extension \"vertex_arrays\""},
         {"indices_object_not_listed",
          compact_scene(
-             R"({"primitive": "points", "vertices": [], "indices": {"uint32_base64": ""}})",
-             false),
+             R"({"primitive": "points", "vertices": [], "indices": {"uint32_base64": ""}})", false),
          "draws[0].indices", "expected an array of indices, got an object"},
         {"both_vertices_and_arrays",
          compact_scene(
@@ -204,8 +203,8 @@ std::vector<Refusal> refusals() {
          "draws[0].vertex_arrays.position.values",
          "expected 6 numbers (count 3 x 2 components), got an array of 5"},
         {"values_window_w_zero",
-         compact_scene(triangle(
-             R"({"components": 4, "values": [1, 1, 0, 1, 6, 1, 0, 0, 1, 6, 0, 1]})")),
+         compact_scene(
+             triangle(R"({"components": 4, "values": [1, 1, 0, 1, 6, 1, 0, 0, 1, 6, 0, 1]})")),
          "draws[0].vertex_arrays.position.values[7]", "expected w > 0 in window space, got 0"},
         {"components_one", compact_scene(triangle(R"({"components": 1, "values": [1, 1, 6]})")),
          "draws[0].vertex_arrays.position.components", "expected an integer in [2, 4], got 1"},
@@ -215,8 +214,7 @@ std::vector<Refusal> refusals() {
          compact_scene(triangle(R"({"components": 2, "values": [1, 1, 6, 1, 1, 6]})",
                                 R"(, "color": {"components": 3, "values": []})")),
          "draws[0].vertex_arrays.color.components", "expected 4 ([r, g, b, a]), got 3"},
-        {"values_and_base64",
-         compact_scene(clip_draw(p + good + R"(", "values": []})")),
+        {"values_and_base64", compact_scene(clip_draw(p + good + R"(", "values": []})")),
          "draws[0].vertex_arrays.position.float32_base64", "not both"},
         {"base64_length_not_multiple_of_four",
          compact_scene(clip_draw(p + good.substr(0, 63) + R"("})")),
@@ -229,14 +227,12 @@ std::vector<Refusal> refusals() {
          compact_scene(clip_draw(p + good.substr(0, 10) + "=" + good.substr(11) + R"("})")),
          "draws[0].vertex_arrays.position.float32_base64",
          "character 10 (\"=\") is padding before the end"},
-        {"base64_padding_bits_not_zero",
-         compact_scene(clip_draw(p + good + R"(AB==")" + "}")),
+        {"base64_padding_bits_not_zero", compact_scene(clip_draw(p + good + R"(AB==")" + "}")),
          "draws[0].vertex_arrays.position.float32_base64", "are not zero"},
         {"base64_whitespace",
          compact_scene(clip_draw(p + good.substr(0, 60) + " " + good.substr(61) + R"("})")),
          "draws[0].vertex_arrays.position.float32_base64", "character 60 (\" \") is not base64"},
-        {"base64_wrong_byte_count",
-         compact_scene(clip_draw(p + good + R"(AA==")" + "}")),
+        {"base64_wrong_byte_count", compact_scene(clip_draw(p + good + R"(AA==")" + "}")),
          "draws[0].vertex_arrays.position.float32_base64",
          "decodes to 49 bytes, expected 48 (count 3 x 4 components x 4 bytes)"},
         {"base64_count_mismatch",
@@ -249,15 +245,13 @@ std::vector<Refusal> refusals() {
         {"base64_infinity", compact_scene(clip_draw(p + b64(with(4, -inf)) + R"("})")),
          "draws[0].vertex_arrays.position.float32_base64",
          "value 4 (vertex 1, component 0) is infinite"},
-        {"base64_window_w_negative",
-         compact_scene(triangle(p + b64(with(7, -2.0f)) + R"("})")),
+        {"base64_window_w_negative", compact_scene(triangle(p + b64(with(7, -2.0f)) + R"("})")),
          "draws[0].vertex_arrays.position.float32_base64",
          "value 7 (vertex 1, component 3): expected w > 0 in window space, got -2"},
         {"front_end_non_finite",
          compact_scene(
              R"({"primitive": "points", "space": "clip", "matrix": [3e38,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1], "vertex_arrays": {"count": 2, "position": {"components": 4, "values": [0, 0, 0, 1, 3e38, 0, 0, 1]}}})"),
-         "draws[0].vertex_arrays.position",
-         "vertex 1: clip coordinate 0 comes out non-finite"},
+         "draws[0].vertex_arrays.position", "vertex 1: clip coordinate 0 comes out non-finite"},
     };
 }
 
@@ -286,10 +280,9 @@ TEST(VertexArrays, Base64Indices) {
     const std::string verts =
         R"("vertex_arrays": {"count": 3, "position": {"components": 2, "values": [1, 1, 6, 1, 1, 6]}})";
     const auto load = [&](const std::string& indices) {
-        return harness::load_scene_text(
-            compact_scene(R"({"primitive": "triangles", )" + verts + R"(, "indices": )" +
-                          indices + "}"),
-            "i.json");
+        return harness::load_scene_text(compact_scene(R"({"primitive": "triangles", )" + verts +
+                                                      R"(, "indices": )" + indices + "}"),
+                                        "i.json");
     };
     // 2, 1, 0 as little-endian uint32.
     const auto a = load(R"({"uint32_base64": "AgAAAAEAAAAAAAAA"})");
