@@ -11,14 +11,14 @@ if [[ "${1:-}" == "fuzz" ]]; then
     cmake ninja-build git
     # clang 14 and its runtime libraries (libFuzzer, ASan, UBSan); g++ brings libstdc++
     clang-14 libclang-rt-14-dev g++
-    nlohmann-json3-dev libglm-dev
+    nlohmann-json3-dev libsimdjson-dev libglm-dev
   )
 else
 packages=(
   # toolchain; clang-format-14 checks the sources' layout (scripts/format.sh)
   g++ cmake ninja-build pkg-config git clang-format-14
   # libraries (harness and tests)
-  nlohmann-json3-dev libcli11-dev libglm-dev libgtest-dev libgmock-dev libbenchmark-dev
+  nlohmann-json3-dev libsimdjson-dev libcli11-dev libglm-dev libgtest-dev libgmock-dev libbenchmark-dev
   # image files; OpenImageIO's exported CMake targets name the tools' binaries, so both
   libopenimageio-dev openimageio-tools
   # Mesa: OSMesa, and EGL surfaceless with the llvmpipe/softpipe DRI driver

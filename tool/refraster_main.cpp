@@ -4,9 +4,12 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <optional>
 
 #include "conformance/suite.hpp"
 #include "harness/backend.hpp"
@@ -20,6 +23,7 @@
 #include "harness/profile_io.hpp"
 #include "harness/reduce.hpp"
 #include "harness/scene.hpp"
+#include "harness/scene_text.hpp"
 
 namespace {
 
@@ -561,6 +565,63 @@ int run_bench(const BenchArgs& a) {
 
 }  // namespace
 
+// ---- check, generate many-triangles --------------------------------------------------------
+
+// check SCENE.json [--rounds N]: loads the scene as every subcommand does and says what it
+// holds and how long loading took (the best of N loads): the loader's speed in MB of file a
+// second (docs/performance.md, "Loading").
+int run_check(const std::string& path, int rounds) {
+    double best = 0;
+    std::optional<harness::Scene> scene;
+    for (int r = 0; r < rounds; ++r) {
+        scene.reset();  // one scene in memory at a time
+        const auto start = std::chrono::steady_clock::now();
+        scene = load_or_report(path);
+        const double s =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        if (!scene) return kExitBadInput;
+        best = r == 0 ? s : std::min(best, s);
+    }
+    std::uint64_t vertices = 0;
+    for (const auto& d : scene->draw_list.draws) vertices += d.vertices.size();
+    const auto work = harness::estimate_work(scene->draw_list);
+    const auto bytes = std::filesystem::file_size(path);
+    std::printf("%s: %zu draws, %llu vertices, %llu primitives, %llu estimated fragments\n",
+                path.c_str(), scene->draw_list.draws.size(),
+                static_cast<unsigned long long>(vertices),
+                static_cast<unsigned long long>(work.primitives),
+                static_cast<unsigned long long>(work.fragments));
+    std::printf("loaded %llu bytes in %.3f s (best of %d): %.1f MB/s\n",
+                static_cast<unsigned long long>(bytes), best, rounds,
+                static_cast<double>(bytes) / 1e6 / best);
+    return scene->unsupported_extensions.empty() ? kExitOk : kExitNotSupported;
+}
+
+int run_generate_many(std::uint64_t triangles, std::uint64_t seed, const std::string& form,
+                      const std::string& output) {
+    const harness::VertexForm f = form == "values"   ? harness::VertexForm::Values
+                                  : form == "base64" ? harness::VertexForm::Base64
+                                                     : harness::VertexForm::Plain;
+    const std::string text =
+        harness::scene_json_text(harness::many_triangles_scene(triangles, seed), f);
+    // Complete or absent: written beside the output, then renamed over it.
+    const std::filesystem::path out(output);
+    const std::filesystem::path tmp = out.string() + ".partial";
+    {
+        std::ofstream o(tmp, std::ios::binary);
+        o.write(text.data(), static_cast<std::streamsize>(text.size()));
+        if (!o) {
+            std::cerr << output << ": cannot write\n";
+            std::error_code ec;
+            std::filesystem::remove(tmp, ec);
+            return kExitBadInput;
+        }
+    }
+    std::filesystem::rename(tmp, out);
+    std::cerr << output << ": " << text.size() << " bytes\n";
+    return kExitOk;
+}
+
 int main(int argc, char** argv) {
     CLI::App app{"refraster: a bit-exact reference rasterizer and its comparison harness"};
     app.require_subcommand(1);
@@ -720,6 +781,31 @@ int main(int argc, char** argv) {
     gen_extreme->add_option("--seed", gen_seed, "Seed of the generator")->capture_default_str();
     gen_extreme->add_option("--output", gen_output, "Directory for the scene files")->required();
 
+    // generate many-triangles --triangles N [--form F] [--seed S] --output FILE
+    std::uint64_t many_count = 1'000'000;
+    std::string many_form = "plain";
+    auto* gen_many = gen_cmd->add_subcommand(
+        "many-triangles", "One scene of many small triangles, in a chosen vertex form");
+    gen_many->add_option("--triangles", many_count, "Number of triangles")
+        ->check(CLI::Range(std::uint64_t{0}, std::uint64_t{100'000'000}))
+        ->capture_default_str();
+    gen_many
+        ->add_option("--form", many_form,
+                     "plain (vertices), values or base64 (extension vertex_arrays)")
+        ->check(CLI::IsMember({"plain", "values", "base64"}))
+        ->capture_default_str();
+    gen_many->add_option("--seed", gen_seed, "Seed of the generator")->capture_default_str();
+    gen_many->add_option("--output", gen_output, "The scene file")->required();
+
+    std::string check_scene;
+    int check_rounds = 1;
+    auto* check_cmd = app.add_subcommand(
+        "check", "Load a scene, say what it holds and how fast it loaded (MB/s)");
+    check_cmd->add_option("scene", check_scene, "Scene file")->required();
+    check_cmd->add_option("--rounds", check_rounds, "Loads; the best time is reported")
+        ->check(CLI::Range(1, 1000))
+        ->capture_default_str();
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -730,6 +816,8 @@ int main(int argc, char** argv) {
         std::cerr << "refraster: " << e.what() << " (see --help)\n";
         return kExitBadInput;
     }
+    if (gen_many->parsed()) return run_generate_many(many_count, gen_seed, many_form, gen_output);
+    if (check_cmd->parsed()) return run_check(check_scene, check_rounds);
     if (gen_extreme->parsed())
         return harness::write_extreme_scenes(gen_seed, gen_output, std::cerr);
     if (rcmd->parsed()) return run_render(render);

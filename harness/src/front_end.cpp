@@ -56,11 +56,15 @@ refraster::DrawList run_front_end(const SceneFile& scene, const std::string& fil
             const auto c = to_clip_space(sd, sd.vertices[i]);
             for (std::size_t k = 0; k < 4; ++k) {
                 if (!std::isfinite(c[k])) {
+                    const std::string what = "clip coordinate " + std::to_string(k) +
+                                             " comes out non-finite; expected finite clip space";
+                    const std::string at = "draws[" + std::to_string(d) + "]";
+                    if (sd.from_vertex_arrays) {
+                        throw SceneError(file_label, at + ".vertex_arrays.position",
+                                         "vertex " + std::to_string(i) + ": " + what);
+                    }
                     throw SceneError(file_label,
-                                     "draws[" + std::to_string(d) + "].vertices[" +
-                                         std::to_string(i) + "].position",
-                                     "clip coordinate " + std::to_string(k) +
-                                         " comes out non-finite; expected finite clip space");
+                                     at + ".vertices[" + std::to_string(i) + "].position", what);
                 }
             }
             draw.vertices.data.insert(draw.vertices.data.end(), c.begin(), c.end());

@@ -3,14 +3,32 @@
 // path of the first offending value, and the work limits of SceneLimits (docs/limits.md).
 // Every message is one line: keys, paths and strings from the file are escaped, numbers are
 // printed short.
+//
+// Two parsers, one set of rules. simdjson's DOM parser reads every file first: it is fast
+// enough for scenes of millions of vertices, but it reports no position for a syntax error and
+// accepts duplicate keys. A scan of its document then checks what it does not (duplicate
+// keys, nesting, the number of values). Whenever simdjson refuses a file or the scan finds a
+// fault, nlohmann's SAX parser reads the file again with the strict rules and gives the
+// refusal its path or line and column; valid files never take that path. The validating walk
+// builds paths only when it refuses something, so a valid file costs no string per value.
+#include <simdjson.h>
+
 #include <algorithm>
+#include <bit>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <limits>
+#include <memory>
 #include <nlohmann/json.hpp>
-#include <set>
 #include <system_error>
+#include <unordered_set>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "harness/front_end.hpp"
 #include "harness/scene.hpp"
@@ -19,8 +37,20 @@
 namespace harness {
 
 using json = nlohmann::json;
+namespace dom = simdjson::dom;
 
 namespace {
+
+// A container of the document as simdjson's iterable types; the caller has checked its type.
+// (Named values, not temporaries: a range-for over a temporary result would dangle.)
+dom::array as_array(dom::element e) {
+    const auto r = e.get_array();
+    return r.value_unsafe();
+}
+dom::object as_object(dom::element e) {
+    const auto r = e.get_object();
+    return r.value_unsafe();
+}
 
 std::string compose_message(const std::string& file, const std::string& path,
                             const std::string& detail, std::size_t line, std::size_t column) {
@@ -66,15 +96,20 @@ std::string quoted_value(std::string_view v) {
 
 // A number inside a message: integers exactly, other values in %.9g (enough to tell float32
 // values apart), never the hundreds of digits a file may spell them with.
-std::string number_text(const json& v) {
-    if (v.is_number_unsigned()) return std::to_string(v.get<std::uint64_t>());
-    if (v.is_number_integer()) return std::to_string(v.get<std::int64_t>());
+std::string number_text(double d) {
     char buf[32];
-    std::snprintf(buf, sizeof buf, "%.9g", v.get<double>());
+    std::snprintf(buf, sizeof buf, "%.9g", d);
     return buf;
 }
-std::string number_text(double d) {
-    return number_text(json(d));
+std::string number_text(dom::element v) {
+    switch (v.type()) {
+        case dom::element_type::INT64:
+            return std::to_string(v.get_int64().value_unsafe());
+        case dom::element_type::UINT64:
+            return std::to_string(v.get_uint64().value_unsafe());
+        default:
+            return number_text(v.get_double().value_unsafe());
+    }
 }
 
 // A number token as written, shortened: the parser could not represent it, so no value is
@@ -103,64 +138,93 @@ class JsonPath {
     std::vector<std::string> parts_;
 };
 
-std::string child_path(const std::string& parent, const std::string& key) {
-    std::string c = key_component(key);
-    if (c.front() == '.') c.erase(0, 1);
-    if (parent == "(root)") return c;
-    return parent + (c.front() == '[' ? "" : ".") + c;
-}
-std::string child_path(const std::string& parent, std::size_t index) {
-    return (parent == "(root)" ? std::string() : parent) + "[" + std::to_string(index) + "]";
+// A JSON string literal for the normalized copy below: quotes, backslashes and control
+// characters escaped; every other byte (valid UTF-8, checked by the parser) as it is.
+void append_json_string(std::string& out, std::string_view s) {
+    out += '"';
+    for (const char c : s) {
+        const auto u = static_cast<unsigned char>(c);
+        if (c == '"' || c == '\\') {
+            out += '\\';
+            out += c;
+        } else if (u < 0x20) {
+            char buf[8];
+            std::snprintf(buf, sizeof buf, "\\u%04x", u);
+            out += buf;
+        } else {
+            out += c;
+        }
+    }
+    out += '"';
 }
 
-// Builds the document while tracking the path of the value being read, so that duplicate
-// keys and unrepresentable numbers are refused with a path, and syntax errors with a line and
-// column. nlohmann's own DOM parser keeps the last duplicate silently.
-class StrictSaxBuilder : public nlohmann::json_sax<json> {
+// The strict rules, applied while nlohmann's SAX parser reads the text: duplicate keys,
+// nesting, the number of values and numbers out of range are refused with a path, syntax
+// errors with a line and column. It keeps no document, only the open containers (their
+// element counts and keys), so that its memory stays a small part of the text's even for a
+// file of millions of values. On request it writes a normalized copy of the text (numbers
+// as plain integers or shortest round-trip doubles) for the one case where simdjson refuses
+// a strict JSON file: an integer of more digits than 64 bits hold, which JSON allows and
+// which is read as a double, as the format reads every number.
+class StrictChecker : public nlohmann::json_sax<json> {
   public:
-    StrictSaxBuilder(std::string_view text, const SceneLimits& limits)
-        : text_(text), limits_(limits) {}
+    StrictChecker(const SceneLimits& limits, std::string* normalized)
+        : limits_(limits), out_(normalized) {}
 
-    json root;
     std::string error_path;
     std::string error_detail;
     std::size_t error_position = 0;
     bool syntax_error = false;
 
-    bool null() override { return add(json(nullptr)); }
-    bool boolean(bool v) override { return add(json(v)); }
-    bool number_integer(number_integer_t v) override { return add(json(v)); }
-    bool number_unsigned(number_unsigned_t v) override { return add(json(v)); }
+    bool null() override { return scalar("null"); }
+    bool boolean(bool v) override { return scalar(v ? "true" : "false"); }
+    bool number_integer(number_integer_t v) override {
+        return scalar(out_ ? std::to_string(v) : std::string());
+    }
+    bool number_unsigned(number_unsigned_t v) override {
+        return scalar(out_ ? std::to_string(v) : std::string());
+    }
     bool number_float(number_float_t v, const string_t& s) override {
         if (!std::isfinite(v)) return fail_value("number " + token_text(s) + " is out of range");
-        return add(json(v));
+        std::string text;
+        if (out_) {
+            char buf[40];
+            const auto r = std::to_chars(buf, buf + sizeof buf, v);
+            text.assign(buf, r.ptr);
+            // "1e+30" reads back as a double, but "100" would read back as an integer.
+            if (text.find_first_of(".eEn") == std::string::npos) text += ".0";
+        }
+        return scalar(text);
     }
-    bool string(string_t& v) override { return add(json(std::move(v))); }
+    bool string(string_t& v) override {
+        if (!add()) return false;
+        if (out_) append_json_string(*out_, v);
+        return true;
+    }
     bool binary(binary_t&) override { return fail_value("binary values are not JSON"); }
 
-    bool start_object(std::size_t) override {
-        if (!add(json::object())) return false;
-        return open(current_);
-    }
+    bool start_object(std::size_t) override { return open(false); }
     bool key(string_t& k) override {
-        json& obj = *stack_.back();
-        if (obj.contains(k)) {
+        Open& obj = stack_.back();
+        if (!obj.keys.insert(k).second) {
             path_.push_key(k);
             error_path = path_.str();
             path_.pop();
             error_detail = "duplicate key " + quoted_value(k);
             return false;
         }
-        obj[k] = nullptr;
+        if (out_) {
+            if (obj.count != 0) *out_ += ',';
+            append_json_string(*out_, k);
+            *out_ += ':';
+        }
+        ++obj.count;
         pending_key_ = k;
         return true;
     }
-    bool end_object() override { return close(); }
-    bool start_array(std::size_t) override {
-        if (!add(json::array())) return false;
-        return open(current_);
-    }
-    bool end_array() override { return close(); }
+    bool end_object() override { return close('}'); }
+    bool start_array(std::size_t) override { return open(true); }
+    bool end_array() override { return close(']'); }
 
     bool parse_error(std::size_t position, const std::string&,
                      const nlohmann::detail::exception& ex) override {
@@ -202,15 +266,22 @@ class StrictSaxBuilder : public nlohmann::json_sax<json> {
     }
 
   private:
+    struct Open {
+        bool is_array = false;
+        std::size_t count = 0;  // elements, or members so far
+        std::unordered_set<std::string> keys;
+    };
+
     bool fail_value(std::string detail) {
         error_path = value_path();
         error_detail = std::move(detail);
         return false;
     }
+    // The path of the value about to be added.
     std::string value_path() {
         if (stack_.empty()) return path_.str();
-        if (stack_.back()->is_array()) {
-            path_.push_index(stack_.back()->size());
+        if (stack_.back().is_array) {
+            path_.push_index(stack_.back().count);
         } else {
             path_.push_key(pending_key_);
         }
@@ -218,42 +289,39 @@ class StrictSaxBuilder : public nlohmann::json_sax<json> {
         path_.pop();
         return p;
     }
-    bool add(json v) {
-        // The document in memory costs tens of bytes a value, whatever the file spells it with.
+    // Counts one more value; in an array it is the next element.
+    bool add() {
+        // The document in memory costs bytes a value, whatever the file spells it with.
         if (++values_ > limits_.max_json_values) {
             return fail_value("the file holds more than " +
                               std::to_string(limits_.max_json_values) +
                               " JSON values, the limit of a scene (docs/limits.md)");
         }
-        if (stack_.empty()) {
-            root = std::move(v);
-            current_ = &root;
-            return true;
-        }
-        json& parent = *stack_.back();
-        if (parent.is_array()) {
-            path_index_ = parent.size();
-            parent.push_back(std::move(v));
-            current_ = &parent.back();
-            current_is_index_ = true;
-        } else {
-            json& slot = parent[pending_key_];
-            slot = std::move(v);
-            current_ = &slot;
-            current_is_index_ = false;
+        if (!stack_.empty() && stack_.back().is_array) {
+            if (out_ && stack_.back().count != 0) *out_ += ',';
+            ++stack_.back().count;
         }
         return true;
     }
-    bool open(json* container) {
+    bool scalar(const std::string& text) {
+        if (!add()) return false;
+        if (out_) *out_ += text;
+        return true;
+    }
+    bool open(bool is_array) {
+        // The element index add() is about to give the container, for its path.
+        const std::size_t index =
+            !stack_.empty() && stack_.back().is_array ? stack_.back().count : 0;
+        if (!add()) return false;
         // nlohmann's SAX parser is iterative, so depth costs no stack; the limit keeps paths,
-        // messages and the document's recursive destructor and dump small.
+        // messages and the walk small.
         if (stack_.size() >= limits_.max_nesting_depth) {
             // The path of the container that goes one level too deep.
             if (stack_.empty()) {
                 error_path = path_.str();
             } else {
-                if (current_is_index_) {
-                    path_.push_index(path_index_);
+                if (stack_.back().is_array) {
+                    path_.push_index(index);
                 } else {
                     path_.push_key(pending_key_);
                 }
@@ -265,30 +333,29 @@ class StrictSaxBuilder : public nlohmann::json_sax<json> {
             return false;
         }
         if (!stack_.empty()) {
-            if (current_is_index_) {
-                path_.push_index(path_index_);
+            if (stack_.back().is_array) {
+                path_.push_index(index);
             } else {
                 path_.push_key(pending_key_);
             }
         }
-        stack_.push_back(container);
+        stack_.push_back(Open{is_array, 0, {}});
+        if (out_) *out_ += is_array ? '[' : '{';
         return true;
     }
-    bool close() {
+    bool close(char bracket) {
         stack_.pop_back();
         if (!stack_.empty()) path_.pop();
+        if (out_) *out_ += bracket;
         return true;
     }
 
-    std::string_view text_;
     const SceneLimits& limits_;
+    std::string* out_;
     std::uint64_t values_ = 0;
-    std::vector<json*> stack_;
+    std::vector<Open> stack_;
     JsonPath path_;
     std::string pending_key_;
-    json* current_ = nullptr;
-    bool current_is_index_ = false;
-    std::size_t path_index_ = 0;
 };
 
 void line_and_column(std::string_view text, std::size_t position, std::size_t& line,
@@ -306,73 +373,260 @@ void line_and_column(std::string_view text, std::size_t position, std::size_t& l
     }
 }
 
-std::string describe(const json& v) {
+// Reads `text` with the strict rules; throws the refusal. Returns only for a strict JSON
+// document, writing its normalized copy to `normalized` when given.
+void check_strictly(std::string_view text, const std::string& file_label, const SceneLimits& limits,
+                    std::string* normalized) {
+    StrictChecker sax(limits, normalized);
+    const bool ok = json::sax_parse(text.begin(), text.end(), &sax, json::input_format_t::json,
+                                    /*strict=*/true, /*ignore_comments=*/false);
+    if (!ok || sax.syntax_error || !sax.error_detail.empty()) {
+        if (sax.syntax_error) {
+            std::size_t line = 0;
+            std::size_t column = 0;
+            line_and_column(text, sax.error_position, line, column);
+            throw SceneError(file_label, "", "invalid JSON: " + sax.error_detail, line, column);
+        }
+        throw SceneError(file_label, sax.error_path, sax.error_detail);
+    }
+}
+
+// An upper bound of the values in `text`: every value but the root follows a comma or opens
+// its container's first element, so values <= 1 + commas + '[' + '{' (characters inside
+// strings only raise the bound). It lets a file with too many values be refused before
+// simdjson builds a document whose size follows the number of values.
+std::uint64_t values_upper_bound(std::string_view text) {
+    std::uint64_t n = 1;
+    std::size_t i = 0;
+    const auto* p = reinterpret_cast<const unsigned char*>(text.data());
+#if defined(__SSE2__)
+    const __m128i comma = _mm_set1_epi8(',');
+    const __m128i bracket = _mm_set1_epi8('[');
+    const __m128i brace = _mm_set1_epi8('{');
+    for (; i + 16 <= text.size(); i += 16) {
+        const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p + i));
+        const __m128i hit =
+            _mm_or_si128(_mm_or_si128(_mm_cmpeq_epi8(b, comma), _mm_cmpeq_epi8(b, bracket)),
+                         _mm_cmpeq_epi8(b, brace));
+        n += static_cast<std::uint64_t>(
+            std::popcount(static_cast<unsigned>(_mm_movemask_epi8(hit))));
+    }
+#endif
+    for (; i < text.size(); ++i) n += (p[i] == ',') | (p[i] == '[') | (p[i] == '{');
+    return n;
+}
+
+// The strict rules simdjson does not apply, checked on its document in document order:
+// false at the first duplicate key, container nested too deep or value past the limit.
+class StrictScan {
+  public:
+    explicit StrictScan(const SceneLimits& limits) : limits_(limits) {}
+
+    bool ok(dom::element e, std::uint32_t enclosing) {
+        if (++values_ > limits_.max_json_values) return false;
+        switch (e.type()) {
+            case dom::element_type::ARRAY: {
+                if (enclosing >= limits_.max_nesting_depth) return false;
+                for (const dom::element c : as_array(e)) {
+                    if (!ok(c, enclosing + 1)) return false;
+                }
+                return true;
+            }
+            case dom::element_type::OBJECT: {
+                if (enclosing >= limits_.max_nesting_depth) return false;
+                const dom::object o = as_object(e);
+                // Scene objects have a handful of keys: compare each with those before it;
+                // a large object (no scene needs one) goes through a hash set.
+                constexpr std::size_t kSmall = 16;
+                std::string_view seen[kSmall];
+                std::size_t n = 0;
+                std::unordered_set<std::string_view> many;
+                for (const dom::key_value_pair kv : o) {
+                    if (n < kSmall) {
+                        for (std::size_t i = 0; i < n; ++i) {
+                            if (seen[i] == kv.key) return false;
+                        }
+                        seen[n] = kv.key;
+                        if (++n == kSmall) many.insert(seen, seen + kSmall);
+                    } else if (!many.insert(kv.key).second) {
+                        return false;
+                    }
+                    if (!ok(kv.value, enclosing + 1)) return false;
+                }
+                return true;
+            }
+            default:
+                return true;
+        }
+    }
+
+  private:
+    const SceneLimits& limits_;
+    std::uint64_t values_ = 0;
+};
+
+// The parsed document of a scene file: the root of simdjson's DOM, which `parser` owns, and
+// the normalized text when the file took that path.
+struct Document {
+    dom::parser parser;
+    std::string normalized;
+    dom::element root;
+};
+
+// Parses `text` (followed by simdjson::SIMDJSON_PADDING readable bytes when `padded`) with
+// every strict rule; throws the refusal.
+void parse_document(Document& doc, std::string_view text, bool padded,
+                    const std::string& file_label, const SceneLimits& limits) {
+    // Deeper files are refused anyway; the bound keeps simdjson's depth tables small.
+    const std::size_t depth =
+        std::clamp<std::size_t>(std::size_t{limits.max_nesting_depth} + 2, 64, 4096);
+    if (doc.parser.allocate(std::max<std::size_t>(text.size(), 64), depth) != simdjson::SUCCESS) {
+        throw SceneError(
+            file_label, "",
+            "cannot allocate the memory to parse " + std::to_string(text.size()) + " bytes");
+    }
+    // Below two bytes a value no file can pass the limit, so small files skip the count.
+    if (text.size() / 2 >= limits.max_json_values &&
+        values_upper_bound(text) > limits.max_json_values) {
+        check_strictly(text, file_label, limits, nullptr);  // refuses unless strings inflated it
+    }
+    auto first = doc.parser.parse(text.data(), text.size(), /*realloc_if_needed=*/!padded);
+    if (first.error() == simdjson::SUCCESS && StrictScan(limits).ok(first.value_unsafe(), 0)) {
+        doc.root = first.value_unsafe();
+        return;
+    }
+    if (first.error() == simdjson::MEMALLOC) {
+        throw SceneError(
+            file_label, "",
+            "cannot allocate the memory to parse " + std::to_string(text.size()) + " bytes");
+    }
+    // The refusal, with its path or position; or the normalized copy of a strict file that
+    // simdjson could not hold.
+    check_strictly(text, file_label, limits, &doc.normalized);
+    auto second = doc.parser.parse(doc.normalized);
+    if (second.error() == simdjson::SUCCESS && StrictScan(limits).ok(second.value_unsafe(), 0)) {
+        doc.root = second.value_unsafe();
+        return;
+    }
+    throw SceneError(
+        file_label, "",
+        std::string("cannot read this JSON: ") + simdjson::error_message(first.error()));
+}
+
+// The number of elements of an array: simdjson's count stops at 0xFFFFFF.
+std::size_t element_count(dom::array a) {
+    std::size_t n = a.size();
+    if (n == 0xFFFFFF) {
+        n = 0;
+        for (auto it = a.begin(); it != a.end(); ++it) ++n;
+    }
+    return n;
+}
+
+std::string describe(dom::element v) {
     switch (v.type()) {
-        case json::value_t::null:
+        case dom::element_type::NULL_VALUE:
             return "null";
-        case json::value_t::boolean:
-            return v.get<bool>() ? "true" : "false";
-        case json::value_t::string:
-            return "the string " + quoted_value(v.get_ref<const std::string&>());
-        case json::value_t::array:
-            return "an array of " + std::to_string(v.size());
-        case json::value_t::object:
+        case dom::element_type::BOOL:
+            return v.get_bool().value_unsafe() ? "true" : "false";
+        case dom::element_type::STRING:
+            return "the string " + quoted_value(v.get_string().value_unsafe());
+        case dom::element_type::ARRAY:
+            return "an array of " + std::to_string(element_count(as_array(v)));
+        case dom::element_type::OBJECT:
             return "an object";
         default:
             return number_text(v);
     }
 }
 
-// A value of the document with its path; every accessor refuses what the format forbids.
+// A value of the document and where it sits; every accessor refuses what the format forbids.
+// The path is built only for a refusal, from the chain of parents, so a Node must not outlive
+// the Node it was taken from.
 class Node {
   public:
-    Node(const json& v, std::string path, const std::string& file)
-        : v_(v), path_(std::move(path)), file_(file) {}
+    Node(dom::element v, const std::string& file) : v_(v), file_(&file) {}
+    Node(dom::element v, const Node& parent, std::string_view key)
+        : v_(v), parent_(&parent), key_(key), by_key_(true), file_(parent.file_) {}
+    Node(dom::element v, const Node& parent, std::size_t index)
+        : v_(v), parent_(&parent), index_(index), file_(parent.file_) {}
 
-    const json& value() const { return v_; }
-    const std::string& path() const { return path_; }
+    dom::element value() const { return v_; }
+    bool is_null() const { return v_.type() == dom::element_type::NULL_VALUE; }
+    bool is_object() const { return v_.type() == dom::element_type::OBJECT; }
+
+    std::string path() const {
+        std::vector<const Node*> chain;
+        for (const Node* n = this; n->parent_ != nullptr; n = n->parent_) chain.push_back(n);
+        std::string s;
+        for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
+            s += (*it)->by_key_ ? key_component((*it)->key_)
+                                : "[" + std::to_string((*it)->index_) + "]";
+        }
+        if (!s.empty() && s.front() == '.') s.erase(0, 1);
+        return s.empty() ? "(root)" : s;
+    }
 
     [[noreturn]] void fail(const std::string& detail) const {
-        throw SceneError(file_, path_, detail);
+        throw SceneError(*file_, path(), detail);
     }
 
     void require_object(std::initializer_list<std::string_view> allowed) const {
-        if (!v_.is_object()) fail("expected an object, got " + describe(v_));
-        for (const auto& [k, _] : v_.items()) {
+        if (!is_object()) fail("expected an object, got " + describe(v_));
+        for (const dom::key_value_pair kv : as_object(v_)) {
             bool ok = false;
-            for (auto a : allowed) ok = ok || k == a;
+            for (auto a : allowed) ok = ok || kv.key == a;
             if (!ok) {
                 std::string list;
                 for (auto a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
-                Node(v_.at(k), child_path(path_, k), file_)
-                    .fail("unknown key " + quoted_value(k) + " (allowed: " + list + ")");
+                Node(kv.value, *this, kv.key)
+                    .fail("unknown key " + quoted_value(kv.key) + " (allowed: " + list + ")");
             }
         }
     }
-    bool has(const std::string& key) const { return v_.contains(key); }
-    Node at(const std::string& key) const {
-        if (!v_.contains(key)) fail("missing required key " + quoted_value(key));
-        return {v_.at(key), child_path(path_, key), file_};
+    Node at(std::string_view key) const {
+        auto n = get(key);
+        if (!n) fail("missing required key " + quoted_value(key));
+        return *n;
     }
-    std::optional<Node> get(const std::string& key) const {
-        if (!v_.contains(key)) return std::nullopt;
-        return Node(v_.at(key), child_path(path_, key), file_);
+    std::optional<Node> get(std::string_view key) const {
+        if (!is_object()) return std::nullopt;
+        // Keys are unique (the strict scan checked), so the first match is the only one.
+        for (const dom::key_value_pair kv : as_object(v_)) {
+            if (kv.key == key) return Node(kv.value, *this, kv.key);
+        }
+        return std::nullopt;
     }
 
     std::size_t array_size(std::size_t min, std::size_t max, const char* what) const {
-        if (!v_.is_array()) fail(std::string("expected ") + what + ", got " + describe(v_));
-        if (v_.size() < min || v_.size() > max) {
-            fail(std::string("expected ") + what + ", got an array of " +
-                 std::to_string(v_.size()));
+        if (v_.type() != dom::element_type::ARRAY) {
+            fail(std::string("expected ") + what + ", got " + describe(v_));
         }
-        return v_.size();
+        const std::size_t n = element_count(as_array(v_));
+        if (n < min || n > max) {
+            fail(std::string("expected ") + what + ", got an array of " + std::to_string(n));
+        }
+        return n;
     }
-    Node operator[](std::size_t i) const { return {v_.at(i), child_path(path_, i), file_}; }
+    // Element i of an array checked by array_size; O(i), so for short arrays. Long ones go
+    // through for_each.
+    Node operator[](std::size_t i) const {
+        const auto r = as_array(v_).at(i);
+        return {r.value_unsafe(), *this, i};
+    }
+    // f(const Node& element) for each element of an array checked by array_size, in order.
+    template <class F>
+    void for_each(F&& f) const {
+        std::size_t i = 0;
+        for (const dom::element e : as_array(v_)) f(Node(e, *this, i++));
+    }
 
     // A JSON number read as a double, then rounded once to float32; must stay finite.
     float f32() const {
-        if (!v_.is_number()) fail("expected a number, got " + describe(v_));
-        const double d = v_.get<double>();
+        double d = 0;
+        if (v_.get_double().get(d) != simdjson::SUCCESS) {
+            fail("expected a number, got " + describe(v_));
+        }
         const float f = static_cast<float>(d);
         if (!std::isfinite(f)) fail("number " + number_text(v_) + " does not fit in float32");
         return f;
@@ -397,41 +651,54 @@ class Node {
     // An integer; 3.0 counts as 3. Never passes through float32.
     std::int64_t integer(std::int64_t lo, std::int64_t hi) const {
         std::int64_t r = 0;
-        if (v_.is_number_integer()) {
-            if (v_.is_number_unsigned() &&
-                v_.get<std::uint64_t>() >
-                    static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())) {
+        switch (v_.type()) {
+            case dom::element_type::INT64:
+                r = v_.get_int64().value_unsafe();
+                break;
+            case dom::element_type::UINT64:
+                // simdjson stores only integers above INT64_MAX as unsigned.
                 fail_range(lo, hi);
+            case dom::element_type::DOUBLE: {
+                const double d = v_.get_double().value_unsafe();
+                if (std::trunc(d) != d) fail("expected an integer, got " + number_text(v_));
+                if (d < -9.0e18 || d > 9.0e18) fail_range(lo, hi);
+                r = static_cast<std::int64_t>(d);
+                break;
             }
-            r = v_.get<std::int64_t>();
-        } else if (v_.is_number_float()) {
-            const double d = v_.get<double>();
-            if (std::trunc(d) != d) fail("expected an integer, got " + number_text(v_));
-            if (d < -9.0e18 || d > 9.0e18) fail_range(lo, hi);
-            r = static_cast<std::int64_t>(d);
-        } else {
-            fail("expected an integer, got " + describe(v_));
+            default:
+                fail("expected an integer, got " + describe(v_));
         }
         if (r < lo || r > hi) fail_range(lo, hi);
         return r;
     }
     bool boolean() const {
-        if (!v_.is_boolean()) fail("expected true or false, got " + describe(v_));
-        return v_.get<bool>();
+        bool b = false;
+        if (v_.get_bool().get(b) != simdjson::SUCCESS) {
+            fail("expected true or false, got " + describe(v_));
+        }
+        return b;
     }
-    std::string string() const {
-        if (!v_.is_string()) fail("expected a string, got " + describe(v_));
-        return v_.get<std::string>();
+    std::string_view string_view() const {
+        std::string_view s;
+        if (v_.get_string().get(s) != simdjson::SUCCESS) {
+            fail("expected a string, got " + describe(v_));
+        }
+        return s;
     }
+    std::string string() const { return std::string(string_view()); }
     template <class E>
     E choice(std::initializer_list<std::pair<std::string_view, E>> options) const {
-        std::string list;
-        for (const auto& [n, _] : options) list += (list.empty() ? "" : ", ") + std::string(n);
-        if (!v_.is_string()) fail("expected one of " + list + ", got " + describe(v_));
-        const auto s = v_.get<std::string>();
+        std::string_view s;
+        if (v_.get_string().get(s) != simdjson::SUCCESS) {
+            std::string list;
+            for (const auto& [n, _] : options) list += (list.empty() ? "" : ", ") + std::string(n);
+            fail("expected one of " + list + ", got " + describe(v_));
+        }
         for (const auto& [n, e] : options) {
             if (s == n) return e;
         }
+        std::string list;
+        for (const auto& [n, _] : options) list += (list.empty() ? "" : ", ") + std::string(n);
         fail("expected one of " + list + ", got " + quoted_value(s));
     }
 
@@ -441,9 +708,12 @@ class Node {
              "], got " + number_text(v_));
     }
 
-    const json& v_;
-    std::string path_;
-    const std::string& file_;
+    dom::element v_;
+    const Node* parent_ = nullptr;
+    std::string_view key_;
+    std::size_t index_ = 0;
+    bool by_key_ = false;
+    const std::string* file_;
 };
 
 // Limits from scene format v1, section "Limits and remaining semantics".
@@ -484,7 +754,7 @@ refraster::DrawState read_state(const Node& n, const refraster::Target& target) 
         s.depth_near = (*v)[0].f32_in(0.0f, 1.0f);
         s.depth_far = (*v)[1].f32_in(0.0f, 1.0f);
     }
-    if (auto v = n.get("scissor"); v && !v->value().is_null()) {
+    if (auto v = n.get("scissor"); v && !v->is_null()) {
         s.scissor = read_rect(*v, -kScissorLimit, kScissorLimit, 0, kScissorLimit);
     }
     if (auto v = n.get("cull")) {
@@ -496,7 +766,7 @@ refraster::DrawState read_state(const Node& n, const refraster::Target& target) 
     if (auto v = n.get("front_face")) {
         s.front_face = v->choice<FrontFace>({{"ccw", FrontFace::Ccw}, {"cw", FrontFace::Cw}});
     }
-    if (auto v = n.get("depth_test"); v && !v->value().is_null()) {
+    if (auto v = n.get("depth_test"); v && !v->is_null()) {
         s.depth_test = v->choice<CompareFunc>({{"never", CompareFunc::Never},
                                                {"less", CompareFunc::Less},
                                                {"equal", CompareFunc::Equal},
@@ -521,7 +791,7 @@ refraster::DrawState read_state(const Node& n, const refraster::Target& target) 
                                                  {"line", PolygonMode::Line},
                                                  {"point", PolygonMode::Point}});
     }
-    if (auto v = n.get("polygon_offset"); v && !v->value().is_null()) {
+    if (auto v = n.get("polygon_offset"); v && !v->is_null()) {
         v->require_object({"factor", "units"});
         s.polygon_offset = PolygonOffset{v->at("factor").f32(), v->at("units").f32()};
     }
@@ -529,7 +799,7 @@ refraster::DrawState read_state(const Node& n, const refraster::Target& target) 
     // ALIASED_LINE_WIDTH_RANGE and POINT_SIZE_RANGE (1..255 in llvmpipe), so they draw as 1.
     if (auto v = n.get("line_width")) s.line_width = v->f32_above(0.0f, 255.0f);
     if (auto v = n.get("point_size")) s.point_size = v->f32_above(0.0f, 255.0f);
-    if (auto v = n.get("blend"); v && !v->value().is_null()) {
+    if (auto v = n.get("blend"); v && !v->is_null()) {
         s.blend =
             v->choice<BlendPreset>({{"alpha", BlendPreset::Alpha}, {"add", BlendPreset::Add}});
     }
@@ -556,10 +826,232 @@ struct WorkSoFar {
     }
 };
 
-SceneDraw read_draw(const Node& n, const refraster::Target& target, WorkSoFar& work) {
+// Base64 (RFC 4648, section 4: A-Z a-z 0-9 + /, padded with '=' to a multiple of four
+// characters) of the "vertex_arrays" extension, decoded strictly: no whitespace, no other
+// alphabet, padding only at the end and its unused bits zero, so that one byte string has
+// one spelling. Refusals name the string's path and the character's offset.
+constexpr std::uint8_t kNotBase64 = 0x80;
+constexpr auto kBase64Values = [] {
+    std::array<std::uint8_t, 256> t{};
+    t.fill(kNotBase64);
+    const char* alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    for (std::uint8_t i = 0; i < 64; ++i) t[static_cast<unsigned char>(alphabet[i])] = i;
+    return t;
+}();
+
+std::string describe_character(std::string_view s, std::size_t at) {
+    const auto u = static_cast<unsigned char>(s[at]);
+    if (u >= 0x80) {
+        char buf[16];
+        std::snprintf(buf, sizeof buf, "byte 0x%02X", u);
+        return buf;
+    }
+    return quoted_value(s.substr(at, 1));
+}
+
+std::vector<std::uint8_t> decode_base64(const Node& n, std::string_view s) {
+    if (s.size() % 4 != 0) {
+        n.fail("base64 text of " + std::to_string(s.size()) +
+               " characters; expected a multiple of 4 (padded with '=')");
+    }
+    std::size_t pad = 0;
+    if (!s.empty() && s.back() == '=') pad = s[s.size() - 2] == '=' ? 2 : 1;
+    const std::size_t body = s.size() - pad;
+    std::vector<std::uint8_t> out(s.size() / 4 * 3);
+    const auto* in = reinterpret_cast<const unsigned char*>(s.data());
+    const auto bad_character = [&](std::size_t from, std::size_t to) {
+        for (std::size_t k = from; k < to; ++k) {
+            if (kBase64Values[in[k]] == kNotBase64) {
+                n.fail("character " + std::to_string(k) + " (" + describe_character(s, k) + ")" +
+                       (s[k] == '=' ? " is padding before the end" : " is not base64"));
+            }
+        }
+    };
+    // Whole groups of four characters, then the last one with its padding.
+    const std::size_t whole = pad == 0 ? s.size() : s.size() - 4;
+    std::size_t o = 0;
+    for (std::size_t i = 0; i < whole; i += 4, o += 3) {
+        const std::uint8_t a = kBase64Values[in[i]];
+        const std::uint8_t b = kBase64Values[in[i + 1]];
+        const std::uint8_t c = kBase64Values[in[i + 2]];
+        const std::uint8_t d = kBase64Values[in[i + 3]];
+        if (((a | b | c | d) & kNotBase64) != 0) bad_character(i, i + 4);
+        const std::uint32_t v =
+            (std::uint32_t{a} << 18) | (std::uint32_t{b} << 12) | (std::uint32_t{c} << 6) | d;
+        out[o] = static_cast<std::uint8_t>(v >> 16);
+        out[o + 1] = static_cast<std::uint8_t>(v >> 8);
+        out[o + 2] = static_cast<std::uint8_t>(v);
+    }
+    if (pad != 0) {
+        bad_character(whole, body);
+        std::uint32_t v = 0;
+        for (std::size_t k = whole; k < body; ++k) v = (v << 6) | kBase64Values[in[k]];
+        const std::size_t bytes = 3 - pad;
+        const std::uint32_t unused_bits = pad == 2 ? 4 : 2;
+        if ((v & ((1u << unused_bits) - 1)) != 0) {
+            n.fail(
+                "the bits below the last byte, before the padding, are not zero (base64 "
+                "has one spelling of each byte string)");
+        }
+        v >>= unused_bits;
+        for (std::size_t k = 0; k < bytes; ++k) {
+            out[o + k] = static_cast<std::uint8_t>(v >> (8 * (bytes - 1 - k)));
+        }
+        o += bytes;
+    }
+    out.resize(o);
+    return out;
+}
+
+std::uint32_t little_endian_u32(const std::uint8_t* p) {
+    return std::uint32_t{p[0]} | (std::uint32_t{p[1]} << 8) | (std::uint32_t{p[2]} << 16) |
+           (std::uint32_t{p[3]} << 24);
+}
+
+// The extension "vertex_arrays": a draw's vertices as one flat array per attribute.
+constexpr std::string_view kVertexArraysExtension = "vertex_arrays";
+
+// One attribute of "vertex_arrays" ({"components": N, "values": [...]} or {"components": N,
+// "float32_base64": "..."}): count x components float32 values, vertex after vertex. Every
+// value is checked as a number of a plain vertex is: rounded once to float32 and finite; in
+// window space with four components, w > 0 as well.
+struct AttributeArray {
+    std::uint32_t components = 0;
+    std::vector<float> values;
+};
+
+AttributeArray read_attribute(const Node& a, std::size_t count, bool is_position,
+                              VertexSpace space) {
+    AttributeArray out;
+    a.require_object({"components", "values", "float32_base64"});
+    {
+        const Node c = a.at("components");
+        if (!is_position) {
+            if (c.integer(std::numeric_limits<std::int64_t>::min(),
+                          std::numeric_limits<std::int64_t>::max()) != 4) {
+                c.fail("expected 4 ([r, g, b, a]), got " + number_text(c.value()));
+            }
+            out.components = 4;
+        } else if (space == VertexSpace::Clip) {
+            if (c.integer(std::numeric_limits<std::int64_t>::min(),
+                          std::numeric_limits<std::int64_t>::max()) != 4) {
+                c.fail("expected 4 ([x, y, z, w], space \"clip\"), got " + number_text(c.value()));
+            }
+            out.components = 4;
+        } else {
+            out.components = static_cast<std::uint32_t>(c.integer(2, 4));
+        }
+    }
+    const bool window_w = is_position && space == VertexSpace::Window && out.components == 4;
+    const auto values = a.get("values");
+    const auto base64 = a.get("float32_base64");
+    if (values && base64) {
+        base64->fail("give either \"values\" or \"float32_base64\", not both");
+    }
+    if (!values && !base64) a.fail("missing required key \"values\" (or \"float32_base64\")");
+    // count is at most the vertex limit and components at most 4: no overflow.
+    const std::size_t total = count * out.components;
+    out.values.resize(total);
+    if (values) {
+        const std::string what = std::to_string(total) + " numbers (count " +
+                                 std::to_string(count) + " x " + std::to_string(out.components) +
+                                 " components)";
+        values->array_size(total, total, what.c_str());
+        float* dst = out.values.data();
+        values->for_each([&](const Node& e) {
+            const float f = e.f32();
+            if (window_w && (dst - out.values.data()) % 4 == 3 && !(f > 0.0f)) {
+                e.fail("expected w > 0 in window space, got " + number_text(e.value()));
+            }
+            *dst++ = f;
+        });
+        return out;
+    }
+    const std::vector<std::uint8_t> bytes = decode_base64(*base64, base64->string_view());
+    if (bytes.size() != total * 4) {
+        base64->fail("decodes to " + std::to_string(bytes.size()) + " bytes, expected " +
+                     std::to_string(total * 4) + " (count " + std::to_string(count) + " x " +
+                     std::to_string(out.components) + " components x 4 bytes)");
+    }
+    for (std::size_t k = 0; k < total; ++k) {
+        const float f = std::bit_cast<float>(little_endian_u32(bytes.data() + 4 * k));
+        const bool w = window_w && k % 4 == 3;
+        if (!std::isfinite(f) || (w && !(f > 0.0f))) {
+            const std::string where = "value " + std::to_string(k) + " (vertex " +
+                                      std::to_string(k / out.components) + ", component " +
+                                      std::to_string(k % out.components) + ")";
+            if (std::isnan(f)) base64->fail(where + " is NaN; expected finite float32 values");
+            if (std::isinf(f)) {
+                base64->fail(where + " is infinite; expected finite float32 values");
+            }
+            base64->fail(where + ": expected w > 0 in window space, got " +
+                         number_text(static_cast<double>(f)));
+        }
+        out.values[k] = f;
+    }
+    return out;
+}
+
+// A draw's "vertex_arrays": the same SceneVertex list the plain "vertices" would give.
+void read_vertex_arrays(const Node& va, SceneDraw& d, WorkSoFar& work) {
+    va.require_object({"count", "position", "color"});
+    const auto count = static_cast<std::size_t>(
+        va.at("count").integer(0, std::numeric_limits<std::uint32_t>::max()));
+    // Before anything of that size is allocated.
+    WorkSoFar::add(va, work.vertices, count, work.limits.max_vertices, "vertices");
+    const AttributeArray position = read_attribute(va.at("position"), count, true, d.space);
+    std::optional<AttributeArray> color;
+    if (auto c = va.get("color")) color = read_attribute(*c, count, false, d.space);
+    d.vertices.resize(count);
+    for (std::size_t i = 0; i < count; ++i) {
+        SceneVertex& sv = d.vertices[i];
+        sv.position_size = position.components;
+        const float* p = position.values.data() + i * position.components;
+        std::copy(p, p + position.components, sv.position.begin());
+        if (color) std::copy_n(color->values.data() + i * 4, 4, sv.color.begin());
+    }
+}
+
+// "indices": {"uint32_base64": "..."} under "vertex_arrays": little-endian uint32 values.
+std::vector<std::uint32_t> read_index_base64(const Node& n, std::size_t count, WorkSoFar& work) {
+    n.require_object({"uint32_base64"});
+    const Node s = n.at("uint32_base64");
+    const std::vector<std::uint8_t> bytes = decode_base64(s, s.string_view());
+    if (bytes.size() % 4 != 0) {
+        s.fail("decodes to " + std::to_string(bytes.size()) +
+               " bytes, not a whole number of 4-byte uint32 indices");
+    }
+    const std::size_t ni = bytes.size() / 4;
+    WorkSoFar::add(n, work.indices, ni, work.limits.max_indices, "indices");
+    std::vector<std::uint32_t> idx(ni);
+    for (std::size_t i = 0; i < ni; ++i) {
+        idx[i] = little_endian_u32(bytes.data() + 4 * i);
+        if (count == 0) s.fail("index " + std::to_string(i) + " into an empty vertex list");
+        if (idx[i] >= count) {
+            s.fail("index " + std::to_string(i) + ": expected an integer in [0, " +
+                   std::to_string(count - 1) + "], got " + std::to_string(idx[i]));
+        }
+    }
+    return idx;
+}
+
+SceneDraw read_draw(const Node& n, const refraster::Target& target, WorkSoFar& work,
+                    bool vertex_arrays_allowed) {
     using namespace refraster;
     SceneDraw d;
-    n.require_object({"primitive", "space", "matrix", "vertices", "indices", "state"});
+    if (!vertex_arrays_allowed && n.is_object()) {
+        if (auto v = n.get("vertex_arrays")) {
+            v->fail(
+                "the key \"vertex_arrays\" belongs to the extension \"vertex_arrays\"; list "
+                "it in \"requires\" to use it");
+        }
+    }
+    if (vertex_arrays_allowed) {
+        n.require_object(
+            {"primitive", "space", "matrix", "vertices", "vertex_arrays", "indices", "state"});
+    } else {
+        n.require_object({"primitive", "space", "matrix", "vertices", "indices", "state"});
+    }
     d.primitive = n.at("primitive")
                       .choice<PrimitiveType>({{"points", PrimitiveType::Points},
                                               {"lines", PrimitiveType::Lines},
@@ -578,43 +1070,65 @@ SceneDraw read_draw(const Node& n, const refraster::Target& target, WorkSoFar& w
         }
         v->array_size(16, 16, "16 numbers (column-major)");
         std::array<float, 16> m{};
-        for (std::size_t i = 0; i < 16; ++i) m[i] = (*v)[i].f32();
+        std::size_t i = 0;
+        v->for_each([&](const Node& e) { m[i++] = e.f32(); });
         d.matrix = m;
     }
-    const Node verts = n.at("vertices");
-    const std::size_t count =
-        verts.array_size(0, std::numeric_limits<std::uint32_t>::max(), "an array of vertices");
-    WorkSoFar::add(verts, work.vertices, count, work.limits.max_vertices, "vertices");
-    d.vertices.reserve(count);
-    for (std::size_t i = 0; i < count; ++i) {
-        const Node vn = verts[i];
-        vn.require_object({"position", "color"});
-        SceneVertex sv;
-        const Node p = vn.at("position");
-        if (d.space == VertexSpace::Clip) {
-            p.array_size(4, 4, "[x, y, z, w] (space \"clip\")");
-        } else {
-            p.array_size(2, 4, "[x, y], [x, y, z] or [x, y, z, w] (space \"window\")");
+    const auto arrays = vertex_arrays_allowed ? n.get("vertex_arrays") : std::nullopt;
+    if (arrays) {
+        if (n.get("vertices")) {
+            arrays->fail("give either \"vertices\" or \"vertex_arrays\", not both");
         }
-        sv.position_size = static_cast<std::uint32_t>(p.value().size());
-        for (std::size_t c = 0; c < sv.position_size; ++c) sv.position[c] = p[c].f32();
-        if (d.space == VertexSpace::Window && sv.position_size == 4 && !(sv.position[3] > 0.0f)) {
-            p[3].fail("expected w > 0 in window space, got " + number_text(p[3].value()));
+        d.from_vertex_arrays = true;
+        read_vertex_arrays(*arrays, d, work);
+    } else {
+        if (vertex_arrays_allowed && !n.get("vertices")) {
+            n.fail("missing required key \"vertices\" (or \"vertex_arrays\")");
         }
-        if (auto c = vn.get("color")) sv.color = read_color(*c);
-        d.vertices.push_back(sv);
+        const Node verts = n.at("vertices");
+        const std::size_t count =
+            verts.array_size(0, std::numeric_limits<std::uint32_t>::max(), "an array of vertices");
+        WorkSoFar::add(verts, work.vertices, count, work.limits.max_vertices, "vertices");
+        d.vertices.reserve(count);
+        verts.for_each([&](const Node& vn) {
+            vn.require_object({"position", "color"});
+            SceneVertex sv;
+            const Node p = vn.at("position");
+            if (d.space == VertexSpace::Clip) {
+                p.array_size(4, 4, "[x, y, z, w] (space \"clip\")");
+            } else {
+                p.array_size(2, 4, "[x, y], [x, y, z] or [x, y, z, w] (space \"window\")");
+            }
+            std::uint32_t c = 0;
+            p.for_each([&](const Node& e) {
+                sv.position[c] = e.f32();
+                if (c == 3 && d.space == VertexSpace::Window && !(sv.position[3] > 0.0f)) {
+                    e.fail("expected w > 0 in window space, got " + number_text(e.value()));
+                }
+                ++c;
+            });
+            sv.position_size = c;
+            if (auto col = vn.get("color")) sv.color = read_color(*col);
+            d.vertices.push_back(sv);
+        });
     }
+    const std::size_t count = d.vertices.size();
     if (auto v = n.get("indices")) {
-        const std::size_t ni =
-            v->array_size(0, std::numeric_limits<std::uint32_t>::max(), "an array of indices");
-        WorkSoFar::add(*v, work.indices, ni, work.limits.max_indices, "indices");
-        std::vector<std::uint32_t> idx(ni);
-        for (std::size_t i = 0; i < ni; ++i) {
-            const Node e = (*v)[i];
-            if (count == 0) e.fail("index into an empty vertex list");
-            idx[i] = static_cast<std::uint32_t>(e.integer(0, static_cast<std::int64_t>(count) - 1));
+        if (vertex_arrays_allowed && v->is_object()) {
+            d.indices = read_index_base64(*v, count, work);
+        } else {
+            const std::size_t ni =
+                v->array_size(0, std::numeric_limits<std::uint32_t>::max(), "an array of indices");
+            WorkSoFar::add(*v, work.indices, ni, work.limits.max_indices, "indices");
+            std::vector<std::uint32_t> idx(ni);
+            std::size_t i = 0;
+            v->for_each([&](const Node& e) {
+                if (count == 0) e.fail("index into an empty vertex list");
+                idx[i++] =
+                    static_cast<std::uint32_t>(e.integer(0, static_cast<std::int64_t>(count) - 1));
+            });
+            d.indices = std::move(idx);
         }
-        d.indices = std::move(idx);
     }
     // Indices may repeat a vertex any number of times: the primitives are what costs.
     const std::size_t elements = d.indices ? d.indices->size() : d.vertices.size();
@@ -631,13 +1145,14 @@ SceneDraw read_draw(const Node& n, const refraster::Target& target, WorkSoFar& w
 
 // The extensions this reader implements. "multisample": the draw state key "multisample"
 // (GL_MULTISAMPLE) on 4x targets; the key is part of format v1 too, and a file may still list
-// the name to say that it relies on it.
+// the name to say that it relies on it. "vertex_arrays": a draw's vertices as flat arrays per
+// attribute, and indices as base64 (docs/scene-format.md); the loader turns them into the same
+// vertices as the plain form, so every renderer draws them.
 bool is_implemented_extension(std::string_view name) {
-    return name == "multisample";
+    return name == "multisample" || name == kVertexArraysExtension;
 }
 
 }  // namespace
-
 std::string escape_for_message(std::string_view text) {
     std::string out;
     out.reserve(text.size());
@@ -681,42 +1196,27 @@ SceneError::SceneError(std::string file, std::string json_path, std::string mess
       line_(line),
       column_(column) {}
 
-SceneFile parse_scene(std::string_view text, const std::string& file_label,
-                      const SceneLimits& limits) {
+namespace {
+
+SceneFile read_scene(const Node& root, const SceneLimits& limits) {
     using namespace refraster;
-    if (text.size() > limits.max_file_bytes) {
-        throw SceneError(file_label, "",
-                         "file of " + std::to_string(text.size()) +
-                             " bytes exceeds the scene size limit of " +
-                             std::to_string(limits.max_file_bytes) + " bytes");
-    }
-    StrictSaxBuilder sax(text, limits);
-    const bool ok = json::sax_parse(text.begin(), text.end(), &sax, json::input_format_t::json,
-                                    /*strict=*/true, /*ignore_comments=*/false);
-    if (!ok || sax.syntax_error || !sax.error_detail.empty()) {
-        if (sax.syntax_error) {
-            std::size_t line = 0;
-            std::size_t column = 0;
-            line_and_column(text, sax.error_position, line, column);
-            throw SceneError(file_label, "", "invalid JSON: " + sax.error_detail, line, column);
-        }
-        throw SceneError(file_label, sax.error_path, sax.error_detail);
-    }
-    const Node root(sax.root, "(root)", file_label);
     root.require_object(
         {"format", "name", "description", "requires", "target", "clear", "expect", "draws"});
     SceneFile s;
     const Node format = root.at("format");
-    if (format.string() != kSceneFormatV1) {
+    if (format.string_view() != kSceneFormatV1) {
         format.fail(std::string("expected \"") + kSceneFormatV1 + "\", got " +
                     describe(format.value()));
     }
     if (auto v = root.get("name")) s.name = v->string();
     if (auto v = root.get("description")) s.description = v->string();
     if (auto v = root.get("requires")) {
-        const std::size_t n = v->array_size(0, 64, "an array of extension names");
-        for (std::size_t i = 0; i < n; ++i) s.requires_extensions.push_back((*v)[i].string());
+        v->array_size(0, 64, "an array of extension names");
+        v->for_each([&](const Node& e) { s.requires_extensions.push_back(e.string()); });
     }
+    const bool vertex_arrays_allowed =
+        std::find(s.requires_extensions.begin(), s.requires_extensions.end(),
+                  kVertexArraysExtension) != s.requires_extensions.end();
 
     const Node t = root.at("target");
     t.require_object({"width", "height", "color", "depth", "samples"});
@@ -769,15 +1269,35 @@ SceneFile parse_scene(std::string_view text, const std::string& file_label,
     }
     WorkSoFar work{limits};
     s.draws.reserve(nd);
-    for (std::size_t i = 0; i < nd; ++i) s.draws.push_back(read_draw(draws[i], s.target, work));
+    draws.for_each([&](const Node& d) {
+        s.draws.push_back(read_draw(d, s.target, work, vertex_arrays_allowed));
+    });
     return s;
 }
 
-Scene load_scene_text(std::string_view text, const std::string& file_label,
-                      const SceneLimits& limits) {
+void check_file_size(std::uintmax_t size, const std::string& file_label,
+                     const SceneLimits& limits) {
+    if (size > limits.max_file_bytes) {
+        throw SceneError(file_label, "",
+                         "file of " + std::to_string(size) +
+                             " bytes exceeds the scene size limit of " +
+                             std::to_string(limits.max_file_bytes) + " bytes");
+    }
+}
+
+// `padded`: SIMDJSON_PADDING readable bytes follow the text, so simdjson reads it in place.
+SceneFile parse_scene_text(std::string_view text, bool padded, const std::string& file_label,
+                           const SceneLimits& limits) {
+    check_file_size(text.size(), file_label, limits);
+    Document doc;
+    parse_document(doc, text, padded, file_label, limits);
+    return read_scene(Node(doc.root, file_label), limits);
+}
+
+Scene finish_scene(SceneFile file, const std::string& file_label, const SceneLimits& limits) {
     Scene scene;
     scene.path = file_label;
-    scene.file = parse_scene(text, file_label, limits);
+    scene.file = std::move(file);
     scene.draw_list = run_front_end(scene.file, file_label);
     // The fragment estimate needs clip-space positions, so it follows the front end; nothing
     // has been drawn yet.
@@ -798,6 +1318,18 @@ Scene load_scene_text(std::string_view text, const std::string& file_label,
     return scene;
 }
 
+}  // namespace
+
+SceneFile parse_scene(std::string_view text, const std::string& file_label,
+                      const SceneLimits& limits) {
+    return parse_scene_text(text, false, file_label, limits);
+}
+
+Scene load_scene_text(std::string_view text, const std::string& file_label,
+                      const SceneLimits& limits) {
+    return finish_scene(parse_scene_text(text, false, file_label, limits), file_label, limits);
+}
+
 Scene load_scene(const std::filesystem::path& path, const SceneLimits& limits) {
     const std::string label = path.string();
     std::error_code ec;
@@ -814,20 +1346,20 @@ Scene load_scene(const std::filesystem::path& path, const SceneLimits& limits) {
     const auto size = std::filesystem::file_size(path, ec);
     if (ec) throw SceneError(label, "", "cannot read its size: " + ec.message());
     // Checked again on the text; here so that a huge file is not read at all.
-    if (size > limits.max_file_bytes) {
-        throw SceneError(label, "",
-                         "file of " + std::to_string(size) +
-                             " bytes exceeds the scene size limit of " +
-                             std::to_string(limits.max_file_bytes) + " bytes");
-    }
+    check_file_size(size, label, limits);
     std::ifstream in(path, std::ios::binary);
     if (!in) throw SceneError(label, "", "cannot open for reading");
-    std::string text(static_cast<std::size_t>(size), '\0');
-    in.read(text.data(), static_cast<std::streamsize>(size));
+    // Read straight into a buffer with simdjson's padding after the text, so that the parser
+    // needs no copy of it; left uninitialized, as the read fills it.
+    const auto n = static_cast<std::size_t>(size);
+    const auto buffer = std::make_unique_for_overwrite<char[]>(n + simdjson::SIMDJSON_PADDING);
+    std::fill_n(buffer.get() + n, simdjson::SIMDJSON_PADDING, '\0');
+    in.read(buffer.get(), static_cast<std::streamsize>(n));
     if (static_cast<std::uintmax_t>(in.gcount()) != size) {
         throw SceneError(label, "", "read failed");
     }
-    Scene s = load_scene_text(text, label, limits);
+    Scene s = finish_scene(parse_scene_text(std::string_view(buffer.get(), n), true, label, limits),
+                           label, limits);
     s.path = path;
     return s;
 }

@@ -501,12 +501,12 @@ TEST(SceneMessages, HugeNumbersPrintShort) {
 // The limits docs/limits.md documents.
 TEST(SceneLimits, DefaultsAreTheDocumentedOnes) {
     const harness::SceneLimits l;
-    EXPECT_EQ(l.max_file_bytes, 268'435'456u);
+    EXPECT_EQ(l.max_file_bytes, 1'073'741'824u);
     EXPECT_EQ(l.max_nesting_depth, 64u);
-    EXPECT_EQ(l.max_json_values, 8'388'608u);
+    EXPECT_EQ(l.max_json_values, 67'108'864u);
     EXPECT_EQ(l.max_target_pixels, 67'108'864u);
     EXPECT_EQ(l.max_draws, 4'096u);
-    EXPECT_EQ(l.max_vertices, 1'048'576u);
+    EXPECT_EQ(l.max_vertices, 4'194'304u);
     EXPECT_EQ(l.max_indices, 4'194'304u);
     EXPECT_EQ(l.max_primitives, 4'194'304u);
     EXPECT_EQ(l.max_fragments, 2'147'483'648u);

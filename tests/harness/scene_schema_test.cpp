@@ -112,6 +112,54 @@ TEST(SceneSchema, PrimitivesMatchTheLoader) {
     }
 }
 
+// The extension "vertex_arrays" as the schema publishes it: the draw key and its attributes,
+// their component ranges, and indices as base64; the loader accepts exactly those, and only
+// when "requires" lists the extension.
+TEST(SceneSchema, VertexArraysMatchTheLoader) {
+    const json draw = schema()["properties"]["draws"]["items"];
+    const json va = draw["properties"]["vertex_arrays"];
+    EXPECT_EQ(va["required"], json::array({"count", "position"}));
+    EXPECT_EQ(draw["oneOf"],
+              json::parse(R"([{"required": ["vertices"]}, {"required": ["vertex_arrays"]}])"));
+    const json pos = va["properties"]["position"]["properties"]["components"];
+    const json col = va["properties"]["color"]["properties"]["components"];
+    const auto scene = [](const json& arrays, bool listed) {
+        json s = {{"format", "refraster-scene/1"},
+                  {"target", {{"width", 4}, {"height", 4}}},
+                  {"draws", json::array({{{"primitive", "points"}, {"vertex_arrays", arrays}}})}};
+        if (listed) s["requires"] = json::array({"vertex_arrays"});
+        return s.dump();
+    };
+    const auto loads_arrays = [&](int position_components, int color_components, bool listed) {
+        json a = {{"count", 1},
+                  {"position",
+                   {{"components", position_components},
+                    {"values",
+                     std::vector<double>(static_cast<std::size_t>(position_components), 1.0)}}}};
+        if (color_components != 0) {
+            a["color"] = {
+                {"components", color_components},
+                {"values", std::vector<double>(static_cast<std::size_t>(color_components), 0.5)}};
+        }
+        try {
+            (void)harness::load_scene_text(scene(a, listed), "va.json");
+            return true;
+        } catch (const harness::SceneError&) {
+            return false;
+        }
+    };
+    for (int n = 0; n <= 5; ++n) {
+        SCOPED_TRACE(n);
+        EXPECT_EQ(loads_arrays(n, 0, true),
+                  n >= pos["minimum"].get<int>() && n <= pos["maximum"].get<int>());
+        EXPECT_EQ(loads_arrays(2, n == 0 ? 1 : n, true),
+                  n >= col["minimum"].get<int>() && n <= col["maximum"].get<int>());
+    }
+    EXPECT_FALSE(loads_arrays(2, 4, false));
+    const json idx = draw["properties"]["indices"]["oneOf"][1];
+    EXPECT_EQ(idx["required"], json::array({"uint32_base64"}));
+}
+
 // Every shipped scene loads, describes itself, and is named by its dotted path.
 TEST(ShippedScenes, LoadDescribeAndNameByPath) {
     const auto root = kSource / "conformance/scenes";

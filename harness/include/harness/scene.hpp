@@ -21,8 +21,9 @@
 
 namespace harness {
 
-// The scene format's version string. The one extension this reader implements, "multisample",
-// is checked by the loader (scene_json.cpp); any other required name is unsupported.
+// The scene format's version string. The extensions this reader implements, "multisample" and
+// "vertex_arrays", are checked by the loader (scene_json.cpp); any other required name is
+// unsupported.
 inline constexpr const char* kSceneFormatV1 = "refraster-scene/1";
 
 enum class VertexSpace : std::uint8_t { Window, Clip };
@@ -41,6 +42,9 @@ struct SceneDraw {
     std::vector<SceneVertex> vertices;
     std::optional<std::vector<std::uint32_t>> indices;
     refraster::DrawState state;  // viewport already defaulted to the whole target
+    // The file gave the vertices as "vertex_arrays" (extension "vertex_arrays") rather than
+    // "vertices": the values are the same, only the paths of messages differ.
+    bool from_vertex_arrays = false;
 };
 
 struct Expect {
@@ -89,7 +93,7 @@ class SceneError : public std::runtime_error {
 };
 
 // Largest scene file read, in bytes; a larger file is refused before it is parsed.
-inline constexpr std::uintmax_t kMaxSceneFileBytes = 256u << 20;
+inline constexpr std::uintmax_t kMaxSceneFileBytes = std::uintmax_t{1} << 30;
 
 // The work a scene may ask for (docs/limits.md). A valid scene beyond any of them is refused
 // like bad input (SceneError, exit code 2) before anything is drawn, so that no file can make
@@ -98,10 +102,10 @@ inline constexpr std::uintmax_t kMaxSceneFileBytes = 256u << 20;
 struct SceneLimits {
     std::uint64_t max_file_bytes = kMaxSceneFileBytes;
     std::uint32_t max_nesting_depth = 64;          // arrays and objects inside each other
-    std::uint64_t max_json_values = 8'388'608;     // every value of the document counts one
+    std::uint64_t max_json_values = 67'108'864;    // every value of the document counts one
     std::uint64_t max_target_pixels = 67'108'864;  // width x height x samples (format v1)
     std::uint64_t max_draws = 4'096;
-    std::uint64_t max_vertices = 1'048'576;       // over all draws
+    std::uint64_t max_vertices = 4'194'304;       // over all draws
     std::uint64_t max_indices = 4'194'304;        // over all draws
     std::uint64_t max_primitives = 4'194'304;     // assembled, over all draws
     std::uint64_t max_fragments = 2'147'483'648;  // estimated (estimate_work), over all draws

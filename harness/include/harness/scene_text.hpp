@@ -1,0 +1,37 @@
+// scene_text.hpp: scene files written in a chosen vertex form, and a seeded scene of many
+// small triangles to load.
+//
+// Implements: scene_json_text, which writes a SceneFile with its vertices in the plain form
+// ("vertices") or in the extension "vertex_arrays" (flat "values", or "float32_base64" with
+// indices as "uint32_base64"), streamed so that millions of vertices cost no document in
+// memory; every number as the shortest text that reads back to the same float32. And
+// many_triangles_scene, the load benchmark's and the big-scene test's workload.
+//
+// Deliberately does not: time anything, or decide which form a tool writes (reduce keeps the
+// plain form, scene_to_json).
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "harness/scene.hpp"
+
+namespace harness {
+
+enum class VertexForm : std::uint8_t {
+    Plain,   // "vertices": [{"position": [...], "color": [...]}, ...]
+    Values,  // "vertex_arrays": {"count", "position": {"components", "values": [...]}, ...}
+    Base64,  // "vertex_arrays" with "float32_base64"; indices as {"uint32_base64": ...}
+};
+
+// The file text; load_scene_text reads it back to the same SceneFile (with
+// "vertex_arrays" added to `requires` for the compact forms). A draw's vertices must share one
+// position size in the compact forms (std::invalid_argument otherwise).
+std::string scene_json_text(const SceneFile& s, VertexForm form);
+
+// `triangles` unindexed triangles of a few pixels each, scattered over a 1024 x 1024 target
+// with depth, positions [x, y, z] on a 1/256 grid and colours on a 1/16 grid: the shape of
+// scenes with millions of small triangles. The same seed gives the same scene.
+SceneFile many_triangles_scene(std::uint64_t triangles, std::uint64_t seed);
+
+}  // namespace harness
