@@ -17,6 +17,7 @@
 #include <functional>
 #include <vector>
 
+#include "band_workers.hpp"
 #include "fragment.hpp"
 #include "refraster/assembly.hpp"
 #include "refraster/draw.hpp"
@@ -35,6 +36,7 @@ struct DrawContext {
     bool fma = false;                        // the viewport transform and plane evaluation fuse
     bool record_owners = false;              // Framebuffer::owner is filled
     KernelPath kernels = KernelPath::Model;  // resolved for this CPU (resolve_kernel_path)
+    BandWorkers* workers = nullptr;          // more than one thread shades (band_workers.hpp)
 
     VertexStageOptions vertex_options() const {
         return {fma, profile.gl.flush_denormals, profile.gl.clipping == Clipping::GuardBand};

@@ -37,6 +37,26 @@
 
 namespace refraster::detail {
 
+// Every primitive of `list` shaded by every thread of ctx.workers, each in its own bands
+// (band_workers.hpp): the same bytes as one thread.
+template <class Model, class Kernel>
+void shade_in_bands(const DrawContext& ctx, const typename Model::List& list, const Kernel& kernel,
+                    Framebuffer& fb) {
+    BandWorkers& workers = *ctx.workers;
+    const unsigned n = workers.count();
+    workers.run([&](unsigned t) {
+        // The float mode is each thread's own.
+        const ScopedDenormalsAreZero float_mode(kernel.hardware_denormals());
+        std::uint64_t scratch[kMaxBlockRows];
+        for (const auto& prim : list.primitives) {
+            Model::traverse_rows(list, prim, [&](const RowBlock& block) {
+                const RowBlock mine = band_rows(block, t, n, scratch);
+                if (mine.rows != 0) kernel.shade_rows(list, prim, mine, fb);
+            });
+        }
+    });
+}
+
 // One draw through every stage of `Model`; returns the pixels traversal found covered when
 // the render stops after traversal.
 template <class Model, class Observer>
@@ -55,6 +75,11 @@ std::uint64_t draw(const DrawContext& ctx, Observer& obs, RenderStage stop, Fram
             const auto& prim = list.primitives[i];
             obs.before_fragments(i, list, prim, kernel, fb);
             if constexpr (Model::kRowBlocks) {
+                if (kernel.shades_rows() && ctx.workers != nullptr &&
+                    stop == RenderStage::Fragment) {
+                    shade_in_bands<Model>(ctx, list, kernel, fb);
+                    break;
+                }
                 if (kernel.shades_rows()) {
                     Model::traverse_rows(list, prim, [&](const RowBlock& block) {
                         if (stop == RenderStage::Raster) {

@@ -6,6 +6,8 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <optional>
+#include <thread>
 
 #include "fragment.hpp"
 #include "observer.hpp"
@@ -117,6 +119,12 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
     // A trace records what the model computes; every path computes the same.
     const KernelPath kernels =
         trace != nullptr ? KernelPath::Model : resolve_kernel_path(options.kernels);
+    // Threads only for the paths that shade row blocks; a traced render stays on one.
+    unsigned threads = options.threads == 0 ? std::max(1u, std::thread::hardware_concurrency())
+                                            : options.threads;
+    if (kernels == KernelPath::Model || options.stop_after != RenderStage::Fragment) threads = 1;
+    std::optional<detail::BandWorkers> workers;
+    if (threads > 1) workers.emplace(threads);
     RenderOutcome outcome;
     for (std::size_t i = 0; i < list.draws.size(); ++i) {
         const Draw& d = list.draws[i];
@@ -128,7 +136,8 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
                                       detail::setup_params(options.profile, d.state, list.target),
                                       fma,
                                       !out.owner.empty(),
-                                      kernels};
+                                      kernels,
+                                      workers ? &*workers : nullptr};
         if (trace != nullptr) {
             detail::TraceObserver obs(*trace, ctx.params.multisample);
             outcome.fragments += detail::run_draw(ctx, obs, options.stop_after, out);
