@@ -3,7 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <optional>
+#include <sstream>
 
 namespace {
 
@@ -64,21 +67,254 @@ TEST(BenchWorkloads, SeededAndScaled) {
     EXPECT_EQ(harness::bench_workload_names().size(), 8u);
 }
 
+TEST(BenchWorkloads, ScalingWorkloadsScaleTheirCounterparts) {
+    const auto& standard = harness::bench_workload_names();
+    for (const auto& name : harness::bench_scaling_workload_names()) {
+        EXPECT_EQ(std::find(standard.begin(), standard.end(), name), standard.end()) << name;
+        EXPECT_TRUE(harness::bench_scaling_counterpart(name)) << name;
+    }
+    for (const auto& name : standard) EXPECT_FALSE(harness::bench_scaling_counterpart(name));
+    EXPECT_EQ(harness::bench_scaling_counterpart("tiny-flat-4m"), "tiny-flat");
+    EXPECT_EQ(harness::bench_scaling_counterpart("full-flat-2048"), "full-flat");
+    EXPECT_EQ(harness::bench_scaling_counterpart("full-smooth-2048"), "full-smooth");
+
+    // tiny-flat-4m: four times tiny-flat's triangles at the same scale, of the same sizes.
+    const auto tiny = harness::make_bench_workload("tiny-flat", 5, 0.01);
+    const auto tiny4 = harness::make_bench_workload("tiny-flat-4m", 5, 0.01);
+    EXPECT_EQ(tiny4.triangles, 4 * tiny.triangles);
+    EXPECT_EQ(tiny4.list.draws[0].vertices.size(), 3 * tiny4.triangles);
+    EXPECT_EQ(tiny4.list.target, tiny.list.target);
+    EXPECT_EQ(tiny4.list.draws[0].state.shade, refraster::ShadeModel::Flat);
+    for (std::size_t t = 0; t < tiny4.triangles; t += 97) {
+        const double a = window_area(tiny4.list.draws[0].vertices, 3 * t);
+        EXPECT_GE(a, 2 * 0.999) << t;
+        EXPECT_LE(a, 10 * 1.001) << t;
+    }
+    EXPECT_EQ(harness::make_bench_workload("tiny-flat-4m", 5).triangles, 4'000'000u);
+
+    // full-*-2048: full's 200 triangles on a 2048x2048 target, each over the whole of it.
+    for (const char* name : {"full-flat-2048", "full-smooth-2048"}) {
+        const auto b = harness::make_bench_workload(name, 5);
+        EXPECT_EQ(b.triangles, 200u) << name;
+        EXPECT_EQ(b.list.target.width, 2048u) << name;
+        EXPECT_EQ(b.list.target.height, 2048u) << name;
+        EXPECT_EQ(b.list.target.depth, refraster::DepthFormat::Z24) << name;
+        const auto& d = b.list.draws[0];
+        EXPECT_EQ(d.state.viewport.width, 2048) << name;
+        EXPECT_EQ(d.state.viewport.height, 2048) << name;
+        EXPECT_EQ(d.state.shade, std::string(name).starts_with("full-flat")
+                                     ? refraster::ShadeModel::Flat
+                                     : refraster::ShadeModel::Smooth);
+        for (std::size_t t = 0; t < b.triangles; ++t) {
+            // In the target's pixels: window_area measures in 1024ths of the target's side.
+            EXPECT_GE(window_area(d.vertices, 3 * t) * 4.0, 2048.0 * 2048.0) << name << " " << t;
+        }
+    }
+    // The standard workloads are what they were: the scaling ones take other seeds.
+    EXPECT_NE(harness::make_bench_workload("full-flat-2048", 5).list.draws[0].vertices.data,
+              harness::make_bench_workload("full-flat", 5).list.draws[0].vertices.data);
+}
+
+TEST(BenchHeap, BoundIsTwiceTheFramebufferPlusTheVertexData) {
+    const auto w = harness::make_bench_workload("medium-flat", 1, 0.001);  // 100 triangles
+    EXPECT_EQ(harness::bench_framebuffer_bytes(w.list.target), 1024u * 1024u * (4 + 4));
+    EXPECT_EQ(harness::bench_vertex_data_bytes(w.list), 100u * 3 * 8 * sizeof(float));
+    EXPECT_EQ(harness::bench_heap_bound_bytes(w.list),
+              2u * 1024 * 1024 * 8 + 100u * 3 * 8 * sizeof(float));
+    EXPECT_EQ(harness::bench_framebuffer_bytes(
+                  harness::make_bench_workload("full-flat-2048", 1, 0.01).list.target),
+              2048u * 2048u * 8);
+
+    // Float colour, 4 samples, no depth; indices count as vertex data.
+    refraster::DrawList list;
+    list.target = {10, 20, refraster::ColorFormat::Rgba32f, refraster::DepthFormat::None, 4};
+    refraster::Draw d;
+    d.vertices.data.assign(24, 0.0f);
+    d.indices = std::vector<std::uint32_t>{0, 1, 2, 2, 1, 0, 0};
+    list.draws = {d, d};
+    EXPECT_EQ(harness::bench_framebuffer_bytes(list.target), 10u * 20 * 4 * 16);
+    EXPECT_EQ(harness::bench_vertex_data_bytes(list), 2u * (24 * 4 + 7 * 4));
+    EXPECT_EQ(harness::bench_heap_bound_bytes(list), 2u * 12800 + 2 * 124);
+
+    harness::BenchRow r;
+    r.framebuffer_bytes = 4 * 1024 * 1024;
+    r.vertex_bytes = 2 * 1024 * 1024;
+    EXPECT_DOUBLE_EQ(r.heap_bound_mb(), 10.0);
+    r.ref_heap_peak_mb = 3;
+    r.ref2_heap_peak_mb = 4;
+    EXPECT_DOUBLE_EQ(r.heap_peak_mb(), 4.0);
+}
+
+TEST(BenchTargets, SpeedTargetsOfTheIssue) {
+    EXPECT_EQ(harness::bench_speed_target("tiny-flat"), 3.0);
+    EXPECT_EQ(harness::bench_speed_target("tiny-smooth"), 3.0);
+    EXPECT_EQ(harness::bench_speed_target("medium-flat"), 2.0);
+    EXPECT_EQ(harness::bench_speed_target("medium-smooth"), 2.0);
+    EXPECT_EQ(harness::bench_speed_target("full-flat"), 2.0);
+    EXPECT_EQ(harness::bench_speed_target("full-smooth"), 1.5);
+    EXPECT_EQ(harness::bench_speed_target("medium-perspective"), 1.5);
+    EXPECT_EQ(harness::bench_speed_target("full-perspective"), 1.5);
+    for (const auto& n : harness::bench_scaling_workload_names())
+        EXPECT_FALSE(harness::bench_speed_target(n)) << n;
+}
+
+// Made-up rows judged against their targets: nothing here is timed.
+TEST(BenchTargets, JudgesEachRow) {
+    const auto row = [](std::string name, double ref, std::optional<double> t0) {
+        harness::BenchRow r;
+        r.name = std::move(name);
+        r.ref_ms = ref;
+        r.llvmpipe_t0_ms = t0;
+        r.triangles = 1000;
+        r.pixels = 1e6;
+        r.framebuffer_bytes = 1024 * 1024;  // bound 2 MB
+        return r;
+    };
+    std::vector<harness::BenchRow> rows{
+        row("tiny-flat", 100, 310),       // 3.1 >= 3: met
+        row("medium-flat", 50, 100),      // 2.0 >= 2: met, at the boundary
+        row("full-smooth", 100, 140),     // 1.4 < 1.5: missed
+        row("full-perspective", 10, {}),  // no llvmpipe: not measured
+        row("tiny-flat-4m", 420, {}),     // 4x the triangles in 4.2x the time: 0.95
+        row("full-flat-2048", 500, {}),   // 4x the pixels in 5x the time: 0.8
+        row("full-flat", 100, 150),       // 1.5 < 2: missed
+    };
+    rows[4].triangles = 4000;
+    rows[5].pixels = 4e6;
+    rows[1].llvmpipe_ms = 60;
+    rows[1].ref2_ms = 20;            // 2T: 3.0
+    rows[2].ref_heap_peak_mb = 2.5;  // over the bound
+    const auto targets = harness::bench_targets(rows);
+    const auto find = [&](const std::string& scene, const std::string& what) {
+        for (const auto& t : targets)
+            if (t.scene == scene && t.what == what) return t;
+        ADD_FAILURE() << "no " << what << " target for " << scene;
+        return harness::BenchTarget{};
+    };
+    EXPECT_TRUE(find("tiny-flat", "speed").met());
+    EXPECT_DOUBLE_EQ(*find("tiny-flat", "speed").value, 3.1);
+    EXPECT_DOUBLE_EQ(find("tiny-flat", "speed").target, 3.0);
+    EXPECT_TRUE(find("medium-flat", "speed").met());
+    EXPECT_FALSE(find("full-smooth", "speed").met());
+    EXPECT_FALSE(find("full-perspective", "speed").value);
+    EXPECT_FALSE(find("full-perspective", "speed").met());
+    EXPECT_FALSE(find("full-flat", "speed").met());
+    // 2 threads against llvmpipe's default threads: reported, not required.
+    EXPECT_FALSE(find("medium-flat", "speed 2T").required);
+    EXPECT_DOUBLE_EQ(*find("medium-flat", "speed 2T").value, 3.0);
+    EXPECT_TRUE(find("medium-flat", "speed 2T").met());
+    EXPECT_FALSE(find("tiny-flat", "speed 2T").value);
+    // Linearity: Mtri/s for tiny, Mpix/s for full, over the counterpart's.
+    EXPECT_NEAR(*find("tiny-flat-4m", "linearity").value, 1000.0 / 1050.0, 1e-12);
+    EXPECT_TRUE(find("tiny-flat-4m", "linearity").met());
+    EXPECT_NEAR(*find("full-flat-2048", "linearity").value, 0.8, 1e-12);
+    EXPECT_FALSE(find("full-flat-2048", "linearity").met());
+    EXPECT_DOUBLE_EQ(harness::bench_rate(rows[0]), 0.01);  // Mtri/s
+    EXPECT_DOUBLE_EQ(harness::bench_rate(rows[6]), 10.0);  // Mpix/s
+    // Heap: within the bound except where the row says otherwise.
+    EXPECT_TRUE(find("tiny-flat", "heap").met());
+    EXPECT_TRUE(find("tiny-flat", "heap").at_most);
+    EXPECT_FALSE(find("full-smooth", "heap").met());
+    // A scaling row whose counterpart did not run has no ratio.
+    EXPECT_FALSE(harness::bench_rate_ratio(row("full-smooth-2048", 1, {}), {rows[0], rows[1]}));
+    EXPECT_FALSE(harness::bench_rate_ratio(rows[0], rows));
+
+    harness::BenchReport report;
+    report.rows = rows;
+    const std::string table = harness::bench_table(report);
+    EXPECT_NE(table.find("targets: tiny-flat 3.10/3.0 met, medium-flat 2.00/2.0 met, full-smooth "
+                         "1.40/1.5 missed, full-perspective -/1.5 not measured, tiny-flat-4m rate "
+                         "0.95/0.9 met, full-flat-2048 rate 0.80/0.9 missed, full-flat 1.50/2.0 "
+                         "missed; heap within bound on 6 of 7 (over: full-smooth); 9 of 14 met"),
+              std::string::npos)
+        << table;
+    EXPECT_NE(table.find("reported, not required (ref 2T / llvmpipe): tiny-flat -/3.0 not "
+                         "measured, medium-flat 3.00/2.0 met"),
+              std::string::npos)
+        << table;
+    const std::string json = harness::bench_json(report);
+    for (const char* key :
+         {"\"targets\"", "\"all_met\": false", "\"met\": 9", "\"missed\": 4", "\"not_measured\": 1",
+          "\"what\": \"linearity\"", "\"comparison\": \"<=\""}) {
+        EXPECT_NE(json.find(key), std::string::npos) << key << "\n" << json;
+    }
+}
+
+TEST(BenchOptions, KernelPathNames) {
+    for (const auto p :
+         {refraster::KernelPath::Model, refraster::KernelPath::Scalar, refraster::KernelPath::Avx2,
+          refraster::KernelPath::Avx512, refraster::KernelPath::Fastest}) {
+        EXPECT_EQ(harness::parse_kernel_path(refraster::to_string(p)), p);
+    }
+    EXPECT_FALSE(harness::parse_kernel_path("sse"));
+    EXPECT_FALSE(harness::parse_kernel_path(""));
+}
+
+// The whole bench without GL at a tiny scale: every configuration, the scaling rows after
+// their counterparts, and the options in the JSON. Nothing about the times is asserted.
+TEST(BenchRun, ReferenceOnlyWithScaling) {
+    harness::BenchOptions o;
+    o.scenes = {"medium-flat"};
+    o.scaling = true;
+    o.rounds = 1;
+    o.scale = 1e-4;
+    o.gl = false;
+    o.kernels = refraster::KernelPath::Scalar;
+    o.threads = 1;
+    o.second_threads = 2;
+    std::ostringstream log;
+    const auto report = harness::run_bench(o, log);
+    std::vector<std::string> names;
+    for (const auto& r : report.rows) names.push_back(r.name);
+    EXPECT_EQ(names,
+              (std::vector<std::string>{"medium-flat", "tiny-flat", "tiny-flat-4m", "full-flat",
+                                        "full-flat-2048", "full-smooth", "full-smooth-2048"}));
+    EXPECT_EQ(report.kernels, "scalar");
+    for (const auto& r : report.rows) {
+        EXPECT_TRUE(r.ref2_ms) << r.name;
+        EXPECT_FALSE(r.llvmpipe_t0_ms) << r.name;
+        EXPECT_GT(r.pixels, 0.0) << r.name;
+        EXPECT_EQ(r.framebuffer_bytes,
+                  r.name.ends_with("2048") ? 2048u * 2048 * 8 : 1024u * 1024 * 8);
+        EXPECT_EQ(r.vertex_bytes, r.triangles * 3 * 8 * sizeof(float)) << r.name;
+    }
+    EXPECT_EQ(report.rows[2].triangles, 4 * report.rows[1].triangles);
+    EXPECT_TRUE(harness::bench_rate_ratio(report.rows[2], report.rows));
+    EXPECT_NE(log.str().find("ref 2T"), std::string::npos) << log.str();
+
+    const std::string j = harness::bench_json(report);
+    for (const char* key :
+         {"\"kernels_asked\": \"scalar\"", "\"kernels\": \"scalar\"", "\"threads\": 1",
+          "\"second_threads\": 2", "\"scaling\": true", "\"softpipe\": false", "\"cpu_flags\"",
+          "\"commit\"", "\"date\"", "\"gl_renderer\": \"\"", "\"ref2_ms\"", "\"rate_ratio\"",
+          "\"heap_bound_mb\"", "\"heap_within_bound\"", "\"counterpart\": \"tiny-flat\"",
+          "\"all_met\": false"}) {
+        EXPECT_NE(j.find(key), std::string::npos) << key << "\n" << j;
+    }
+    const std::string table = harness::bench_table(report);
+    EXPECT_NE(table.find("kernels scalar (asked: scalar); ref: 1 thread; ref 2T: 2 threads"),
+              std::string::npos)
+        << table;
+}
+
 TEST(BenchReport, JsonHoldsTheDocumentedKeys) {
+    harness::BenchReport report;
     harness::BenchRow r;
     r.name = "tiny-flat";
     r.ref_ms = 10;
     r.llvmpipe_t0_ms = 25;
     r.split = {1, 2, 3, 4};
-    const std::string j = harness::bench_json({r});
+    report.rows = {r};
+    const std::string j = harness::bench_json(report);
     for (const char* key :
-         {"\"scenes\"", "\"name\": \"tiny-flat\"", "\"ref_ms\"", "\"llvmpipe_t0_ms\"",
-          "\"llvmpipe_ms\": null", "\"softpipe_ms\": null", "\"speedup_vs_llvmpipe_t0\": 2.5",
-          "\"ref_heap_peak_mb\"", "\"split_ms\"", "\"load\"", "\"setup\"", "\"raster\"",
-          "\"fragment\""}) {
+         {"\"bench\"", "\"host\"", "\"scenes\"", "\"name\": \"tiny-flat\"", "\"ref_ms\"",
+          "\"ref2_ms\": null", "\"llvmpipe_t0_ms\"", "\"llvmpipe_ms\": null",
+          "\"softpipe_ms\": null", "\"speedup_vs_llvmpipe_t0\": 2.5",
+          "\"speedup_2t_vs_llvmpipe\": null", "\"ref_heap_peak_mb\"", "\"split_ms\"", "\"load\"",
+          "\"setup\"", "\"raster\"", "\"fragment\"", "\"targets\""}) {
         EXPECT_NE(j.find(key), std::string::npos) << key << "\n" << j;
     }
-    EXPECT_NE(harness::bench_table({r}).find("| tiny-flat |"), std::string::npos);
+    EXPECT_NE(harness::bench_table(report).find("| tiny-flat |"), std::string::npos);
 }
 
 }  // namespace

@@ -139,4 +139,34 @@ TEST(Cli, HelpNamesTheSampleOutputs) {
               std::string::npos);
 }
 
+// `bench` without GL at a tiny scale: the new options reach the JSON and the table.
+TEST(Cli, BenchOptionsReachTheJson) {
+    testutil::TempDir dir;
+    const auto json = dir.path() / "bench.json";
+    const auto r =
+        testutil::run_cli({"bench", "--no-gl", "--no-softpipe", "--scale", "0.0001", "--scenes",
+                           "tiny-flat", "--rounds", "1", "--kernels", "scalar", "--threads", "1",
+                           "--second-threads", "0", "--json", json.string()});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("kernels scalar (asked: scalar); ref: 1 thread; ref 2T: off"),
+              std::string::npos)
+        << r.out;
+    EXPECT_NE(r.out.find("| tiny-flat | 100 |"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("\ntargets: tiny-flat -/3.0 not measured"), std::string::npos) << r.out;
+    const std::string j = testutil::read_text(json);
+    for (const char* key : {"\"kernels\": \"scalar\"", "\"threads\": 1", "\"second_threads\": 0",
+                            "\"softpipe\": false", "\"ref2_ms\": null", "\"targets\""}) {
+        EXPECT_NE(j.find(key), std::string::npos) << key << "\n" << j;
+    }
+}
+
+TEST(Cli, BenchRefusesUnknownKernelsAndScenes) {
+    const auto k = testutil::run_cli({"bench", "--no-gl", "--kernels", "sse"});
+    EXPECT_EQ(k.exit_code, 2) << k.err;
+    const auto s = testutil::run_cli({"bench", "--no-gl", "--scenes", "huge-flat"});
+    EXPECT_EQ(s.exit_code, 2) << s.err;
+    EXPECT_NE(s.err.find("tiny-flat-4m"), std::string::npos) << s.err;
+    EXPECT_NE(testutil::run_cli({"bench", "--help"}).out.find("--scaling"), std::string::npos);
+}
+
 }  // namespace

@@ -4,53 +4,87 @@
 // (1,000,000 triangles of 2 to 10 pixels), medium (100,000 of 100 to 500 pixels) and full (200
 // triangles covering the whole target), each flat and smooth, and medium and full with
 // perspective (w from 1 to 8 across each triangle), on a 1024x1024 rgba8 target with z24 and
-// the depth test `less`; their rendering by the reference and by OSMesa llvmpipe with
-// LP_NUM_THREADS=0 and with its default threads, and by softpipe, each GL configuration in a
-// worker of its own, warmed up by one render that is not timed (context, framebuffer objects,
-// shaders, the first upload), then in interleaved rounds; the medians; every reference and
-// llvmpipe render compared byte for byte with llvmpipe's single-threaded one of the same round;
-// the reference's heap high-water mark; a table and the JSON of docs/performance.md.
+// the depth test `less`, and the scaling workloads (tiny-flat-4m, full-flat-2048,
+// full-smooth-2048); their rendering by the reference (one configuration with
+// BenchOptions::threads, a second with BenchOptions::second_threads, both on the kernel path
+// asked for) and by OSMesa llvmpipe with LP_NUM_THREADS=0 and with its default threads, and by
+// softpipe, each GL configuration in a worker of its own, warmed up by one render that is not
+// timed (context, framebuffer objects, shaders, the first upload), then in interleaved rounds;
+// the medians; every reference and llvmpipe render compared byte for byte with llvmpipe's
+// single-threaded one of the same round; the reference's heap high-water mark and its bound;
+// the performance targets judged (speed ratios, linearity of the scaling workloads, heap); a
+// table and the JSON of docs/performance.md.
 //
 // Times are those each renderer measures for itself, from clip-space float arrays to a
 // finished, read-back framebuffer: the reference's refraster::render, a GL worker's
 // upload, draws and glReadPixels (never the transfer between processes).
 //
 // Deliberately does not: compare softpipe's pixels (its rules differ from llvmpipe's;
-// docs/conformance.md), or turn a time into a pass or a fail: speed is reported, never asserted.
+// docs/conformance.md), or turn a time into a failure: the targets are reported as met or
+// missed, and the command still succeeds.
 #pragma once
 
 #include <cstdint>
 #include <iosfwd>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "refraster/draw.hpp"
 #include "refraster/profile.hpp"
+#include "refraster/renderer.hpp"
 
 namespace harness {
 
 struct BenchWorkload {
-    std::string name;  // tiny-flat, ..., full-perspective
+    std::string name;  // tiny-flat, ..., full-perspective, tiny-flat-4m, ...
     refraster::DrawList list;
     std::size_t triangles = 0;
 };
 
-// The workload names, in the order the table lists them.
+// The workload names, in the order the table lists them: the standard eight, which a bench
+// runs when it is given no names.
 const std::vector<std::string>& bench_workload_names();
 
+// The scaling workloads, for the linearity target: the generator of a standard workload with
+// four times the triangles (tiny-flat-4m: 4,000,000 of tiny-flat's) or four times the pixels
+// (full-flat-2048, full-smooth-2048: full-flat's and full-smooth's 200 triangles on a 2048x2048
+// target). Each is judged by its rate (Mtri/s for tiny, Mpix/s for full) over its standard
+// counterpart's in the same run. Not in the default list; `--scaling` adds them.
+const std::vector<std::string>& bench_scaling_workload_names();
+
+// The standard workload a scaling workload is measured against (tiny-flat-4m: tiny-flat),
+// or nothing for a standard workload.
+std::optional<std::string> bench_scaling_counterpart(const std::string& name);
+
 // Throws std::invalid_argument for an unknown name. `scale` (0, 1] keeps that fraction of the
-// triangles (for quick runs and tests); the full workloads use 1.
+// triangles, at least one (for quick runs and tests).
 BenchWorkload make_bench_workload(const std::string& name, std::uint64_t seed, double scale = 1.0);
 
+// The heap bound of the performance target: twice the framebuffer (colour and depth, every
+// sample) plus the scene's vertex data (every draw's floats and indices), in bytes.
+std::size_t bench_framebuffer_bytes(const refraster::Target& target);
+std::size_t bench_vertex_data_bytes(const refraster::DrawList& list);
+std::size_t bench_heap_bound_bytes(const refraster::DrawList& list);
+
 struct BenchOptions {
-    std::vector<std::string> scenes;  // empty: every workload
+    std::vector<std::string> scenes;  // empty: every standard workload
+    bool scaling = false;             // also the scaling workloads and their standard counterparts
     int rounds = 5;
     double scale = 1.0;
     std::uint64_t seed = 1;
-    bool gl = true;  // also the GL configurations (needs the OSMesa worker)
+    bool gl = true;        // also the GL configurations (needs the OSMesa worker)
+    bool softpipe = true;  // with gl: also softpipe (timed only; slow on the tiny workloads)
     double timeout_seconds = 600.0;
     refraster::Profile profile;  // the reference's rules (llvmpipe-22.3 unless told otherwise)
+    refraster::KernelPath kernels = refraster::KernelPath::Fastest;
+    // The reference's threads (RenderOptions::threads; 0: one per core), compared with
+    // llvmpipe with LP_NUM_THREADS=0.
+    unsigned threads = 1;
+    // A second reference configuration with this many threads, timed in the same rounds and
+    // compared with llvmpipe's default threads; 0 leaves it out.
+    unsigned second_threads = 2;
 };
 
 // The split of the reference's time by stage, each the median over the rounds.
@@ -62,18 +96,76 @@ struct BenchRow {
     std::string name;
     std::size_t triangles = 0;
     double pixels = 0.0;  // covered by the triangles, counted by the reference's traversal
-    double ref_ms = 0.0;
+    double ref_ms = 0.0;  // the reference with BenchOptions::threads
+    std::optional<double> ref2_ms;  // the reference with BenchOptions::second_threads
     std::optional<double> llvmpipe_t0_ms, llvmpipe_ms, softpipe_ms;
-    double ref_heap_peak_mb = 0.0;
+    double ref_heap_peak_mb = 0.0;  // the high-water mark of one render, the first configuration
+    std::optional<double> ref2_heap_peak_mb;  // the same for the second configuration
+    std::size_t framebuffer_bytes = 0;        // colour and depth of the target
+    std::size_t vertex_bytes = 0;             // the scene's floats and indices
     BenchSplit split;
+
+    // Twice the framebuffer plus the vertex data (bench_heap_bound_bytes), in MB.
+    double heap_bound_mb() const;
+    // The larger of both configurations' high-water marks, in MB.
+    double heap_peak_mb() const;
+    // llvmpipe t0's median over the reference's (above 1: the reference is faster).
+    std::optional<double> speedup() const;
+    // llvmpipe's (default threads) median over the second configuration's.
+    std::optional<double> speedup2() const;
 };
+
+// One performance target and whether this run meets it.
+struct BenchTarget {
+    std::string scene;
+    std::string what;             // "speed", "speed 2T", "linearity", "heap"
+    std::optional<double> value;  // the measured ratio or MB; nothing when not measured
+    double target = 0.0;
+    bool at_most = false;  // heap: value <= target; otherwise value >= target
+    bool required = true;  // "speed 2T" is reported, not required
+    bool met() const { return value && (at_most ? *value <= target : *value >= target); }
+};
+
+// The speed target of a standard workload against single-threaded llvmpipe: tiny 3, medium 2,
+// full-flat 2, full-smooth 1.5, both perspective workloads 1.5; nothing for the others.
+std::optional<double> bench_speed_target(const std::string& scene);
+inline constexpr double kBenchLinearityTarget = 0.9;
+
+// Every target the rows can be judged on: speed (and speed 2T, reported) for each standard
+// workload with a target, linearity for each scaling workload whose counterpart ran, heap for
+// every row.
+std::vector<BenchTarget> bench_targets(const std::vector<BenchRow>& rows);
+
+// The rate a row is judged on for linearity: Mtri/s for tiny workloads, Mpix/s otherwise.
+double bench_rate(const BenchRow& row);
+// A scaling row's rate over its counterpart's, when both are among the rows.
+std::optional<double> bench_rate_ratio(const BenchRow& row, const std::vector<BenchRow>& rows);
+
+struct BenchReport {
+    BenchOptions options;
+    std::string kernels;  // the resolved path (to_string(resolve_kernel_path(options.kernels)))
+    std::string cpu_flags;
+    std::string commit;
+    std::string date;  // UTC, ISO 8601
+    // llvmpipe's GL_RENDERER, GL_VERSION and Mesa's package version, when a GL worker ran.
+    std::string gl_renderer, gl_version, mesa_version;
+    std::vector<BenchRow> rows;
+};
+
+// The CPU flags the kernels choose by: fma, avx2, avx512f, avx512bw, avx512dq, avx512vl.
+std::string bench_cpu_flags();
+
+// The name of a kernel path (model, scalar, avx2, avx512, fastest), or nothing.
+std::optional<refraster::KernelPath> parse_kernel_path(std::string_view name);
 
 // Runs the benchmark, printing progress to `log`. Throws std::runtime_error when a render fails
 // or differs from llvmpipe's single-threaded one (a benchmark of wrong pixels means nothing).
-std::vector<BenchRow> run_bench(const BenchOptions& options, std::ostream& log);
+BenchReport run_bench(const BenchOptions& options, std::ostream& log);
 
-std::string bench_table(const std::vector<BenchRow>& rows);
-std::string bench_json(const std::vector<BenchRow>& rows);
+// The Markdown table, the options and host line above it and the targets summary below it.
+std::string bench_table(const BenchReport& report);
+// Everything: options, host, every row's times, ratios, heap and bound, split, and `targets`.
+std::string bench_json(const BenchReport& report);
 
 // The heap high-water mark since the last reset, in bytes above what was in use then. The CLI
 // reports every allocation and release here (tool/heap_meter.cpp replaces the global
