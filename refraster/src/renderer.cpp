@@ -120,8 +120,8 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
     const KernelPath kernels =
         trace != nullptr ? KernelPath::Model : resolve_kernel_path(options.kernels);
     // Threads only for the paths that shade row blocks; a traced render stays on one.
-    unsigned threads = options.threads == 0 ? std::max(1u, std::thread::hardware_concurrency())
-                                            : options.threads;
+    unsigned threads =
+        options.threads == 0 ? std::max(1u, std::thread::hardware_concurrency()) : options.threads;
     if (kernels == KernelPath::Model || options.stop_after != RenderStage::Fragment) threads = 1;
     std::optional<detail::BandWorkers> workers;
     if (threads > 1) workers.emplace(threads);

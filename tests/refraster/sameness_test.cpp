@@ -1,0 +1,226 @@
+// Every fast path gives the model's bytes: random scenes and states rendered through the scalar
+// model (quad packets, baseline instructions, one thread) and through every other kernel path
+// this CPU runs (scalar over row blocks, AVX2, AVX-512) with 1, 2 and 3 threads, compared bit
+// for bit (colour, depth and owners).
+//
+// The scenes mix what the fast paths decide differently: boxes below and above 64 pixels (the
+// small-box path and the tiles), targets whose width is not a multiple of a vector and whose
+// height spans several 64-row bands, clipped and culled primitives, scissors, lines, points and
+// unfilled polygons, every shade model, depth format and function, blend and colour format, and
+// values at the edge of float (denormal colours, depths and offsets, which the vector kernels
+// flush in hardware and the model by emulation).
+//
+// Seeds: 1, 2 and REFRASTER_TEST_SEED (set per CI run). A longer run is one command:
+//   REFRASTER_SAMENESS_SCENES=5000 REFRASTER_TEST_SEED=7 build/bin/core_tests
+//       --gtest_filter='Seeds/Sameness*' (one line)
+#include <gtest/gtest.h>
+
+#include <array>
+#include <bit>
+#include <cstdint>
+#include <cstdlib>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "refraster/framebuffer.hpp"
+#include "refraster/renderer.hpp"
+
+namespace {
+
+using refraster::ColorFormat;
+using refraster::DepthFormat;
+using refraster::KernelPath;
+
+std::uint64_t ci_seed() {
+    const char* s = std::getenv("REFRASTER_TEST_SEED");
+    return s != nullptr && *s != '\0' ? std::strtoull(s, nullptr, 10) : 3;
+}
+
+int scene_count() {
+    const char* s = std::getenv("REFRASTER_SAMENESS_SCENES");
+    return s != nullptr && *s != '\0' ? std::atoi(s) : 60;
+}
+
+// Where two renders first differ, or empty when they are the same bit for bit.
+std::string first_difference(const refraster::Framebuffer& a, const refraster::Framebuffer& b) {
+    for (std::size_t i = 0; i < a.color8.size(); ++i) {
+        if (a.color8[i] != b.color8[i]) return "colour byte " + std::to_string(i);
+    }
+    for (std::size_t i = 0; i < a.color32f.size(); ++i) {
+        if (std::bit_cast<std::uint32_t>(a.color32f[i]) !=
+            std::bit_cast<std::uint32_t>(b.color32f[i]))
+            return "colour float " + std::to_string(i);
+    }
+    for (std::size_t i = 0; i < a.depth.size(); ++i) {
+        if (a.depth[i] != b.depth[i]) return "depth " + std::to_string(i);
+    }
+    if (a.owner != b.owner) return "owners";
+    if (a.color8.size() != b.color8.size() || a.depth.size() != b.depth.size()) return "sizes";
+    return {};
+}
+
+class SceneMaker {
+  public:
+    explicit SceneMaker(std::uint64_t seed) : rng_(seed) {}
+
+    refraster::DrawList scene() {
+        refraster::DrawList l;
+        const bool big = pick(3) == 0;
+        const auto w = static_cast<std::uint32_t>(big ? 140 + pick(200) : 1 + pick(90));
+        const auto h = static_cast<std::uint32_t>(big ? 130 + pick(200) : 1 + pick(90));
+        l.target = {w, h, pick(4) == 0 ? ColorFormat::Rgba32f : ColorFormat::Rgba8,
+                    static_cast<DepthFormat>(pick(4)), pick(8) == 0 ? 4u : 1u};
+        l.clear.color = {uniform(0, 1), uniform(0, 1), uniform(0, 1), uniform(0, 1)};
+        l.clear.depth = pick(6) == 0 ? 1e-40f : uniform(0, 1);
+        const int draws = 1 + static_cast<int>(pick(5));
+        for (int i = 0; i < draws; ++i) l.draws.push_back(draw(l.target));
+        return l;
+    }
+
+  private:
+    std::uint32_t pick(std::uint32_t n) { return static_cast<std::uint32_t>(rng_() % n); }
+    float uniform(float lo, float hi) {
+        return std::uniform_real_distribution<float>(lo, hi)(rng_);
+    }
+    float edge_value(float lo, float hi) {
+        switch (pick(12)) {
+            case 0:
+                return 1e-40f;  // a denormal
+            case 1:
+                return -3e-39f;
+            case 2:
+                return 0.0f;
+            default:
+                return uniform(lo, hi);
+        }
+    }
+
+    refraster::Draw draw(const refraster::Target& target) {
+        refraster::Draw d;
+        static constexpr refraster::PrimitiveType kTypes[] = {
+            refraster::PrimitiveType::Triangles,     refraster::PrimitiveType::Triangles,
+            refraster::PrimitiveType::Triangles,     refraster::PrimitiveType::TriangleStrip,
+            refraster::PrimitiveType::TriangleFan,   refraster::PrimitiveType::Lines,
+            refraster::PrimitiveType::LineStrip,     refraster::PrimitiveType::Points};
+        d.primitive = kTypes[pick(8)];
+        auto& s = d.state;
+        s.viewport = {0, 0, static_cast<std::int32_t>(target.width),
+                      static_cast<std::int32_t>(target.height)};
+        if (pick(4) == 0) {
+            s.viewport = {static_cast<std::int32_t>(pick(target.width)) - 20,
+                          static_cast<std::int32_t>(pick(target.height)) - 20,
+                          static_cast<std::int32_t>(1 + pick(2 * target.width)),
+                          static_cast<std::int32_t>(1 + pick(2 * target.height))};
+        }
+        if (pick(4) == 0) {
+            s.scissor = refraster::Rect{static_cast<std::int32_t>(pick(target.width)),
+                                        static_cast<std::int32_t>(pick(target.height)),
+                                        static_cast<std::int32_t>(pick(target.width + 1)),
+                                        static_cast<std::int32_t>(pick(target.height + 1))};
+        }
+        s.shade = static_cast<refraster::ShadeModel>(pick(3));
+        s.blend = static_cast<refraster::BlendPreset>(pick(3));
+        if (pick(4) != 0) s.depth_test = static_cast<refraster::CompareFunc>(pick(8));
+        s.depth_write = pick(5) != 0;
+        s.cull = static_cast<refraster::CullMode>(pick(6) < 3 ? 0 : pick(4));
+        s.front_face = static_cast<refraster::FrontFace>(pick(2));
+        s.provoking_vertex = static_cast<refraster::ProvokingVertex>(pick(2));
+        if (pick(8) == 0) s.polygon_mode = static_cast<refraster::PolygonMode>(1 + pick(2));
+        if (pick(4) == 0) s.polygon_offset = refraster::PolygonOffset{uniform(-2, 2), uniform(-4, 4)};
+        if (pick(3) == 0) s.line_width = 1.0f + static_cast<float>(pick(6));
+        if (pick(3) == 0) s.point_size = 1.0f + static_cast<float>(pick(9));
+        s.multisample = pick(4) != 0;
+        d.vertices.attributes = {{"color", 4}};
+        // Small primitives around a point, or large ones across (and beyond) the viewport.
+        const bool large = pick(3) == 0;
+        const int vertices = 3 * (1 + static_cast<int>(pick(12)));
+        float cx = uniform(-1.1f, 1.1f), cy = uniform(-1.1f, 1.1f);
+        for (int v = 0; v < vertices; ++v) {
+            if (v % 3 == 0 && pick(2) == 0) {
+                cx = uniform(-1.1f, 1.1f);
+                cy = uniform(-1.1f, 1.1f);
+            }
+            const float spread = large ? 2.5f : uniform(0.005f, 0.4f);
+            const float ww = pick(10) == 0 ? uniform(-0.5f, 0.2f) : uniform(0.3f, 3.0f);
+            const float x = cx + uniform(-spread, spread);
+            const float y = cy + uniform(-spread, spread);
+            d.vertices.data.insert(d.vertices.data.end(),
+                                   {x * ww, y * ww, edge_value(-1.05f, 1.05f) * ww, ww,
+                                    edge_value(-0.3f, 1.3f), edge_value(-0.3f, 1.3f),
+                                    edge_value(-0.3f, 1.3f), edge_value(-0.3f, 1.3f)});
+        }
+        return d;
+    }
+
+    std::mt19937_64 rng_;
+};
+
+class Sameness : public ::testing::TestWithParam<std::uint64_t> {};
+
+TEST_P(Sameness, EveryPathAndThreadCountGivesTheModelsBytes) {
+    SceneMaker maker(GetParam());
+    const int scenes = scene_count();
+    int drawn = 0;
+    int compared = 0;
+    for (int n = 0; n < scenes; ++n) {
+        const refraster::DrawList l = maker.scene();
+        refraster::RenderOptions model;
+        model.kernels = KernelPath::Model;
+        model.record_owners = n % 3 == 0;
+        model.profile.gl.viewport_fma = n % 5 == 0 ? refraster::FmaMode::Off : refraster::FmaMode::On;
+        model.profile.gl.flush_denormals = n % 7 != 0;
+        refraster::Framebuffer expected;
+        ASSERT_EQ(refraster::render(l, model, expected).status, refraster::RenderStatus::Ok);
+        refraster::DrawList empty = l;
+        empty.draws.clear();
+        refraster::Framebuffer cleared;
+        ASSERT_EQ(refraster::render(empty, model, cleared).status, refraster::RenderStatus::Ok);
+        drawn += !first_difference(expected, cleared).empty();
+        for (const auto path : {KernelPath::Scalar, KernelPath::Avx2, KernelPath::Avx512}) {
+            if (!refraster::kernel_path_available(path)) continue;
+            for (const unsigned threads : {1u, 2u, 3u}) {
+                refraster::RenderOptions fast = model;
+                fast.kernels = path;
+                fast.threads = threads;
+                refraster::Framebuffer got;
+                ASSERT_EQ(refraster::render(l, fast, got).status, refraster::RenderStatus::Ok);
+                const std::string where = first_difference(expected, got);
+                ASSERT_TRUE(where.empty())
+                    << "seed " << GetParam() << " scene " << n << " (" << l.target.width << "x"
+                    << l.target.height << ", " << l.draws.size() << " draws): path "
+                    << refraster::to_string(path) << " with " << threads
+                    << " threads differs from the model at " << where;
+                ++compared;
+            }
+        }
+    }
+    // The comparisons are of drawn images, not of cleared targets.
+    EXPECT_GT(drawn, scenes / 2);
+    EXPECT_GT(compared, 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Seeds, Sameness, ::testing::Values(1u, 2u, ci_seed()));
+
+// The comparison can fail: a render under another tie rule differs from the model somewhere
+// over the same scenes.
+TEST(SamenessSensitivity, AnotherRuleIsDetected) {
+    SceneMaker maker(11);
+    int differing = 0;
+    for (int n = 0; n < 40; ++n) {
+        const refraster::DrawList l = maker.scene();
+        refraster::RenderOptions model;
+        model.kernels = KernelPath::Model;
+        refraster::RenderOptions other;
+        other.kernels = KernelPath::Fastest;
+        other.threads = 2;
+        other.profile.gl.tie_rule = refraster::TieRule::RightTop;
+        refraster::Framebuffer a, b;
+        ASSERT_EQ(refraster::render(l, model, a).status, refraster::RenderStatus::Ok);
+        ASSERT_EQ(refraster::render(l, other, b).status, refraster::RenderStatus::Ok);
+        differing += !first_difference(a, b).empty();
+    }
+    EXPECT_GT(differing, 0);
+}
+
+}  // namespace
