@@ -70,8 +70,9 @@ struct RenderOptions {
     KernelPath kernels = KernelPath::Fastest;
     // Threads that rasterize and shade (each owns every 64-row band of the target whose index
     // modulo the count is its own, and shades the primitives in API order there, so the bytes
-    // are the same for any count); 0: one per core. The model path and traced renders use one.
-    unsigned threads = 1;
+    // are the same for any count); 0, the default: one per core. The model path and traced
+    // renders use one.
+    unsigned threads = 0;
 };
 
 // Number of complete primitives a draw assembles under GL's rules (OpenGL 4.6 compatibility
