@@ -99,10 +99,10 @@ class SceneMaker {
     refraster::Draw draw(const refraster::Target& target) {
         refraster::Draw d;
         static constexpr refraster::PrimitiveType kTypes[] = {
-            refraster::PrimitiveType::Triangles,     refraster::PrimitiveType::Triangles,
-            refraster::PrimitiveType::Triangles,     refraster::PrimitiveType::TriangleStrip,
-            refraster::PrimitiveType::TriangleFan,   refraster::PrimitiveType::Lines,
-            refraster::PrimitiveType::LineStrip,     refraster::PrimitiveType::Points};
+            refraster::PrimitiveType::Triangles,   refraster::PrimitiveType::Triangles,
+            refraster::PrimitiveType::Triangles,   refraster::PrimitiveType::TriangleStrip,
+            refraster::PrimitiveType::TriangleFan, refraster::PrimitiveType::Lines,
+            refraster::PrimitiveType::LineStrip,   refraster::PrimitiveType::Points};
         d.primitive = kTypes[pick(8)];
         auto& s = d.state;
         s.viewport = {0, 0, static_cast<std::int32_t>(target.width),
@@ -127,7 +127,8 @@ class SceneMaker {
         s.front_face = static_cast<refraster::FrontFace>(pick(2));
         s.provoking_vertex = static_cast<refraster::ProvokingVertex>(pick(2));
         if (pick(8) == 0) s.polygon_mode = static_cast<refraster::PolygonMode>(1 + pick(2));
-        if (pick(4) == 0) s.polygon_offset = refraster::PolygonOffset{uniform(-2, 2), uniform(-4, 4)};
+        if (pick(4) == 0)
+            s.polygon_offset = refraster::PolygonOffset{uniform(-2, 2), uniform(-4, 4)};
         if (pick(3) == 0) s.line_width = 1.0f + static_cast<float>(pick(6));
         if (pick(3) == 0) s.point_size = 1.0f + static_cast<float>(pick(9));
         s.multisample = pick(4) != 0;
@@ -145,10 +146,10 @@ class SceneMaker {
             const float ww = pick(10) == 0 ? uniform(-0.5f, 0.2f) : uniform(0.3f, 3.0f);
             const float x = cx + uniform(-spread, spread);
             const float y = cy + uniform(-spread, spread);
-            d.vertices.data.insert(d.vertices.data.end(),
-                                   {x * ww, y * ww, edge_value(-1.05f, 1.05f) * ww, ww,
-                                    edge_value(-0.3f, 1.3f), edge_value(-0.3f, 1.3f),
-                                    edge_value(-0.3f, 1.3f), edge_value(-0.3f, 1.3f)});
+            d.vertices.data.insert(
+                d.vertices.data.end(),
+                {x * ww, y * ww, edge_value(-1.05f, 1.05f) * ww, ww, edge_value(-0.3f, 1.3f),
+                 edge_value(-0.3f, 1.3f), edge_value(-0.3f, 1.3f), edge_value(-0.3f, 1.3f)});
         }
         return d;
     }
@@ -168,7 +169,8 @@ TEST_P(Sameness, EveryPathAndThreadCountGivesTheModelsBytes) {
         refraster::RenderOptions model;
         model.kernels = KernelPath::Model;
         model.record_owners = n % 3 == 0;
-        model.profile.gl.viewport_fma = n % 5 == 0 ? refraster::FmaMode::Off : refraster::FmaMode::On;
+        model.profile.gl.viewport_fma =
+            n % 5 == 0 ? refraster::FmaMode::Off : refraster::FmaMode::On;
         model.profile.gl.flush_denormals = n % 7 != 0;
         refraster::Framebuffer expected;
         ASSERT_EQ(refraster::render(l, model, expected).status, refraster::RenderStatus::Ok);
