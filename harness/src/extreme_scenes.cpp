@@ -15,6 +15,7 @@
 
 #include "harness/files.hpp"
 #include "harness/reduce.hpp"
+#include "harness/scene_text.hpp"
 
 namespace harness {
 
@@ -974,41 +975,22 @@ int write_extreme_scenes(std::uint64_t seed, const std::filesystem::path& dir, s
 std::string extreme_scene_json(const SceneFile& s) {
     using ojson = nlohmann::ordered_json;
     const ojson j = ojson::parse(scene_to_json(s));
-    std::string out = "{\n";
-    bool first_key = true;
-    for (auto it = j.begin(); it != j.end(); ++it) {
-        out += first_key ? " " : ",\n ";
-        first_key = false;
-        out += ojson(it.key()).dump() + ": ";
-        if (it.key() != "draws") {
-            out += it.value().dump();
-            continue;
-        }
-        out += "[";
-        bool first_draw = true;
-        for (const auto& d : it.value()) {
-            out += first_draw ? "\n  {" : ",\n  {";
-            first_draw = false;
-            bool first_field = true;
-            for (auto f = d.begin(); f != d.end(); ++f) {
-                out += first_field ? "\n   " : ",\n   ";
-                first_field = false;
-                out += ojson(f.key()).dump() + ": ";
-                if (f.key() == "vertices") {
-                    out += "[";
-                    for (std::size_t v = 0; v < f.value().size(); ++v) {
-                        out += (v == 0 ? "\n    " : ",\n    ") + f.value()[v].dump();
-                    }
-                    out += "\n   ]";
-                } else {
-                    out += f.value().dump();
+    return lay_out_scene_json(j, [](std::string& out, std::size_t, const ojson& d) {
+        bool first_field = true;
+        for (auto f = d.begin(); f != d.end(); ++f) {
+            open_draw_field(out, first_field);
+            out += ojson(f.key()).dump() + ": ";
+            if (f.key() == "vertices") {
+                out += "[";
+                for (std::size_t v = 0; v < f.value().size(); ++v) {
+                    out += (v == 0 ? "\n    " : ",\n    ") + f.value()[v].dump();
                 }
+                out += "\n   ]";
+            } else {
+                out += f.value().dump();
             }
-            out += "\n  }";
         }
-        out += "\n ]";
-    }
-    return out + "\n}\n";
+    });
 }
 
 }  // namespace harness

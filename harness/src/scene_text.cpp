@@ -169,6 +169,31 @@ std::string scene_json_text(const SceneFile& s, VertexForm form) {
         }
         j = std::move(k);
     }
+    return lay_out_scene_json(j, [&](std::string& out, std::size_t di, const ojson& dj) {
+        const SceneDraw& d = s.draws[di];
+        bool first_field = true;
+        for (auto f = dj.begin(); f != dj.end(); ++f) {
+            if (f.key() == "indices") continue;
+            open_draw_field(out, first_field);
+            if (f.key() == "vertices") {
+                append_vertices(out, d, form);
+                if (d.indices) {
+                    open_draw_field(out, first_field);
+                    append_indices(out, *d.indices, form);
+                }
+            } else {
+                out += ojson(f.key()).dump() + ": " + f.value().dump();
+            }
+        }
+    });
+}
+
+void open_draw_field(std::string& out, bool& first) {
+    out += first ? "\n   " : ",\n   ";
+    first = false;
+}
+
+std::string lay_out_scene_json(const ojson& j, const DrawFieldWriter& draw) {
     std::string out = "{\n";
     bool first_key = true;
     for (auto it = j.begin(); it != j.end(); ++it) {
@@ -180,27 +205,9 @@ std::string scene_json_text(const SceneFile& s, VertexForm form) {
             continue;
         }
         out += "[";
-        for (std::size_t di = 0; di < s.draws.size(); ++di) {
-            const SceneDraw& d = s.draws[di];
-            const ojson& dj = it.value()[di];
+        for (std::size_t di = 0; di < it.value().size(); ++di) {
             out += di == 0 ? "\n  {" : ",\n  {";
-            bool first_field = true;
-            const auto field = [&] {
-                out += first_field ? "\n   " : ",\n   ";
-                first_field = false;
-            };
-            for (auto f = dj.begin(); f != dj.end(); ++f) {
-                field();
-                if (f.key() == "vertices") {
-                    append_vertices(out, d, form);
-                    if (d.indices) {
-                        field();
-                        append_indices(out, *d.indices, form);
-                    }
-                } else if (f.key() != "indices") {
-                    out += ojson(f.key()).dump() + ": " + f.value().dump();
-                }
-            }
+            draw(out, di, it.value()[di]);
             out += "\n  }";
         }
         out += "\n ]";

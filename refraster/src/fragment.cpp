@@ -534,20 +534,6 @@ struct Kernel {
     }
 };
 
-// Whether this CPU runs the kernels compiled for FMA and SSE4.1 (Kernel::shade_fma).
-bool host_runs_fma_kernels() {
-#if REFRASTER_KERNEL_ISA_VARIANTS
-    static const bool yes = [] {
-        __builtin_cpu_init();
-        return __builtin_cpu_supports("fma") && __builtin_cpu_supports("sse4.1") &&
-               __builtin_cpu_supports("popcnt");
-    }();
-    return yes;
-#else
-    return false;
-#endif
-}
-
 template <ShadeModel S, DepthFormat D, ColorFormat C, BlendPreset B>
 FragmentKernel make_kernel(KernelState state) {
     if (state.samples == kMsaaSamples) {
@@ -564,7 +550,7 @@ FragmentKernel make_kernel(KernelState state) {
         }
     }
 #if REFRASTER_KERNEL_ISA_VARIANTS
-    if (host_runs_fma_kernels()) return {state, &K::shade_fma, &K::trace, &K::shade_rows_fma};
+    if (host_runs_fma_sse41()) return {state, &K::shade_fma, &K::trace, &K::shade_rows_fma};
 #endif
     return {state, &K::shade, &K::trace, &K::shade_rows};
 }

@@ -50,6 +50,19 @@ namespace refraster::detail {
 FragmentKernel::ShadeRowsFn avx2_shade_rows(ShadeModel s, DepthFormat d, BlendPreset b);
 FragmentKernel::ShadeRowsFn avx512_shade_rows(ShadeModel s, DepthFormat d, BlendPreset b);
 
+bool host_runs_fma_sse41() {
+#if defined(REFRASTER_X86) && (defined(__GNUC__) || defined(__clang__))
+    static const bool yes = [] {
+        __builtin_cpu_init();
+        return __builtin_cpu_supports("fma") && __builtin_cpu_supports("sse4.1") &&
+               __builtin_cpu_supports("popcnt");
+    }();
+    return yes;
+#else
+    return false;
+#endif
+}
+
 bool host_runs_avx2() {
 #if defined(REFRASTER_X86) && (defined(__GNUC__) || defined(__clang__))
     static const bool yes = [] {

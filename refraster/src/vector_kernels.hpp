@@ -28,6 +28,9 @@ namespace refraster::detail {
 FragmentKernel::ShadeRowsFn vector_shade_rows(KernelPath path, ShadeModel shade, DepthFormat depth,
                                               BlendPreset blend);
 
+// Whether this CPU runs code compiled for FMA, SSE4.1 and POPCNT: the scalar kernels' and the
+// vertex transform's run-time variants (fragment.cpp, vertex_stage.cpp).
+bool host_runs_fma_sse41();
 bool host_runs_avx2();
 bool host_runs_avx512();
 

@@ -6,6 +6,7 @@
 
 #include "refraster/assert.hpp"
 #include "rules.hpp"
+#include "vector_kernels.hpp"
 
 namespace refraster::detail {
 
@@ -99,14 +100,6 @@ void transform_baseline(const Draw& draw, VertexStageOptions options, const View
     transform_vertices(draw, options, vp, attribute_floats, out, pool);
 }
 
-bool host_runs_fma() {
-    static const bool yes = [] {
-        __builtin_cpu_init();
-        return __builtin_cpu_supports("fma") && __builtin_cpu_supports("sse4.1") &&
-               __builtin_cpu_supports("popcnt");
-    }();
-    return yes;
-}
 #endif
 
 }  // namespace
@@ -122,7 +115,7 @@ VertexStage::VertexStage(const Draw& draw, VertexStageOptions options)
     pool_.reserve(n * attribute_floats_ + n * attribute_floats_ / 4 + 256);
     pool_.resize(n * attribute_floats_);
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-    if (host_runs_fma()) {
+    if (host_runs_fma_sse41()) {
         transform_fma(draw, options_, vp_, attribute_floats_, vertices_.data(), pool_.data());
         return;
     }

@@ -12,6 +12,8 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "harness/scene.hpp"
@@ -28,6 +30,15 @@ enum class VertexForm : std::uint8_t {
 // "vertex_arrays" added to `requires` for the compact forms). A draw's vertices must share one
 // position size in the compact forms (std::invalid_argument otherwise).
 std::string scene_json_text(const SceneFile& s, VertexForm form);
+
+// The layout every scene file this project writes shares: one top-level key a line, each draw
+// an object of one key a line; `draw(out, index, draw_json)` appends the fields of draw `index`
+// (its object in `scene["draws"]`), each starting with `field(out)`. Everything else is the
+// value's compact JSON.
+using DrawFieldWriter =
+    std::function<void(std::string& out, std::size_t index, const nlohmann::ordered_json& draw)>;
+void open_draw_field(std::string& out, bool& first);
+std::string lay_out_scene_json(const nlohmann::ordered_json& scene, const DrawFieldWriter& draw);
 
 // `triangles` unindexed triangles of a few pixels each, scattered over a 1024 x 1024 target
 // with depth, positions [x, y, z] on a 1/256 grid and colours on a 1/16 grid: the shape of
