@@ -49,8 +49,8 @@ void ExactModel::setup(VertexStage& stage, Observer& obs, const ListSink<List>& 
         ExactPrimitive& prim = list.primitives.emplace_back();
         prim.shader = std::make_unique<ExactShader>(
             *ex,
-            std::array<const StageVertex*, 3>{&stage.vertex(idx[0]), &stage.vertex(idx[1]),
-                                              &stage.vertex(idx[2])},
+            std::array<StageVertex, 3>{stage.vertex(idx[0]), stage.vertex(idx[1]),
+                                       stage.vertex(idx[2])},
             stage, d, ctx_.target, first);
         prim.coverage = std::move(ex);
         prim.owner = owner_id(ctx_.index, p);

@@ -627,7 +627,7 @@ void write_fragment_color(const Draw& draw, Framebuffer& fb, std::size_t i,
 
 namespace refraster::detail {
 
-ExactShader::ExactShader(const ExactCoverage& coverage, const std::array<const StageVertex*, 3>& v,
+ExactShader::ExactShader(const ExactCoverage& coverage, const std::array<StageVertex, 3>& v,
                          const VertexStage& stage, const Draw& draw, const Target& target,
                          bool provoking_first)
     : coverage_(coverage),
@@ -645,7 +645,7 @@ ExactShader::ExactShader(const ExactCoverage& coverage, const std::array<const S
         const double n = draw.state.depth_near;
         const double f = draw.state.depth_far;
         for (std::size_t i = 0; i < 3; ++i) {
-            const auto& c = v[i]->clip;
+            const auto& c = v[i].clip;
             p[i] = {(double{c[0]} / double{c[3]} + 1.0) * 0.5 * vp.width + vp.x,
                     (double{c[1]} / double{c[3]} + 1.0) * 0.5 * vp.height + vp.y,
                     double{c[2]} / double{c[3]} * 0.5 * (f - n) + 0.5 * (n + f)};
@@ -674,7 +674,7 @@ void ExactShader::shade(int x, int y, Framebuffer& fb, std::uint32_t owner) cons
     const std::size_t i = fb.index(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y));
     if (depth_test_) {
         double zn = 0.0;
-        for (std::size_t k = 0; k < 3; ++k) zn += b[k] * double{v_[k]->clip[2]};
+        for (std::size_t k = 0; k < 3; ++k) zn += b[k] * double{v_[k].clip[2]};
         const double n = draw_.state.depth_near;
         const double f = draw_.state.depth_far;
         double z = zn * 0.5 * (f - n) + 0.5 * (n + f) + offset_;
@@ -685,9 +685,9 @@ void ExactShader::shade(int x, int y, Framebuffer& fb, std::uint32_t owner) cons
         if (draw_.state.depth_write) fb.depth[i] = q;
     }
     std::array<float, 4> c{};
-    const auto a0 = stage_.attributes(*v_[0]);
-    const auto a1 = stage_.attributes(*v_[1]);
-    const auto a2 = stage_.attributes(*v_[2]);
+    const auto a0 = stage_.attributes(v_[0]);
+    const auto a1 = stage_.attributes(v_[1]);
+    const auto a2 = stage_.attributes(v_[2]);
     const std::array<std::span<const float>, 3> a{a0, a1, a2};
     for (std::size_t k = 0; k < 4; ++k) {
         switch (draw_.state.shade) {
@@ -703,7 +703,7 @@ void ExactShader::shade(int x, int y, Framebuffer& fb, std::uint32_t owner) cons
             case ShadeModel::NoPerspective: {
                 double s = 0.0;
                 for (std::size_t j = 0; j < 3; ++j)
-                    s += b[j] * double{v_[j]->clip[3]} * double{a[j][k]};
+                    s += b[j] * double{v_[j].clip[3]} * double{a[j][k]};
                 c[k] = static_cast<float>(s);
                 break;
             }

@@ -166,14 +166,14 @@ FragmentKernel choose_fragment_kernel(const Draw& draw, const Target& target,
 // with r = 1 / (2^n - 1), or 2^(e - 23) for float depth), the same output merge as llvmpipe's.
 class ExactShader {
   public:
-    ExactShader(const ExactCoverage& coverage, const std::array<const StageVertex*, 3>& v,
+    ExactShader(const ExactCoverage& coverage, const std::array<StageVertex, 3>& v,
                 const VertexStage& stage, const Draw& draw, const Target& target,
                 bool provoking_first);
     void shade(int x, int y, Framebuffer& fb, std::uint32_t owner = 0) const;
 
   private:
     const ExactCoverage& coverage_;
-    std::array<const StageVertex*, 3> v_;
+    std::array<StageVertex, 3> v_;
     const VertexStage& stage_;
     const Draw& draw_;
     Target target_;

@@ -106,11 +106,12 @@ void LlvmpipeModel::triangles(VertexStage& stage, Observer& obs) {
                                                d.element(at.element[2])};
         const bool in_pipeline = segment_clipped[at.segment];
         obs.begin_primitive("triangle", ctx_.index, p, idx, stage, in_pipeline);
-        const std::array<const StageVertex*, 3> v{&stage.vertex(idx[0]), &stage.vertex(idx[1]),
-                                                  &stage.vertex(idx[2])};
-        if ((v[0]->clipmask | v[1]->clipmask | v[2]->clipmask) == 0 &&
+        if ((stage.clipmask(idx[0]) | stage.clipmask(idx[1]) | stage.clipmask(idx[2])) == 0 &&
             obs.clip_polygons() == nullptr) {
             // Inside the view volume: the clipper would hand the triangle on unchanged.
+            const std::array<StageVertex, 3> sv{stage.vertex(idx[0]), stage.vertex(idx[1]),
+                                                stage.vertex(idx[2])};
+            const std::array<const StageVertex*, 3> v{&sv[0], &sv[1], &sv[2]};
             obs.clipped(false);
             const bool ftz = !in_pipeline || setup_ftz.empty() || setup_ftz[pipeline_output];
             pipeline_output += in_pipeline;
@@ -232,8 +233,8 @@ void LlvmpipeModel::points(VertexStage& stage, Observer& obs) {
     const Draw& d = ctx_.draw;
     for (std::size_t p = 0; p < d.element_count(); ++p) {
         const std::array<std::uint32_t, 1> i{d.element(p)};
-        const auto& v = stage.vertex(i[0]);
-        if (v.clipmask != 0) continue;
+        if (stage.clipmask(i[0]) != 0) continue;
+        const StageVertex v = stage.vertex(i[0]);
         next_primitive(p, obs);
         obs.begin_primitive("point", ctx_.index, p, i, stage);
         point(stage, v, obs);
@@ -351,7 +352,8 @@ std::vector<bool> LlvmpipeModel::pipeline_setup_ftz(
         ++batch;
     };
     constexpr std::uint32_t kNotOriginal = 0xffffffffu;
-    const auto count_vertex = [&](std::uint32_t segment, const StageVertex& v,
+    // `v` is read only for a vertex that is not an original one.
+    const auto count_vertex = [&](std::uint32_t segment, const StageVertex* v,
                                   std::uint32_t original) {
         const std::uint64_t stamp = (batch << 32) | segment;
         if (original != kNotOriginal) {
@@ -361,7 +363,7 @@ std::vector<bool> LlvmpipeModel::pipeline_setup_ftz(
             }
             return;
         }
-        const std::uint64_t key = (std::uint64_t{segment} << 32) | v.attributes;
+        const std::uint64_t key = (std::uint64_t{segment} << 32) | v->attributes;
         if (std::find(emitted.begin(), emitted.end(), key) == emitted.end()) {
             emitted.push_back(key);
             ++vertices;
@@ -379,21 +381,28 @@ std::vector<bool> LlvmpipeModel::pipeline_setup_ftz(
         }
         const std::array<std::uint32_t, 3> idx{d.element(at.element[0]), d.element(at.element[1]),
                                                d.element(at.element[2])};
-        const std::array<const StageVertex*, 3> v{&stage.vertex(idx[0]), &stage.vertex(idx[1]),
-                                                  &stage.vertex(idx[2])};
-        if ((v[0]->clipmask | v[1]->clipmask | v[2]->clipmask) == 0) {
-            // The clipper hands it on unchanged, with its own three vertices.
-            if (!reaches_setup(v)) {
+        const auto stage_vertices = [&] {
+            return std::array<StageVertex, 3>{stage.vertex(idx[0]), stage.vertex(idx[1]),
+                                              stage.vertex(idx[2])};
+        };
+        if ((stage.clipmask(idx[0]) | stage.clipmask(idx[1]) | stage.clipmask(idx[2])) == 0) {
+            // The clipper hands it on unchanged, with its own three vertices (the cull stage
+            // alone needs their window coordinates).
+            const bool culls = d.state.cull != CullMode::None;
+            const auto sv = culls ? stage_vertices() : std::array<StageVertex, 3>{};
+            if (culls && !reaches_setup({&sv[0], &sv[1], &sv[2]})) {
                 out.push_back(true);
                 continue;
             }
             if (vertices + 3 > kMaxVertices || indices + 3 > kMaxIndices) flush(true);
-            for (std::size_t k = 0; k < 3; ++k) count_vertex(at.segment, *v[k], idx[k]);
+            for (std::size_t k = 0; k < 3; ++k) count_vertex(at.segment, nullptr, idx[k]);
             indices += 3;
             pending.push_back(out.size());
             out.push_back(true);
             continue;
         }
+        const auto sv = stage_vertices();
+        const std::array<const StageVertex*, 3> v{&sv[0], &sv[1], &sv[2]};
         staged.clear();
         stage.clip_triangle(idx, ctx_.params.provoking_first, staged, nullptr);
         for (const auto& st : staged) {
@@ -409,7 +418,7 @@ std::vector<bool> LlvmpipeModel::pipeline_setup_ftz(
                 for (std::size_t j = 0; j < 3; ++j) {
                     if (v[j]->attributes == st.v[k].attributes) original = idx[j];
                 }
-                count_vertex(at.segment, st.v[k], original);
+                count_vertex(at.segment, &st.v[k], original);
             }
             indices += 3;
             pending.push_back(out.size());

@@ -62,7 +62,7 @@ inline std::vector<bool> clipped_segments(const VertexStage& stage, const Draw& 
     for (const auto& t : tris) {
         if (t.segment >= clipped.size()) clipped.resize(t.segment + 1, false);
         for (auto e : t.element) {
-            if (stage.vertex(d.element(e)).clipmask != 0) clipped[t.segment] = true;
+            if (stage.clipmask(d.element(e)) != 0) clipped[t.segment] = true;
         }
     }
     return clipped;

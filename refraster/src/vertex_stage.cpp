@@ -38,68 +38,56 @@ ViewportTransform viewport_transform(const DrawState& s) {
 
 namespace {
 
-// Transforms vertices [begin, end) of `draw` into `out` and copies their attributes into
-// `pool` (already sized): the work of the constructor below, inlined into both of its
-// compilations.
-[[gnu::always_inline]] inline void transform_vertices(const Draw& draw, VertexStageOptions options,
-                                                      const ViewportTransform& vp,
-                                                      std::size_t attribute_floats,
-                                                      StageVertex* out, float* pool) {
-    const Fp fp{options.flush_denormals};
-    const std::size_t n = draw.vertices.size();
-    const std::size_t stride = draw.vertices.stride();
-    const float* data = draw.vertices.data.data();
-    for (std::size_t i = 0; i < n; ++i) {
-        const float* src = data + i * stride;
-        StageVertex& v = out[i];
-        for (std::size_t k = 0; k < 4; ++k) {
-            REFRASTER_ASSERT(std::isfinite(src[k]), "finite clip coordinates");
-            v.clip[k] = fp.f(src[k]);
-        }
-        const auto& c = v.clip;
-        if (options.guard_band) {
-            // draw_cliptest_tmp.h, DO_CLIP_XY_GUARD_BAND: -0.50 * x + w >= 0 and friends, in
-            // double (0.50 is a double literal).
-            const auto outside = [](double t) { return !(t >= 0.0); };
-            v.clipmask = (outside(-0.50 * double{c[0]} + double{c[3]}) ? 1u : 0u) |
-                         (outside(0.50 * double{c[0]} + double{c[3]}) ? 2u : 0u) |
-                         (outside(-0.50 * double{c[1]} + double{c[3]}) ? 4u : 0u) |
-                         (outside(0.50 * double{c[1]} + double{c[3]}) ? 8u : 0u);
-        } else {
-            // draw_llvm.c generate_clipmask: compares, and the sums x+w, y+w in float.
-            v.clipmask = (c[0] > c[3] ? 1u : 0u) | (0.0f > fp.add(c[0], c[3]) ? 2u : 0u) |
-                         (c[1] > c[3] ? 4u : 0u) | (0.0f > fp.add(c[1], c[3]) ? 8u : 0u);
-        }
-        v.clipmask |= (0.0f > fp.add(c[2], c[3]) ? 16u : 0u) | (c[2] > c[3] ? 32u : 0u);
-        // draw_llvm.c generate_viewport: a true division for 1/w, a multiply, then
-        // lp_build_fmuladd, which LLVM fuses when the CPU has FMA.
-        const float oow = fp.div(1.0f, c[3]);
-        for (std::size_t k = 0; k < 3; ++k) {
-            const float ndc = fp.mul(c[k], oow);
-            v.window[k] = options.fma ? fp.fma(ndc, vp.scale[k], vp.translate[k])
-                                      : fp.add(fp.mul(ndc, vp.scale[k]), vp.translate[k]);
-        }
-        v.window[3] = oow;
-        v.attributes = static_cast<std::uint32_t>(i * attribute_floats);
-        for (std::size_t a = 0; a < attribute_floats; ++a)
-            pool[i * attribute_floats + a] = src[VertexArray::kPositionComponents + a];
+// draw_llvm.c generate_clipmask (or the C path's guard band test) of flushed clip coordinates.
+std::uint8_t compute_clipmask(const std::array<float, 4>& c, VertexStageOptions options,
+                              const Fp& fp) {
+    std::uint32_t m = 0;
+    if (options.guard_band) {
+        // draw_cliptest_tmp.h, DO_CLIP_XY_GUARD_BAND: -0.50 * x + w >= 0 and friends, in
+        // double (0.50 is a double literal).
+        const auto outside = [](double t) { return !(t >= 0.0); };
+        m = (outside(-0.50 * double{c[0]} + double{c[3]}) ? 1u : 0u) |
+            (outside(0.50 * double{c[0]} + double{c[3]}) ? 2u : 0u) |
+            (outside(-0.50 * double{c[1]} + double{c[3]}) ? 4u : 0u) |
+            (outside(0.50 * double{c[1]} + double{c[3]}) ? 8u : 0u);
+    } else {
+        // draw_llvm.c generate_clipmask: compares, and the sums x+w, y+w in float.
+        m = (c[0] > c[3] ? 1u : 0u) | (0.0f > fp.add(c[0], c[3]) ? 2u : 0u) |
+            (c[1] > c[3] ? 4u : 0u) | (0.0f > fp.add(c[1], c[3]) ? 8u : 0u);
     }
+    m |= (0.0f > fp.add(c[2], c[3]) ? 16u : 0u) | (c[2] > c[3] ? 32u : 0u);
+    return static_cast<std::uint8_t>(m);
 }
 
-void transform_baseline(const Draw& draw, VertexStageOptions options, const ViewportTransform& vp,
-                        std::size_t attribute_floats, StageVertex* out, float* pool) {
-    transform_vertices(draw, options, vp, attribute_floats, out, pool);
+// draw_llvm.c generate_viewport: a true division for 1/w, a multiply, then lp_build_fmuladd,
+// which LLVM fuses when the CPU has FMA. `clip` is already flushed.
+[[gnu::always_inline]] inline void window_of(const float* c, VertexStageOptions options,
+                                             const ViewportTransform& vp,
+                                             std::array<float, 4>& window) {
+    const Fp fp{options.flush_denormals};
+    const float oow = fp.div(1.0f, c[3]);
+    for (std::size_t k = 0; k < 3; ++k) {
+        const float ndc = fp.mul(c[k], oow);
+        window[k] = options.fma ? fp.fma(ndc, vp.scale[k], vp.translate[k])
+                                : fp.add(fp.mul(ndc, vp.scale[k]), vp.translate[k]);
+    }
+    window[3] = oow;
+}
+
+void window_baseline(const float* c, VertexStageOptions options, const ViewportTransform& vp,
+                     std::array<float, 4>& window) {
+    window_of(c, options, vp, window);
 }
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 // The same operations compiled for CPUs with FMA and SSE4.1 (chosen at run time), so that the
 // fused multiply-adds are single instructions rather than library calls: the same results.
-[[gnu::target("fma,sse4.1,popcnt"), gnu::flatten]] void transform_fma(
-    const Draw& draw, VertexStageOptions options, const ViewportTransform& vp,
-    std::size_t attribute_floats, StageVertex* out, float* pool) {
-    transform_vertices(draw, options, vp, attribute_floats, out, pool);
+[[gnu::target("fma,sse4.1,popcnt"), gnu::flatten]] void window_fma(const float* c,
+                                                                   VertexStageOptions options,
+                                                                   const ViewportTransform& vp,
+                                                                   std::array<float, 4>& window) {
+    window_of(c, options, vp, window);
 }
-
 #endif
 
 }  // namespace
@@ -109,18 +97,35 @@ VertexStage::VertexStage(const Draw& draw, VertexStageOptions options)
     attribute_floats_ = draw.vertices.stride() - VertexArray::kPositionComponents;
     REFRASTER_ASSERT(draw.vertices.data.size() % draw.vertices.stride() == 0,
                      "whole vertex records");
-    const std::size_t n = draw.vertices.size();
-    vertices_.resize(n);
-    // Room for some of the clipper's new vertices too, so that most draws never reallocate.
-    pool_.reserve(n * attribute_floats_ + n * attribute_floats_ / 4 + 256);
-    pool_.resize(n * attribute_floats_);
+    REFRASTER_ASSERT(draw.vertices.data.size() < kPooled, "offsets below the pool bit");
+    window_ = &window_baseline;
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-    if (host_runs_fma_sse41()) {
-        transform_fma(draw, options_, vp_, attribute_floats_, vertices_.data(), pool_.data());
-        return;
-    }
+    if (host_runs_fma_sse41()) window_ = &window_fma;
 #endif
-    transform_baseline(draw, options_, vp_, attribute_floats_, vertices_.data(), pool_.data());
+    const Fp fp{options_.flush_denormals};
+    const std::size_t n = draw.vertices.size();
+    clipmasks_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const auto src = draw.vertices.position(i);
+        std::array<float, 4> c{};
+        for (std::size_t k = 0; k < 4; ++k) {
+            REFRASTER_ASSERT(std::isfinite(src[k]), "finite clip coordinates");
+            c[k] = fp.f(src[k]);
+        }
+        clipmasks_[i] = compute_clipmask(c, options_, fp);
+    }
+}
+
+StageVertex VertexStage::vertex(std::uint32_t index) const {
+    const Fp fp{options_.flush_denormals};
+    const auto src = draw_.vertices.position(index);
+    StageVertex v;
+    for (std::size_t k = 0; k < 4; ++k) v.clip[k] = fp.f(src[k]);
+    v.clipmask = clipmasks_[index];
+    window_(v.clip.data(), options_, vp_, v.window);
+    v.attributes = static_cast<std::uint32_t>(index * draw_.vertices.stride() +
+                                              VertexArray::kPositionComponents);
+    return v;
 }
 
 StageVertex VertexStage::interpolate(float t, const StageVertex& out, const StageVertex& in) {
@@ -151,10 +156,11 @@ StageVertex VertexStage::interpolate(float t, const StageVertex& out, const Stag
             }
         }
     }
-    d.attributes = static_cast<std::uint32_t>(pool_.size());
+    d.attributes = static_cast<std::uint32_t>(pool_.size()) | kPooled;
     for (std::size_t a = 0; a < attribute_floats_; ++a) {
-        const float o = pool_[out.attributes + a];
-        const float i = pool_[in.attributes + a];
+        // Read afresh each time: the pool may move as it grows.
+        const float o = attributes(out)[a];
+        const float i = attributes(in)[a];
         pool_.push_back(fp.add(o, fp.mul(t_attr, fp.sub(i, o))));
     }
     return d;
@@ -163,18 +169,17 @@ StageVertex VertexStage::interpolate(float t, const StageVertex& out, const Stag
 StageVertex VertexStage::duplicate_with_flat(const StageVertex& v, const StageVertex& provoking) {
     // draw_pipe_clip.c dup_vert + copy_flat: flat attributes come from the provoking vertex.
     StageVertex d = v;
-    d.attributes = static_cast<std::uint32_t>(pool_.size());
-    for (std::size_t a = 0; a < attribute_floats_; ++a)
-        pool_.push_back(pool_[provoking.attributes + a]);
+    d.attributes = static_cast<std::uint32_t>(pool_.size()) | kPooled;
+    for (std::size_t a = 0; a < attribute_floats_; ++a) pool_.push_back(attributes(provoking)[a]);
     return d;
 }
 
 void VertexStage::clip_triangle(const std::array<std::uint32_t, 3>& idx, bool provoking_first,
                                 std::vector<StageTriangle>& out,
                                 std::vector<std::vector<StageVertex>>* polygon_trace) {
-    const StageVertex& v0 = vertices_[idx[0]];
-    const StageVertex& v1 = vertices_[idx[1]];
-    const StageVertex& v2 = vertices_[idx[2]];
+    const StageVertex v0 = vertex(idx[0]);
+    const StageVertex v1 = vertex(idx[1]);
+    const StageVertex v2 = vertex(idx[2]);
     std::uint32_t mask = v0.clipmask | v1.clipmask | v2.clipmask;
     if (mask == 0) {
         out.push_back({{v0, v1, v2}, false, false});
@@ -270,8 +275,8 @@ void VertexStage::clip_triangle(const std::array<std::uint32_t, 3>& idx, bool pr
 
 std::optional<std::array<StageVertex, 2>> VertexStage::clip_line(std::uint32_t a, std::uint32_t b,
                                                                  bool provoking_first) {
-    const StageVertex& v0 = vertices_[a];
-    const StageVertex& v1 = vertices_[b];
+    const StageVertex v0 = vertex(a);
+    const StageVertex v1 = vertex(b);
     std::uint32_t mask = v0.clipmask | v1.clipmask;
     if (mask == 0) return std::array<StageVertex, 2>{v0, v1};
     if ((v0.clipmask & v1.clipmask) != 0) return std::nullopt;

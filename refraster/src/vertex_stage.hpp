@@ -76,11 +76,19 @@ class VertexStage {
   public:
     VertexStage(const Draw& draw, VertexStageOptions options);
 
-    // The unclipped vertex `index` of the draw (transform, clip mask, attributes).
-    const StageVertex& vertex(std::uint32_t index) const { return vertices_[index]; }
+    // The unclipped vertex `index` of the draw (transform, clip mask, attributes), computed
+    // when asked for: the stage keeps one clip-mask byte a vertex, not a record, so that a draw
+    // of millions of vertices costs no copy of them (the transform is a pure function of the
+    // vertex, so computing it twice gives the same bits).
+    StageVertex vertex(std::uint32_t index) const;
+    std::uint32_t clipmask(std::uint32_t index) const { return clipmasks_[index]; }
     std::size_t attribute_floats() const { return attribute_floats_; }
+    // A vertex's attribute values: the draw's own for an original vertex, the pool's for one
+    // the clipper made or duplicated. Valid until the stage makes another vertex.
     std::span<const float> attributes(const StageVertex& v) const {
-        return {pool_.data() + v.attributes, attribute_floats_};
+        if ((v.attributes & kPooled) != 0)
+            return {pool_.data() + (v.attributes & ~kPooled), attribute_floats_};
+        return {draw_.vertices.data.data() + v.attributes, attribute_floats_};
     }
 
     // Clips one assembled triangle (vertex indices in setup order, provoking vertex last or
@@ -103,6 +111,9 @@ class VertexStage {
     StageVertex duplicate_with_flat(const StageVertex& v, const StageVertex& provoking);
 
   private:
+    // StageVertex::attributes: an offset in the draw's vertex data, or, with this bit, in
+    // pool_ (the draw's data holds fewer than 2^31 floats: docs/limits.md).
+    static constexpr std::uint32_t kPooled = 0x80000000u;
     StageVertex interpolate(float t, const StageVertex& out, const StageVertex& in);
     float ftz(float v) const { return options_.flush_denormals ? flush_denormal(v) : v; }
 
@@ -110,8 +121,11 @@ class VertexStage {
     VertexStageOptions options_;
     ViewportTransform vp_;
     std::size_t attribute_floats_ = 0;
-    std::vector<StageVertex> vertices_;
-    std::vector<float> pool_;  // attribute values of every vertex, original and generated
+    std::vector<std::uint8_t> clipmasks_;  // one a vertex of the draw
+    std::vector<float> pool_;              // attribute values of vertices the stage made
+    // The viewport transform of one vertex, compiled for FMA where the CPU has it.
+    void (*window_)(const float* clip, VertexStageOptions, const ViewportTransform&,
+                    std::array<float, 4>& window) = nullptr;
 };
 
 // draw_pipe_cull.c cull_tri: false when the triangle is culled by the draw module's float
