@@ -6,6 +6,7 @@
 #include "line_point.hpp"
 #include "observer.hpp"
 #include "trace_observer.hpp"
+#include "vector_kernels.hpp"
 
 namespace refraster::detail {
 
@@ -99,6 +100,13 @@ void LlvmpipeModel::triangles(VertexStage& stage, Observer& obs) {
     const std::vector<bool> setup_ftz = pipeline_setup_ftz(stage, tris, segment_clipped);
     std::size_t pipeline_output = 0;  // the pipeline's output triangles so far, in order
     std::vector<StageTriangle> staged;
+    // The fast paths let the CPU flush (FTZ and DAZ: the modes the model's emulation
+    // reproduces operation by operation, float_ops.hpp) while triangles are set up; every
+    // operation the model flushes gives the same result, the rest sees only flushed values.
+    // The shading of full lists inside the loop sets its own mode.
+    cpu_flushes_ = ctx_.kernels != KernelPath::Model && !Observer::kReadsEveryPlane &&
+                   ctx_.profile.gl.flush_denormals && cpu_flush_modes_available();
+    const ScopedDenormalsAreZero mode(cpu_flushes_);
     for (std::size_t p = 0; p < tris.size(); ++p) {
         next_primitive(p, obs);
         const auto& at = tris[p];
@@ -109,8 +117,9 @@ void LlvmpipeModel::triangles(VertexStage& stage, Observer& obs) {
         if ((stage.clipmask(idx[0]) | stage.clipmask(idx[1]) | stage.clipmask(idx[2])) == 0 &&
             obs.clip_polygons() == nullptr) {
             // Inside the view volume: the clipper would hand the triangle on unchanged.
-            const std::array<StageVertex, 3> sv{stage.vertex(idx[0]), stage.vertex(idx[1]),
-                                                stage.vertex(idx[2])};
+            const std::array<StageVertex, 3> sv{stage.vertex(idx[0], cpu_flushes_),
+                                                stage.vertex(idx[1], cpu_flushes_),
+                                                stage.vertex(idx[2], cpu_flushes_)};
             const std::array<const StageVertex*, 3> v{&sv[0], &sv[1], &sv[2]};
             obs.clipped(false);
             const bool ftz = !in_pipeline || setup_ftz.empty() || setup_ftz[pipeline_output];
@@ -139,8 +148,13 @@ void LlvmpipeModel::snapped_triangle(const VertexStage& stage,
     const Draw& d = ctx_.draw;
     const SetupParams& params = ctx_.params;
     obs.triangle_start(v, clipped, params.bits);
-    if (in_pipeline && ctx_.profile.quirks.draw_pipeline_cull &&
-        !passes_draw_cull(v, d.state.cull, params.front_ccw)) {
+    const auto culled_by_draw = [&] {
+        // Its products are flushed as the model writes them, not by the CPU.
+        const ScopedDenormalMode plain(cpu_flushes_, false);
+        return !passes_draw_cull(v, d.state.cull, params.front_ccw);
+    };
+    if (in_pipeline && ctx_.profile.quirks.draw_pipeline_cull && d.state.cull != CullMode::None &&
+        culled_by_draw()) {
         return obs.triangle_outcome("culled by the draw module's float cull");
     }
     TriangleSetup t;
@@ -167,8 +181,11 @@ void LlvmpipeModel::snapped_triangle(const VertexStage& stage,
     copy_coverage(t, prim, list_);
     prim.owner = owner_;
     const FragmentOptions fo = ctx_.fragment_options();
-    const FragmentOptions setup_fo{fo.fma, fo.flush_denormals && setup_ftz, fo.multisample,
-                                   fo.kernels};
+    FragmentOptions setup_fo{fo.fma, fo.flush_denormals && setup_ftz, fo.multisample, fo.kernels};
+    // Under the CPU's flush modes the planes' operations run plain (the CPU flushes them); a
+    // triangle the model sets up without flushing runs with the modes cleared.
+    if (cpu_flushes_ && setup_ftz) setup_fo.flush_denormals = false;
+    const ScopedDenormalMode plain(cpu_flushes_ && !setup_ftz, false);
     triangle_planes(
         {v[static_cast<std::size_t>(t.order[0])], v[static_cast<std::size_t>(t.order[1])],
          v[static_cast<std::size_t>(t.order[2])]},

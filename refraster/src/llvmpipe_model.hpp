@@ -113,6 +113,9 @@ class LlvmpipeModel {
     const DrawContext& ctx_;
     const ListSink<List>* sink_ = nullptr;
     SetupList list_;
+    // Triangle setup runs with the CPU's flush modes set and plain float operations where
+    // the model emulates the flushing (fast paths of a flushing profile only).
+    bool cpu_flushes_ = false;
     std::uint32_t owner_ = 0;  // of the primitive being set up
 };
 

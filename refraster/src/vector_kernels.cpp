@@ -106,20 +106,29 @@ FragmentKernel::ShadeRowsFn vector_shade_rows(KernelPath path, ShadeModel shade,
 // MXCSR bits: flush-to-zero (15) and denormals-are-zero (6).
 constexpr std::uint32_t kFtzDaz = (1u << 15) | (1u << 6);
 
-ScopedDenormalsAreZero::ScopedDenormalsAreZero(bool on) : on_(on) {
+bool cpu_flush_modes_available() {
 #if defined(REFRASTER_X86)
-    if (on_) {
-        saved_ = _mm_getcsr();
-        _mm_setcsr(saved_ | kFtzDaz);
-    }
+    return true;
 #else
-    on_ = false;
+    return false;
 #endif
 }
 
-ScopedDenormalsAreZero::~ScopedDenormalsAreZero() {
+ScopedDenormalMode::ScopedDenormalMode(bool active, bool flush) : active_(active) {
 #if defined(REFRASTER_X86)
-    if (on_) _mm_setcsr(saved_);
+    if (active_) {
+        saved_ = _mm_getcsr();
+        _mm_setcsr(flush ? (saved_ | kFtzDaz) : (saved_ & ~kFtzDaz));
+    }
+#else
+    (void)flush;
+    active_ = false;
+#endif
+}
+
+ScopedDenormalMode::~ScopedDenormalMode() {
+#if defined(REFRASTER_X86)
+    if (active_) _mm_setcsr(saved_);
 #endif
 }
 

@@ -34,18 +34,29 @@ bool host_runs_fma_sse41();
 bool host_runs_avx2();
 bool host_runs_avx512();
 
-// The CPU's flush-to-zero and denormals-are-zero modes on for the scope's duration (when
-// `on`), restored after: the float mode the vector kernels assume where the profile flushes.
-class ScopedDenormalsAreZero {
+// Whether this CPU has flush-to-zero and denormals-are-zero modes the code can set (x86).
+bool cpu_flush_modes_available();
+
+// The CPU's flush-to-zero and denormals-are-zero modes set (`flush`) or cleared (!`flush`)
+// for the scope's duration when `active`, restored after: the float mode the vector kernels
+// and the fast setup assume where the profile flushes, and the plain mode that code the model
+// runs without flushing needs inside such a scope.
+class ScopedDenormalMode {
   public:
-    explicit ScopedDenormalsAreZero(bool on);
-    ~ScopedDenormalsAreZero();
-    ScopedDenormalsAreZero(const ScopedDenormalsAreZero&) = delete;
-    ScopedDenormalsAreZero& operator=(const ScopedDenormalsAreZero&) = delete;
+    ScopedDenormalMode(bool active, bool flush);
+    ~ScopedDenormalMode();
+    ScopedDenormalMode(const ScopedDenormalMode&) = delete;
+    ScopedDenormalMode& operator=(const ScopedDenormalMode&) = delete;
 
   private:
-    bool on_;
+    bool active_;
     std::uint32_t saved_ = 0;
+};
+
+// Flushing on for the scope when `on`.
+class ScopedDenormalsAreZero : public ScopedDenormalMode {
+  public:
+    explicit ScopedDenormalsAreZero(bool on) : ScopedDenormalMode(on, true) {}
 };
 
 }  // namespace refraster::detail

@@ -116,13 +116,15 @@ VertexStage::VertexStage(const Draw& draw, VertexStageOptions options)
     }
 }
 
-StageVertex VertexStage::vertex(std::uint32_t index) const {
+StageVertex VertexStage::vertex(std::uint32_t index, bool cpu_flushes) const {
     const Fp fp{options_.flush_denormals};
     const auto src = draw_.vertices.position(index);
     StageVertex v;
     for (std::size_t k = 0; k < 4; ++k) v.clip[k] = fp.f(src[k]);
     v.clipmask = clipmasks_[index];
-    window_(v.clip.data(), options_, vp_, v.window);
+    VertexStageOptions o = options_;
+    if (cpu_flushes) o.flush_denormals = false;
+    window_(v.clip.data(), o, vp_, v.window);
     v.attributes = static_cast<std::uint32_t>(index * draw_.vertices.stride() +
                                               VertexArray::kPositionComponents);
     return v;

@@ -80,7 +80,10 @@ class VertexStage {
     // when asked for: the stage keeps one clip-mask byte a vertex, not a record, so that a draw
     // of millions of vertices costs no copy of them (the transform is a pure function of the
     // vertex, so computing it twice gives the same bits).
-    StageVertex vertex(std::uint32_t index) const;
+    // With `cpu_flushes` the caller has set the CPU's flush modes (ScopedDenormalsAreZero)
+    // where the profile flushes, and the window coordinates are computed with plain
+    // operations: the same results, faster.
+    StageVertex vertex(std::uint32_t index, bool cpu_flushes = false) const;
     std::uint32_t clipmask(std::uint32_t index) const { return clipmasks_[index]; }
     std::size_t attribute_floats() const { return attribute_floats_; }
     // A vertex's attribute values: the draw's own for an original vertex, the pool's for one
