@@ -104,8 +104,7 @@ void LlvmpipeModel::triangles(VertexStage& stage, Observer& obs) {
     // reproduces operation by operation, float_ops.hpp) while triangles are set up; every
     // operation the model flushes gives the same result, the rest sees only flushed values.
     // The shading of full lists inside the loop sets its own mode.
-    cpu_flushes_ = ctx_.kernels != KernelPath::Model && !Observer::kReadsEveryPlane &&
-                   ctx_.profile.gl.flush_denormals && cpu_flush_modes_available();
+    cpu_flushes_ = ctx_.cpu_flushes() && !Observer::kReadsEveryPlane;
     const ScopedDenormalsAreZero mode(cpu_flushes_);
     for (std::size_t p = 0; p < tris.size(); ++p) {
         next_primitive(p, obs);

@@ -23,6 +23,7 @@
 #include "refraster/draw.hpp"
 #include "refraster/profile.hpp"
 #include "setup.hpp"
+#include "vector_kernels.hpp"
 #include "vertex_stage.hpp"
 
 namespace refraster::detail {
@@ -39,7 +40,15 @@ struct DrawContext {
     BandWorkers* workers = nullptr;          // more than one thread shades (band_workers.hpp)
 
     VertexStageOptions vertex_options() const {
-        return {fma, profile.gl.flush_denormals, profile.gl.clipping == Clipping::GuardBand};
+        return {fma, profile.gl.flush_denormals, profile.gl.clipping == Clipping::GuardBand,
+                cpu_flushes()};
+    }
+    // Whether the vertex stage and triangle setup run under the CPU's flush modes with plain
+    // float operations instead of the model's emulation (fast paths of a flushing profile on a
+    // CPU with the modes; the results are the same, vector_kernels.hpp).
+    bool cpu_flushes() const {
+        return kernels != KernelPath::Model && profile.gl.flush_denormals &&
+               cpu_flush_modes_available();
     }
     FragmentOptions fragment_options() const {
         return {fma, profile.gl.flush_denormals, params.multisample, kernels};

@@ -94,7 +94,8 @@ void window_baseline(const float* c, VertexStageOptions options, const ViewportT
 
 VertexStage::VertexStage(const Draw& draw, VertexStageOptions options)
     : draw_(draw), options_(options), vp_(viewport_transform(draw.state)) {
-    attribute_floats_ = draw.vertices.stride() - VertexArray::kPositionComponents;
+    stride_ = draw.vertices.stride();
+    attribute_floats_ = stride_ - VertexArray::kPositionComponents;
     REFRASTER_ASSERT(draw.vertices.data.size() % draw.vertices.stride() == 0,
                      "whole vertex records");
     REFRASTER_ASSERT(draw.vertices.data.size() < kPooled, "offsets below the pool bit");
@@ -102,11 +103,15 @@ VertexStage::VertexStage(const Draw& draw, VertexStageOptions options)
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
     if (host_runs_fma_sse41()) window_ = &window_fma;
 #endif
-    const Fp fp{options_.flush_denormals};
+    // Under the CPU's flush modes the clip coordinates stay as they are (compares and sums see
+    // them flushed) and the sums run plain.
+    const ScopedDenormalsAreZero mode(options_.cpu_flushes);
+    const Fp fp{options_.flush_denormals && !options_.cpu_flushes};
     const std::size_t n = draw.vertices.size();
     clipmasks_.resize(n);
+    const float* data = draw.vertices.data.data();
     for (std::size_t i = 0; i < n; ++i) {
-        const auto src = draw.vertices.position(i);
+        const float* src = data + i * stride_;
         std::array<float, 4> c{};
         for (std::size_t k = 0; k < 4; ++k) {
             REFRASTER_ASSERT(std::isfinite(src[k]), "finite clip coordinates");
@@ -118,15 +123,14 @@ VertexStage::VertexStage(const Draw& draw, VertexStageOptions options)
 
 StageVertex VertexStage::vertex(std::uint32_t index, bool cpu_flushes) const {
     const Fp fp{options_.flush_denormals};
-    const auto src = draw_.vertices.position(index);
+    const float* src = draw_.vertices.data.data() + std::size_t{index} * stride_;
     StageVertex v;
     for (std::size_t k = 0; k < 4; ++k) v.clip[k] = fp.f(src[k]);
     v.clipmask = clipmasks_[index];
     VertexStageOptions o = options_;
     if (cpu_flushes) o.flush_denormals = false;
     window_(v.clip.data(), o, vp_, v.window);
-    v.attributes = static_cast<std::uint32_t>(index * draw_.vertices.stride() +
-                                              VertexArray::kPositionComponents);
+    v.attributes = static_cast<std::uint32_t>(index * stride_ + VertexArray::kPositionComponents);
     return v;
 }
 

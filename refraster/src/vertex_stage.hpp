@@ -70,6 +70,9 @@ struct VertexStageOptions {
     bool fma = true;
     bool flush_denormals = true;
     bool guard_band = false;
+    // The caller's fast path lets the CPU flush where the profile flushes (DrawContext::
+    // cpu_flushes): the clip masks are computed with plain operations under its flush modes.
+    bool cpu_flushes = false;
 };
 
 class VertexStage {
@@ -124,6 +127,7 @@ class VertexStage {
     VertexStageOptions options_;
     ViewportTransform vp_;
     std::size_t attribute_floats_ = 0;
+    std::size_t stride_ = 0;               // floats a vertex record of the draw holds
     std::vector<std::uint8_t> clipmasks_;  // one a vertex of the draw
     std::vector<float> pool_;              // attribute values of vertices the stage made
     // The viewport transform of one vertex, compiled for FMA where the CPU has it.
