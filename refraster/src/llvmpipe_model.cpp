@@ -353,28 +353,37 @@ std::vector<bool> LlvmpipeModel::pipeline_setup_ftz(
         return out;
     }
     std::size_t vertices = 0, indices = 0;
-    std::vector<std::size_t> pending;  // indices into `out` of the triangles not yet set up
-    // Which vertices the current batch has counted: a stamp per original vertex (the batch
-    // and segment it was counted in), and a list for the clipper's new ones, which only the
-    // triangles of one polygon share.
-    std::vector<std::uint64_t> counted(d.vertices.size(), ~std::uint64_t{0});
+    // Indices into `out` of the triangles not yet set up. Every entry starts true (set up
+    // with FTZ); only the last batch changes, so a flush with FTZ just forgets its batch.
+    std::vector<std::size_t> pending;
+    // Which vertices the current batch has counted: a stamp per original vertex, and a list
+    // for the clipper's new ones, which only the triangles of one polygon share. A stamp names
+    // one (batch, segment) pair: triangles come in order, so a pair never comes back, and
+    // `epoch` counts the pairs.
+    std::vector<std::uint32_t> counted(d.vertices.size(), 0);
     std::vector<std::uint64_t> emitted;
-    std::uint64_t batch = 0;
+    std::uint32_t epoch = 1;
+    std::uint32_t epoch_segment = tris.empty() ? 0 : tris.front().segment;
     const auto flush = [&](bool ftz) {
-        for (const auto i : pending) out[i] = ftz;
+        if (!ftz) {
+            for (const auto i : pending) out[i] = false;
+        }
         pending.clear();
         vertices = indices = 0;
         emitted.clear();
-        ++batch;
+        ++epoch;
     };
     constexpr std::uint32_t kNotOriginal = 0xffffffffu;
     // `v` is read only for a vertex that is not an original one.
     const auto count_vertex = [&](std::uint32_t segment, const StageVertex* v,
                                   std::uint32_t original) {
-        const std::uint64_t stamp = (batch << 32) | segment;
+        if (segment != epoch_segment) {
+            epoch_segment = segment;
+            ++epoch;
+        }
         if (original != kNotOriginal) {
-            if (counted[original] != stamp) {
-                counted[original] = stamp;
+            if (counted[original] != epoch) {
+                counted[original] = epoch;
                 ++vertices;
             }
             return;

@@ -56,9 +56,21 @@ std::optional<Rep> round_scaled(float v, SnapRounding mode) {
     if (!std::isfinite(v)) return std::nullopt;
     double r = 0.0;
     switch (mode) {
-        case SnapRounding::NearestEven:
-            r = std::nearbyint(static_cast<double>(v));
+        case SnapRounding::NearestEven: {
+            // std::nearbyint in the default rounding mode, without a library call: adding and
+            // removing 2^52 leaves a double of magnitude below 2^52 rounded to an integer,
+            // ties to even (a float's magnitude at or above 2^52 is an integer already).
+            const double d = static_cast<double>(v);
+            constexpr double kShift = 0x1p52;
+            if (d >= 0.0 && d < kShift) {
+                r = (d + kShift) - kShift;
+            } else if (d < 0.0 && d > -kShift) {
+                r = (d - kShift) + kShift;
+            } else {
+                r = d;
+            }
             break;
+        }
         case SnapRounding::HalfAwayFromZero:
             // util_iround on x86-64: (int)(v + 0.5f) or (int)(v - 0.5f), in float. The float
             // add can itself round (v + 0.5f for v just below a half-integer), which is the
