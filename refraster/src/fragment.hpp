@@ -140,6 +140,8 @@ class FragmentKernel {
     // on (ScopedDenormalsAreZero, float_env.hpp): the vector kernels flush as llvmpipe's
     // rasterizer threads do, by the hardware, instead of testing every result.
     bool hardware_denormals() const { return hardware_denormals_; }
+    // The kernel path the kernel was chosen for (resolved).
+    KernelPath path() const { return state_.options.kernels; }
     // The decisions about sample `sample` of pixel (x, y) of `prim` (which must cover it),
     // given the framebuffer before the primitive is shaded.
     FragmentTrace trace(const SetupList& list, const SetupPrimitive& prim, int x, int y,

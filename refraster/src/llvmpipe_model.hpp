@@ -60,19 +60,21 @@ class LlvmpipeModel {
 
     // Single-sample primitives can also be traversed into row blocks (row_block.hpp), which
     // the fast fragment kernels read: llvmpipe's walk a tile at a time, convex primitives
-    // through the small-box path or a tile at a time.
+    // through the small-box path (with the vector row-mask builder `masks`, when given: the
+    // same rows) or a tile at a time.
     static constexpr bool kRowBlocks = true;
     template <class OnBlock>
-    static void traverse_rows(const SetupList& list, const SetupPrimitive& p, OnBlock&& on_block) {
+    static void traverse_rows(const SetupList& list, const SetupPrimitive& p, RowMaskFn masks,
+                              OnBlock&& on_block) {
         if (p.walk >= 0) {
             lp::walk_tiles(list.walks[static_cast<std::size_t>(p.walk)],
                            [&](const std::uint64_t* rows, int tx, int ty) {
                                on_block(RowBlock{tx, ty, kTileSize, rows});
                            });
         } else if (p.edge_count == 3) {
-            convex_row_blocks<3>(p, on_block);
+            convex_row_blocks<3>(p, on_block, masks);
         } else {
-            convex_row_blocks<4>(p, on_block);
+            convex_row_blocks<4>(p, on_block, masks);
         }
     }
 

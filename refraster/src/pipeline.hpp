@@ -44,12 +44,13 @@ void shade_in_bands(const DrawContext& ctx, const typename Model::List& list, co
                     Framebuffer& fb) {
     BandWorkers& workers = *ctx.workers;
     const unsigned n = workers.count();
+    const RowMaskFn masks = vector_row_masks(kernel.path());
     workers.run([&](unsigned t) {
         // The float mode is each thread's own.
         const ScopedDenormalsAreZero float_mode(kernel.hardware_denormals());
         std::uint64_t scratch[kMaxBlockRows];
         for (const auto& prim : list.primitives) {
-            Model::traverse_rows(list, prim, [&](const RowBlock& block) {
+            Model::traverse_rows(list, prim, masks, [&](const RowBlock& block) {
                 const RowBlock mine = band_rows(block, t, n, scratch);
                 if (mine.rows != 0) kernel.shade_rows(list, prim, mine, fb);
             });
@@ -65,6 +66,10 @@ std::uint64_t draw(const DrawContext& ctx, Observer& obs, RenderStage stop, Fram
     if (stop == RenderStage::Load) return 0;
     Model model(ctx);
     const auto kernel = model.kernel();
+    // Row masks of small boxes by the vector builder of the kernel's path (the same rows as
+    // the scalar one's), chosen once a draw.
+    [[maybe_unused]] RowMaskFn masks = nullptr;
+    if constexpr (Model::kRowBlocks) masks = vector_row_masks(kernel.path());
     std::uint64_t fragments = 0;
     model.setup(stage, obs, [&](const typename Model::List& list) {
         if (stop == RenderStage::Setup) return;
@@ -81,7 +86,7 @@ std::uint64_t draw(const DrawContext& ctx, Observer& obs, RenderStage stop, Fram
                     break;
                 }
                 if (kernel.shades_rows()) {
-                    Model::traverse_rows(list, prim, [&](const RowBlock& block) {
+                    Model::traverse_rows(list, prim, masks, [&](const RowBlock& block) {
                         if (stop == RenderStage::Raster) {
                             fragments += static_cast<std::uint64_t>(covered_pixels(block));
                         } else {

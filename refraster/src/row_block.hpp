@@ -24,6 +24,16 @@ struct RowBlock {
 
 inline constexpr int kMaxBlockRows = 64;
 
+// The row masks of a box of w <= 64 pixels by h <= kMaxBlockRows rows, from each of `edges`
+// edges' q = (E - 1) >> bits at the box's first pixel and its int32 steps along a row (sx) and
+// down the box (sy): bit i of rows[r] is set iff q[k] + sx[k] * i + sy[k] * r >= 0 for every
+// edge k (the test small_convex_rows applies, traverse.hpp), which the caller has checked
+// stays within int32 over the box. Returns the OR of the rows. The vector builders
+// (vector_kernels.hpp) are of this type.
+using RowMaskFn = std::uint64_t (*)(const std::int32_t* q, const std::int32_t* sx,
+                                    const std::int32_t* sy, unsigned edges, int w, int h,
+                                    std::uint64_t* rows);
+
 inline int covered_pixels(const RowBlock& b) {
     int n = 0;
     for (int r = 0; r < b.rows; ++r) n += std::popcount(b.mask[r]);

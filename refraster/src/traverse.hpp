@@ -138,11 +138,13 @@ void convex_tiles(const Setup& t, OnTile&& on_tile) {
 // every pixel of the box is decided by q = (E - 1) >> bits, exactly the test convex_tiles
 // applies in its 4x4 blocks (E > 0 iff q >= 0), stepped in int32 over the whole box. Narrow
 // boxes test pixel by pixel; wider ones take each row's span from each edge by one division
-// (the pixels where q + s * i >= 0 form one interval of i). Returns false, having done
-// nothing, when the box is larger or an edge's values over it leave int32; the caller then
-// takes convex_tiles. Small and medium primitives skip the tile hierarchy this way.
+// (the pixels where q + s * i >= 0 form one interval of i). A vector builder `masks`
+// (RowMaskFn, row_block.hpp), when given, computes the same rows many pixels at a time
+// instead. Returns false, having done nothing, when the box is larger or an edge's values
+// over it leave int32; the caller then takes convex_tiles. Small and medium primitives skip
+// the tile hierarchy this way.
 template <unsigned kEdges, class Setup, class OnBlock>
-bool small_convex_rows(const Setup& t, OnBlock&& on_block) {
+bool small_convex_rows(const Setup& t, OnBlock&& on_block, RowMaskFn masks = nullptr) {
     const PixelRect box = t.bbox;
     if (box.empty()) return true;
     const int w = box.x1 - box.x0 + 1;
@@ -163,46 +165,50 @@ bool small_convex_rows(const Setup& t, OnBlock&& on_block) {
     }
     std::uint64_t rows[kMaxBlockRows];
     std::uint64_t any = 0;
-    const std::uint64_t full = w == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << w) - 1;
-    for (int r = 0; r < h; ++r) {
-        std::uint64_t m = 0;
-        if (w <= 16) {
-            for (int i = 0; i < w; ++i) {
-                bool in = true;
-                for (unsigned k = 0; k < kEdges; ++k) in &= q[k] + sx[k] * i >= 0;
-                m |= std::uint64_t{in} << i;
-            }
-        } else {
-            std::int64_t lo = 0;
-            std::int64_t hi = w - 1;
-            for (unsigned k = 0; k < kEdges; ++k) {
-                const std::int64_t qk = q[k];
-                const std::int64_t s = sx[k];
-                if (s == 0) {
-                    if (qk < 0) hi = -1;
-                } else if (s > 0) {
-                    // q + s * i >= 0 from i = ceil(-q / s) on.
-                    if (qk < 0) lo = std::max(lo, (-qk + s - 1) / s);
-                } else {
-                    // q + s * i >= 0 up to i = floor(q / -s).
-                    hi = qk < 0 ? -1 : std::min(hi, qk / -s);
+    if (masks != nullptr) {
+        any = masks(q, sx, sy, kEdges, w, h, rows);
+    } else {
+        const std::uint64_t full = w == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << w) - 1;
+        for (int r = 0; r < h; ++r) {
+            std::uint64_t m = 0;
+            if (w <= 16) {
+                for (int i = 0; i < w; ++i) {
+                    bool in = true;
+                    for (unsigned k = 0; k < kEdges; ++k) in &= q[k] + sx[k] * i >= 0;
+                    m |= std::uint64_t{in} << i;
                 }
+            } else {
+                std::int64_t lo = 0;
+                std::int64_t hi = w - 1;
+                for (unsigned k = 0; k < kEdges; ++k) {
+                    const std::int64_t qk = q[k];
+                    const std::int64_t s = sx[k];
+                    if (s == 0) {
+                        if (qk < 0) hi = -1;
+                    } else if (s > 0) {
+                        // q + s * i >= 0 from i = ceil(-q / s) on.
+                        if (qk < 0) lo = std::max(lo, (-qk + s - 1) / s);
+                    } else {
+                        // q + s * i >= 0 up to i = floor(q / -s).
+                        hi = qk < 0 ? -1 : std::min(hi, qk / -s);
+                    }
+                }
+                if (lo <= hi) m = (full >> (w - 1 - hi)) & ~((std::uint64_t{1} << lo) - 1);
             }
-            if (lo <= hi) m = (full >> (w - 1 - hi)) & ~((std::uint64_t{1} << lo) - 1);
+            rows[r] = m;
+            any |= m;
+            for (unsigned k = 0; k < kEdges; ++k) q[k] += sy[k];
         }
-        rows[r] = m;
-        any |= m;
-        for (unsigned k = 0; k < kEdges; ++k) q[k] += sy[k];
     }
     if (any != 0) on_block(RowBlock{box.x0, box.y0, h, static_cast<const std::uint64_t*>(rows)});
     return true;
 }
 
-// Every covered pixel of a convex primitive as row blocks: the small path above, or each
-// 64x64 tile of convex_tiles.
+// Every covered pixel of a convex primitive as row blocks: the small path above (with the
+// vector builder `masks` when given), or each 64x64 tile of convex_tiles.
 template <unsigned kEdges, class Setup, class OnBlock>
-void convex_row_blocks(const Setup& t, OnBlock&& on_block) {
-    if (small_convex_rows<kEdges>(t, on_block)) return;
+void convex_row_blocks(const Setup& t, OnBlock&& on_block, RowMaskFn masks = nullptr) {
+    if (small_convex_rows<kEdges>(t, on_block, masks)) return;
     convex_tiles<kEdges>(t, [&](const std::uint64_t* rows, int tx, int ty) {
         on_block(RowBlock{tx, ty, kTileSize, rows});
     });

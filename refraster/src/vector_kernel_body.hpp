@@ -106,7 +106,31 @@ struct VectorKernel {
         const F lanes = V::lane_index();
         constexpr std::uint64_t kLaneBits = (std::uint64_t{1} << kLanes) - 1;
 
+        // A primitive's rows lie a framebuffer row apart in the depth and colour buffers (a
+        // page apart at 1024 pixels), a stride the hardware prefetchers do not follow: the
+        // lines a row covers are asked for kAhead rows ahead (measured on medium triangles on
+        // a loaded machine: about 5% fewer profile samples in the kernel, 8 rows ahead
+        // slightly better than 4). A prefetch changes no value.
+        constexpr int kAhead = 8;
+        const auto prefetch_row = [&](int r) {
+            const std::uint64_t pm = b.mask[r];
+            if (pm == 0) return;
+            const std::size_t row =
+                static_cast<std::size_t>(b.y0 + r) * fb.width + static_cast<std::size_t>(b.x0);
+            const std::size_t first = row + static_cast<std::size_t>(std::countr_zero(pm));
+            const std::size_t last = row + static_cast<std::size_t>(63 - std::countl_zero(pm));
+            const auto* color = reinterpret_cast<const std::uint32_t*>(fb.color8.data());
+            for (std::size_t i = first;; i += 64 / sizeof(std::uint32_t)) {
+                const std::size_t at = i < last ? i : last;
+                if constexpr (D != DepthFormat::None) __builtin_prefetch(fb.depth.data() + at, 1);
+                __builtin_prefetch(color + at, 1);
+                if (at == last) break;
+            }
+        };
+        for (int r = 0; r < kAhead && r < b.rows; ++r) prefetch_row(r);
+
         for (int r = 0; r < b.rows; ++r) {
+            if (r + kAhead < b.rows) prefetch_row(r + kAhead);
             std::uint64_t m = b.mask[r];
             if (m == 0) continue;
             const std::int32_t y = b.y0 + r;

@@ -49,6 +49,8 @@ namespace refraster::detail {
 
 FragmentKernel::ShadeRowsFn avx2_shade_rows(ShadeModel s, DepthFormat d, BlendPreset b);
 FragmentKernel::ShadeRowsFn avx512_shade_rows(ShadeModel s, DepthFormat d, BlendPreset b);
+RowMaskFn avx2_row_masks();
+RowMaskFn avx512_row_masks();
 
 bool host_runs_fma_sse41() {
 #if defined(REFRASTER_X86) && (defined(__GNUC__) || defined(__clang__))
@@ -98,6 +100,17 @@ FragmentKernel::ShadeRowsFn vector_shade_rows(KernelPath path, ShadeModel shade,
             return avx512_shade_rows(shade, depth, blend);
         case KernelPath::Avx2:
             return avx2_shade_rows(shade, depth, blend);
+        default:
+            return nullptr;
+    }
+}
+
+RowMaskFn vector_row_masks(KernelPath path) {
+    switch (resolve_kernel_path(path)) {
+        case KernelPath::Avx512:
+            return avx512_row_masks();
+        case KernelPath::Avx2:
+            return avx2_row_masks();
         default:
             return nullptr;
     }

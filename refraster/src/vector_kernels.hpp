@@ -28,6 +28,11 @@ namespace refraster::detail {
 FragmentKernel::ShadeRowsFn vector_shade_rows(KernelPath path, ShadeModel shade, DepthFormat depth,
                                               BlendPreset blend);
 
+// The vector row-mask builder (RowMaskFn, row_block.hpp) of `path` (as above); nullptr when
+// the path is not a vector path or the CPU lacks its instructions: small_convex_rows then
+// steps the rows itself.
+RowMaskFn vector_row_masks(KernelPath path);
+
 // Whether this CPU runs code compiled for FMA, SSE4.1 and POPCNT: the scalar kernels' and the
 // vertex transform's run-time variants (fragment.cpp, vertex_stage.cpp).
 bool host_runs_fma_sse41();

@@ -1,5 +1,6 @@
-// vector_kernels_avx2.cpp: the vector fragment kernel (vector_kernel_body.hpp) compiled for
-// AVX2 and FMA, 8 lanes, called only on CPUs that report both (vector_kernels.cpp).
+// vector_kernels_avx2.cpp: the vector fragment kernel (vector_kernel_body.hpp) and row-mask
+// builder (vector_row_masks_body.hpp) compiled for AVX2 and FMA, 8 lanes, called only on CPUs
+// that report both (vector_kernels.cpp).
 //
 // Every header is included before the target pragma, so that nothing but this file's own
 // functions is compiled for AVX2: inline functions of the headers keep the baseline
@@ -70,6 +71,13 @@ struct V {
     static I and_i(I a, I b) { return _mm256_and_si256(a, b); }
     static I or_i(I a, I b) { return _mm256_or_si256(a, b); }
     static I sub32(I a, I b) { return _mm256_sub_epi32(a, b); }
+    static I add32(I a, I b) { return _mm256_add_epi32(a, b); }
+    static I mullo32(I a, I b) { return _mm256_mullo_epi32(a, b); }
+    static I lane_index_i() { return _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7); }
+    // Bit i: the sign bit of lane i.
+    static unsigned sign_bits(I a) {
+        return static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(a)));
+    }
     static I sll32(I a, int n) { return _mm256_sll_epi32(a, _mm_cvtsi32_si128(n)); }
     static I srl32(I a, int n) { return _mm256_srl_epi32(a, _mm_cvtsi32_si128(n)); }
     static I add16(I a, I b) { return _mm256_add_epi16(a, b); }
@@ -95,9 +103,15 @@ struct V {
 };
 
 #include "vector_kernel_body.hpp"
+#include "vector_row_masks_body.hpp"
 
 FragmentKernel::ShadeRowsFn pick(ShadeModel s, DepthFormat d, BlendPreset b) {
     return pick_vector_kernel<V>(s, d, b);
+}
+
+std::uint64_t row_masks(const std::int32_t* q, const std::int32_t* sx, const std::int32_t* sy,
+                        unsigned edges, int w, int h, std::uint64_t* rows) {
+    return vector_row_masks<V>(q, sx, sy, edges, w, h, rows);
 }
 
 }  // namespace refraster::detail::avx2
@@ -118,6 +132,14 @@ FragmentKernel::ShadeRowsFn avx2_shade_rows(ShadeModel s, DepthFormat d, BlendPr
     (void)s;
     (void)d;
     (void)b;
+    return nullptr;
+#endif
+}
+
+RowMaskFn avx2_row_masks() {
+#if defined(REFRASTER_HAVE_AVX2_KERNELS)
+    return &avx2::row_masks;
+#else
     return nullptr;
 #endif
 }

@@ -1,6 +1,6 @@
-// vector_kernels_avx512.cpp: the vector fragment kernel (vector_kernel_body.hpp) compiled for
-// AVX-512 (F, BW, DQ, VL) and FMA, 16 lanes with mask registers, called only on CPUs that
-// report them (vector_kernels.cpp).
+// vector_kernels_avx512.cpp: the vector fragment kernel (vector_kernel_body.hpp) and row-mask
+// builder (vector_row_masks_body.hpp) compiled for AVX-512 (F, BW, DQ, VL) and FMA, 16 lanes
+// with mask registers, called only on CPUs that report them (vector_kernels.cpp).
 //
 // Every header is included before the target pragma, so that nothing but this file's own
 // functions is compiled for AVX-512.
@@ -75,6 +75,13 @@ struct V {
     static I and_i(I a, I b) { return _mm512_and_si512(a, b); }
     static I or_i(I a, I b) { return _mm512_or_si512(a, b); }
     static I sub32(I a, I b) { return _mm512_sub_epi32(a, b); }
+    static I add32(I a, I b) { return _mm512_add_epi32(a, b); }
+    static I mullo32(I a, I b) { return _mm512_mullo_epi32(a, b); }
+    static I lane_index_i() {
+        return _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+    }
+    // Bit i: the sign bit of lane i.
+    static unsigned sign_bits(I a) { return _mm512_movepi32_mask(a); }
     static I sll32(I a, int n) { return _mm512_sll_epi32(a, _mm_cvtsi32_si128(n)); }
     static I srl32(I a, int n) { return _mm512_srl_epi32(a, _mm_cvtsi32_si128(n)); }
     static I add16(I a, I b) { return _mm512_add_epi16(a, b); }
@@ -92,9 +99,15 @@ struct V {
 };
 
 #include "vector_kernel_body.hpp"
+#include "vector_row_masks_body.hpp"
 
 FragmentKernel::ShadeRowsFn pick(ShadeModel s, DepthFormat d, BlendPreset b) {
     return pick_vector_kernel<V>(s, d, b);
+}
+
+std::uint64_t row_masks(const std::int32_t* q, const std::int32_t* sx, const std::int32_t* sy,
+                        unsigned edges, int w, int h, std::uint64_t* rows) {
+    return vector_row_masks<V>(q, sx, sy, edges, w, h, rows);
 }
 
 }  // namespace refraster::detail::avx512
@@ -115,6 +128,14 @@ FragmentKernel::ShadeRowsFn avx512_shade_rows(ShadeModel s, DepthFormat d, Blend
     (void)s;
     (void)d;
     (void)b;
+    return nullptr;
+#endif
+}
+
+RowMaskFn avx512_row_masks() {
+#if defined(REFRASTER_HAVE_AVX512_KERNELS)
+    return &avx512::row_masks;
+#else
     return nullptr;
 #endif
 }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "setup.hpp"
+#include "vector_kernels.hpp"
 
 namespace {
 
@@ -108,6 +109,74 @@ TEST(Traversal, EqualsPerPixelTestOn100000RandomTriangles) {
                         << v[1][0] << "," << v[1][1] << ") (" << v[2][0] << "," << v[2][1] << ")";
     }
     EXPECT_GT(large, 10000);  // the tile and block levels were exercised, not only 4x4 blocks
+}
+
+// The small-box path's row masks, scalar and by every vector builder this CPU runs, are the
+// per-pixel test's pixels over random triangles whose boxes fit it (every width 1..64, 3 and
+// 4 edges through triangles and their vertices' order).
+TEST(Traversal, SmallBoxRowMasksEqualPerPixelTest) {
+    constexpr int kW = 200;
+    constexpr int kH = 150;
+    std::vector<refraster::detail::RowMaskFn> builders = {nullptr};
+    for (auto path : {refraster::KernelPath::Avx2, refraster::KernelPath::Avx512}) {
+        if (!refraster::kernel_path_available(path)) continue;
+        builders.push_back(refraster::detail::vector_row_masks(path));
+        ASSERT_NE(builders.back(), nullptr);
+    }
+    std::mt19937 rng(20261202);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    std::uniform_int_distribution<int> coin(0, 3);
+    int drawn = 0;
+    int wide = 0;
+    for (int n = 0; drawn < 30000; ++n) {
+        SetupParams p;
+        p.tie_rule = static_cast<refraster::TieRule>(coin(rng));
+        p.draw_region = {0, 0, kW - 1, kH - 1};
+        const float size = 1.0f + unit(rng) * 90.0f;
+        const float cx = unit(rng) * kW;
+        const float cy = unit(rng) * kH;
+        std::array<std::array<float, 2>, 3> v;
+        for (auto& p2 : v) {
+            p2 = {cx + (unit(rng) - 0.5f) * size, cy + (unit(rng) - 0.5f) * size};
+            if (n % 3 == 0) p2 = {std::floor(p2[0]) + 0.5f, std::floor(p2[1]) + 0.5f};
+        }
+        TriangleSetup t;
+        if (refraster::detail::setup_triangle(v, p, t) != SetupOutcome::Ok) continue;
+        if (t.llvmpipe_walk) continue;
+        const auto expected = plain(t, kW, kH);
+        for (auto* builder : builders) {
+            std::vector<std::uint8_t> m(expected.size(), 0);
+            const auto mark = [&](const refraster::detail::RowBlock& b) {
+                for (int r = 0; r < b.rows; ++r) {
+                    for (int i = 0; i < 64; ++i) {
+                        if ((b.mask[r] >> i) & 1u) {
+                            ++m[static_cast<std::size_t>(b.y0 + r) * kW +
+                                static_cast<std::size_t>(b.x0 + i)];
+                        }
+                    }
+                }
+            };
+            bool small = false;
+            if (n % 2 == 0) {
+                small = refraster::detail::small_convex_rows<3>(t, mark, builder);
+            } else {
+                // The same triangle as four edges, the first repeated: the 4-edge instances.
+                struct Quad {
+                    int bits;
+                    PixelRect bbox;
+                    std::array<refraster::detail::EdgeFunction, 4> edges;
+                } quad{t.bits, t.bbox, {t.edges[0], t.edges[1], t.edges[2], t.edges[0]}};
+                small = refraster::detail::small_convex_rows<4>(quad, mark, builder);
+            }
+            if (!small) break;
+            if (builder == nullptr) {
+                ++drawn;
+                wide += (t.bbox.x1 - t.bbox.x0) >= 16;
+            }
+            ASSERT_EQ(m, expected) << "triangle " << n << (builder ? " (vector)" : " (scalar)");
+        }
+    }
+    EXPECT_GT(wide, 10000);  // rows of several vectors, and the scalar path's divisions
 }
 
 }  // namespace
