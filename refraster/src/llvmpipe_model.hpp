@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "band_workers.hpp"
 #include "model.hpp"
 #include "refraster/assembly.hpp"
 #include "setup_list.hpp"
@@ -75,6 +76,33 @@ class LlvmpipeModel {
             convex_row_blocks<3>(p, on_block, masks);
         } else {
             convex_row_blocks<4>(p, on_block, masks);
+        }
+    }
+
+    // The covered pixels of `p` in the 64-row band from row y0 (band_workers.hpp), as row
+    // blocks: a convex primitive's box clipped to the band (the same pixels, as coverage
+    // does not depend on the box), llvmpipe's walk by its tiles in the band.
+    template <class OnBlock>
+    static void traverse_band(const SetupList& list, const SetupPrimitive& p, RowMaskFn masks,
+                              int y0, std::uint64_t* scratch, OnBlock&& on_block) {
+        (void)scratch;
+        const int y1 = y0 + kBandRows - 1;
+        if (p.walk >= 0) {
+            lp::walk_tiles(list.walks[static_cast<std::size_t>(p.walk)],
+                           [&](const std::uint64_t* rows, int tx, int ty) {
+                               // Tiles and bands are both 64 rows from row 0.
+                               if (ty == y0) on_block(RowBlock{tx, ty, kTileSize, rows});
+                           });
+            return;
+        }
+        SetupPrimitive c = p;
+        c.bbox.y0 = std::max(c.bbox.y0, y0);
+        c.bbox.y1 = std::min(c.bbox.y1, y1);
+        if (c.bbox.empty()) return;
+        if (p.edge_count == 3) {
+            convex_row_blocks<3>(c, on_block, masks);
+        } else {
+            convex_row_blocks<4>(c, on_block, masks);
         }
     }
 

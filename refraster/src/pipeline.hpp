@@ -37,25 +37,64 @@
 
 namespace refraster::detail {
 
-// Every primitive of `list` shaded by every thread of ctx.workers, each in its own bands
-// (band_workers.hpp): the same bytes as one thread.
-template <class Model, class Kernel>
-void shade_in_bands(const DrawContext& ctx, const typename Model::List& list, const Kernel& kernel,
-                    Framebuffer& fb) {
-    BandWorkers& workers = *ctx.workers;
-    const unsigned n = workers.count();
-    const RowMaskFn masks = vector_row_masks(kernel.path());
-    workers.run([&](unsigned t) {
-        // The float mode is each thread's own.
-        const ScopedDenormalsAreZero float_mode(kernel.hardware_denormals());
-        std::uint64_t scratch[kMaxBlockRows];
-        for (const auto& prim : list.primitives) {
-            Model::traverse_rows(list, prim, masks, [&](const RowBlock& block) {
-                const RowBlock mine = band_rows(block, t, n, scratch);
-                if (mine.rows != 0) kernel.shade_rows(list, prim, mine, fb);
-            });
+// The primitives of a list by 64-row band: band b holds, in API order, every primitive whose
+// box reaches one of its rows (a primitive llvmpipe's walk decides is put in every band).
+struct BandBins {
+    std::vector<std::uint32_t> start;  // band b's primitives: index[start[b] .. start[b + 1])
+    std::vector<std::uint32_t> index;
+
+    template <class List>
+    void fill(const List& list, int bands) {
+        start.assign(static_cast<std::size_t>(bands) + 1, 0);
+        const auto range = [&](const SetupPrimitive& p) {
+            if (p.walk >= 0) return std::pair{0, bands - 1};
+            if (p.bbox.empty()) return std::pair{1, 0};
+            return std::pair{std::max(p.bbox.y0, 0) / kBandRows,
+                             std::min(p.bbox.y1 / kBandRows, bands - 1)};
+        };
+        for (const auto& p : list.primitives) {
+            const auto [b0, b1] = range(p);
+            for (int b = b0; b <= b1; ++b) ++start[static_cast<std::size_t>(b) + 1];
         }
-    });
+        for (std::size_t b = 1; b < start.size(); ++b) start[b] += start[b - 1];
+        index.resize(start.back());
+        std::vector<std::uint32_t> next(start.begin(), start.end() - 1);
+        for (std::uint32_t i = 0; i < list.primitives.size(); ++i) {
+            const auto [b0, b1] = range(list.primitives[i]);
+            for (int b = b0; b <= b1; ++b) index[next[static_cast<std::size_t>(b)]++] = i;
+        }
+    }
+};
+
+// Every primitive of `list` shaded band by band (64 rows of the target at a time, so that a
+// band's colour and depth stay in the cache while every primitive reaching it is shaded), each
+// band by one thread of ctx.workers (band_workers.hpp; all of them with no workers): within a
+// band the primitives keep API order, so the bytes are those of primitive-by-primitive
+// shading for any count of threads. `on_block(list, prim, block)` shades or counts.
+template <class Model, class Kernel, class OnBlock>
+void shade_by_band(const DrawContext& ctx, const typename Model::List& list, const Kernel& kernel,
+                   RowMaskFn masks, bool float_mode, Framebuffer& fb, OnBlock&& on_block) {
+    const int bands = static_cast<int>((fb.height + kBandRows - 1) / kBandRows);
+    BandBins bins;
+    bins.fill(list, bands);
+    const auto run = [&](unsigned t, unsigned n) {
+        // The float mode is each thread's own.
+        const ScopedDenormalsAreZero mode(float_mode && kernel.hardware_denormals());
+        std::uint64_t scratch[kMaxBlockRows];
+        for (int b = static_cast<int>(t); b < bands; b += static_cast<int>(n)) {
+            const auto bi = static_cast<std::size_t>(b);
+            for (std::uint32_t k = bins.start[bi]; k < bins.start[bi + 1]; ++k) {
+                const auto& prim = list.primitives[bins.index[k]];
+                Model::traverse_band(list, prim, masks, b * kBandRows, scratch,
+                                     [&](const RowBlock& block) { on_block(prim, block); });
+            }
+        }
+    };
+    if (ctx.workers == nullptr) {
+        run(0, 1);
+    } else {
+        ctx.workers->run([&](unsigned t) { run(t, ctx.workers->count()); });
+    }
 }
 
 // One draw through every stage of `Model`; returns the pixels traversal found covered when
@@ -76,26 +115,24 @@ std::uint64_t draw(const DrawContext& ctx, Observer& obs, RenderStage stop, Fram
         // Traversal is integer arithmetic only: the float mode holds for the whole list.
         const ScopedDenormalsAreZero float_mode(kernel.hardware_denormals() &&
                                                 stop == RenderStage::Fragment);
+        if constexpr (Model::kRowBlocks) {
+            if (kernel.shades_rows()) {
+                // The fast paths (never traced: no observer reads these fragments).
+                shade_by_band<Model>(ctx, list, kernel, masks, stop == RenderStage::Fragment, fb,
+                                     [&](const auto& prim, const RowBlock& block) {
+                                         if (stop == RenderStage::Raster) {
+                                             fragments +=
+                                                 static_cast<std::uint64_t>(covered_pixels(block));
+                                         } else {
+                                             kernel.shade_rows(list, prim, block, fb);
+                                         }
+                                     });
+                return;
+            }
+        }
         for (std::size_t i = 0; i < list.primitives.size(); ++i) {
             const auto& prim = list.primitives[i];
             obs.before_fragments(i, list, prim, kernel, fb);
-            if constexpr (Model::kRowBlocks) {
-                if (kernel.shades_rows() && ctx.workers != nullptr &&
-                    stop == RenderStage::Fragment) {
-                    shade_in_bands<Model>(ctx, list, kernel, fb);
-                    break;
-                }
-                if (kernel.shades_rows()) {
-                    Model::traverse_rows(list, prim, masks, [&](const RowBlock& block) {
-                        if (stop == RenderStage::Raster) {
-                            fragments += static_cast<std::uint64_t>(covered_pixels(block));
-                        } else {
-                            kernel.shade_rows(list, prim, block, fb);
-                        }
-                    });
-                    continue;
-                }
-            }
             Model::traverse(list, prim, [&](std::span<const QuadPacket> quads) {
                 if (stop == RenderStage::Raster) {
                     fragments += static_cast<std::uint64_t>(covered_pixels(quads));
