@@ -52,6 +52,22 @@ FragmentKernel::ShadeRowsFn avx512_shade_rows(ShadeModel s, DepthFormat d, Blend
 RowMaskFn avx2_row_masks();
 RowMaskFn avx512_row_masks();
 
+#if !REFRASTER_VECTOR_KERNELS
+// No vector kernels in this build: resolve_kernel_path never picks them.
+FragmentKernel::ShadeRowsFn avx2_shade_rows(ShadeModel, DepthFormat, BlendPreset) {
+    return nullptr;
+}
+FragmentKernel::ShadeRowsFn avx512_shade_rows(ShadeModel, DepthFormat, BlendPreset) {
+    return nullptr;
+}
+RowMaskFn avx2_row_masks() {
+    return nullptr;
+}
+RowMaskFn avx512_row_masks() {
+    return nullptr;
+}
+#endif
+
 bool host_runs_fma_sse41() {
 #if defined(REFRASTER_X86) && (defined(__GNUC__) || defined(__clang__))
     static const bool yes = [] {

@@ -18,6 +18,14 @@
 
 #include <cstdint>
 
+// The vector kernels exist for x86-64 with GCC or clang (function-level targets); elsewhere
+// only the scalar paths do.
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define REFRASTER_VECTOR_KERNELS 1
+#else
+#define REFRASTER_VECTOR_KERNELS 0
+#endif
+
 #include "fragment.hpp"
 
 namespace refraster::detail {

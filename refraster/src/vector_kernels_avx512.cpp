@@ -19,8 +19,7 @@
 #include "rules.hpp"
 #include "vector_kernels.hpp"
 
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-#define REFRASTER_HAVE_AVX512_KERNELS 1
+#if REFRASTER_VECTOR_KERNELS
 #if defined(__clang__)
 #pragma clang attribute push(                                                                     \
     __attribute__((target("avx512f,avx512bw,avx512dq,avx512vl,avx2,fma,bmi,bmi2,popcnt,lzcnt"))), \
@@ -101,13 +100,12 @@ struct V {
 #include "vector_kernel_body.hpp"
 #include "vector_row_masks_body.hpp"
 
+// Instantiated here, inside the target region.
 FragmentKernel::ShadeRowsFn pick(ShadeModel s, DepthFormat d, BlendPreset b) {
     return pick_vector_kernel<V>(s, d, b);
 }
-
-std::uint64_t row_masks(const std::int32_t* q, const std::int32_t* sx, const std::int32_t* sy,
-                        unsigned edges, int w, int h, std::uint64_t* rows) {
-    return vector_row_masks<V>(q, sx, sy, edges, w, h, rows);
+RowMaskFn row_masks() {
+    return &vector_row_masks<V>;
 }
 
 }  // namespace refraster::detail::avx512
@@ -117,27 +115,17 @@ std::uint64_t row_masks(const std::int32_t* q, const std::int32_t* sx, const std
 #else
 #pragma GCC pop_options
 #endif
-#endif
 
 namespace refraster::detail {
 
+// The entry points vector_kernels.cpp calls once the CPU has reported the instructions.
 FragmentKernel::ShadeRowsFn avx512_shade_rows(ShadeModel s, DepthFormat d, BlendPreset b) {
-#if defined(REFRASTER_HAVE_AVX512_KERNELS)
     return avx512::pick(s, d, b);
-#else
-    (void)s;
-    (void)d;
-    (void)b;
-    return nullptr;
-#endif
 }
 
 RowMaskFn avx512_row_masks() {
-#if defined(REFRASTER_HAVE_AVX512_KERNELS)
-    return &avx512::row_masks;
-#else
-    return nullptr;
-#endif
+    return avx512::row_masks();
 }
 
 }  // namespace refraster::detail
+#endif
