@@ -491,7 +491,7 @@ class StrictScan {
 // The parsed document of a scene file: the root of simdjson's DOM, which `parser` owns, and
 // the normalized text when the file took that path.
 struct Document {
-    dom::parser parser;
+    dom::parser& parser;
     std::string normalized;
     dom::element root;
     TextCounts counts;  // of the text simdjson read
@@ -504,7 +504,11 @@ void parse_document(Document& doc, std::string_view text, bool padded,
     // Deeper files are refused anyway; the bound keeps simdjson's depth tables small.
     const std::size_t depth =
         std::clamp<std::size_t>(std::size_t{limits.max_nesting_depth} + 2, 64, 4096);
-    if (doc.parser.allocate(std::max<std::size_t>(text.size(), 64), depth) != simdjson::SUCCESS) {
+    // A parser's buffers are kept for the next load (parse_scene_text): only a larger file
+    // or another depth allocates them again.
+    const std::size_t capacity = std::max<std::size_t>(text.size(), 64);
+    if ((doc.parser.capacity() < capacity || doc.parser.max_depth() != depth) &&
+        doc.parser.allocate(capacity, depth) != simdjson::SUCCESS) {
         throw SceneError(
             file_label, "",
             "cannot allocate the memory to parse " + std::to_string(text.size()) + " bytes");
@@ -924,7 +928,17 @@ std::string describe_character(std::string_view s, std::size_t at) {
     return quoted_value(s.substr(at, 1));
 }
 
-std::vector<std::uint8_t> decode_base64(const Node& n, std::string_view s) {
+// The bytes `s` decodes to when it is well formed: 3 a group of four characters, less the
+// padding; 0 for a length that is no multiple of 4.
+std::size_t base64_decoded_size(std::string_view s) {
+    if (s.size() % 4 != 0) return 0;
+    std::size_t pad = 0;
+    if (!s.empty() && s.back() == '=') pad = s[s.size() - 2] == '=' ? 2 : 1;
+    return s.size() / 4 * 3 - pad;
+}
+
+// Decodes `s` into `out`, which has room for s.size() / 4 * 3 bytes; returns the bytes written.
+std::size_t decode_base64_into(const Node& n, std::string_view s, std::uint8_t* out) {
     if (s.size() % 4 != 0) {
         n.fail("base64 text of " + std::to_string(s.size()) +
                " characters; expected a multiple of 4 (padded with '=')");
@@ -932,7 +946,6 @@ std::vector<std::uint8_t> decode_base64(const Node& n, std::string_view s) {
     std::size_t pad = 0;
     if (!s.empty() && s.back() == '=') pad = s[s.size() - 2] == '=' ? 2 : 1;
     const std::size_t body = s.size() - pad;
-    std::vector<std::uint8_t> out(s.size() / 4 * 3);
     const auto* in = reinterpret_cast<const unsigned char*>(s.data());
     const auto bad_character = [&](std::size_t from, std::size_t to) {
         for (std::size_t k = from; k < to; ++k) {
@@ -974,7 +987,12 @@ std::vector<std::uint8_t> decode_base64(const Node& n, std::string_view s) {
         }
         o += bytes;
     }
-    out.resize(o);
+    return o;
+}
+
+std::vector<std::uint8_t> decode_base64(const Node& n, std::string_view s) {
+    std::vector<std::uint8_t> out(s.size() / 4 * 3);
+    out.resize(decode_base64_into(n, s, out.data()));
     return out;
 }
 
@@ -1033,6 +1051,25 @@ AttributeArray read_attribute(const Node& a, std::size_t count, bool is_position
                                  " components)";
         values->array_size(total, total, what.c_str());
         float* dst = out.values.data();
+        // Numbers finite in float32 (and w > 0) in one loop; at a fault, the loop below reads
+        // the array again to refuse it with its path.
+        bool fast = true;
+        for (const dom::element e : as_array(values->value())) {
+            double d = 0;
+            if (e.get_double().get(d) != simdjson::SUCCESS) {
+                fast = false;
+                break;
+            }
+            const float f = static_cast<float>(d);
+            if (!std::isfinite(f) ||
+                (window_w && (dst - out.values.data()) % 4 == 3 && !(f > 0.0f))) {
+                fast = false;
+                break;
+            }
+            *dst++ = f;
+        }
+        if (fast) return out;
+        dst = out.values.data();
         values->for_each([&](const Node& e) {
             const float f = e.f32();
             if (window_w && (dst - out.values.data()) % 4 == 3 && !(f > 0.0f)) {
@@ -1042,14 +1079,22 @@ AttributeArray read_attribute(const Node& a, std::size_t count, bool is_position
         });
         return out;
     }
-    const std::vector<std::uint8_t> bytes = decode_base64(*base64, base64->string_view());
-    if (bytes.size() != total * 4) {
+    const std::string_view text = base64->string_view();
+    if (base64_decoded_size(text) != total * 4) {
+        // The refusal: a fault of the text itself first, else the size.
+        const std::vector<std::uint8_t> bytes = decode_base64(*base64, text);
         base64->fail("decodes to " + std::to_string(bytes.size()) + " bytes, expected " +
                      std::to_string(total * 4) + " (count " + std::to_string(count) + " x " +
                      std::to_string(out.components) + " components x 4 bytes)");
     }
+    // Straight into the values (room for whole groups: the last may be padded), then read as
+    // little-endian float32 in place.
+    out.values.resize((text.size() / 4 * 3 + 3) / 4);
+    auto* const bytes = reinterpret_cast<std::uint8_t*>(out.values.data());
+    decode_base64_into(*base64, text, bytes);
+    out.values.resize(total);
     for (std::size_t k = 0; k < total; ++k) {
-        const float f = std::bit_cast<float>(little_endian_u32(bytes.data() + 4 * k));
+        const float f = std::bit_cast<float>(little_endian_u32(bytes + 4 * k));
         const bool w = window_w && k % 4 == 3;
         if (!std::isfinite(f) || (w && !(f > 0.0f))) {
             const std::string where = "value " + std::to_string(k) + " (vertex " +
@@ -1077,13 +1122,14 @@ void read_vertex_arrays(const Node& va, SceneDraw& d, WorkSoFar& work) {
     const AttributeArray position = read_attribute(va.at("position"), count, true, d.space);
     std::optional<AttributeArray> color;
     if (auto c = va.get("color")) color = read_attribute(*c, count, false, d.space);
-    d.vertices.resize(count);
+    d.vertices.reserve(count);
     for (std::size_t i = 0; i < count; ++i) {
-        SceneVertex& sv = d.vertices[i];
+        SceneVertex sv;
         sv.position_size = position.components;
         const float* p = position.values.data() + i * position.components;
         std::copy(p, p + position.components, sv.position.begin());
         if (color) std::copy_n(color->values.data() + i * 4, 4, sv.color.begin());
+        d.vertices.push_back(sv);
     }
 }
 
@@ -1434,7 +1480,11 @@ void check_file_size(std::uintmax_t size, const std::string& file_label,
 SceneFile parse_scene_text(std::string_view text, bool padded, const std::string& file_label,
                            const SceneLimits& limits) {
     check_file_size(text.size(), file_label, limits);
-    Document doc;
+    // One parser a thread, kept between loads: the pages of its buffers (about 4 bytes of
+    // structural index and 8 of tape a byte of text, in part untouched) are faulted in once
+    // rather than at every load of a large file.
+    thread_local dom::parser parser;
+    Document doc{parser, {}, {}, {}};
     parse_document(doc, text, padded, file_label, limits);
     // The walk checks the strict rules on what it reads. A strict fault takes precedence over
     // any other refusal, wherever it sits in the file: the strict parser names the first one.
@@ -1514,14 +1564,17 @@ Scene load_scene(const std::filesystem::path& path, const SceneLimits& limits) {
     // Read straight into a buffer with simdjson's padding after the text, so that the parser
     // needs no copy of it; left uninitialized, as the read fills it.
     const auto n = static_cast<std::size_t>(size);
-    const auto buffer = std::make_unique_for_overwrite<char[]>(n + simdjson::SIMDJSON_PADDING);
+    auto buffer = std::make_unique_for_overwrite<char[]>(n + simdjson::SIMDJSON_PADDING);
     std::fill_n(buffer.get() + n, simdjson::SIMDJSON_PADDING, '\0');
     in.read(buffer.get(), static_cast<std::streamsize>(n));
     if (static_cast<std::uintmax_t>(in.gcount()) != size) {
         throw SceneError(label, "", "read failed");
     }
-    Scene s = finish_scene(parse_scene_text(std::string_view(buffer.get(), n), true, label, limits),
-                           label, limits);
+    SceneFile file = parse_scene_text(std::string_view(buffer.get(), n), true, label, limits);
+    // The text is not needed any more: freed before the front end's draw list is built, while
+    // the parser keeps its buffers for the next load.
+    buffer.reset();
+    Scene s = finish_scene(std::move(file), label, limits);
     s.path = path;
     return s;
 }
