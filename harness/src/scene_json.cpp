@@ -6,10 +6,12 @@
 //
 // Two parsers, one set of rules. simdjson's DOM parser reads every file first: it is fast
 // enough for scenes of millions of vertices, but it reports no position for a syntax error and
-// accepts duplicate keys. A scan of its document then checks what it does not (duplicate
-// keys, nesting, the number of values). Whenever simdjson refuses a file or the scan finds a
-// fault, nlohmann's SAX parser reads the file again with the strict rules and gives the
-// refusal its path or line and column; valid files never take that path. The validating walk
+// accepts duplicate keys. The validating walk checks what it does not (duplicate keys,
+// nesting) on every container it reads, and a count of the text's commas and brackets bounds
+// the number of values; when the walk refuses something, a scan of the whole document first
+// looks for a strict fault, which takes precedence. Whenever simdjson refuses a file or a
+// strict fault is found, nlohmann's SAX parser reads the file again with the strict rules and
+// gives the refusal its path or line and column; valid files never take that path. The walk
 // builds paths only when it refuses something, so a valid file costs no string per value.
 #include <simdjson.h>
 
@@ -391,29 +393,50 @@ void check_strictly(std::string_view text, const std::string& file_label, const 
     }
 }
 
-// An upper bound of the values in `text`: every value but the root follows a comma or opens
-// its container's first element, so values <= 1 + commas + '[' + '{' (characters inside
-// strings only raise the bound). It lets a file with too many values be refused before
-// simdjson builds a document whose size follows the number of values.
-std::uint64_t values_upper_bound(std::string_view text) {
-    std::uint64_t n = 1;
+// Upper bounds of the values and of the containers in `text`: every value but the root
+// follows a comma or opens its container's first element, so values <= 1 + commas + '[' +
+// '{', and containers <= '[' + '{' (characters inside strings only raise the bounds). The
+// first lets a file with too many values be refused before simdjson builds a document whose
+// size follows the number of values; the second tells whether the walk saw every container.
+struct TextCounts {
+    std::uint64_t values = 1;
+    std::uint64_t containers = 0;
+};
+TextCounts count_in_text(std::string_view text) {
+    std::uint64_t commas = 0;
+    std::uint64_t opens = 0;
     std::size_t i = 0;
     const auto* p = reinterpret_cast<const unsigned char*>(text.data());
 #if defined(__SSE2__)
+    // Byte lanes count down by one a hit (a match is -1) for up to 255 blocks of 16 bytes, then
+    // are summed.
     const __m128i comma = _mm_set1_epi8(',');
     const __m128i bracket = _mm_set1_epi8('[');
     const __m128i brace = _mm_set1_epi8('{');
-    for (; i + 16 <= text.size(); i += 16) {
-        const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p + i));
-        const __m128i hit =
-            _mm_or_si128(_mm_or_si128(_mm_cmpeq_epi8(b, comma), _mm_cmpeq_epi8(b, bracket)),
-                         _mm_cmpeq_epi8(b, brace));
-        n += static_cast<std::uint64_t>(
-            std::popcount(static_cast<unsigned>(_mm_movemask_epi8(hit))));
+    const __m128i zero = _mm_setzero_si128();
+    const auto lanes_total = [&](__m128i lanes) {
+        const __m128i sums = _mm_sad_epu8(_mm_sub_epi8(zero, lanes), zero);
+        return static_cast<std::uint64_t>(_mm_cvtsi128_si32(sums)) +
+               static_cast<std::uint64_t>(_mm_extract_epi16(sums, 4));
+    };
+    while (i + 16 <= text.size()) {
+        const std::size_t blocks = std::min<std::size_t>((text.size() - i) / 16, 255);
+        __m128i c = zero;
+        __m128i o = zero;
+        for (std::size_t b = 0; b < blocks; ++b, i += 16) {
+            const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p + i));
+            c = _mm_add_epi8(c, _mm_cmpeq_epi8(v, comma));
+            o = _mm_add_epi8(o, _mm_or_si128(_mm_cmpeq_epi8(v, bracket), _mm_cmpeq_epi8(v, brace)));
+        }
+        commas += lanes_total(c);
+        opens += lanes_total(o);
     }
 #endif
-    for (; i < text.size(); ++i) n += (p[i] == ',') | (p[i] == '[') | (p[i] == '{');
-    return n;
+    for (; i < text.size(); ++i) {
+        commas += p[i] == ',';
+        opens += (p[i] == '[') | (p[i] == '{');
+    }
+    return {1 + commas + opens, opens};
 }
 
 // The strict rules simdjson does not apply, checked on its document in document order:
@@ -468,9 +491,10 @@ class StrictScan {
 // The parsed document of a scene file: the root of simdjson's DOM, which `parser` owns, and
 // the normalized text when the file took that path.
 struct Document {
-    dom::parser parser;
+    dom::parser& parser;
     std::string normalized;
     dom::element root;
+    TextCounts counts;  // of the text simdjson read
 };
 
 // Parses `text` (followed by simdjson::SIMDJSON_PADDING readable bytes when `padded`) with
@@ -480,18 +504,23 @@ void parse_document(Document& doc, std::string_view text, bool padded,
     // Deeper files are refused anyway; the bound keeps simdjson's depth tables small.
     const std::size_t depth =
         std::clamp<std::size_t>(std::size_t{limits.max_nesting_depth} + 2, 64, 4096);
-    if (doc.parser.allocate(std::max<std::size_t>(text.size(), 64), depth) != simdjson::SUCCESS) {
+    // A parser's buffers are kept for the next load (parse_scene_text): only a larger file
+    // or another depth allocates them again.
+    const std::size_t capacity = std::max<std::size_t>(text.size(), 64);
+    if ((doc.parser.capacity() < capacity || doc.parser.max_depth() != depth) &&
+        doc.parser.allocate(capacity, depth) != simdjson::SUCCESS) {
         throw SceneError(
             file_label, "",
             "cannot allocate the memory to parse " + std::to_string(text.size()) + " bytes");
     }
-    // Below two bytes a value no file can pass the limit, so small files skip the count.
-    if (text.size() / 2 >= limits.max_json_values &&
-        values_upper_bound(text) > limits.max_json_values) {
+    // Below two bytes a value no file can pass the limit, so only larger files need the count.
+    doc.counts = count_in_text(text);
+    if (text.size() / 2 >= limits.max_json_values && doc.counts.values > limits.max_json_values) {
         check_strictly(text, file_label, limits, nullptr);  // refuses unless strings inflated it
     }
     auto first = doc.parser.parse(text.data(), text.size(), /*realloc_if_needed=*/!padded);
-    if (first.error() == simdjson::SUCCESS && StrictScan(limits).ok(first.value_unsafe(), 0)) {
+    if (first.error() == simdjson::SUCCESS) {
+        // Duplicate keys and nesting are the walk's to check (Node).
         doc.root = first.value_unsafe();
         return;
     }
@@ -504,8 +533,9 @@ void parse_document(Document& doc, std::string_view text, bool padded,
     // simdjson could not hold.
     check_strictly(text, file_label, limits, &doc.normalized);
     auto second = doc.parser.parse(doc.normalized);
-    if (second.error() == simdjson::SUCCESS && StrictScan(limits).ok(second.value_unsafe(), 0)) {
+    if (second.error() == simdjson::SUCCESS) {
         doc.root = second.value_unsafe();
+        doc.counts = count_in_text(doc.normalized);
         return;
     }
     throw SceneError(
@@ -543,13 +573,38 @@ std::string describe(dom::element v) {
 // A value of the document and where it sits; every accessor refuses what the format forbids.
 // The path is built only for a refusal, from the chain of parents, so a Node must not outlive
 // the Node it was taken from.
+//
+// The walk also applies the strict rules simdjson does not (duplicate keys, nesting) to every
+// container it accepts: each object passes require_object, which refuses a key seen twice,
+// and each array passes array_size; both refuse a container nested too deep. Such a fault
+// throws StrictFault, and the caller lets the strict parser name it. Every container of a
+// valid scene is accepted by one of the two exactly once (each key of an object is allowed and
+// read, each array's elements are read), and the walk counts them: the caller compares the
+// count with the brackets of the text and scans the document when they differ.
+struct StrictFault {};
+
+struct WalkContext {
+    const std::string& file;
+    const SceneLimits& limits;
+    std::uint64_t containers = 0;  // accepted by require_object or array_size
+};
+
 class Node {
   public:
-    Node(dom::element v, const std::string& file) : v_(v), file_(&file) {}
+    Node(dom::element v, WalkContext& context) : v_(v), context_(&context) {}
     Node(dom::element v, const Node& parent, std::string_view key)
-        : v_(v), parent_(&parent), key_(key), by_key_(true), file_(parent.file_) {}
+        : v_(v),
+          parent_(&parent),
+          key_(key),
+          by_key_(true),
+          depth_(parent.depth_ + 1),
+          context_(parent.context_) {}
     Node(dom::element v, const Node& parent, std::size_t index)
-        : v_(v), parent_(&parent), index_(index), file_(parent.file_) {}
+        : v_(v),
+          parent_(&parent),
+          index_(index),
+          depth_(parent.depth_ + 1),
+          context_(parent.context_) {}
 
     dom::element value() const { return v_; }
     bool is_null() const { return v_.type() == dom::element_type::NULL_VALUE; }
@@ -568,15 +623,32 @@ class Node {
     }
 
     [[noreturn]] void fail(const std::string& detail) const {
-        throw SceneError(*file_, path(), detail);
+        throw SceneError(context_->file, path(), detail);
     }
 
+    // Containers of the document this one is inside.
+    std::uint32_t depth() const { return depth_; }
+    WalkContext& context() const { return *context_; }
+
+    // An object whose keys are all in `allowed` (at most 64 names), each once.
     void require_object(std::initializer_list<std::string_view> allowed) const {
         if (!is_object()) fail("expected an object, got " + describe(v_));
+        accept_container();
+        std::uint64_t seen = 0;
         for (const dom::key_value_pair kv : as_object(v_)) {
+            std::uint64_t bit = 1;
             bool ok = false;
-            for (auto a : allowed) ok = ok || kv.key == a;
-            if (!ok) {
+            for (auto a : allowed) {
+                if (kv.key == a) {
+                    ok = true;
+                    break;
+                }
+                bit <<= 1;
+            }
+            if (ok) {
+                if ((seen & bit) != 0) throw StrictFault{};
+                seen |= bit;
+            } else {
                 std::string list;
                 for (auto a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
                 Node(kv.value, *this, kv.key)
@@ -591,7 +663,7 @@ class Node {
     }
     std::optional<Node> get(std::string_view key) const {
         if (!is_object()) return std::nullopt;
-        // Keys are unique (the strict scan checked), so the first match is the only one.
+        // The first match: a second one makes require_object refuse the object.
         for (const dom::key_value_pair kv : as_object(v_)) {
             if (kv.key == key) return Node(kv.value, *this, kv.key);
         }
@@ -602,6 +674,7 @@ class Node {
         if (v_.type() != dom::element_type::ARRAY) {
             fail(std::string("expected ") + what + ", got " + describe(v_));
         }
+        accept_container();
         const std::size_t n = element_count(as_array(v_));
         if (n < min || n > max) {
             fail(std::string("expected ") + what + ", got an array of " + std::to_string(n));
@@ -703,6 +776,11 @@ class Node {
     }
 
   private:
+    // An object or array the walk takes: counted, and refused when nested too deep.
+    void accept_container() const {
+        if (depth_ >= context_->limits.max_nesting_depth) throw StrictFault{};
+        ++context_->containers;
+    }
     [[noreturn]] void fail_range(std::int64_t lo, std::int64_t hi) const {
         fail("expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
              "], got " + number_text(v_));
@@ -713,7 +791,8 @@ class Node {
     std::string_view key_;
     std::size_t index_ = 0;
     bool by_key_ = false;
-    const std::string* file_;
+    std::uint32_t depth_ = 0;
+    WalkContext* context_;
 };
 
 // Limits from scene format v1, section "Limits and remaining semantics".
@@ -849,7 +928,17 @@ std::string describe_character(std::string_view s, std::size_t at) {
     return quoted_value(s.substr(at, 1));
 }
 
-std::vector<std::uint8_t> decode_base64(const Node& n, std::string_view s) {
+// The bytes `s` decodes to when it is well formed: 3 a group of four characters, less the
+// padding; 0 for a length that is no multiple of 4.
+std::size_t base64_decoded_size(std::string_view s) {
+    if (s.size() % 4 != 0) return 0;
+    std::size_t pad = 0;
+    if (!s.empty() && s.back() == '=') pad = s[s.size() - 2] == '=' ? 2 : 1;
+    return s.size() / 4 * 3 - pad;
+}
+
+// Decodes `s` into `out`, which has room for s.size() / 4 * 3 bytes; returns the bytes written.
+std::size_t decode_base64_into(const Node& n, std::string_view s, std::uint8_t* out) {
     if (s.size() % 4 != 0) {
         n.fail("base64 text of " + std::to_string(s.size()) +
                " characters; expected a multiple of 4 (padded with '=')");
@@ -857,7 +946,6 @@ std::vector<std::uint8_t> decode_base64(const Node& n, std::string_view s) {
     std::size_t pad = 0;
     if (!s.empty() && s.back() == '=') pad = s[s.size() - 2] == '=' ? 2 : 1;
     const std::size_t body = s.size() - pad;
-    std::vector<std::uint8_t> out(s.size() / 4 * 3);
     const auto* in = reinterpret_cast<const unsigned char*>(s.data());
     const auto bad_character = [&](std::size_t from, std::size_t to) {
         for (std::size_t k = from; k < to; ++k) {
@@ -899,7 +987,12 @@ std::vector<std::uint8_t> decode_base64(const Node& n, std::string_view s) {
         }
         o += bytes;
     }
-    out.resize(o);
+    return o;
+}
+
+std::vector<std::uint8_t> decode_base64(const Node& n, std::string_view s) {
+    std::vector<std::uint8_t> out(s.size() / 4 * 3);
+    out.resize(decode_base64_into(n, s, out.data()));
     return out;
 }
 
@@ -958,6 +1051,25 @@ AttributeArray read_attribute(const Node& a, std::size_t count, bool is_position
                                  " components)";
         values->array_size(total, total, what.c_str());
         float* dst = out.values.data();
+        // Numbers finite in float32 (and w > 0) in one loop; at a fault, the loop below reads
+        // the array again to refuse it with its path.
+        bool fast = true;
+        for (const dom::element e : as_array(values->value())) {
+            double d = 0;
+            if (e.get_double().get(d) != simdjson::SUCCESS) {
+                fast = false;
+                break;
+            }
+            const float f = static_cast<float>(d);
+            if (!std::isfinite(f) ||
+                (window_w && (dst - out.values.data()) % 4 == 3 && !(f > 0.0f))) {
+                fast = false;
+                break;
+            }
+            *dst++ = f;
+        }
+        if (fast) return out;
+        dst = out.values.data();
         values->for_each([&](const Node& e) {
             const float f = e.f32();
             if (window_w && (dst - out.values.data()) % 4 == 3 && !(f > 0.0f)) {
@@ -967,14 +1079,22 @@ AttributeArray read_attribute(const Node& a, std::size_t count, bool is_position
         });
         return out;
     }
-    const std::vector<std::uint8_t> bytes = decode_base64(*base64, base64->string_view());
-    if (bytes.size() != total * 4) {
+    const std::string_view text = base64->string_view();
+    if (base64_decoded_size(text) != total * 4) {
+        // The refusal: a fault of the text itself first, else the size.
+        const std::vector<std::uint8_t> bytes = decode_base64(*base64, text);
         base64->fail("decodes to " + std::to_string(bytes.size()) + " bytes, expected " +
                      std::to_string(total * 4) + " (count " + std::to_string(count) + " x " +
                      std::to_string(out.components) + " components x 4 bytes)");
     }
+    // Straight into the values (room for whole groups: the last may be padded), then read as
+    // little-endian float32 in place.
+    out.values.resize((text.size() / 4 * 3 + 3) / 4);
+    auto* const bytes = reinterpret_cast<std::uint8_t*>(out.values.data());
+    decode_base64_into(*base64, text, bytes);
+    out.values.resize(total);
     for (std::size_t k = 0; k < total; ++k) {
-        const float f = std::bit_cast<float>(little_endian_u32(bytes.data() + 4 * k));
+        const float f = std::bit_cast<float>(little_endian_u32(bytes + 4 * k));
         const bool w = window_w && k % 4 == 3;
         if (!std::isfinite(f) || (w && !(f > 0.0f))) {
             const std::string where = "value " + std::to_string(k) + " (vertex " +
@@ -1002,13 +1122,14 @@ void read_vertex_arrays(const Node& va, SceneDraw& d, WorkSoFar& work) {
     const AttributeArray position = read_attribute(va.at("position"), count, true, d.space);
     std::optional<AttributeArray> color;
     if (auto c = va.get("color")) color = read_attribute(*c, count, false, d.space);
-    d.vertices.resize(count);
+    d.vertices.reserve(count);
     for (std::size_t i = 0; i < count; ++i) {
-        SceneVertex& sv = d.vertices[i];
+        SceneVertex sv;
         sv.position_size = position.components;
         const float* p = position.values.data() + i * position.components;
         std::copy(p, p + position.components, sv.position.begin());
         if (color) std::copy_n(color->values.data() + i * 4, 4, sv.color.begin());
+        d.vertices.push_back(sv);
     }
 }
 
@@ -1033,6 +1154,77 @@ std::vector<std::uint32_t> read_index_base64(const Node& n, std::size_t count, W
         }
     }
     return idx;
+}
+
+// A plain vertex, {"position": [...], "color": [...]}, read by the general path: every fault
+// refused with its path.
+void read_vertex(const Node& vn, VertexSpace space, SceneVertex& sv) {
+    vn.require_object({"position", "color"});
+    const Node p = vn.at("position");
+    if (space == VertexSpace::Clip) {
+        p.array_size(4, 4, "[x, y, z, w] (space \"clip\")");
+    } else {
+        p.array_size(2, 4, "[x, y], [x, y, z] or [x, y, z, w] (space \"window\")");
+    }
+    std::uint32_t c = 0;
+    p.for_each([&](const Node& e) {
+        sv.position[c] = e.f32();
+        if (c == 3 && space == VertexSpace::Window && !(sv.position[3] > 0.0f)) {
+            e.fail("expected w > 0 in window space, got " + number_text(e.value()));
+        }
+        ++c;
+    });
+    sv.position_size = c;
+    if (auto col = vn.get("color")) sv.color = read_color(*col);
+}
+
+// Between `min` and `max` numbers, each finite once rounded to float32, into `out`; false for
+// anything else.
+bool read_floats_fast(dom::element e, std::size_t min, std::size_t max, float* out,
+                      std::size_t& n) {
+    dom::array a;
+    if (e.get_array().get(a) != simdjson::SUCCESS) return false;
+    std::size_t k = 0;
+    for (const dom::element x : a) {
+        double d = 0;
+        if (k == max || x.get_double().get(d) != simdjson::SUCCESS) return false;
+        const float f = static_cast<float>(d);
+        if (!std::isfinite(f)) return false;
+        out[k++] = f;
+    }
+    n = k;
+    return k >= min;
+}
+
+// The common shape of a plain vertex, {"position": [...], "color": [r, g, b, a]} (either key
+// first, the colour optional), read in one pass over its keys: the same values as read_vertex.
+// False for anything else, which read_vertex then takes from the start, to accept or to refuse
+// with its path. On success adds the vertex's containers to `containers`; the caller has checked
+// that their nesting is allowed.
+bool read_vertex_fast(dom::element e, VertexSpace space, SceneVertex& sv,
+                      std::uint64_t& containers) {
+    dom::object o;
+    if (e.get_object().get(o) != simdjson::SUCCESS) return false;
+    bool position = false;
+    bool color = false;
+    for (const dom::key_value_pair kv : o) {
+        std::size_t n = 0;
+        if (kv.key == "position" && !position) {
+            position = true;
+            const std::size_t min = space == VertexSpace::Clip ? 4 : 2;
+            if (!read_floats_fast(kv.value, min, 4, sv.position.data(), n)) return false;
+            if (n == 4 && space == VertexSpace::Window && !(sv.position[3] > 0.0f)) return false;
+            sv.position_size = static_cast<std::uint32_t>(n);
+        } else if (kv.key == "color" && !color) {
+            color = true;
+            if (!read_floats_fast(kv.value, 4, 4, sv.color.data(), n)) return false;
+        } else {
+            return false;
+        }
+    }
+    if (!position) return false;
+    containers += color ? 3 : 2;
+    return true;
 }
 
 SceneDraw read_draw(const Node& n, const refraster::Target& target, WorkSoFar& work,
@@ -1090,27 +1282,19 @@ SceneDraw read_draw(const Node& n, const refraster::Target& target, WorkSoFar& w
             verts.array_size(0, std::numeric_limits<std::uint32_t>::max(), "an array of vertices");
         WorkSoFar::add(verts, work.vertices, count, work.limits.max_vertices, "vertices");
         d.vertices.reserve(count);
-        verts.for_each([&](const Node& vn) {
-            vn.require_object({"position", "color"});
+        // The fast path takes a vertex's object and its two arrays, one and two levels below
+        // the list, only where that nesting is allowed.
+        const bool fast = verts.depth() + 2 < work.limits.max_nesting_depth;
+        std::size_t i = 0;
+        for (const dom::element e : as_array(verts.value())) {
             SceneVertex sv;
-            const Node p = vn.at("position");
-            if (d.space == VertexSpace::Clip) {
-                p.array_size(4, 4, "[x, y, z, w] (space \"clip\")");
-            } else {
-                p.array_size(2, 4, "[x, y], [x, y, z] or [x, y, z, w] (space \"window\")");
+            if (!fast || !read_vertex_fast(e, d.space, sv, verts.context().containers)) {
+                sv = SceneVertex{};
+                read_vertex(Node(e, verts, i), d.space, sv);
             }
-            std::uint32_t c = 0;
-            p.for_each([&](const Node& e) {
-                sv.position[c] = e.f32();
-                if (c == 3 && d.space == VertexSpace::Window && !(sv.position[3] > 0.0f)) {
-                    e.fail("expected w > 0 in window space, got " + number_text(e.value()));
-                }
-                ++c;
-            });
-            sv.position_size = c;
-            if (auto col = vn.get("color")) sv.color = read_color(*col);
             d.vertices.push_back(sv);
-        });
+            ++i;
+        }
     }
     const std::size_t count = d.vertices.size();
     if (auto v = n.get("indices")) {
@@ -1285,13 +1469,41 @@ void check_file_size(std::uintmax_t size, const std::string& file_label,
     }
 }
 
+// The refusal the strict parser gives a file that breaks a strict rule.
+[[noreturn]] void refuse_strictly(std::string_view text, const std::string& file_label,
+                                  const SceneLimits& limits) {
+    check_strictly(text, file_label, limits, nullptr);
+    throw SceneError(file_label, "", "the strict rules refuse this JSON, its parser does not");
+}
+
 // `padded`: SIMDJSON_PADDING readable bytes follow the text, so simdjson reads it in place.
 SceneFile parse_scene_text(std::string_view text, bool padded, const std::string& file_label,
                            const SceneLimits& limits) {
     check_file_size(text.size(), file_label, limits);
-    Document doc;
+    // One parser a thread, kept between loads: the pages of its buffers (about 4 bytes of
+    // structural index and 8 of tape a byte of text, in part untouched) are faulted in once
+    // rather than at every load of a large file.
+    thread_local dom::parser parser;
+    Document doc{parser, {}, {}, {}};
     parse_document(doc, text, padded, file_label, limits);
-    return read_scene(Node(doc.root, file_label), limits);
+    // The walk checks the strict rules on what it reads. A strict fault takes precedence over
+    // any other refusal, wherever it sits in the file: the strict parser names the first one.
+    WalkContext context{file_label, limits};
+    std::optional<SceneFile> scene;
+    try {
+        scene = read_scene(Node(doc.root, context), limits);
+    } catch (const StrictFault&) {
+        refuse_strictly(text, file_label, limits);
+    } catch (const SceneError&) {
+        if (!StrictScan(limits).ok(doc.root, 0)) refuse_strictly(text, file_label, limits);
+        throw;
+    }
+    // Brackets inside strings (or a container the walk did not take) make the counts differ:
+    // then the scan checks the whole document.
+    if (context.containers != doc.counts.containers && !StrictScan(limits).ok(doc.root, 0)) {
+        refuse_strictly(text, file_label, limits);
+    }
+    return std::move(*scene);
 }
 
 Scene finish_scene(SceneFile file, const std::string& file_label, const SceneLimits& limits) {
@@ -1352,14 +1564,17 @@ Scene load_scene(const std::filesystem::path& path, const SceneLimits& limits) {
     // Read straight into a buffer with simdjson's padding after the text, so that the parser
     // needs no copy of it; left uninitialized, as the read fills it.
     const auto n = static_cast<std::size_t>(size);
-    const auto buffer = std::make_unique_for_overwrite<char[]>(n + simdjson::SIMDJSON_PADDING);
+    auto buffer = std::make_unique_for_overwrite<char[]>(n + simdjson::SIMDJSON_PADDING);
     std::fill_n(buffer.get() + n, simdjson::SIMDJSON_PADDING, '\0');
     in.read(buffer.get(), static_cast<std::streamsize>(n));
     if (static_cast<std::uintmax_t>(in.gcount()) != size) {
         throw SceneError(label, "", "read failed");
     }
-    Scene s = finish_scene(parse_scene_text(std::string_view(buffer.get(), n), true, label, limits),
-                           label, limits);
+    SceneFile file = parse_scene_text(std::string_view(buffer.get(), n), true, label, limits);
+    // The text is not needed any more: freed before the front end's draw list is built, while
+    // the parser keeps its buffers for the next load.
+    buffer.reset();
+    Scene s = finish_scene(std::move(file), label, limits);
     s.path = path;
     return s;
 }

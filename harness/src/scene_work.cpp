@@ -24,7 +24,8 @@ struct Box {
 
 class DrawEstimate {
   public:
-    DrawEstimate(const refraster::Draw& d, const refraster::Target& t) : draw_(d) {
+    DrawEstimate(const refraster::Draw& d, const refraster::Target& t)
+        : draw_(d), positions_(d.vertices.data.data()), stride_(d.vertices.stride()) {
         region_ = {0.0, 0.0, static_cast<double>(t.width), static_cast<double>(t.height)};
         if (d.state.scissor) {
             const auto& s = *d.state.scissor;
@@ -103,7 +104,8 @@ class DrawEstimate {
     // The window position of element vertex `v` as a point box; false when it has no finite
     // projection (w <= 0), so that the whole region must be assumed.
     bool window(std::uint32_t v, Box& out) const {
-        const auto p = draw_.vertices.position(v);
+        // draw_.vertices.position(v), with the stride computed once a draw.
+        const float* p = positions_ + std::size_t{v} * stride_;
         const double w = static_cast<double>(p[3]);
         if (!(w > 0.0)) return false;
         const auto& vp = draw_.state.viewport;
@@ -115,6 +117,8 @@ class DrawEstimate {
     }
 
     const refraster::Draw& draw_;
+    const float* positions_;
+    std::size_t stride_;
     Box region_;
     std::uint64_t region_area_ = 0;
 };

@@ -93,6 +93,24 @@ std::vector<Malformed> malformed_cases() {
         {"duplicate_state_key",
          scene_with(kTarget, tri(v0, R"(, "state": {"cull": "back", "cull": "front"})")),
          "draws[0].state.cull", "duplicate key \"cull\""},
+        // The walk checks duplicate keys where it reads them; a duplicate takes precedence
+        // over any other refusal, wherever it sits.
+        {"duplicate_vertex_key",
+         scene_with(kTarget, tri(R"({"position": [1, 1], "position": [2, 2]})")),
+         "draws[0].vertices[0].position", "duplicate key \"position\""},
+        {"duplicate_colour_after_a_bad_primitive",
+         scene_with(
+             kTarget,
+             R"([{"primitive": "quads", "vertices": [{"position": [1, 1], "color": [1, 1, 1, 1], "color": [0, 0, 0, 1]}]}])"),
+         "draws[0].vertices[0].color", "duplicate key \"color\""},
+        {"duplicate_key_after_a_bad_vertex",
+         scene_with(kTarget, tri(R"({"position": [1, 1], "normal": 1})"),
+                    R"("clear": {"depth": 1, "depth": 0}, )"),
+         "clear.depth", "duplicate key \"depth\""},
+        {"duplicate_key_in_brackets_in_a_string",
+         scene_with(kTarget, tri(v0, R"(, "state": {"cull": "back", "cull": "front"})"),
+                    R"("description": "[{", )"),
+         "draws[0].state.cull", "duplicate key \"cull\""},
         {"width_wrong_type", scene_with(R"({"width": "8", "height": 8})", "[]"), "target.width",
          "expected an integer, got the string \"8\""},
         {"width_fraction", scene_with(R"({"width": 8.5, "height": 8})", "[]"), "target.width",
@@ -549,6 +567,8 @@ std::vector<LimitCase> limit_cases() {
     };
     harness::SceneLimits depth;
     depth.max_nesting_depth = 4;
+    harness::SceneLimits depth3;
+    depth3.max_nesting_depth = 3;
     return {
         {"file_bytes", with(&L::max_file_bytes, 200), scene_with(kTarget, "[]"),
          scene_with(kTarget, "[]") + std::string(200, ' '), "",
@@ -561,6 +581,10 @@ std::vector<LimitCase> limit_cases() {
          "draws[0].state.polygon_offset", "nesting deeper than 4 levels"},
         // The root, format, name, target, width, height and draws: 7 values; with a
         // description, the draws are the eighth.
+        // An empty array one level too deep, which simdjson's own depth check lets through.
+        {"nesting_of_an_empty_array", depth3, scene_with(kTarget, "[]"),
+         scene_with(kTarget, R"([{"primitive": "points", "vertices": []}])"), "draws[0].vertices",
+         "nesting deeper than 3 levels"},
         {"json_values", with(&L::max_json_values, 7), scene_with(kTarget, "[]"),
          scene_with(kTarget, "[]", R"("description": "d", )"), "draws", "more than 7 JSON values"},
         {"target_pixels", with(&L::max_target_pixels, 64), scene_with(kTarget, "[]"),
