@@ -77,6 +77,13 @@ constexpr std::int32_t kIndefinite = INT32_MIN;  // cvtps2dq of NaN or of a valu
 // when the result leaves the 24.8 budget of setup.hpp (kSnappedBits).
 std::int32_t convert_coordinate(float v, const SetupParams& p, bool& beyond) {
     const float scaled = (v - p.pixel_center_offset) * static_cast<float>(1 << p.bits);
+    if (p.rounding == SnapRounding::NearestEven) {
+        // INT32_MIN (kIndefinite) for a value that does not fit, as the instruction gives it;
+        // it lies outside the budget too.
+        const std::int32_t r = round_nearest_even_or_indefinite(scaled);
+        if (r <= -(1 << kSnappedBits) || r >= (1 << kSnappedBits)) beyond = true;
+        return r;
+    }
     const auto r = round_scaled<std::int32_t>(scaled, p.rounding);
     if (!r) {
         beyond = true;

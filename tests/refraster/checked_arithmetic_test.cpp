@@ -45,10 +45,10 @@ TEST(Snapping, NearestEvenIsNearbyint) {
     using refraster::round_scaled;
     using refraster::SnapRounding;
     std::mt19937 rng(7);
-    std::vector<float> values{0.0f,        -0.0f,         0.5f,           -0.5f,         1.5f,
-                              -1.5f,       2.5f,          -2.5f,          0.49999997f,   8388607.5f,
-                              -8388607.5f, 2147483520.0f, -2147483648.0f, 2147483648.0f, 1e-45f,
-                              -1e-45f,     3e38f,         -3e38f};
+    std::vector<float> values{
+        0.0f,   -0.0f,       0.5f,       -0.5f,       1.5f,          -1.5f,          2.5f,
+        -2.5f,  0.49999997f, 8388607.5f, -8388607.5f, 2147483520.0f, -2147483648.0f, 2147483648.0f,
+        1e-45f, -1e-45f,     3e38f,      -3e38f,      2147483647.0f, -2147483904.0f};
     for (int i = 0; i < 200000; ++i) {
         const auto bits = static_cast<std::uint32_t>(rng());
         const float v = std::bit_cast<float>(bits);
@@ -64,6 +64,17 @@ TEST(Snapping, NearestEvenIsNearbyint) {
         if (fits) {
             ASSERT_EQ(*got, static_cast<std::int32_t>(r)) << v;
         }
+        // The instruction's form gives the same value, or INT32_MIN where nothing fits.
+        ASSERT_EQ(refraster::round_nearest_even_or_indefinite(v),
+                  fits ? static_cast<std::int32_t>(r) : std::numeric_limits<std::int32_t>::min())
+            << v;
+    }
+    for (const float v :
+         {std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(),
+          std::numeric_limits<float>::quiet_NaN()}) {
+        EXPECT_FALSE(round_scaled<std::int32_t>(v, SnapRounding::NearestEven).has_value());
+        EXPECT_EQ(refraster::round_nearest_even_or_indefinite(v),
+                  std::numeric_limits<std::int32_t>::min());
     }
 }
 

@@ -18,6 +18,10 @@
 #include <optional>
 #include <type_traits>
 
+#if defined(__x86_64__) || defined(_M_X64)
+#include <xmmintrin.h>
+#endif
+
 namespace refraster {
 
 enum class SnapRounding : std::uint8_t {
@@ -86,6 +90,20 @@ std::optional<Rep> round_scaled(float v, SnapRounding mode) {
         return std::nullopt;
     }
     return static_cast<Rep>(r);
+}
+
+// Round to nearest even as cvtps2dq does it: an int32, or INT32_MIN (x86's "integer
+// indefinite") for NaN, infinities and values whose rounded value leaves int32 (so also for
+// -2^31 itself). On x86-64 it is that instruction's scalar form, cvtss2si, which rounds by
+// MXCSR (round to nearest even: the reference never changes the rounding mode, and llvmpipe's
+// calc_fixed_position relies on the same default); elsewhere round_scaled.
+inline std::int32_t round_nearest_even_or_indefinite(float v) {
+#if defined(__x86_64__) || defined(_M_X64)
+    return _mm_cvtss_si32(_mm_set_ss(v));
+#else
+    const auto r = round_scaled<std::int32_t>(v, SnapRounding::NearestEven);
+    return r ? *r : std::numeric_limits<std::int32_t>::min();
+#endif
 }
 
 // The product of two raw values, widened so that it cannot overflow for 32-bit inputs.
