@@ -23,6 +23,7 @@ std::vector<AssembledTriangle> assemble_triangles(PrimitiveType p, std::size_t c
         std::max<std::size_t>(std::min<std::size_t>(1024, max_vertices), 3);
     const std::size_t simple = indexed ? segment_size : max_vertices;
     const bool split = count > simple;
+    out.reserve(p == PrimitiveType::Triangles ? count / 3 : (count >= 2 ? count - 2 : 0));
     switch (p) {
         case PrimitiveType::Triangles: {
             const std::size_t per = std::max<std::size_t>(simple / 3, 1);

@@ -156,7 +156,8 @@ void LlvmpipeModel::snapped_triangle(const VertexStage& stage,
         culled_by_draw()) {
         return obs.triangle_outcome("culled by the draw module's float cull");
     }
-    TriangleSetup t;
+    TriangleSetup& t = triangle_;
+    t.clear_except_walk();
     const std::array<std::array<float, 2>, 3> w{{{v[0]->window[0], v[0]->window[1]},
                                                  {v[1]->window[0], v[1]->window[1]},
                                                  {v[2]->window[0], v[2]->window[1]}}};
@@ -360,7 +361,13 @@ std::vector<bool> LlvmpipeModel::pipeline_setup_ftz(
     // for the clipper's new ones, which only the triangles of one polygon share. A stamp names
     // one (batch, segment) pair: triangles come in order, so a pair never comes back, and
     // `epoch` counts the pairs.
-    std::vector<std::uint32_t> counted(d.vertices.size(), 0);
+    // An unindexed triangle list shares no vertex between its triangles: a vertex can only be
+    // met again among the clipper's outputs of its own triangle, so three stamps do instead of
+    // one a vertex of the draw.
+    const bool unshared = d.primitive == PrimitiveType::Triangles && !d.indices;
+    std::vector<std::uint32_t> counted(unshared ? 0 : d.vertices.size(), 0);
+    std::array<std::uint32_t, 3> recent{};        // unshared: this triangle's counted vertices
+    std::array<std::uint32_t, 3> recent_epoch{};  // and the epoch each was counted in
     std::vector<std::uint64_t> emitted;
     std::uint32_t epoch = 1;
     std::uint32_t epoch_segment = tris.empty() ? 0 : tris.front().segment;
@@ -382,6 +389,16 @@ std::vector<bool> LlvmpipeModel::pipeline_setup_ftz(
             ++epoch;
         }
         if (original != kNotOriginal) {
+            if (unshared) {
+                // The slot of `original` among its triangle's three vertices.
+                const std::size_t k = original % 3;
+                if (recent_epoch[k] != epoch || recent[k] != original) {
+                    recent[k] = original;
+                    recent_epoch[k] = epoch;
+                    ++vertices;
+                }
+                return;
+            }
             if (counted[original] != epoch) {
                 counted[original] = epoch;
                 ++vertices;
@@ -413,11 +430,12 @@ std::vector<bool> LlvmpipeModel::pipeline_setup_ftz(
         if ((stage.clipmask(idx[0]) | stage.clipmask(idx[1]) | stage.clipmask(idx[2])) == 0) {
             // The clipper hands it on unchanged, with its own three vertices (the cull stage
             // alone needs their window coordinates).
-            const bool culls = d.state.cull != CullMode::None;
-            const auto sv = culls ? stage_vertices() : std::array<StageVertex, 3>{};
-            if (culls && !reaches_setup({&sv[0], &sv[1], &sv[2]})) {
-                out.push_back(true);
-                continue;
+            if (d.state.cull != CullMode::None) {
+                const auto sv = stage_vertices();
+                if (!reaches_setup({&sv[0], &sv[1], &sv[2]})) {
+                    out.push_back(true);
+                    continue;
+                }
             }
             if (vertices + 3 > kMaxVertices || indices + 3 > kMaxIndices) flush(true);
             for (std::size_t k = 0; k < 3; ++k) count_vertex(at.segment, nullptr, idx[k]);

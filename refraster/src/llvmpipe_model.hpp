@@ -147,6 +147,7 @@ class LlvmpipeModel {
     // the model emulates the flushing (fast paths of a flushing profile only).
     bool cpu_flushes_ = false;
     std::uint32_t owner_ = 0;  // of the primitive being set up
+    TriangleSetup triangle_;   // the triangle being set up, kept to spare clearing its walk
 };
 
 }  // namespace refraster::detail

@@ -128,7 +128,7 @@ bool uses_32bit_rasterizer(const PixelRect& raw) {
 void attach_llvmpipe_walk(const SetupParams& p, TriangleSetup& t) {
     const PixelRect raw = raw_box(p, t);
     lp::Triangle& w = t.walk;
-    w.count = 0;
+    w = lp::Triangle{};
     for (std::size_t i = 0; i < 3; ++i) {
         const std::size_t j = (i + 1) % 3;
         const std::int32_t a = lp::sub32(t.y[i], t.y[j]);

@@ -94,6 +94,22 @@ struct TriangleSetup {
     bool llvmpipe_walk = false;
     lp::Triangle walk;
     std::uint8_t scissor_leak = 0;  // multisample_scissor_leak
+
+    // Every field back to its initial value but `walk`, which attach_llvmpipe_walk writes whole
+    // when it sets llvmpipe_walk: a TriangleSetup kept for the next triangle costs no clearing
+    // of the walk's planes.
+    void clear_except_walk() {
+        bits = 8;
+        x = {};
+        y = {};
+        order = {0, 1, 2};
+        area = 0;
+        front_facing = true;
+        edges = {};
+        bbox = {};
+        llvmpipe_walk = false;
+        scissor_leak = 0;
+    }
 };
 
 enum class SetupOutcome : std::uint8_t { Ok, ZeroArea, Culled, Outside, OutOfRange };
