@@ -35,7 +35,8 @@ struct SetupTerms {
     float x0c, y0c, dx01o, dy01o, dx20o, dy20o;
 };
 
-Plane calc_coef(const Fp& fp, const SetupTerms& s, float a0, float a1, float a2) {
+[[gnu::always_inline]] inline Plane calc_coef(const Fp& fp, const SetupTerms& s, float a0, float a1,
+                                              float a2) {
     const float da01 = fp.sub(a0, a1);
     const float da20 = fp.sub(a2, a0);
     Plane p;
@@ -85,35 +86,6 @@ bool compare(CompareFunc f, std::uint32_t frag, std::uint32_t stored, bool is_fl
 }
 
 }  // namespace
-
-PlaneWriter::PlaneWriter(SetupList& list, SetupPrimitive& prim, bool daz)
-    : list_(list), prim_(prim), daz_(daz) {
-    prim_.planes = static_cast<std::uint32_t>(list_.planes.size());
-    prim_.flat = static_cast<std::uint32_t>(list_.flat.size());
-}
-
-Plane PlaneWriter::daz(Plane p) const {
-    if (daz_) {
-        p.a0 = flush_denormal(p.a0);
-        p.dadx = flush_denormal(p.dadx);
-        p.dady = flush_denormal(p.dady);
-    }
-    return p;
-}
-
-void PlaneWriter::depth(const Plane& z, const Plane& w, float z_offset) {
-    list_.planes.push_back(daz(z));
-    list_.planes.push_back(daz(w));
-    prim_.z_offset = daz_ ? flush_denormal(z_offset) : z_offset;
-}
-
-void PlaneWriter::attribute(const Plane& p) {
-    list_.planes.push_back(daz(p));
-}
-
-void PlaneWriter::constant(float v) {
-    list_.flat.push_back(v);
-}
 
 void triangle_planes(const std::array<const StageVertex*, 3>& v, const VertexStage& stage,
                      const Draw& draw, const Target& target, bool provoking_first,

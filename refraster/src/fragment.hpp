@@ -71,13 +71,29 @@ struct FragmentOptions {
 // every operation reading it would see. Flat values are only moved and keep their bits.
 class PlaneWriter {
   public:
-    PlaneWriter(SetupList& list, SetupPrimitive& prim, bool daz);
-    void depth(const Plane& z, const Plane& w, float z_offset);
-    void attribute(const Plane& p);  // smooth and noperspective draws
-    void constant(float v);          // flat draws
+    PlaneWriter(SetupList& list, SetupPrimitive& prim, bool daz)
+        : list_(list), prim_(prim), daz_(daz) {
+        prim_.planes = static_cast<std::uint32_t>(list_.planes.size());
+        prim_.flat = static_cast<std::uint32_t>(list_.flat.size());
+    }
+    void depth(const Plane& z, const Plane& w, float z_offset) {
+        list_.planes.push_back(daz(z));
+        list_.planes.push_back(daz(w));
+        prim_.z_offset = daz_ ? flush_denormal(z_offset) : z_offset;
+    }
+    // smooth and noperspective draws
+    void attribute(const Plane& p) { list_.planes.push_back(daz(p)); }
+    void constant(float v) { list_.flat.push_back(v); }  // flat draws
 
   private:
-    Plane daz(Plane p) const;
+    Plane daz(Plane p) const {
+        if (daz_) {
+            p.a0 = flush_denormal(p.a0);
+            p.dadx = flush_denormal(p.dadx);
+            p.dady = flush_denormal(p.dady);
+        }
+        return p;
+    }
     SetupList& list_;
     SetupPrimitive& prim_;
     bool daz_;

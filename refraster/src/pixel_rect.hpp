@@ -3,6 +3,8 @@
 // Deliberately does not: know about subpixels or tiles.
 #pragma once
 
+#include <algorithm>
+
 namespace refraster::detail {
 
 // An inclusive rectangle of pixels; empty when x0 > x1 or y0 > y1.
@@ -14,6 +16,8 @@ struct PixelRect {
     bool empty() const { return x0 > x1 || y0 > y1; }
     friend bool operator==(const PixelRect&, const PixelRect&) = default;
 };
-PixelRect intersect(const PixelRect& a, const PixelRect& b);
+inline PixelRect intersect(const PixelRect& a, const PixelRect& b) {
+    return {std::max(a.x0, b.x0), std::max(a.y0, b.y0), std::min(a.x1, b.x1), std::min(a.y1, b.y1)};
+}
 
 }  // namespace refraster::detail

@@ -8,10 +8,6 @@
 
 namespace refraster::detail {
 
-PixelRect intersect(const PixelRect& a, const PixelRect& b) {
-    return {std::max(a.x0, b.x0), std::max(a.y0, b.y0), std::min(a.x1, b.x1), std::min(a.y1, b.y1)};
-}
-
 SetupParams setup_params(const Profile& profile, const DrawState& state, const Target& target) {
     REFRASTER_ASSERT(profile.gl.subpixel_bits >= 0 && profile.gl.subpixel_bits <= kMaxSubpixelBits,
                      "subpixel bits within the snapped path's budget");
@@ -75,7 +71,8 @@ constexpr std::int32_t kIndefinite = INT32_MIN;  // cvtps2dq of NaN or of a valu
 
 // A window coordinate converted as calc_fixed_position's cvtps2dq does it; `beyond` is set
 // when the result leaves the 24.8 budget of setup.hpp (kSnappedBits).
-std::int32_t convert_coordinate(float v, const SetupParams& p, bool& beyond) {
+[[gnu::always_inline]] inline std::int32_t convert_coordinate(float v, const SetupParams& p,
+                                                              bool& beyond) {
     const float scaled = (v - p.pixel_center_offset) * static_cast<float>(1 << p.bits);
     if (p.rounding == SnapRounding::NearestEven) {
         // INT32_MIN (kIndefinite) for a value that does not fit, as the instruction gives it;
@@ -107,7 +104,7 @@ void swap_to_ccw(const SetupParams& p, TriangleSetup& t) {
 // on the rightmost (topmost) extent: only a rule owning right (top) edges could cover those,
 // and then the box keeps them. For llvmpipe's left-bottom rule in an FBO this is the
 // driver's box.
-PixelRect raw_box(const SetupParams& p, const TriangleSetup& t) {
+[[gnu::always_inline]] inline PixelRect raw_box(const SetupParams& p, const TriangleSetup& t) {
     const auto [xmin, xmax] = std::minmax({t.x[0], t.x[1], t.x[2]});
     const auto [ymin, ymax] = std::minmax({t.y[0], t.y[1], t.y[2]});
     const bool owns_right = owns_right_edges(p.tie_rule);

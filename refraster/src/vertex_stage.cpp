@@ -8,6 +8,10 @@
 #include "rules.hpp"
 #include "vector_kernels.hpp"
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace refraster::detail {
 
 namespace {
@@ -110,6 +114,13 @@ VertexStage::VertexStage(const Draw& draw, VertexStageOptions options)
     const std::size_t n = draw.vertices.size();
     clipmasks_.resize(n);
     const float* data = draw.vertices.data.data();
+#if defined(__SSE2__)
+    // Plain operations (the CPU flushes, or nothing does): each vertex as one SSE vector.
+    if (!options_.guard_band && !fp.flush) {
+        clipmasks_sse(data, n);
+        return;
+    }
+#endif
     for (std::size_t i = 0; i < n; ++i) {
         const float* src = data + i * stride_;
         std::array<float, 4> c{};
@@ -120,6 +131,28 @@ VertexStage::VertexStage(const Draw& draw, VertexStageOptions options)
         clipmasks_[i] = compute_clipmask(c, options_, fp);
     }
 }
+
+#if defined(__SSE2__)
+// compute_clipmask's view-volume bits for plain operations, a vertex (x, y, z, w) at a time:
+// x > w, y > w, z > w from one compare with w in every lane, x + w < 0, y + w < 0, z + w < 0
+// from one sum and one compare; the same float operations, so the same bits (under the CPU's
+// flush modes too, which apply to vector and scalar operations alike).
+void VertexStage::clipmasks_sse(const float* data, std::size_t n) {
+    // Bits of the two 3-lane compares (lanes x, y, z) in clip-mask order: x>w 1, y>w 4, z>w 32;
+    // x+w<0 2, y+w<0 8, z+w<0 16.
+    constexpr std::array<std::uint8_t, 8> kAbove{0, 1, 4, 5, 32, 33, 36, 37};
+    constexpr std::array<std::uint8_t, 8> kBelow{0, 2, 8, 10, 16, 18, 24, 26};
+    const __m128 zero = _mm_setzero_ps();
+    for (std::size_t i = 0; i < n; ++i) {
+        const __m128 c = _mm_loadu_ps(data + i * stride_);
+        const __m128 w = _mm_shuffle_ps(c, c, _MM_SHUFFLE(3, 3, 3, 3));
+        const int above = _mm_movemask_ps(_mm_cmpgt_ps(c, w)) & 7;
+        const int below = _mm_movemask_ps(_mm_cmplt_ps(_mm_add_ps(c, w), zero)) & 7;
+        clipmasks_[i] = static_cast<std::uint8_t>(kAbove[static_cast<std::size_t>(above)] |
+                                                  kBelow[static_cast<std::size_t>(below)]);
+    }
+}
+#endif
 
 StageVertex VertexStage::vertex(std::uint32_t index, bool cpu_flushes) const {
     const Fp fp{options_.flush_denormals};

@@ -121,7 +121,12 @@ class VertexStage {
     // pool_ (the draw's data holds fewer than 2^31 floats: docs/limits.md).
     static constexpr std::uint32_t kPooled = 0x80000000u;
     StageVertex interpolate(float t, const StageVertex& out, const StageVertex& in);
-    float ftz(float v) const { return options_.flush_denormals ? flush_denormal(v) : v; }
+#if defined(__SSE2__)
+    void clipmasks_sse(const float* data, std::size_t n);
+#endif
+    float ftz(float v) const {
+        return options_.flush_denormals ? flush_denormal(v) : v;
+    }
 
     const Draw& draw_;
     VertexStageOptions options_;
