@@ -43,8 +43,8 @@ class Encoder {
         out_.insert(out_.end(), s.begin(), s.end());
     }
     // A counted array of trivially copyable elements, copied as one block.
-    template <typename T>
-    void array(const std::vector<T>& v) {
+    template <typename T, typename A>
+    void array(const std::vector<T, A>& v) {
         static_assert(std::is_trivially_copyable_v<T>);
         u64(v.size());
         const auto* p = reinterpret_cast<const std::uint8_t*>(v.data());
@@ -95,11 +95,11 @@ class Decoder {
         pos_ += n;
         return s;
     }
-    template <typename T>
-    std::vector<T> array() {
+    template <typename T, typename A = std::allocator<T>>
+    std::vector<T, A> array() {
         static_assert(std::is_trivially_copyable_v<T>);
         const std::size_t n = count(sizeof(T));
-        std::vector<T> v(n);
+        std::vector<T, A> v(n);
         if (n != 0) std::memcpy(v.data(), in_.data() + pos_, n * sizeof(T));
         pos_ += n * sizeof(T);
         return v;
@@ -216,9 +216,9 @@ refraster::Framebuffer get_framebuffer(Decoder& d) {
     fb.depth_format = d.enumeration(refraster::DepthFormat::Z32f);
     fb.samples = d.u32();
     if (fb.samples != 1 && fb.samples != 4) d.fail("sample count other than 1 or 4");
-    fb.color8 = d.array<std::uint8_t>();
-    fb.color32f = d.array<float>();
-    fb.depth = d.array<std::uint32_t>();
+    fb.color8 = d.array<std::uint8_t, refraster::PixelAllocator<std::uint8_t>>();
+    fb.color32f = d.array<float, refraster::PixelAllocator<float>>();
+    fb.depth = d.array<std::uint32_t, refraster::PixelAllocator<std::uint32_t>>();
     fb.owner = d.array<std::uint32_t>();
     return fb;
 }

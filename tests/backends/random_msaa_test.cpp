@@ -367,14 +367,14 @@ struct CellDiff {
     std::uint32_t y = 0;
 };
 
-std::string bytes(const std::vector<std::uint8_t>& c, std::size_t at) {
+std::string bytes(const refraster::PixelVector<std::uint8_t>& c, std::size_t at) {
     char buf[40];
     std::snprintf(buf, sizeof buf, "(%u, %u, %u, %u)", c[at], c[at + 1], c[at + 2], c[at + 3]);
     return buf;
 }
 
-bool same_rgba(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b,
-               std::size_t at) {
+bool same_rgba(const refraster::PixelVector<std::uint8_t>& a,
+               const refraster::PixelVector<std::uint8_t>& b, std::size_t at) {
     for (std::size_t c = 0; c < 4; ++c) {
         if (a[at + c] != b[at + c]) return false;
     }
