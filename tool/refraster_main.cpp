@@ -50,6 +50,14 @@ struct ProfileArgs {
     }
 };
 
+void add_threads_option(CLI::App* cmd, unsigned& threads) {
+    cmd->add_option("--threads", threads,
+                    "Threads the reference shades with (0: one per core; the bytes are the "
+                    "same for any count)")
+        ->capture_default_str()
+        ->check(CLI::Range(0u, 256u));
+}
+
 void add_profile_options(CLI::App* cmd, ProfileArgs& a) {
     cmd->add_option("--profile", a.profile,
                     "Reference profile: a built-in name or a profile JSON file")
@@ -65,9 +73,11 @@ struct BackendArgs {
     std::string driver = "llvmpipe";
     double timeout = 60.0;
     ProfileArgs profile;
+    unsigned threads = 0;  // the reference's; 0: one per core
 
     harness::BackendOptions options() const {
         harness::BackendOptions o;
+        o.threads = threads;
         o.profile = profile.load();
         o.profile_source = profile.source();
         o.profile_overrides = profile.overrides;
@@ -243,6 +253,7 @@ int run_compare(CompareArgs a) {
     a.reference.driver = a.reference_driver;
     a.reference.timeout = a.against.timeout;
     a.against.profile = a.reference.profile;
+    a.against.threads = a.reference.threads;
     bool bad_ref = false;
     bool bad_act = false;
     auto ref = backend_or_report(a.reference, a.scene, bad_ref);
@@ -295,6 +306,7 @@ struct ConformanceArgs {
     bool resume = false;
     BackendArgs against{"osmesa"};
     ProfileArgs profile;
+    unsigned threads = 0;
     std::string output;
 };
 
@@ -328,6 +340,7 @@ int run_conformance(const ConformanceArgs& a) {
     try {
         BackendArgs ref{"ref"};
         ref.profile = a.profile;
+        ref.threads = a.threads;
         o.reference = ref.options();
         o.against = a.against.options();
         const auto s = conformance::run_suite(o, std::cout);
@@ -644,6 +657,7 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     add_driver_options(rcmd, render.backend);
     add_profile_options(rcmd, render.backend.profile);
+    add_threads_option(rcmd, render.backend.threads);
     rcmd->add_option("-o,--output", render.output,
                      "Output image: .png for rgba8 targets, .exr for rgba32f")
         ->required();
@@ -664,6 +678,7 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     add_driver_options(ccmd, compare.against);
     add_profile_options(ccmd, compare.reference.profile);
+    add_threads_option(ccmd, compare.reference.threads);
     ccmd->add_option("--reference-driver", compare.reference_driver,
                      "Mesa driver of a GL --reference (default: --driver)")
         ->check(CLI::IsMember({"llvmpipe", "softpipe"}));
@@ -706,6 +721,7 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     add_driver_options(run_cmd, conf.against);
     add_profile_options(run_cmd, conf.profile);
+    add_threads_option(run_cmd, conf.threads);
     std::string hash_scenes;
     ProfileArgs hash_profile;
     auto* hash_cmd =

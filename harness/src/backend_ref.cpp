@@ -46,6 +46,7 @@ class RefBackend final : public Backend {
         refraster::RenderOptions ro;
         ro.profile = options_.profile;
         ro.record_owners = owners;
+        ro.threads = options_.threads;
         const auto outcome = refraster::render(scene.draw_list, ro, r.image);
         r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         if (outcome.status == refraster::RenderStatus::NotSupported) {

@@ -170,3 +170,34 @@ TEST(Cli, BenchRefusesUnknownKernelsAndScenes) {
 }
 
 }  // namespace
+
+TEST(Cli, ThreadsChangeNoByteOfARender) {
+    testutil::TempDir dir;
+    const auto scene = dir.path() / "many.json";
+    ASSERT_EQ(testutil::run_cli({"generate", "many-triangles", "--triangles", "4000", "--form",
+                                 "values", "--output", scene.string()})
+                  .exit_code,
+              0);
+    std::vector<refraster::Framebuffer> images;
+    for (const char* threads : {"1", "3"}) {
+        const auto out = dir.path() / (std::string("t") + threads + ".png");
+        const auto r =
+            testutil::run_cli({"render", scene.string(), "--threads", threads, "-o", out.string()});
+        ASSERT_EQ(r.exit_code, 0) << r.err;
+        images.push_back(harness::read_color_image(out));
+    }
+    ASSERT_FALSE(images[0].color8.empty());
+    EXPECT_TRUE(images[0].color8 == images[1].color8);
+    // Something was drawn: not every pixel is the first one's colour.
+    bool varied = false;
+    for (std::size_t i = 4; i < images[0].color8.size() && !varied; ++i)
+        varied = images[0].color8[i] != images[0].color8[i % 4];
+    EXPECT_TRUE(varied);
+    EXPECT_NE(testutil::run_cli({"compare", "--help"}).out.find("--threads"), std::string::npos);
+    EXPECT_NE(testutil::run_cli({"conformance", "run", "--help"}).out.find("--threads"),
+              std::string::npos);
+    const auto bad = testutil::run_cli(
+        {"render", scene.string(), "--threads", "-1", "-o", (dir.path() / "x.png").string()});
+    EXPECT_EQ(bad.exit_code, 2) << bad.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.path() / "x.png"));
+}

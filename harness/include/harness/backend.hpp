@@ -78,6 +78,9 @@ struct BackendOptions {
     refraster::Profile profile;
     std::string profile_source = "built-in";  // "built-in" or the profile file's path
     std::vector<std::string> profile_overrides;
+    // Threads the reference shades with (refraster::RenderOptions::threads; 0: one per core).
+    // The bytes are the same for any count.
+    unsigned threads = 0;
 };
 
 // Throws std::runtime_error when the backend was not built into this binary.
