@@ -57,8 +57,9 @@ void LlvmpipeModel::setup(VertexStage& stage, Observer& obs, const ListSink<List
     list_.attribute_floats = stage.attribute_floats();
     list_.multisample = ctx_.params.multisample;
     // A full list's planes: z, 1/w and one per attribute float for each primitive.
-    list_.primitives.reserve(SetupList::kCapacity);
-    list_.planes.reserve(SetupList::kCapacity * (kFirstAttributePlane + list_.attribute_floats));
+    list_.capacity = ctx_.workers != nullptr ? SetupList::kThreadedCapacity : SetupList::kCapacity;
+    list_.primitives.reserve(list_.capacity);
+    list_.planes.reserve(list_.capacity * (kFirstAttributePlane + list_.attribute_floats));
     const Draw& d = ctx_.draw;
     if (d.primitive == PrimitiveType::Points) {
         points(stage, obs);

@@ -53,6 +53,11 @@ struct SetupList {
     // length, and few enough (about 60 KB with their planes) that traversal finds them still
     // in the cache; binning may want more.
     static constexpr std::size_t kCapacity = 256;
+    // With shading threads (band_workers.hpp) each list handed on costs a wake-up and a wait,
+    // which a list of small primitives does not repay: setup fills this many first (about
+    // 1 MB with their planes).
+    static constexpr std::size_t kThreadedCapacity = 4096;
+    std::size_t capacity = kCapacity;
 
     std::size_t attribute_floats = 0;
     // Coverage is per sample (SetupParams::multisample): traversal tests each of a pixel's
@@ -63,7 +68,7 @@ struct SetupList {
     std::vector<float> flat;
     std::vector<lp::Triangle> walks;  // the rare primitives llvmpipe_walk.hpp walks
 
-    bool full() const { return primitives.size() >= kCapacity; }
+    bool full() const { return primitives.size() >= capacity; }
     void clear() {
         primitives.clear();
         planes.clear();
