@@ -155,7 +155,9 @@ void VertexStage::clipmasks_sse(const float* data, std::size_t n) {
 #endif
 
 StageVertex VertexStage::vertex(std::uint32_t index, bool cpu_flushes) const {
-    const Fp fp{options_.flush_denormals};
+    // Under the CPU's flush modes the clip coordinates stay as they are: DAZ reads a denormal
+    // as the zero of its sign, which is what the flush would store.
+    const Fp fp{options_.flush_denormals && !cpu_flushes};
     const float* src = draw_.vertices.data.data() + std::size_t{index} * stride_;
     StageVertex v;
     for (std::size_t k = 0; k < 4; ++k) v.clip[k] = fp.f(src[k]);

@@ -85,7 +85,8 @@ class VertexStage {
     // vertex, so computing it twice gives the same bits).
     // With `cpu_flushes` the caller has set the CPU's flush modes (ScopedDenormalsAreZero)
     // where the profile flushes, and the window coordinates are computed with plain
-    // operations: the same results, faster.
+    // operations: the same results, faster. The clip coordinates are then left unflushed
+    // (the CPU reads a denormal as the zero of its sign, the flushed value).
     StageVertex vertex(std::uint32_t index, bool cpu_flushes = false) const;
     std::uint32_t clipmask(std::uint32_t index) const { return clipmasks_[index]; }
     std::size_t attribute_floats() const { return attribute_floats_; }

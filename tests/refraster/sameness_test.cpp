@@ -146,10 +146,16 @@ class SceneMaker {
             const float ww = pick(10) == 0 ? uniform(-0.5f, 0.2f) : uniform(0.3f, 3.0f);
             const float x = cx + uniform(-spread, spread);
             const float y = cy + uniform(-spread, spread);
+            // Now and then a denormal x or y (which the CPU's DAZ reads as zero on the fast
+            // paths, and the model flushes by emulation).
+            const auto tiny_or = [&](float value) {
+                return pick(24) == 0 ? (pick(2) == 0 ? 3e-39f : -2e-40f) : value;
+            };
             d.vertices.data.insert(
                 d.vertices.data.end(),
-                {x * ww, y * ww, edge_value(-1.05f, 1.05f) * ww, ww, edge_value(-0.3f, 1.3f),
-                 edge_value(-0.3f, 1.3f), edge_value(-0.3f, 1.3f), edge_value(-0.3f, 1.3f)});
+                {tiny_or(x * ww), tiny_or(y * ww), edge_value(-1.05f, 1.05f) * ww, ww,
+                 edge_value(-0.3f, 1.3f), edge_value(-0.3f, 1.3f), edge_value(-0.3f, 1.3f),
+                 edge_value(-0.3f, 1.3f)});
         }
         return d;
     }
