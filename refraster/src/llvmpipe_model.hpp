@@ -106,6 +106,10 @@ class LlvmpipeModel {
         }
     }
 
+    // The target shading will write: setup asks the caches for the lines of each small
+    // triangle's rows as it sets the triangle up (nullptr: it does not).
+    void prefetch_into(const Framebuffer* fb) { prefetch_fb_ = fb; }
+
     FragmentKernel kernel() const {
         return choose_fragment_kernel(ctx_.draw, ctx_.target, ctx_.fragment_options());
     }
@@ -148,6 +152,7 @@ class LlvmpipeModel {
     bool cpu_flushes_ = false;
     std::uint32_t owner_ = 0;  // of the primitive being set up
     TriangleSetup triangle_;   // the triangle being set up, kept to spare clearing its walk
+    const Framebuffer* prefetch_fb_ = nullptr;
 };
 
 }  // namespace refraster::detail

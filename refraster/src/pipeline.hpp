@@ -105,6 +105,12 @@ std::uint64_t draw(const DrawContext& ctx, Observer& obs, RenderStage stop, Fram
     if (stop == RenderStage::Load) return 0;
     Model model(ctx);
     const auto kernel = model.kernel();
+    if constexpr (Model::kRowBlocks) {
+        // One thread shades each list of 256 primitives in the cache that set it up; with
+        // shading threads the lists are longer than that cache and other cores shade them.
+        if (kernel.shades_rows() && stop == RenderStage::Fragment && ctx.workers == nullptr)
+            model.prefetch_into(&fb);
+    }
     // Row masks of small boxes by the vector builder of the kernel's path (the same rows as
     // the scalar one's), chosen once a draw.
     [[maybe_unused]] RowMaskFn masks = nullptr;
