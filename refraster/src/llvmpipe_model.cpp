@@ -46,18 +46,13 @@ void prefetch_rows(const PixelRect& box, const Framebuffer& fb) {
     constexpr int kMaxRows = 16;  // taller boxes prefetch their own rows as they are shaded
     if (box.empty() || box.y1 - box.y0 >= kMaxRows || fb.color8.empty()) return;
     const auto* color = reinterpret_cast<const std::uint32_t*>(fb.color8.data());
-    const std::uint32_t* depth = fb.depth.empty() ? nullptr : fb.depth.data();
-    constexpr std::size_t kLinePixels = 64 / sizeof(std::uint32_t);
     for (int y = box.y0; y <= box.y1; ++y) {
         const std::size_t row = static_cast<std::size_t>(y) * fb.width;
+        const std::size_t first = row + static_cast<std::size_t>(box.x0);
         const std::size_t last = row + static_cast<std::size_t>(box.x1);
-        for (std::size_t i = row + static_cast<std::size_t>(box.x0);; i += kLinePixels) {
-            const std::size_t at = i < last ? i : last;
-            // Locality 2: into the second-level cache and the levels below it.
-            __builtin_prefetch(color + at, 0, 2);
-            if (depth != nullptr) __builtin_prefetch(depth + at, 0, 2);
-            if (at == last) break;
-        }
+        // Locality 2: into the second-level cache and the levels below it.
+        prefetch_pixels<0, 2>(color, first, last);
+        if (!fb.depth.empty()) prefetch_pixels<0, 2>(fb.depth.data(), first, last);
     }
 }
 

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <bit>
+#include <cstddef>
 #include <cstdint>
 
 namespace refraster::detail {
@@ -33,6 +34,19 @@ inline constexpr int kMaxBlockRows = 64;
 using RowMaskFn = std::uint64_t (*)(const std::int32_t* q, const std::int32_t* sx,
                                     const std::int32_t* sy, unsigned edges, int w, int h,
                                     std::uint64_t* rows);
+
+// Asks the caches for the lines holding pixels first..last of a buffer of 32-bit pixels
+// (colour or depth), as __builtin_prefetch's kWrite and kLocality say. A prefetch changes no
+// value.
+template <int kWrite, int kLocality>
+inline void prefetch_pixels(const std::uint32_t* buffer, std::size_t first, std::size_t last) {
+    constexpr std::size_t kLinePixels = 64 / sizeof(std::uint32_t);
+    for (std::size_t i = first;; i += kLinePixels) {
+        const std::size_t at = i < last ? i : last;
+        __builtin_prefetch(buffer + at, kWrite, kLocality);
+        if (at == last) break;
+    }
+}
 
 inline int covered_pixels(const RowBlock& b) {
     int n = 0;

@@ -78,7 +78,8 @@ struct EdgeFunction {
     }
 };
 
-struct TriangleSetup {
+// Everything setup decides about a triangle but llvmpipe's own walk.
+struct TriangleSetupResult {
     int bits = 8;
     std::array<std::int32_t, 3> x{};  // snapped positions after the orientation swap
     std::array<std::int32_t, 3> y{};
@@ -92,24 +93,21 @@ struct TriangleSetup {
     // which an edge value leaves int32. `walk` then holds llvmpipe's planes and
     // llvmpipe_walk.hpp decides coverage; `edges` stay zero.
     bool llvmpipe_walk = false;
-    lp::Triangle walk;
     std::uint8_t scissor_leak = 0;  // multisample_scissor_leak
+};
+
+struct TriangleSetup : TriangleSetupResult {
+    lp::Triangle walk;
 
     // Every field back to its initial value but `walk`, which attach_llvmpipe_walk writes whole
     // when it sets llvmpipe_walk: a TriangleSetup kept for the next triangle costs no clearing
     // of the walk's planes.
-    void clear_except_walk() {
-        bits = 8;
-        x = {};
-        y = {};
-        order = {0, 1, 2};
-        area = 0;
-        front_facing = true;
-        edges = {};
-        bbox = {};
-        llvmpipe_walk = false;
-        scissor_leak = 0;
-    }
+    // (Copied from a constant: a block copy, where assigning a fresh value clears the block
+    // with a string instruction whose start-up cost a tiny triangle notices.)
+    void clear_except_walk() { static_cast<TriangleSetupResult&>(*this) = kInitial; }
+
+  private:
+    static constexpr TriangleSetupResult kInitial{};
 };
 
 enum class SetupOutcome : std::uint8_t { Ok, ZeroArea, Culled, Outside, OutOfRange };

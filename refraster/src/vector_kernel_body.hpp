@@ -119,13 +119,10 @@ struct VectorKernel {
                 static_cast<std::size_t>(b.y0 + r) * fb.width + static_cast<std::size_t>(b.x0);
             const std::size_t first = row + static_cast<std::size_t>(std::countr_zero(pm));
             const std::size_t last = row + static_cast<std::size_t>(63 - std::countl_zero(pm));
-            const auto* color = reinterpret_cast<const std::uint32_t*>(fb.color8.data());
-            for (std::size_t i = first;; i += 64 / sizeof(std::uint32_t)) {
-                const std::size_t at = i < last ? i : last;
-                if constexpr (D != DepthFormat::None) __builtin_prefetch(fb.depth.data() + at, 1);
-                __builtin_prefetch(color + at, 1);
-                if (at == last) break;
-            }
+            if constexpr (D != DepthFormat::None)
+                prefetch_pixels<1, 3>(fb.depth.data(), first, last);
+            prefetch_pixels<1, 3>(reinterpret_cast<const std::uint32_t*>(fb.color8.data()), first,
+                                  last);
         };
         for (int r = 0; r < kAhead && r < b.rows; ++r) prefetch_row(r);
 

@@ -68,6 +68,21 @@ std::vector<std::uint8_t> plain(const TriangleSetup& t, int w, int h) {
     return m;
 }
 
+// Three vertices around a random centre of a w x h target, at most `size` apart on each axis;
+// snapped to pixel centres when `on_grid`, so that edges pass exactly through centres.
+std::array<std::array<float, 2>, 3> random_vertices(std::mt19937& rng, int w, int h, float size,
+                                                    bool on_grid) {
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    const float cx = unit(rng) * static_cast<float>(w);
+    const float cy = unit(rng) * static_cast<float>(h);
+    std::array<std::array<float, 2>, 3> v;
+    for (auto& p : v) {
+        p = {cx + (unit(rng) - 0.5f) * size, cy + (unit(rng) - 0.5f) * size};
+        if (on_grid) p = {std::floor(p[0]) + 0.5f, std::floor(p[1]) + 0.5f};
+    }
+    return v;
+}
+
 TEST(Traversal, EqualsPerPixelTestOn100000RandomTriangles) {
     constexpr int kW = 300;  // not a multiple of the 64-pixel tile
     constexpr int kH = 200;
@@ -89,13 +104,7 @@ TEST(Traversal, EqualsPerPixelTestOn100000RandomTriangles) {
         // Sizes from a pixel to well beyond the target; a third on the pixel-centre grid so
         // that edges pass exactly through centres and exercise the tie rule.
         const float size = std::exp2(unit(rng) * 9.0f);
-        const float cx = unit(rng) * kW;
-        const float cy = unit(rng) * kH;
-        std::array<std::array<float, 2>, 3> v;
-        for (auto& p2 : v) {
-            p2 = {cx + (unit(rng) - 0.5f) * size, cy + (unit(rng) - 0.5f) * size};
-            if (n % 3 == 0) p2 = {std::floor(p2[0]) + 0.5f, std::floor(p2[1]) + 0.5f};
-        }
+        const auto v = random_vertices(rng, kW, kH, size, n % 3 == 0);
         TriangleSetup t;
         if (refraster::detail::setup_triangle(v, p, t) != SetupOutcome::Ok) continue;
         ++drawn;
@@ -133,13 +142,7 @@ TEST(Traversal, SmallBoxRowMasksEqualPerPixelTest) {
         p.tie_rule = static_cast<refraster::TieRule>(coin(rng));
         p.draw_region = {0, 0, kW - 1, kH - 1};
         const float size = 1.0f + unit(rng) * 90.0f;
-        const float cx = unit(rng) * kW;
-        const float cy = unit(rng) * kH;
-        std::array<std::array<float, 2>, 3> v;
-        for (auto& p2 : v) {
-            p2 = {cx + (unit(rng) - 0.5f) * size, cy + (unit(rng) - 0.5f) * size};
-            if (n % 3 == 0) p2 = {std::floor(p2[0]) + 0.5f, std::floor(p2[1]) + 0.5f};
-        }
+        const auto v = random_vertices(rng, kW, kH, size, n % 3 == 0);
         TriangleSetup t;
         if (refraster::detail::setup_triangle(v, p, t) != SetupOutcome::Ok) continue;
         if (t.llvmpipe_walk) continue;
