@@ -56,6 +56,56 @@ enum class PolygonMode : std::uint8_t { Fill, Line, Point };
 //   Alpha: src * SRC_ALPHA + dst * ONE_MINUS_SRC_ALPHA.   Add: src * ONE + dst * ONE.
 enum class BlendPreset : std::uint8_t { None, Alpha, Add };
 
+// Texture sampling state (scene format extension "textures"; docs/scene-format.md). The names
+// are GL's: GL_NEAREST ... GL_LINEAR_MIPMAP_LINEAR, GL_REPEAT ... GL_CLAMP_TO_BORDER.
+enum class TextureFilter : std::uint8_t {
+    Nearest,
+    Linear,
+    NearestMipmapNearest,
+    LinearMipmapNearest,
+    NearestMipmapLinear,
+    LinearMipmapLinear,
+};
+enum class TextureWrap : std::uint8_t { Repeat, ClampToEdge, MirroredRepeat, ClampToBorder };
+// How the texel combines with the interpolated colour: GL_MODULATE (colour times texel) or
+// GL_REPLACE (the texel alone).
+enum class TextureEnv : std::uint8_t { Modulate, Replace };
+
+inline constexpr bool uses_mipmaps(TextureFilter f) {
+    return f != TextureFilter::Nearest && f != TextureFilter::Linear;
+}
+
+// One level of a texture: RGBA8 texels, rows bottom to top as glTexImage2D takes them.
+struct TextureImage {
+    std::uint32_t width = 1;
+    std::uint32_t height = 1;
+    std::vector<std::uint8_t> rgba;  // width * height * 4 bytes
+    friend bool operator==(const TextureImage&, const TextureImage&) = default;
+};
+
+// A 2D texture: its base level and, for mipmapping, the levels below it. With
+// `generate_mipmaps` the levels below the base are glGenerateMipmap's, which each renderer
+// makes by its own rule (the reference: docs/precision.md, "Textures"); `levels` then holds
+// the base alone. Otherwise levels 1.. are those given, each max(1, size >> level), possibly
+// fewer than the full chain (the last one given is GL_TEXTURE_MAX_LEVEL).
+struct Texture {
+    std::vector<TextureImage> levels;
+    bool generate_mipmaps = false;
+    friend bool operator==(const Texture&, const Texture&) = default;
+};
+
+// A draw's texture unit 0: which texture of the DrawList and how it is sampled.
+struct TextureState {
+    std::uint32_t texture = 0;  // index in DrawList::textures
+    TextureFilter min_filter = TextureFilter::Linear;
+    TextureFilter mag_filter = TextureFilter::Linear;  // Nearest or Linear
+    TextureWrap wrap_s = TextureWrap::Repeat;
+    TextureWrap wrap_t = TextureWrap::Repeat;
+    std::array<float, 4> border_color{0.0f, 0.0f, 0.0f, 0.0f};
+    TextureEnv env = TextureEnv::Modulate;
+    friend bool operator==(const TextureState&, const TextureState&) = default;
+};
+
 // A rectangle in window pixels: origin (x, y) at its bottom-left corner.
 struct Rect {
     std::int32_t x = 0;
@@ -92,10 +142,14 @@ struct DrawState {
     // rules; the depth test and write use sample 0, the colour goes to every sample
     // (docs/precision.md, "Multisampling (4x)").
     bool multisample = true;
+    // Texturing (extension "textures"): the fragment colour becomes the texel (replace) or
+    // the interpolated colour times it (modulate), the texel sampled at the vertex attribute
+    // "texcoord" (s, t, r, q) projected as (s/q, t/q) (docs/scene-format.md).
+    std::optional<TextureState> texture;
     friend bool operator==(const DrawState&, const DrawState&) = default;
 };
 
-// One vertex attribute besides the position, e.g. {"color", 4}.
+// One vertex attribute besides the position, e.g. {"color", 4}, {"texcoord", 4}.
 struct AttributeDesc {
     std::string name;
     std::uint32_t components = 4;
@@ -104,7 +158,8 @@ struct AttributeDesc {
 
 // Vertices as one float32 array. Each vertex is a record of `stride()` floats: the clip-space
 // position (x, y, z, w) first, then each attribute's components in the order of `attributes`.
-// Any number of attributes fits; format v1 uses one, "color".
+// Any number of attributes fits; format v1 uses "color" (4 components) and, with textures,
+// "texcoord" (4) after it.
 struct VertexArray {
     static constexpr std::uint32_t kPositionComponents = 4;
 
@@ -169,6 +224,7 @@ struct DrawList {
     Target target;
     ClearValues clear;
     std::vector<Draw> draws;
+    std::vector<Texture> textures;  // what DrawState::texture names
     friend bool operator==(const DrawList&, const DrawList&) = default;
 };
 
