@@ -277,6 +277,56 @@ struct Kernel {
         return c;
     }
 
+    // Attribute j (0 to 7: colour, then s, t, r, q) at (px, py), as color() evaluates
+    // the colour.
+    [[gnu::always_inline]] static std::array<float, 8> attributes8(const Plane* planes,
+                                                                   const float* flat, float px,
+                                                                   float py, const KernelState& k,
+                                                                   const Fp& fp) {
+        std::array<float, 8> a{};
+        if constexpr (S == ShadeModel::Flat) {
+            std::copy(flat, flat + 8, a.begin());
+        } else if constexpr (S == ShadeModel::NoPerspective) {
+            for (std::size_t j = 0; j < 8; ++j)
+                a[j] = plane_at(planes[kFirstAttributePlane + j], px, py, k, fp);
+        } else {
+            const float w = fp.div(1.0f, plane_at(planes[kWPlane], px, py, k, fp));
+            for (std::size_t j = 0; j < 8; ++j)
+                a[j] = fp.mul(plane_at(planes[kFirstAttributePlane + j], px, py, k, fp), w);
+        }
+        return a;
+    }
+
+    // The colours of a textured draw's quad: every pixel of the packet, covered or not (the
+    // level of detail is the quad's, from helper pixels too: docs/precision.md, "Textures").
+    // Coordinates are projected as textureProj does it: s and t times 1/q (lp_build_rcp, a
+    // true division). Modulate multiplies the interpolated colour by the texel in float.
+    static std::array<std::array<float, 4>, 4> textured_quad(const KernelState& k,
+                                                             const Plane* planes, const float* flat,
+                                                             std::int32_t qx, std::int32_t qy,
+                                                             float centre, const Fp& fp,
+                                                             TexelSample* trace = nullptr,
+                                                             unsigned trace_pixel = 0) {
+        std::array<float, 4> s{}, t{};
+        std::array<std::array<float, 4>, 4> col{};
+        for (unsigned p = 0; p < 4; ++p) {
+            const float px = static_cast<float>(qx + static_cast<std::int32_t>(p & 1u)) + centre;
+            const float py = static_cast<float>(qy + static_cast<std::int32_t>(p >> 1)) + centre;
+            const auto a = attributes8(planes, flat, px, py, k, fp);
+            const float rq = fp.div(1.0f, a[7]);
+            s[p] = fp.mul(a[4], rq);
+            t[p] = fp.mul(a[5], rq);
+            col[p] = {a[0], a[1], a[2], a[3]};
+        }
+        std::array<std::array<float, 4>, 4> out{};
+        sample_quad(*k.texture, s, t, k.options.fma, out, trace, trace_pixel);
+        if (k.texture->state.env == TextureEnv::Modulate) {
+            for (unsigned p = 0; p < 4; ++p)
+                for (std::size_t c = 0; c < 4; ++c) out[p][c] = fp.mul(col[p][c], out[p][c]);
+        }
+        return out;
+    }
+
     // A 4x target (docs/precision.md, "Multisampling (4x)"). With multisampling on, the
     // planes were set up with pixel offset 0: colour is evaluated once at the pixel centre
     // (px + 0.5, py + 0.5) and goes to every covered sample; depth is evaluated at each
@@ -299,6 +349,9 @@ struct Kernel {
         for (const QuadPacket& q : quads) {
             unsigned mask = q.mask;
             if (!ms) mask = (mask & kSample0Pixels) * 0x1111u;  // every sample of the pixel
+            std::array<std::array<float, 4>, 4> textured{};
+            if (k.texture != nullptr)
+                textured = textured_quad(k, planes, flat, q.x, q.y, centre, fp);
             for (unsigned p = 0; p < 4; ++p) {
                 if ((mask & (0x1111u << p)) == 0) continue;
                 const auto x = static_cast<std::uint32_t>(q.x) + (p & 1u);
@@ -306,7 +359,9 @@ struct Kernel {
                 const float px = static_cast<float>(x);
                 const float py = static_cast<float>(y);
                 SourceColor<C> source{};
-                if constexpr (S == ShadeModel::Flat) {
+                if (k.texture != nullptr) {
+                    source = source_color<C>(textured[p]);
+                } else if constexpr (S == ShadeModel::Flat) {
                     source = flat_source;
                 } else {
                     source = source_color<C>(color(planes, flat, px + centre, py + centre, k, fp));
@@ -374,6 +429,18 @@ struct Kernel {
         }
         const Fp fp{k.options.flush_denormals};
         const PrimitiveInputs in(k, list, prim, fb, fp);
+        if (k.texture != nullptr) {
+            for (const QuadPacket& q : quads) {
+                const auto colors = textured_quad(k, in.planes, in.flat, q.x, q.y, 0.0f, fp);
+                for (unsigned p = 0; p < 4; ++p) {
+                    if ((q.mask & (1u << quad_bit(p, 0))) == 0) continue;
+                    shade_pixel_colored(k, in, prim, static_cast<std::uint32_t>(q.x) + (p & 1u),
+                                        static_cast<std::uint32_t>(q.y) + (p >> 1), fb, fp,
+                                        colors[p]);
+                }
+            }
+            return;
+        }
         for (const QuadPacket& q : quads) {
             for (unsigned p = 0; p < 4; ++p) {
                 if ((q.mask & (1u << quad_bit(p, 0))) == 0) continue;
@@ -421,6 +488,23 @@ struct Kernel {
         } else {
             store_color<C, B>(fb, i, source_color<C>(color(in.planes, in.flat, px, py, k, fp)), fp);
         }
+        if (in.owners) fb.owner[i] = prim.owner;
+    }
+
+    // One pixel of a single-sample target given its colour (a textured draw).
+    static void shade_pixel_colored(const KernelState& k, const PrimitiveInputs& in,
+                                    const SetupPrimitive& prim, std::uint32_t x, std::uint32_t y,
+                                    Framebuffer& fb, const Fp& fp, const std::array<float, 4>& c) {
+        const std::size_t i = fb.index(x, y);
+        if constexpr (D != DepthFormat::None) {
+            float z = 0.0f;
+            const std::uint32_t value = depth_value(in.planes, prim.z_offset, static_cast<float>(x),
+                                                    static_cast<float>(y), k, fp, z);
+            if ((k.depth_pass & depth_outcome<D == DepthFormat::Z32f>(value, fb.depth[i])) == 0)
+                return;
+            if (k.depth_write) fb.depth[i] = value;
+        }
+        store_color<C, B>(fb, i, source_color<C>(c), fp);
         if (in.owners) fb.owner[i] = prim.owner;
     }
 
@@ -487,7 +571,15 @@ struct Kernel {
             t.depth_pass = (k.depth_pass & depth_outcome<D == DepthFormat::Z32f>(
                                                t.depth_value, t.depth_stored)) != 0;
         }
-        t.shader_color = color(planes, flat, px + centre, py + centre, k, fp);
+        if (k.texture != nullptr) {
+            // The pixel's quad, helper pixels included.
+            const unsigned p = static_cast<unsigned>((x & 1) | ((y & 1) << 1));
+            t.textured = true;
+            t.shader_color =
+                textured_quad(k, planes, flat, x & ~1, y & ~1, centre, fp, &t.texture, p)[p];
+        } else {
+            t.shader_color = color(planes, flat, px + centre, py + centre, k, fp);
+        }
         Framebuffer one(1, 1, fb_before.color_format, DepthFormat::None);
         for (std::size_t c = 0; c < 4; ++c) {
             if constexpr (C == ColorFormat::Rgba8) {
@@ -515,6 +607,13 @@ FragmentKernel make_kernel(KernelState state) {
     using K = Kernel<S, D, C, B, 1>;
     const KernelPath path = state.options.kernels;
     if (path == KernelPath::Model) return {state, &K::shade, &K::trace};
+    if (state.texture != nullptr) {
+        // Quads only: the level of detail is a quad's.
+#if REFRASTER_KERNEL_ISA_VARIANTS
+        if (host_runs_fma_sse41()) return {state, &K::shade_fma, &K::trace};
+#endif
+        return {state, &K::shade, &K::trace};
+    }
     if constexpr (C == ColorFormat::Rgba8) {
         // The vector kernels write rgba8; rgba32f targets take the scalar path.
         if (auto* fn = vector_shade_rows(path, S, D, B)) {
@@ -566,9 +665,10 @@ FragmentKernel pick_depth(const Draw& draw, const Target& target, KernelState st
 }  // namespace
 
 FragmentKernel choose_fragment_kernel(const Draw& draw, const Target& target,
-                                      FragmentOptions options) {
+                                      FragmentOptions options, const TextureUnit* texture) {
     KernelState state;
     state.options = options;
+    state.texture = texture;
     state.samples = target.samples;
     if (draw.state.depth_test && target.depth != DepthFormat::None) {
         state.depth_pass = static_cast<std::uint8_t>(*draw.state.depth_test);

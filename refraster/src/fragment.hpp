@@ -52,6 +52,7 @@
 #include "refraster/trace.hpp"
 #include "row_block.hpp"
 #include "setup_list.hpp"
+#include "texture.hpp"
 #include "vertex_stage.hpp"
 
 namespace refraster::detail {
@@ -117,6 +118,10 @@ void triangle_planes(const std::array<const StageVertex*, 3>& v, const VertexSta
 
 // The draw's state as a fragment kernel reads it at run time.
 struct KernelState {
+    // The draw's texture unit (texture.hpp), or null for an untextured draw: the fragment's
+    // colour is then the texel (replace) or the colour times it (modulate), sampled a quad at
+    // a time at the texture coordinates (attributes 4 to 7) divided by q.
+    const TextureUnit* texture = nullptr;
     std::uint8_t depth_pass = 7;  // outcomes that pass: 1 less, 2 equal, 4 greater
     bool depth_write = false;
     std::uint32_t samples = 1;  // of the target: 1 or 4
@@ -173,9 +178,12 @@ class FragmentKernel {
     bool hardware_denormals_;
 };
 
-// The kernel for a draw's state into `target`; `options` are the per-pixel stage's.
+// The kernel for a draw's state into `target`; `options` are the per-pixel stage's; `texture`
+// the draw's texture unit (null without one), which must outlive the kernel. A textured draw
+// shades quad packets only (its level of detail is a quad's), never row blocks.
 FragmentKernel choose_fragment_kernel(const Draw& draw, const Target& target,
-                                      FragmentOptions options);
+                                      FragmentOptions options,
+                                      const TextureUnit* texture = nullptr);
 
 // The exact oracle's fragments: attributes and depth from the exact homogeneous weights of the
 // pixel centre (perspective-correct: sum b_i a_i; noperspective: the screen-space weights

@@ -111,7 +111,8 @@ class LlvmpipeModel {
     void prefetch_into(const Framebuffer* fb) { prefetch_fb_ = fb; }
 
     FragmentKernel kernel() const {
-        return choose_fragment_kernel(ctx_.draw, ctx_.target, ctx_.fragment_options());
+        return choose_fragment_kernel(ctx_.draw, ctx_.target, ctx_.fragment_options(),
+                                      ctx_.texture);
     }
 
   private:

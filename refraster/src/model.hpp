@@ -38,6 +38,7 @@ struct DrawContext {
     bool record_owners = false;              // Framebuffer::owner is filled
     KernelPath kernels = KernelPath::Model;  // resolved for this CPU (resolve_kernel_path)
     BandWorkers* workers = nullptr;          // more than one thread shades (band_workers.hpp)
+    const TextureUnit* texture = nullptr;    // the draw's texture unit (texture.hpp), if any
 
     VertexStageOptions vertex_options() const {
         return {fma, profile.gl.flush_denormals, profile.gl.clipping == Clipping::GuardBand,

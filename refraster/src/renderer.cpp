@@ -14,6 +14,7 @@
 #include "pipeline.hpp"
 #include "rules.hpp"
 #include "setup.hpp"
+#include "texture.hpp"
 #include "trace_observer.hpp"
 
 namespace refraster {
@@ -83,6 +84,7 @@ bool is_triangle(PrimitiveType p) {
 
 std::string unsupported(const Draw& d, const Target& target, const Profile& profile) {
     if (profile.model != CoverageModel::Exact) return {};
+    if (d.state.texture) return "the exact profile draws untextured primitives only";
     if (!is_triangle(d.primitive) || d.state.polygon_mode != PolygonMode::Fill) {
         return "the exact profile covers filled triangles only";
     }
@@ -125,10 +127,24 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
     if (kernels == KernelPath::Model || options.stop_after != RenderStage::Fragment) threads = 1;
     std::optional<detail::BandWorkers> workers;
     if (threads > 1) workers.emplace(threads);
+    // Every texture's levels once (generated ones made), each textured draw's unit.
+    std::vector<std::vector<TextureImage>> texture_levels;
+    texture_levels.reserve(list.textures.size());
+    for (const Texture& t : list.textures) texture_levels.push_back(detail::resolve_levels(t));
     RenderOutcome outcome;
     for (std::size_t i = 0; i < list.draws.size(); ++i) {
         const Draw& d = list.draws[i];
         if (primitive_count(d.primitive, d.element_count()) == 0) continue;
+        std::optional<detail::TextureUnit> unit;
+        if (d.state.texture) {
+            REFRASTER_ASSERT(d.state.texture->texture < texture_levels.size(),
+                             "a texture the draw list holds");
+            REFRASTER_ASSERT(d.vertices.attribute_offset(d.vertices.attributes.size()) >=
+                                 VertexArray::kPositionComponents + 8,
+                             "colour and texture coordinates in a textured draw's vertices");
+            unit = detail::make_texture_unit(*d.state.texture,
+                                             texture_levels[d.state.texture->texture]);
+        }
         const detail::DrawContext ctx{i,
                                       d,
                                       list.target,
@@ -137,7 +153,8 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
                                       fma,
                                       !out.owner.empty(),
                                       kernels,
-                                      workers ? &*workers : nullptr};
+                                      workers ? &*workers : nullptr,
+                                      unit ? &*unit : nullptr};
         if (trace != nullptr) {
             detail::TraceObserver obs(*trace, ctx.params.multisample);
             outcome.fragments += detail::run_draw(ctx, obs, options.stop_after, out);

@@ -30,6 +30,29 @@ struct EdgeTrace {
 };
 
 // What the fragment stage did at the pixel.
+// What the sampler decided for a textured fragment (docs/precision.md, "Textures").
+struct TextureTrace {
+    bool aos = true;               // the 8-bit path (else the float path)
+    std::array<float, 2> coord{};  // (s, t) as sampled, after the division by q
+    // The quad's differences in base-level texels: W*ds/dx, H*dt/dx, W*ds/dy, H*dt/dy.
+    std::array<float, 4> rho_terms{};
+    float rho2 = 0.0f;         // the larger of the two squared lengths
+    bool minified = false;     // the min filter applies (rho2 > 1), else the mag filter
+    float lod = 0.0f;          // trilinear: the approximate log2 of rho; otherwise 0
+    std::uint32_t level0 = 0;  // the level read (the first of two, trilinear)
+    std::uint32_t level1 = 0;
+    float level_weight = 0.0f;        // trilinear: the float fraction between the levels
+    std::uint32_t level_weight8 = 0;  // the 8-bit path's trunc(fraction * 256)
+    bool linear = false;              // the image filter used: bilinear (else nearest)
+    // Per level read: texel columns and rows x0, x1, y0, y1 after wrapping (nearest: x0, y0),
+    // the weights along s and t (8-bit path: in 1/256; float path: floats), and which of the
+    // texels (x0,y0) (x1,y0) (x0,y1) (x1,y1) read the border colour.
+    std::array<std::array<std::int32_t, 4>, 2> texels{};
+    std::array<std::array<float, 2>, 2> weights{};
+    std::array<std::array<bool, 4>, 2> border{};
+    std::array<float, 4> color{};  // what the shader receives
+};
+
 struct FragmentTrace {
     std::array<float, 3> z_plane{};  // A0, dz/dx, dz/dy (A0 at the centre of pixel (0, 0))
     std::array<float, 3> w_plane{};  // the same for 1/w
@@ -42,6 +65,8 @@ struct FragmentTrace {
     std::array<float, 4> shader_color{};  // the interpolated colour
     std::array<float, 4> destination{};   // the framebuffer before this fragment
     std::array<float, 4> written{};       // after conversion and blending
+    bool textured = false;
+    TextureTrace texture;  // when textured; shader_color is then the textured colour
 };
 
 struct SetupTrace {

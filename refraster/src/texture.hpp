@@ -1,0 +1,74 @@
+// texture.hpp: 2D RGBA8 texture sampling as llvmpipe's gallivm samples it.
+//
+// Implements (docs/precision.md, "Textures"; gallium/auxiliary/gallivm/lp_bld_sample*.c):
+//  - the choice of path per draw (lp_build_sample_soa_code): the 8-bit AoS path when both
+//    wraps are repeat or clamp-to-edge, the float SoA path otherwise;
+//  - the LOD of a 2x2 quad (lp_build_rho, exact rho squared from the quad's bottom-left pixel
+//    and its right and upper neighbours, in units of base-level texels; helper pixels count),
+//    the per-quad choice between the min and mag filters, nearest mip level by the exponent
+//    of rho squared, trilinear LOD by the piecewise-linear log2 (lp_build_fast_log2);
+//  - per axis: nearest and bilinear texel coordinates and weights for repeat (power-of-two and
+//    not), clamp-to-edge, mirrored repeat and clamp-to-border, in 8.8 fixed point (AoS) or
+//    float (SoA), and the lerps: byte lerps (pmulhrsw rounding) or fused float ones;
+//  - glGenerateMipmap's levels (util_gen_mipmap's linear blit: each texel the AoS bilinear,
+//    clamp-to-edge sample of the level above at its centre).
+//
+// Deliberately does not: other formats, 1D/3D/cube textures, LOD bias or LOD clamps,
+// anisotropy, shadow compares, texelFetch, or GALLIVM_PERF's approximations.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "refraster/draw.hpp"
+#include "refraster/trace.hpp"
+
+namespace refraster::detail {
+
+// A draw's texture unit with everything the sampler derives once per draw.
+struct TextureUnit {
+    const std::vector<TextureImage>* levels = nullptr;  // base first, every level present
+    TextureState state;
+    // lp_build_sample_soa_code: the 8-bit path needs both wraps repeat or clamp-to-edge.
+    bool aos = true;
+    // Whether the base level's width (height) is a power of two: it decides the repeat code
+    // of every level (the static texture state keys on width0 and height0).
+    bool pot_s = true;
+    bool pot_t = true;
+    std::uint32_t last_level = 0;
+    bool mipmapped = false;  // the min filter reads mip levels
+    // No LOD is computed when the min and mag filters are the same image filter without mipmaps.
+    bool needs_lod = false;
+    // The float path with different min and mag image filters filters every quad linearly,
+    // a nearest quad with its weights rounded to 0 or 1 (lp_build_sample_mipmap_both with a
+    // linear mask, the 8-wide code): the texel nearest the coordinate except where
+    // u * size - 0.5 has a fraction of exactly one half.
+    bool soa_nearest_as_linear = false;
+    float base_width = 1.0f;
+    float base_height = 1.0f;
+};
+
+TextureUnit make_texture_unit(const TextureState& state, const std::vector<TextureImage>& levels);
+
+// glGenerateMipmap of `base`: levels 1 to the 1x1 level.
+std::vector<TextureImage> generate_mipmaps(const TextureImage& base);
+
+// The levels a texture is sampled from: the given ones, or the base and generated ones.
+std::vector<TextureImage> resolve_levels(const Texture& texture);
+
+// What sampling decided for one pixel (trace.hpp), for `explain`.
+using TexelSample = TextureTrace;
+
+// Samples the four pixels of a quad: s[p], t[p] are pixel p's coordinates after projection
+// (pixel 0 at the quad's (x, y), 1 to its right, 2 above it, 3 above and right). `fma` says
+// whether the float lerps fuse (gallivm's lp_build_fmuladd on an FMA CPU). Writes each pixel's
+// RGBA as the shader sees it; `trace`, when given, records pixel `trace_pixel`'s decisions.
+void sample_quad(const TextureUnit& unit, const std::array<float, 4>& s,
+                 const std::array<float, 4>& t, bool fma, std::array<std::array<float, 4>, 4>& out,
+                 TexelSample* trace = nullptr, unsigned trace_pixel = 0);
+
+// A byte as llvmpipe's shader sees it: fl(v * K), K the float nearest to 1/255.
+float unorm8_to_float(std::uint8_t v);
+
+}  // namespace refraster::detail
