@@ -328,6 +328,53 @@ void Explainer::render_alternatives() {
                      [](const Alternative& a, const Alternative& b) { return a.net() > b.net(); });
 }
 
+namespace {
+
+// The texels around the last textured fragment of the trace: a window of up to 8x8 texels of
+// the level it read first, centred on the sampled coordinate.
+std::optional<Explanation::TexelWindow> texel_window(const refraster::DrawList& list,
+                                                     const refraster::PixelTrace& trace) {
+    std::optional<Explanation::TexelWindow> out;
+    for (const auto& p : trace.primitives) {
+        for (const auto& st : p.setups) {
+            if (!st.has_fragment || !st.fragment.textured) continue;
+            const auto& state = list.draws[p.draw].state.texture;
+            if (!state || state->texture >= list.textures.size()) continue;
+            Explanation::TexelWindow w;
+            w.draw = p.draw;
+            w.sample = st.fragment.texture;
+            out = std::move(w);
+        }
+    }
+    if (!out) return out;
+    const auto& tex = list.textures[list.draws[out->draw].state.texture->texture];
+    const auto levels = refraster::texture_levels(tex);
+    const auto level = std::min<std::size_t>(out->sample.level0, levels.size() - 1);
+    const auto& img = levels[level];
+    out->level_width = img.width;
+    out->level_height = img.height;
+    const auto centre = [](float u, std::uint32_t n) {
+        const double c = std::floor(static_cast<double>(u) * n);
+        return std::isfinite(c) ? static_cast<int>(std::clamp(c, -1e6, 1e6)) : 0;
+    };
+    out->columns = static_cast<int>(std::min<std::uint32_t>(img.width, 8));
+    out->rows = static_cast<int>(std::min<std::uint32_t>(img.height, 8));
+    const int cx = centre(out->sample.coord[0], img.width);
+    const int cy = centre(out->sample.coord[1], img.height);
+    out->x0 = std::clamp(cx - out->columns / 2, 0, static_cast<int>(img.width) - out->columns);
+    out->y0 = std::clamp(cy - out->rows / 2, 0, static_cast<int>(img.height) - out->rows);
+    for (int y = out->y0; y < out->y0 + out->rows; ++y) {
+        for (int x = out->x0; x < out->x0 + out->columns; ++x) {
+            const std::size_t i =
+                4 * (static_cast<std::size_t>(y) * img.width + static_cast<std::size_t>(x));
+            out->texels.push_back({img.rgba[i], img.rgba[i + 1], img.rgba[i + 2], img.rgba[i + 3]});
+        }
+    }
+    return out;
+}
+
+}  // namespace
+
 Explanation Explainer::explain(int x, int y, bool full) {
     require_inside(scene_.draw_list.target, x, y);
     Explanation e;
@@ -347,7 +394,10 @@ Explanation Explainer::explain(int x, int y, bool full) {
         (void)refraster::render(scene_.draw_list, o, rendered);
         e.reference_image = view(rendered);
     };
-    if (full) trace();
+    if (full) {
+        trace();
+        e.texels = texel_window(scene_.draw_list, e.trace);
+    }
     e.reference_color = color_at(reference_, x, y);
     e.reference_depth = depth_at(reference_, x, y);
     const auto samples_of = [&](const refraster::Framebuffer& ms,
@@ -632,6 +682,72 @@ std::string resolve_text(const std::vector<std::array<float, 4>>& samples, bool 
     return o.str();
 }
 
+// What the sampler decided for a textured fragment (docs/precision.md, "Textures").
+void write_texture_trace(std::ostream& o, const refraster::TextureTrace& t) {
+    o << "    texture (" << (t.aos ? "8-bit path" : "float path") << "): s " << t.coord[0] << " t "
+      << t.coord[1] << " (after the division by q)\n";
+    o << "      quad derivatives in base texels: ds/dx " << t.rho_terms[0] << " dt/dx "
+      << t.rho_terms[1] << " ds/dy " << t.rho_terms[2] << " dt/dy " << t.rho_terms[3] << "; rho^2 "
+      << t.rho2 << (t.minified ? " > 1: minified, min filter" : " <= 1 or no LOD: mag filter")
+      << "\n";
+    const bool two = t.level0 != t.level1;
+    o << "      " << (t.linear ? "bilinear" : "nearest") << " in level " << t.level0;
+    if (two) {
+        o << " and level " << t.level1 << " (lod " << t.lod << ", weight " << t.level_weight;
+        if (t.aos) o << ", 8-bit " << t.level_weight8 << "/256";
+        o << ")";
+    } else if (t.lod != 0.0f) {
+        o << " (lod " << t.lod << ")";
+    }
+    o << "\n";
+    for (std::size_t l = 0; l < (two ? 2u : 1u); ++l) {
+        const auto& x = t.texels[l];
+        const auto& b = t.border[l];
+        o << "      level " << (l == 0 ? t.level0 : t.level1) << ": ";
+        if (t.linear) {
+            o << "texels x " << x[0] << ", " << x[1] << " y " << x[2] << ", " << x[3];
+            if (t.aos) {
+                o << ", weights " << t.weights[l][0] << "/256 along s, " << t.weights[l][1]
+                  << "/256 along t: L(w, a, b) = a + ((w (b - a) + 128) >> 8), s first";
+            } else {
+                o << ", weights " << t.weights[l][0] << " along s, " << t.weights[l][1]
+                  << " along t: fma(w, b - a, a), s first";
+            }
+            if (b[0] || b[1] || b[2] || b[3]) {
+                o << "; border colour at";
+                static const char* const kCorner[4] = {" (x0,y0)", " (x1,y0)", " (x0,y1)",
+                                                       " (x1,y1)"};
+                for (std::size_t k = 0; k < 4; ++k)
+                    if (b[k]) o << kCorner[k];
+            }
+        } else {
+            o << "texel (" << x[0] << ", " << x[2] << ")" << (b[0] ? ": border colour" : "");
+        }
+        o << "\n";
+    }
+    o << "      texel colour " << t.color[0] << ", " << t.color[1] << ", " << t.color[2] << ", "
+      << t.color[3] << "\n";
+}
+
+nlohmann::ordered_json texture_trace_json(const refraster::TextureTrace& t) {
+    nlohmann::ordered_json j{{"path", t.aos ? "8-bit" : "float"},
+                             {"coord", t.coord},
+                             {"rho_terms", t.rho_terms},
+                             {"rho2", t.rho2},
+                             {"minified", t.minified},
+                             {"lod", t.lod},
+                             {"level0", t.level0},
+                             {"level1", t.level1},
+                             {"level_weight", t.level_weight},
+                             {"level_weight8", t.level_weight8},
+                             {"filter", t.linear ? "linear" : "nearest"},
+                             {"texels", t.texels},
+                             {"weights", t.weights},
+                             {"border", t.border},
+                             {"color", t.color}};
+    return j;
+}
+
 }  // namespace
 
 std::string explanation_text(const Explanation& e) {
@@ -698,6 +814,7 @@ std::string explanation_text(const Explanation& e) {
                     o << "    depth " << f.z << " -> " << f.depth_value << " vs stored "
                       << f.depth_stored << (f.depth_pass ? ": passes" : ": fails") << "\n";
                 }
+                if (f.textured) write_texture_trace(o, f.texture);
                 o << "    shader colour " << f.shader_color[0] << ", " << f.shader_color[1] << ", "
                   << f.shader_color[2] << ", " << f.shader_color[3] << "; destination "
                   << color_text(f.destination, is8) << "; written " << color_text(f.written, is8)
@@ -821,6 +938,7 @@ std::string explanation_json(const Explanation& e) {
                                  {"shader_color", f.shader_color},
                                  {"destination", f.destination},
                                  {"written", f.written}};
+                if (f.textured) x["fragment"]["texture"] = texture_trace_json(f.texture);
             }
             sj.push_back(x);
         }
@@ -828,6 +946,98 @@ std::string explanation_json(const Explanation& e) {
     }
     return j.dump(1);
 }
+
+namespace {
+
+constexpr int kTexelCell = 40;  // screen pixels per texel
+constexpr int kTexelPanelWidth = 8 * kTexelCell + 320;
+constexpr int kTexelPanelHeight = 8 * kTexelCell + 60;
+
+// The teaching view of a textured fragment: the level's texels (rows bottom to top, as the
+// texture is addressed), the sampled point, the texels the filter read with their weights,
+// and the pixel's footprint (the quad's derivatives as a parallelogram in texels).
+std::string texel_panel_svg(const Explanation::TexelWindow& w, int top) {
+    std::ostringstream s;
+    const auto& t = w.sample;
+    const int C = kTexelCell;
+    const int rows = w.rows;
+    const auto tx = [&](double u) { return 10 + (u - w.x0) * C; };  // texel units to screen
+    const auto ty = [&](double v) { return top + 30 + (w.y0 + rows - v) * C; };
+    s << "<text x=\"4\" y=\"" << top + 16
+      << "\" font-family=\"sans-serif\" font-size=\"12\">texels of level " << t.level0 << " ("
+      << w.level_width << "x" << w.level_height << "), " << (t.linear ? "bilinear" : "nearest")
+      << ", " << (t.aos ? "8-bit path" : "float path") << "</text>\n";
+    for (int y = 0; y < rows; ++y) {
+        for (int x = 0; x < w.columns; ++x) {
+            const auto& c = w.texels[static_cast<std::size_t>(y * w.columns + x)];
+            char fill[8];
+            std::snprintf(fill, sizeof fill, "#%02x%02x%02x", c[0], c[1], c[2]);
+            s << "<rect x=\"" << tx(w.x0 + x) << "\" y=\"" << ty(w.y0 + y + 1) << "\" width=\"" << C
+              << "\" height=\"" << C << "\" fill=\"" << fill
+              << "\" stroke=\"#888\" stroke-width=\"1\"><title>texel (" << w.x0 + x << ", "
+              << w.y0 + y << "): " << int{c[0]} << "," << int{c[1]} << "," << int{c[2]} << ","
+              << int{c[3]} << "</title></rect>\n";
+        }
+    }
+    // The texels read (level 0 of the sample), outlined.
+    const auto& r = t.texels[0];
+    const auto outline = [&](int x, int y, const char* colour) {
+        if (x < w.x0 || y < w.y0 || x >= w.x0 + w.columns || y >= w.y0 + rows) return;
+        s << "<rect x=\"" << tx(x) + 2 << "\" y=\"" << ty(y + 1) + 2 << "\" width=\"" << C - 4
+          << "\" height=\"" << C - 4 << "\" fill=\"none\" stroke=\"" << colour
+          << "\" stroke-width=\"3\"/>\n";
+    };
+    outline(r[0], r[2], "#ff00ff");
+    if (t.linear) {
+        outline(r[1], r[2], "#ff00ff");
+        outline(r[0], r[3], "#ff00ff");
+        outline(r[1], r[3], "#ff00ff");
+    }
+    // The sampled point and the footprint: the quad's steps along x and y, in texels of this
+    // level (the derivatives are in base-level texels).
+    const double scale = std::ldexp(1.0, -static_cast<int>(t.level0));
+    const double u = static_cast<double>(t.coord[0]) * w.level_width;
+    const double v = static_cast<double>(t.coord[1]) * w.level_height;
+    const double ax = double{t.rho_terms[0]} * scale, ay = double{t.rho_terms[1]} * scale;
+    const double bx = double{t.rho_terms[2]} * scale, by = double{t.rho_terms[3]} * scale;
+    s << "<polygon fill=\"#00c85333\" stroke=\"#00c853\" stroke-width=\"2\" points=\"" << tx(u)
+      << "," << ty(v) << " " << tx(u + ax) << "," << ty(v + ay) << " " << tx(u + ax + bx) << ","
+      << ty(v + ay + by) << " " << tx(u + bx) << "," << ty(v + by)
+      << "\"><title>the pixel's footprint: one pixel step along x and along y</title></polygon>\n";
+    s << "<circle cx=\"" << tx(u) << "\" cy=\"" << ty(v)
+      << "\" r=\"4\" fill=\"#ff00ff\"><title>sampled at (" << u << ", " << v
+      << ") texels</title></circle>\n";
+    // The numbers beside the grid.
+    std::ostringstream lines;
+    lines.precision(6);
+    lines << "s, t = " << t.coord[0] << ", " << t.coord[1] << "|rho^2 = " << t.rho2
+          << (t.minified ? " (minified)" : " (magnified)") << "|levels " << t.level0;
+    if (t.level1 != t.level0) lines << " and " << t.level1 << ", weight " << t.level_weight;
+    lines << "|texels x " << r[0] << (t.linear ? ", " + std::to_string(r[1]) : "") << " y " << r[2]
+          << (t.linear ? ", " + std::to_string(r[3]) : "");
+    if (t.linear) {
+        lines << "|weights " << t.weights[0][0] << (t.aos ? "/256" : "") << ", " << t.weights[0][1]
+              << (t.aos ? "/256" : "");
+    }
+    lines << "|colour " << t.color[0] << ", " << t.color[1] << ", " << t.color[2] << ", "
+          << t.color[3];
+    std::string text = lines.str();
+    int line = 0;
+    std::size_t start = 0;
+    while (start <= text.size()) {
+        const auto bar = text.find('|', start);
+        const std::string part =
+            text.substr(start, bar == std::string::npos ? std::string::npos : bar - start);
+        s << "<text x=\"" << 20 + 8 * C << "\" y=\"" << top + 50 + 18 * line
+          << "\" font-family=\"sans-serif\" font-size=\"12\">" << part << "</text>\n";
+        ++line;
+        if (bar == std::string::npos) break;
+        start = bar + 1;
+    }
+    return s.str();
+}
+
+}  // namespace
 
 std::string explanation_svg(const Explanation& e, int radius) {
     const auto& fb = e.reference_image;
@@ -919,8 +1129,25 @@ std::string explanation_svg(const Explanation& e, int radius) {
         if (c == '<' || c == '>' || c == '&') c = ' ';
     }
     s << "<text x=\"4\" y=\"" << n * S + 16 << "\" font-family=\"sans-serif\" font-size=\"12\">"
-      << verdict.substr(0, 140) << "</text>\n</svg>\n";
-    return s.str();
+      << verdict.substr(0, 140) << "</text>\n";
+    if (e.texels) s << texel_panel_svg(*e.texels, n * S + 40);
+    s << "</svg>\n";
+    std::string out = s.str();
+    if (e.texels) {
+        // The texel panel sits below the pixels: widen and heighten the picture to hold it.
+        const int panel_h = kTexelPanelHeight;
+        const int width = std::max(n * S, kTexelPanelWidth);
+        const std::string old_head =
+            "width=\"" + std::to_string(n * S) + "\" height=\"" + std::to_string(n * S + 40) +
+            "\" viewBox=\"0 0 " + std::to_string(n * S) + " " + std::to_string(n * S + 40) + "\"";
+        const std::string new_head = "width=\"" + std::to_string(width) + "\" height=\"" +
+                                     std::to_string(n * S + 40 + panel_h) + "\" viewBox=\"0 0 " +
+                                     std::to_string(width) + " " +
+                                     std::to_string(n * S + 40 + panel_h) + "\"";
+        if (const auto at = out.find(old_head); at != std::string::npos)
+            out.replace(at, old_head.size(), new_head);
+    }
+    return out;
 }
 
 }  // namespace harness

@@ -94,6 +94,10 @@ std::string unsupported(const Draw& d, const Target& target, const Profile& prof
 
 }  // namespace
 
+std::vector<TextureImage> texture_levels(const Texture& texture) {
+    return detail::resolve_levels(texture);
+}
+
 RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebuffer& out) {
     const std::uint32_t samples = list.target.samples;
     if (samples != 1 && samples != 4) {

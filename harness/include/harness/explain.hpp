@@ -59,6 +59,21 @@ struct Explanation {
     std::vector<std::optional<std::uint32_t>> reference_sample_depths;
     std::vector<std::array<float, 4>> backend_samples;
     std::vector<std::optional<std::uint32_t>> backend_sample_depths;
+    // The texels around the last textured fragment at the pixel (the level it read first), for
+    // the teaching view of `--svg`: a window of the level, its origin texel (x0, y0), rows
+    // bottom to top, and which primitive sampled it.
+    struct TexelWindow {
+        std::size_t draw = 0;
+        refraster::TextureTrace sample;
+        std::uint32_t level_width = 0;
+        std::uint32_t level_height = 0;
+        int x0 = 0;
+        int y0 = 0;
+        int columns = 0;
+        int rows = 0;
+        std::vector<std::array<std::uint8_t, 4>> texels;
+    };
+    std::optional<TexelWindow> texels;
     bool agree = true;
     std::string difference = "none";  // "coverage", "colour", "depth", "sample", "none"
     std::string rule = "none";        // "tie rule", "snapping", ..., "undecided", "none"

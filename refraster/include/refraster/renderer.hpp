@@ -83,6 +83,10 @@ std::size_t primitive_count(PrimitiveType p, std::size_t vertex_count);
 bool host_has_fma();
 
 RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebuffer& out);
+
+// The levels the reference samples a texture from: the given ones, or the base level and the
+// levels glGenerateMipmap makes (docs/precision.md, "Textures").
+std::vector<TextureImage> texture_levels(const Texture& texture);
 inline RenderOutcome render(const DrawList& list, Framebuffer& out) {
     return render(list, RenderOptions{}, out);
 }
