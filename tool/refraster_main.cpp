@@ -609,11 +609,20 @@ int run_check(const std::string& path, int rounds) {
     for (const auto& d : scene->draw_list.draws) vertices += d.vertices.size();
     const auto work = harness::estimate_work(scene->draw_list);
     const auto bytes = std::filesystem::file_size(path);
-    std::printf("%s: %zu draws, %llu vertices, %llu primitives, %llu estimated fragments\n",
+    std::printf("%s: %zu draws, %llu vertices, %llu primitives, %llu estimated fragments",
                 path.c_str(), scene->draw_list.draws.size(),
                 static_cast<unsigned long long>(vertices),
                 static_cast<unsigned long long>(work.primitives),
                 static_cast<unsigned long long>(work.fragments));
+    if (!scene->draw_list.textures.empty()) {
+        std::uint64_t texel_bytes = 0;
+        for (const auto& t : scene->draw_list.textures) {
+            for (const auto& level : t.levels) texel_bytes += level.rgba.size();
+        }
+        std::printf(", %zu textures (%llu bytes of texels given)", scene->draw_list.textures.size(),
+                    static_cast<unsigned long long>(texel_bytes));
+    }
+    std::printf("\n");
     std::printf("loaded %llu bytes in %.3f s (best of %d): %.1f MB/s\n",
                 static_cast<unsigned long long>(bytes), best, rounds,
                 static_cast<double>(bytes) / 1e6 / best);

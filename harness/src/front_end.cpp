@@ -1,6 +1,7 @@
 #include "harness/front_end.hpp"
 
 #include <cmath>
+#include <iterator>
 
 namespace harness {
 
@@ -43,6 +44,9 @@ refraster::DrawList run_front_end(const SceneFile& scene, const std::string& fil
     refraster::DrawList out;
     out.target = scene.target;
     out.clear = scene.clear;
+    // Every texture the file defines, in name order: a draw's texture is its name's index.
+    out.textures.reserve(scene.textures.size());
+    for (const auto& [name, texture] : scene.textures) out.textures.push_back(texture);
     out.draws.reserve(scene.draws.size());
     for (std::size_t d = 0; d < scene.draws.size(); ++d) {
         const SceneDraw& sd = scene.draws[d];
@@ -50,7 +54,20 @@ refraster::DrawList run_front_end(const SceneFile& scene, const std::string& fil
         draw.primitive = sd.primitive;
         draw.state = sd.state;
         draw.indices = sd.indices;
-        draw.vertices.attributes = {{"color", 4}};
+        const bool textured = sd.state.texture.has_value();
+        if (textured) {
+            const auto it = scene.textures.find(sd.texture);
+            if (it == scene.textures.end()) {
+                throw SceneError(file_label, "draws[" + std::to_string(d) + "].state.texture.name",
+                                 "no texture named \"" + escape_for_message(sd.texture) + "\"");
+            }
+            draw.state.texture->texture =
+                static_cast<std::uint32_t>(std::distance(scene.textures.begin(), it));
+            // Record [x y z w | r g b a | s t r q].
+            draw.vertices.attributes = {{"color", 4}, {"texcoord", 4}};
+        } else {
+            draw.vertices.attributes = {{"color", 4}};
+        }
         draw.vertices.data.reserve(sd.vertices.size() * draw.vertices.stride());
         for (std::size_t i = 0; i < sd.vertices.size(); ++i) {
             const auto c = to_clip_space(sd, sd.vertices[i]);
@@ -70,6 +87,10 @@ refraster::DrawList run_front_end(const SceneFile& scene, const std::string& fil
             draw.vertices.data.insert(draw.vertices.data.end(), c.begin(), c.end());
             const auto& col = sd.vertices[i].color;
             draw.vertices.data.insert(draw.vertices.data.end(), col.begin(), col.end());
+            if (textured) {
+                const auto& tc = sd.vertices[i].texcoord;
+                draw.vertices.data.insert(draw.vertices.data.end(), tc.begin(), tc.end());
+            }
         }
         out.draws.push_back(std::move(draw));
     }

@@ -3,6 +3,8 @@
 #include <OpenImageIO/imageio.h>
 #include <unistd.h>
 
+#include <array>
+#include <fstream>
 #include <system_error>
 
 #include "harness/files.hpp"
@@ -129,5 +131,91 @@ refraster::Framebuffer read_color_image(const std::filesystem::path& path) {
     in->close();
     return fb;
 }
+
+namespace {
+
+// The bit depth and colour type of a PNG's header (IHDR, always the first chunk: the 8-byte
+// signature, the chunk's length and type, width, height, then these two bytes). OpenImageIO
+// expands 1, 2 and 4-bit grey to 8 bits without saying so in its spec.
+std::pair<int, int> png_depth_and_color_type(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::array<char, 26> h{};
+    if (!in.read(h.data(), h.size()) || std::string_view(h.data() + 12, 4) != "IHDR") {
+        throw ImageIoError(path.string() + ": cannot read the PNG header");
+    }
+    return {static_cast<unsigned char>(h[24]), static_cast<unsigned char>(h[25])};
+}
+
+}  // namespace
+
+refraster::TextureImage read_texture_png(const std::filesystem::path& path,
+                                         const TextureSizeCheck& check_size) {
+    // Keep the colour as stored: without this, PNG colour is multiplied by alpha on reading.
+    OIIO::ImageSpec config;
+    config.attribute("oiio:UnassociatedAlpha", 1);
+    auto in = OIIO::ImageInput::open(path.string(), &config);
+    if (!in) throw ImageIoError(path.string() + ": cannot read: " + OIIO::geterror());
+    if (std::string_view(in->format_name()) != "png") {
+        throw ImageIoError(path.string() + ": a file of format " + in->format_name() +
+                           "; textures are read from PNG files");
+    }
+    const OIIO::ImageSpec& spec = in->spec();
+    const auto [depth, color_type] = png_depth_and_color_type(path);
+    constexpr int kPalette = 3;
+    if (spec.format != OIIO::TypeDesc::UINT8 || (depth != 8 && color_type != kPalette)) {
+        throw ImageIoError(path.string() + ": " + std::to_string(depth) +
+                           "-bit channels; textures are read from PNGs of 8-bit channels");
+    }
+    const int nch = spec.nchannels;
+    if (spec.width <= 0 || spec.height <= 0 || nch < 1 || nch > 4) {
+        throw ImageIoError(path.string() + ": " + std::to_string(nch) +
+                           " channels; expected grey, grey and alpha, RGB or RGBA");
+    }
+    const auto width = static_cast<std::uint32_t>(spec.width);
+    const auto height = static_cast<std::uint32_t>(spec.height);
+    if (check_size) check_size(width, height);
+    refraster::TextureImage image;
+    image.width = width;
+    image.height = height;
+    const auto channels = static_cast<std::size_t>(nch);
+    const std::size_t pixels = std::size_t{width} * height;
+    std::vector<std::uint8_t> stored(pixels * channels);
+    const std::size_t row_bytes = std::size_t{width} * channels;
+    // The file's top row into the last row: a negative row stride flips.
+    std::uint8_t* last_row = stored.data() + (std::size_t{height} - 1) * row_bytes;
+    if (!in->read_image(0, 0, 0, nch, OIIO::TypeDesc::UINT8, last_row,
+                        static_cast<OIIO::stride_t>(channels),
+                        -static_cast<OIIO::stride_t>(row_bytes))) {
+        throw ImageIoError(path.string() + ": cannot read: " + in->geterror());
+    }
+    in->close();
+    image.rgba.resize(pixels * 4);
+    for (std::size_t i = 0; i < pixels; ++i) {
+        const std::uint8_t* p = stored.data() + i * channels;
+        std::uint8_t* t = image.rgba.data() + i * 4;
+        if (nch <= 2) {
+            t[0] = t[1] = t[2] = p[0];
+            t[3] = nch == 2 ? p[1] : 255;
+        } else {
+            t[0] = p[0];
+            t[1] = p[1];
+            t[2] = p[2];
+            t[3] = nch == 4 ? p[3] : 255;
+        }
+    }
+    return image;
+}
+
+namespace {
+
+// The loader reads texture files through read_texture_png in every program that links this
+// library (scene.hpp). Every such program uses this file's writers or readers too, so the
+// linker always keeps it and this registration.
+const bool kTextureReaderInstalled = [] {
+    set_texture_file_reader(&read_texture_png);
+    return true;
+}();
+
+}  // namespace
 
 }  // namespace harness

@@ -1,6 +1,8 @@
 #include "harness/reduce.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <nlohmann/json.hpp>
 #include <ostream>
 #include <stdexcept>
@@ -8,6 +10,7 @@
 #include "harness/compare.hpp"
 #include "harness/explain.hpp"
 #include "harness/front_end.hpp"
+#include "harness/scene_text.hpp"
 #include "refraster/assembly.hpp"
 #include "refraster/renderer.hpp"
 
@@ -37,7 +40,58 @@ const char* name_of(refraster::CompareFunc f) {
     return names[static_cast<int>(f)];
 }
 
-ojson state_json(const refraster::DrawState& s, const refraster::Target& t) {
+const char* name_of(refraster::TextureFilter f) {
+    static const char* names[] = {"nearest",
+                                  "linear",
+                                  "nearest_mipmap_nearest",
+                                  "linear_mipmap_nearest",
+                                  "nearest_mipmap_linear",
+                                  "linear_mipmap_linear"};
+    return names[static_cast<int>(f)];
+}
+
+const char* name_of(refraster::TextureWrap w) {
+    static const char* names[] = {"repeat", "clamp_to_edge", "mirrored_repeat", "clamp_to_border"};
+    return names[static_cast<int>(w)];
+}
+
+// A draw's "texture" (extension "textures"): the name, then what differs from the defaults.
+ojson texture_state_json(const refraster::TextureState& t, const std::string& name) {
+    using namespace refraster;
+    const TextureState d;
+    ojson j = {{"name", name}};
+    if (t.min_filter != d.min_filter) j["min_filter"] = name_of(t.min_filter);
+    if (t.mag_filter != d.mag_filter) j["mag_filter"] = name_of(t.mag_filter);
+    if (t.wrap_s != d.wrap_s) j["wrap_s"] = name_of(t.wrap_s);
+    if (t.wrap_t != d.wrap_t) j["wrap_t"] = name_of(t.wrap_t);
+    // Bit for bit: -0 is no default.
+    if (std::memcmp(t.border_color.data(), d.border_color.data(), sizeof d.border_color) != 0) {
+        j["border_color"] = t.border_color;
+    }
+    if (t.env != d.env) j["env"] = t.env == TextureEnv::Replace ? "replace" : "modulate";
+    return j;
+}
+
+// One image of a texture as "data": base64 of its RGBA8 texels, rows bottom to top.
+ojson texture_image_json(const refraster::TextureImage& image) {
+    return {{"width", image.width}, {"height", image.height}, {"data", base64_text(image.rgba)}};
+}
+
+ojson texture_json(const refraster::Texture& t) {
+    ojson j = t.levels.empty() ? ojson::object() : texture_image_json(t.levels.front());
+    if (t.levels.size() > 1) {
+        ojson levels = ojson::array();
+        for (std::size_t l = 1; l < t.levels.size(); ++l) {
+            levels.push_back(texture_image_json(t.levels[l]));
+        }
+        j["levels"] = levels;
+    }
+    if (t.generate_mipmaps) j["mipmaps"] = "generate";
+    return j;
+}
+
+ojson state_json(const refraster::DrawState& s, const refraster::Target& t,
+                 const std::string& texture_name) {
     using namespace refraster;
     const DrawState d;
     ojson j = ojson::object();
@@ -62,6 +116,7 @@ ojson state_json(const refraster::DrawState& s, const refraster::Target& t) {
     if (s.point_size != d.point_size) j["point_size"] = s.point_size;
     if (s.blend != d.blend) j["blend"] = s.blend == BlendPreset::Alpha ? "alpha" : "add";
     if (!s.multisample) j["multisample"] = false;
+    if (s.texture) j["texture"] = texture_state_json(*s.texture, texture_name);
     return j;
 }
 
@@ -189,13 +244,29 @@ class Oracle {
 
 }  // namespace
 
+bool uses_textures(const SceneFile& s) {
+    if (!s.textures.empty()) return true;
+    for (const auto& d : s.draws) {
+        if (d.state.texture) return true;
+        for (const auto& v : d.vertices) {
+            if (!is_default_texcoord(v.texcoord)) return true;
+        }
+    }
+    return false;
+}
+
 std::string scene_to_json(const SceneFile& s) {
     using namespace refraster;
     ojson j;
     j["format"] = kSceneFormatV1;
     if (!s.name.empty()) j["name"] = s.name;
     if (!s.description.empty()) j["description"] = s.description;
-    if (!s.requires_extensions.empty()) j["requires"] = s.requires_extensions;
+    std::vector<std::string> requires_extensions = s.requires_extensions;
+    if (uses_textures(s) && std::find(requires_extensions.begin(), requires_extensions.end(),
+                                      "textures") == requires_extensions.end()) {
+        requires_extensions.emplace_back("textures");
+    }
+    if (!requires_extensions.empty()) j["requires"] = requires_extensions;
     ojson t = {{"width", s.target.width}, {"height", s.target.height}};
     if (s.target.color != ColorFormat::Rgba8) t["color"] = "rgba32f";
     if (s.target.depth != DepthFormat::None) t["depth"] = std::string(to_string(s.target.depth));
@@ -205,6 +276,11 @@ std::string scene_to_json(const SceneFile& s) {
     if (s.expect.color_tolerance != 0 || s.expect.max_mismatched_pixels != 0) {
         j["expect"] = {{"color_tolerance", s.expect.color_tolerance},
                        {"max_mismatched_pixels", s.expect.max_mismatched_pixels}};
+    }
+    if (!s.textures.empty()) {
+        ojson textures = ojson::object();
+        for (const auto& [name, texture] : s.textures) textures[name] = texture_json(texture);
+        j["textures"] = textures;
     }
     ojson draws = ojson::array();
     for (const auto& d : s.draws) {
@@ -216,11 +292,19 @@ std::string scene_to_json(const SceneFile& s) {
         for (const auto& v : d.vertices) {
             ojson p = ojson::array();
             for (std::uint32_t k = 0; k < v.position_size; ++k) p.push_back(v.position[k]);
-            vs.push_back({{"position", p}, {"color", v.color}});
+            ojson vj = {{"position", p}, {"color", v.color}};
+            if (is_two_component_texcoord(v.texcoord)) {
+                if (!is_default_texcoord(v.texcoord)) {
+                    vj["texcoord"] = {v.texcoord[0], v.texcoord[1]};
+                }
+            } else {
+                vj["texcoord"] = v.texcoord;
+            }
+            vs.push_back(vj);
         }
         dj["vertices"] = vs;
         if (d.indices) dj["indices"] = *d.indices;
-        if (auto st = state_json(d.state, s.target); !st.empty()) dj["state"] = st;
+        if (auto st = state_json(d.state, s.target, d.texture); !st.empty()) dj["state"] = st;
         draws.push_back(dj);
     }
     j["draws"] = draws;

@@ -16,6 +16,7 @@
 #include <simdjson.h>
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <charconv>
 #include <cmath>
@@ -23,6 +24,7 @@
 #include <cstring>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <system_error>
@@ -681,6 +683,23 @@ class Node {
         }
         return n;
     }
+    // An object whose keys the file chooses (names, not the format's keys), each once: its
+    // number of members. `what` describes it in a refusal.
+    std::size_t members(const char* what) const {
+        if (!is_object()) fail(std::string("expected ") + what + ", got " + describe(v_));
+        accept_container();
+        std::unordered_set<std::string_view> seen;
+        for (const dom::key_value_pair kv : as_object(v_)) {
+            if (!seen.insert(kv.key).second) throw StrictFault{};
+        }
+        return seen.size();
+    }
+    // f(std::string_view key, const Node& value) for each member of an object checked by
+    // members, in order.
+    template <class F>
+    void for_each_member(F&& f) const {
+        for (const dom::key_value_pair kv : as_object(v_)) f(kv.key, Node(kv.value, *this, kv.key));
+    }
     // Element i of an array checked by array_size; O(i), so for short arrays. Long ones go
     // through for_each.
     Node operator[](std::size_t i) const {
@@ -803,6 +822,25 @@ constexpr std::int64_t kViewportOriginMax = 32767;
 // The format bounds scissor sizes only below; this bound keeps x + width inside int32.
 constexpr std::int64_t kScissorLimit = std::int64_t{1} << 30;
 
+// The extension "textures": textures by name, texture coordinates and the draw state key
+// "texture" (docs/scene-format.md).
+constexpr std::string_view kTexturesExtension = "textures";
+constexpr std::int64_t kMaxTextureSide = 4096;
+
+// A key that only an extension listed in "requires" allows.
+[[noreturn]] void refuse_extension_key(const Node& v, std::string_view key,
+                                       std::string_view extension) {
+    v.fail("the key \"" + std::string(key) + "\" belongs to the extension \"" +
+           std::string(extension) + "\"; list it in \"requires\" to use it");
+}
+
+// What a draw may say about textures: whether "requires" lists "textures", and the textures
+// the file defines.
+struct TextureScope {
+    bool allowed = false;
+    const std::map<std::string, refraster::Texture>* defined = nullptr;
+};
+
 refraster::Rect read_rect(const Node& n, std::int64_t origin_lo, std::int64_t origin_hi,
                           std::int64_t size_lo, std::int64_t size_hi) {
     n.array_size(4, 4, "[x, y, width, height]");
@@ -817,14 +855,97 @@ std::array<float, 4> read_color(const Node& n) {
     return {n[0].f32(), n[1].f32(), n[2].f32(), n[3].f32()};
 }
 
-refraster::DrawState read_state(const Node& n, const refraster::Target& target) {
+// A vertex's "texcoord": [s, t] (r = 0, q = 1) or [s, t, r, q], each number as a colour's.
+std::array<float, 4> read_texcoord(const Node& n) {
+    const std::size_t size = n.array_size(2, 4, "[s, t] or [s, t, r, q]");
+    if (size == 3) n.fail("expected [s, t] or [s, t, r, q], got an array of 3");
+    std::array<float, 4> t{0.0f, 0.0f, 0.0f, 1.0f};
+    std::size_t k = 0;
+    n.for_each([&](const Node& e) { t[k++] = e.f32(); });
+    return t;
+}
+
+// The draw state key "texture": texture unit 0. `name` receives the texture's name.
+refraster::TextureState read_texture_state(const Node& n,
+                                           const std::map<std::string, refraster::Texture>& defined,
+                                           std::string& name) {
+    using namespace refraster;
+    n.require_object(
+        {"name", "min_filter", "mag_filter", "wrap_s", "wrap_t", "border_color", "env"});
+    TextureState t;
+    const Node name_node = n.at("name");
+    const auto it = defined.find(name_node.string());
+    if (it == defined.end()) {
+        std::string known;
+        std::size_t listed = 0;
+        for (const auto& [k, _] : defined) {
+            if (listed == 8) {
+                known += ", ... (" + std::to_string(defined.size()) + " in all)";
+                break;
+            }
+            known += (listed++ == 0 ? "" : ", ") + quoted_value(k);
+        }
+        name_node.fail("no texture named " + quoted_value(name_node.string_view()) +
+                       (defined.empty() ? std::string("; the scene defines none (\"textures\")")
+                                        : "; the scene defines " + known));
+    }
+    name = it->first;
+    t.texture = static_cast<std::uint32_t>(std::distance(defined.begin(), it));
+    if (auto v = n.get("min_filter")) {
+        t.min_filter = v->choice<TextureFilter>(
+            {{"nearest", TextureFilter::Nearest},
+             {"linear", TextureFilter::Linear},
+             {"nearest_mipmap_nearest", TextureFilter::NearestMipmapNearest},
+             {"linear_mipmap_nearest", TextureFilter::LinearMipmapNearest},
+             {"nearest_mipmap_linear", TextureFilter::NearestMipmapLinear},
+             {"linear_mipmap_linear", TextureFilter::LinearMipmapLinear}});
+        const Texture& tex = it->second;
+        if (uses_mipmaps(t.min_filter) && tex.levels.size() == 1 && !tex.generate_mipmaps) {
+            v->fail("the filter " + quoted_value(v->string_view()) +
+                    " samples mipmaps, and the texture " + quoted_value(it->first) +
+                    " has neither \"levels\" nor \"mipmaps\": \"generate\"");
+        }
+    }
+    if (auto v = n.get("mag_filter")) {
+        t.mag_filter = v->choice<TextureFilter>(
+            {{"nearest", TextureFilter::Nearest}, {"linear", TextureFilter::Linear}});
+    }
+    const auto wrap = [](const Node& v) {
+        return v.choice<TextureWrap>({{"repeat", TextureWrap::Repeat},
+                                      {"clamp_to_edge", TextureWrap::ClampToEdge},
+                                      {"mirrored_repeat", TextureWrap::MirroredRepeat},
+                                      {"clamp_to_border", TextureWrap::ClampToBorder}});
+    };
+    if (auto v = n.get("wrap_s")) t.wrap_s = wrap(*v);
+    if (auto v = n.get("wrap_t")) t.wrap_t = wrap(*v);
+    if (auto v = n.get("border_color")) t.border_color = read_color(*v);
+    if (auto v = n.get("env")) {
+        t.env = v->choice<TextureEnv>(
+            {{"modulate", TextureEnv::Modulate}, {"replace", TextureEnv::Replace}});
+    }
+    return t;
+}
+
+// A draw's "state". `texture_name` receives the name of the texture it samples, if any.
+refraster::DrawState read_state(const Node& n, const refraster::Target& target,
+                                const TextureScope& textures, std::string& texture_name) {
     using namespace refraster;
     DrawState s;
     s.viewport = {0, 0, static_cast<std::int32_t>(target.width),
                   static_cast<std::int32_t>(target.height)};
-    n.require_object({"viewport", "depth_range", "scissor", "cull", "front_face", "depth_test",
-                      "depth_write", "shade", "provoking_vertex", "polygon_mode", "polygon_offset",
-                      "line_width", "point_size", "blend", "multisample"});
+    if (!textures.allowed && n.is_object()) {
+        if (auto v = n.get("texture")) refuse_extension_key(*v, "texture", kTexturesExtension);
+    }
+    if (textures.allowed) {
+        n.require_object({"viewport", "depth_range", "scissor", "cull", "front_face", "depth_test",
+                          "depth_write", "shade", "provoking_vertex", "polygon_mode",
+                          "polygon_offset", "line_width", "point_size", "blend", "multisample",
+                          "texture"});
+    } else {
+        n.require_object({"viewport", "depth_range", "scissor", "cull", "front_face", "depth_test",
+                          "depth_write", "shade", "provoking_vertex", "polygon_mode",
+                          "polygon_offset", "line_width", "point_size", "blend", "multisample"});
+    }
     if (auto v = n.get("viewport")) {
         s.viewport = read_rect(*v, kViewportOriginMin, kViewportOriginMax, 1, kMaxTargetSide);
     }
@@ -884,6 +1005,11 @@ refraster::DrawState read_state(const Node& n, const refraster::Target& target) 
     }
     // GL_MULTISAMPLE; an addition to format v1, allowed without "requires".
     if (auto v = n.get("multisample")) s.multisample = v->boolean();
+    if (textures.allowed) {
+        if (auto v = n.get("texture"); v && !v->is_null()) {
+            s.texture = read_texture_state(*v, *textures.defined, texture_name);
+        }
+    }
     return s;
 }
 
@@ -1013,13 +1139,23 @@ struct AttributeArray {
     std::vector<float> values;
 };
 
-AttributeArray read_attribute(const Node& a, std::size_t count, bool is_position,
+enum class AttributeKind : std::uint8_t { Position, Color, Texcoord };
+
+AttributeArray read_attribute(const Node& a, std::size_t count, AttributeKind kind,
                               VertexSpace space) {
+    const bool is_position = kind == AttributeKind::Position;
     AttributeArray out;
     a.require_object({"components", "values", "float32_base64"});
     {
         const Node c = a.at("components");
-        if (!is_position) {
+        if (kind == AttributeKind::Texcoord) {
+            const auto n = c.integer(std::numeric_limits<std::int64_t>::min(),
+                                     std::numeric_limits<std::int64_t>::max());
+            if (n != 2 && n != 4) {
+                c.fail("expected 2 ([s, t]) or 4 ([s, t, r, q]), got " + number_text(c.value()));
+            }
+            out.components = static_cast<std::uint32_t>(n);
+        } else if (!is_position) {
             if (c.integer(std::numeric_limits<std::int64_t>::min(),
                           std::numeric_limits<std::int64_t>::max()) != 4) {
                 c.fail("expected 4 ([r, g, b, a]), got " + number_text(c.value()));
@@ -1113,15 +1249,28 @@ AttributeArray read_attribute(const Node& a, std::size_t count, bool is_position
 }
 
 // A draw's "vertex_arrays": the same SceneVertex list the plain "vertices" would give.
-void read_vertex_arrays(const Node& va, SceneDraw& d, WorkSoFar& work) {
-    va.require_object({"count", "position", "color"});
+// `textures`: "requires" lists "textures", which allows the attribute "texcoord".
+void read_vertex_arrays(const Node& va, SceneDraw& d, WorkSoFar& work, bool textures) {
+    if (!textures && va.is_object()) {
+        if (auto v = va.get("texcoord")) refuse_extension_key(*v, "texcoord", kTexturesExtension);
+    }
+    if (textures) {
+        va.require_object({"count", "position", "color", "texcoord"});
+    } else {
+        va.require_object({"count", "position", "color"});
+    }
     const auto count = static_cast<std::size_t>(
         va.at("count").integer(0, std::numeric_limits<std::uint32_t>::max()));
     // Before anything of that size is allocated.
     WorkSoFar::add(va, work.vertices, count, work.limits.max_vertices, "vertices");
-    const AttributeArray position = read_attribute(va.at("position"), count, true, d.space);
+    const AttributeArray position =
+        read_attribute(va.at("position"), count, AttributeKind::Position, d.space);
     std::optional<AttributeArray> color;
-    if (auto c = va.get("color")) color = read_attribute(*c, count, false, d.space);
+    if (auto c = va.get("color")) color = read_attribute(*c, count, AttributeKind::Color, d.space);
+    std::optional<AttributeArray> texcoord;
+    if (auto t = textures ? va.get("texcoord") : std::nullopt) {
+        texcoord = read_attribute(*t, count, AttributeKind::Texcoord, d.space);
+    }
     d.vertices.reserve(count);
     for (std::size_t i = 0; i < count; ++i) {
         SceneVertex sv;
@@ -1129,6 +1278,10 @@ void read_vertex_arrays(const Node& va, SceneDraw& d, WorkSoFar& work) {
         const float* p = position.values.data() + i * position.components;
         std::copy(p, p + position.components, sv.position.begin());
         if (color) std::copy_n(color->values.data() + i * 4, 4, sv.color.begin());
+        if (texcoord) {
+            const std::uint32_t n = texcoord->components;
+            std::copy_n(texcoord->values.data() + i * n, n, sv.texcoord.begin());
+        }
         d.vertices.push_back(sv);
     }
 }
@@ -1156,10 +1309,17 @@ std::vector<std::uint32_t> read_index_base64(const Node& n, std::size_t count, W
     return idx;
 }
 
-// A plain vertex, {"position": [...], "color": [...]}, read by the general path: every fault
-// refused with its path.
-void read_vertex(const Node& vn, VertexSpace space, SceneVertex& sv) {
-    vn.require_object({"position", "color"});
+// A plain vertex, {"position": [...], "color": [...]} (and "texcoord" with the extension
+// "textures"), read by the general path: every fault refused with its path.
+void read_vertex(const Node& vn, VertexSpace space, SceneVertex& sv, bool textures) {
+    if (!textures && vn.is_object()) {
+        if (auto v = vn.get("texcoord")) refuse_extension_key(*v, "texcoord", kTexturesExtension);
+    }
+    if (textures) {
+        vn.require_object({"position", "color", "texcoord"});
+    } else {
+        vn.require_object({"position", "color"});
+    }
     const Node p = vn.at("position");
     if (space == VertexSpace::Clip) {
         p.array_size(4, 4, "[x, y, z, w] (space \"clip\")");
@@ -1176,6 +1336,7 @@ void read_vertex(const Node& vn, VertexSpace space, SceneVertex& sv) {
     });
     sv.position_size = c;
     if (auto col = vn.get("color")) sv.color = read_color(*col);
+    if (auto t = textures ? vn.get("texcoord") : std::nullopt) sv.texcoord = read_texcoord(*t);
 }
 
 // Between `min` and `max` numbers, each finite once rounded to float32, into `out`; false for
@@ -1196,17 +1357,18 @@ bool read_floats_fast(dom::element e, std::size_t min, std::size_t max, float* o
     return k >= min;
 }
 
-// The common shape of a plain vertex, {"position": [...], "color": [r, g, b, a]} (either key
-// first, the colour optional), read in one pass over its keys: the same values as read_vertex.
-// False for anything else, which read_vertex then takes from the start, to accept or to refuse
-// with its path. On success adds the vertex's containers to `containers`; the caller has checked
-// that their nesting is allowed.
-bool read_vertex_fast(dom::element e, VertexSpace space, SceneVertex& sv,
-                      std::uint64_t& containers) {
+// The common shape of a plain vertex, {"position": [...], "color": [r, g, b, a]} (any key
+// first, the colour optional; with `textures` an optional "texcoord" too), read in one pass over
+// its keys: the same values as read_vertex. False for anything else, which read_vertex then
+// takes from the start, to accept or to refuse with its path. On success adds the vertex's
+// containers to `containers`; the caller has checked that their nesting is allowed.
+bool read_vertex_fast(dom::element e, VertexSpace space, SceneVertex& sv, std::uint64_t& containers,
+                      bool textures) {
     dom::object o;
     if (e.get_object().get(o) != simdjson::SUCCESS) return false;
     bool position = false;
     bool color = false;
+    bool texcoord = false;
     for (const dom::key_value_pair kv : o) {
         std::size_t n = 0;
         if (kv.key == "position" && !position) {
@@ -1218,24 +1380,25 @@ bool read_vertex_fast(dom::element e, VertexSpace space, SceneVertex& sv,
         } else if (kv.key == "color" && !color) {
             color = true;
             if (!read_floats_fast(kv.value, 4, 4, sv.color.data(), n)) return false;
+        } else if (kv.key == "texcoord" && textures && !texcoord) {
+            texcoord = true;
+            if (!read_floats_fast(kv.value, 2, 4, sv.texcoord.data(), n) || n == 3) return false;
         } else {
             return false;
         }
     }
     if (!position) return false;
-    containers += color ? 3 : 2;
+    containers += 2u + (color ? 1u : 0u) + (texcoord ? 1u : 0u);
     return true;
 }
 
 SceneDraw read_draw(const Node& n, const refraster::Target& target, WorkSoFar& work,
-                    bool vertex_arrays_allowed) {
+                    bool vertex_arrays_allowed, const TextureScope& textures) {
     using namespace refraster;
     SceneDraw d;
     if (!vertex_arrays_allowed && n.is_object()) {
         if (auto v = n.get("vertex_arrays")) {
-            v->fail(
-                "the key \"vertex_arrays\" belongs to the extension \"vertex_arrays\"; list "
-                "it in \"requires\" to use it");
+            refuse_extension_key(*v, "vertex_arrays", kVertexArraysExtension);
         }
     }
     if (vertex_arrays_allowed) {
@@ -1272,7 +1435,7 @@ SceneDraw read_draw(const Node& n, const refraster::Target& target, WorkSoFar& w
             arrays->fail("give either \"vertices\" or \"vertex_arrays\", not both");
         }
         d.from_vertex_arrays = true;
-        read_vertex_arrays(*arrays, d, work);
+        read_vertex_arrays(*arrays, d, work, textures.allowed);
     } else {
         if (vertex_arrays_allowed && !n.get("vertices")) {
             n.fail("missing required key \"vertices\" (or \"vertex_arrays\")");
@@ -1288,9 +1451,10 @@ SceneDraw read_draw(const Node& n, const refraster::Target& target, WorkSoFar& w
         std::size_t i = 0;
         for (const dom::element e : as_array(verts.value())) {
             SceneVertex sv;
-            if (!fast || !read_vertex_fast(e, d.space, sv, verts.context().containers)) {
+            if (!fast ||
+                !read_vertex_fast(e, d.space, sv, verts.context().containers, textures.allowed)) {
                 sv = SceneVertex{};
-                read_vertex(Node(e, verts, i), d.space, sv);
+                read_vertex(Node(e, verts, i), d.space, sv, textures.allowed);
             }
             d.vertices.push_back(sv);
             ++i;
@@ -1319,7 +1483,7 @@ SceneDraw read_draw(const Node& n, const refraster::Target& target, WorkSoFar& w
     WorkSoFar::add(n, work.primitives, refraster::primitive_count(d.primitive, elements),
                    work.limits.max_primitives, "primitives");
     if (auto v = n.get("state")) {
-        d.state = read_state(*v, target);
+        d.state = read_state(*v, target, textures, d.texture);
     } else {
         d.state.viewport = {0, 0, static_cast<std::int32_t>(target.width),
                             static_cast<std::int32_t>(target.height)};
@@ -1331,10 +1495,206 @@ SceneDraw read_draw(const Node& n, const refraster::Target& target, WorkSoFar& w
 // (GL_MULTISAMPLE) on 4x targets; the key is part of format v1 too, and a file may still list
 // the name to say that it relies on it. "vertex_arrays": a draw's vertices as flat arrays per
 // attribute, and indices as base64 (docs/scene-format.md); the loader turns them into the same
-// vertices as the plain form, so every renderer draws them.
+// vertices as the plain form, so every renderer draws them. "textures": textures by name,
+// texture coordinates and each draw's texture unit state, which the draw list carries.
 bool is_implemented_extension(std::string_view name) {
-    return name == "multisample" || name == kVertexArraysExtension;
+    return name == "multisample" || name == kVertexArraysExtension || name == kTexturesExtension;
 }
+
+// The texel bytes of the textures read so far, against SceneLimits::max_texel_bytes.
+struct TexelBudget {
+    const SceneLimits& limits;
+    std::uint64_t bytes = 0;
+
+    void add(const Node& where, std::uint64_t n) {
+        bytes += n;
+        if (bytes > limits.max_texel_bytes) {
+            where.fail("this brings the scene's textures to " + std::to_string(bytes) +
+                       " bytes of texels, over the limit of " +
+                       std::to_string(limits.max_texel_bytes) + " (docs/limits.md)");
+        }
+    }
+};
+
+std::string size_text(std::uint32_t width, std::uint32_t height) {
+    return std::to_string(width) + " x " + std::to_string(height);
+}
+
+// One image of a texture: its base (`level` 0) or level `level` of "levels", which must be
+// exactly max(1, base_width >> level) x max(1, base_height >> level). Either "width", "height"
+// and "data" (base64 of width x height RGBA8 texels, rows bottom to top), or "file" (a PNG,
+// relative to `base_dir`) with "width" and "height" optional and then checked.
+refraster::TextureImage read_texture_image(const Node& n, std::uint32_t level,
+                                           std::uint32_t base_width, std::uint32_t base_height,
+                                           const std::filesystem::path& base_dir,
+                                           TexelBudget& budget) {
+    const auto data = n.get("data");
+    const auto file = n.get("file");
+    if (data && file) file->fail("give either \"data\" or \"file\", not both");
+    if (!data && !file) n.fail("missing required key \"data\" (or \"file\")");
+    const std::uint32_t want_width = level == 0 ? 0 : std::max(1u, base_width >> level);
+    const std::uint32_t want_height = level == 0 ? 0 : std::max(1u, base_height >> level);
+    const auto level_size = [&] {
+        return "level " + std::to_string(level) + " of a " + size_text(base_width, base_height) +
+               " texture is " + size_text(want_width, want_height) + " (max(1, size >> " +
+               std::to_string(level) + "))";
+    };
+    const auto read_side = [&](std::string_view key, std::uint32_t want) {
+        const auto v = data ? std::optional<Node>(n.at(key)) : n.get(key);
+        if (!v) return std::optional<std::uint32_t>();
+        const auto side = static_cast<std::uint32_t>(v->integer(1, kMaxTextureSide));
+        if (level != 0 && side != want) {
+            v->fail(level_size() + "; got " + std::string(key) + " " + std::to_string(side));
+        }
+        return std::optional<std::uint32_t>(side);
+    };
+    const std::optional<std::uint32_t> width = read_side("width", want_width);
+    const std::optional<std::uint32_t> height = read_side("height", want_height);
+    refraster::TextureImage image;
+    if (data) {
+        image.width = *width;
+        image.height = *height;
+        const std::uint64_t bytes = std::uint64_t{image.width} * image.height * 4;
+        budget.add(n, bytes);
+        const std::string_view text = data->string_view();
+        if (base64_decoded_size(text) != bytes) {
+            // The refusal: a fault of the text itself first, else the size.
+            const std::vector<std::uint8_t> decoded = decode_base64(*data, text);
+            data->fail("decodes to " + std::to_string(decoded.size()) + " bytes, expected " +
+                       std::to_string(bytes) + " (width " + std::to_string(image.width) +
+                       " x height " + std::to_string(image.height) + " x 4 bytes of RGBA8 texels)");
+        }
+        // Room for whole groups of the text; the padding leaves the last one short.
+        image.rgba.resize(text.size() / 4 * 3);
+        decode_base64_into(*data, text, image.rgba.data());
+        image.rgba.resize(static_cast<std::size_t>(bytes));
+        return image;
+    }
+    const std::string written = file->string();
+    if (written.empty()) file->fail("expected the path of a PNG file, got an empty string");
+    const std::filesystem::path path = base_dir / written;
+    const std::string shown = escape_for_message(path.string());
+    std::error_code ec;
+    const auto status = std::filesystem::status(path, ec);
+    if (ec || !std::filesystem::exists(status))
+        file->fail("cannot read " + shown + ": no such file");
+    if (!std::filesystem::is_regular_file(status)) {
+        file->fail("cannot read " + shown + ": not a regular file");
+    }
+    const TextureFileReader reader = texture_file_reader();
+    if (reader == nullptr) {
+        file->fail("cannot read " + shown +
+                   ": this program reads no image files (it is built without harness_image_io); "
+                   "give the texels as \"data\"");
+    }
+    bool checked = false;
+    const auto check_size = [&](std::uint32_t w, std::uint32_t h) {
+        checked = true;
+        if (w < 1 || h < 1 || w > kMaxTextureSide || h > kMaxTextureSide) {
+            file->fail(shown + " is " + size_text(w, h) +
+                       " pixels; a texture is 1 to 4096 pixels a side");
+        }
+        if (width && w != *width) {
+            file->fail(shown + " is " + size_text(w, h) + " pixels, but \"width\" is " +
+                       std::to_string(*width));
+        }
+        if (height && h != *height) {
+            file->fail(shown + " is " + size_text(w, h) + " pixels, but \"height\" is " +
+                       std::to_string(*height));
+        }
+        if (level != 0 && (w != want_width || h != want_height)) {
+            file->fail(level_size() + "; " + shown + " is " + size_text(w, h));
+        }
+        budget.add(n, std::uint64_t{w} * h * 4);
+    };
+    try {
+        image = reader(path, check_size);
+    } catch (const SceneError&) {
+        throw;
+    } catch (const std::exception& e) {
+        file->fail(escape_for_message(e.what()));
+    }
+    if (!checked) check_size(image.width, image.height);
+    if (image.rgba.size() != std::size_t{image.width} * image.height * 4) {
+        file->fail(shown + ": the image reader returned " + std::to_string(image.rgba.size()) +
+                   " bytes for " + size_text(image.width, image.height) + " texels");
+    }
+    return image;
+}
+
+// One texture: its base image, then "levels" (the given mipmap levels 1, 2, ...) or "mipmaps":
+// "generate".
+refraster::Texture read_texture(const Node& n, const std::filesystem::path& base_dir,
+                                TexelBudget& budget) {
+    n.require_object({"width", "height", "data", "file", "levels", "mipmaps"});
+    refraster::Texture t;
+    t.levels.push_back(read_texture_image(n, 0, 0, 0, base_dir, budget));
+    const std::uint32_t width = t.levels[0].width;
+    const std::uint32_t height = t.levels[0].height;
+    // The levels below the base, down to 1 x 1.
+    std::uint32_t below = 0;
+    for (std::uint32_t m = std::max(width, height); m > 1; m >>= 1) ++below;
+    const auto levels = n.get("levels");
+    const auto mipmaps = n.get("mipmaps");
+    if (levels && mipmaps) mipmaps->fail("give either \"levels\" or \"mipmaps\", not both");
+    if (levels) {
+        if (below == 0) {
+            levels->fail("a 1 x 1 texture has no levels below its base; leave out \"levels\"");
+        }
+        const std::string what = "an array of 1 to " + std::to_string(below) +
+                                 " levels (levels 1 to " + std::to_string(below) + " of a " +
+                                 size_text(width, height) + " texture, down to 1 x 1)";
+        levels->array_size(1, below, what.c_str());
+        std::uint32_t level = 1;
+        levels->for_each([&](const Node& e) {
+            e.require_object({"width", "height", "data", "file"});
+            t.levels.push_back(read_texture_image(e, level++, width, height, base_dir, budget));
+        });
+    }
+    if (mipmaps) {
+        t.generate_mipmaps = mipmaps->choice<bool>({{"generate", true}});
+        // The levels glGenerateMipmap makes count too: every renderer holds them.
+        std::uint64_t bytes = 0;
+        for (std::uint32_t l = 1; l <= below; ++l) {
+            bytes += std::uint64_t{std::max(1u, width >> l)} * std::max(1u, height >> l) * 4;
+        }
+        budget.add(*mipmaps, bytes);
+    }
+    return t;
+}
+
+// The top-level "textures": {"NAME": {...}, ...}.
+std::map<std::string, refraster::Texture> read_textures(const Node& n,
+                                                        const std::filesystem::path& base_dir,
+                                                        const SceneLimits& limits) {
+    const std::size_t count = n.members("an object of textures by name");
+    if (count > limits.max_textures) {
+        n.fail(std::to_string(count) + " textures exceed the limit of " +
+               std::to_string(limits.max_textures) + " textures a scene (docs/limits.md)");
+    }
+    TexelBudget budget{limits};
+    std::map<std::string, refraster::Texture> out;
+    n.for_each_member([&](std::string_view name, const Node& t) {
+        out.emplace(std::string(name), read_texture(t, base_dir, budget));
+    });
+    return out;
+}
+
+// Whether the root's "requires" lists `name`, looked at before anything is checked: which keys
+// the root may hold depends on it. read_scene checks "requires" itself afterwards.
+bool requires_lists(const Node& root, std::string_view name) {
+    if (!root.is_object()) return false;
+    const auto r = root.get("requires");
+    dom::array a;
+    if (!r || r->value().get_array().get(a) != simdjson::SUCCESS) return false;
+    for (const dom::element e : a) {
+        std::string_view s;
+        if (e.get_string().get(s) == simdjson::SUCCESS && s == name) return true;
+    }
+    return false;
+}
+
+std::atomic<TextureFileReader> g_texture_file_reader{nullptr};
 
 }  // namespace
 std::string escape_for_message(std::string_view text) {
@@ -1384,8 +1744,19 @@ namespace {
 
 SceneFile read_scene(const Node& root, const SceneLimits& limits) {
     using namespace refraster;
-    root.require_object(
-        {"format", "name", "description", "requires", "target", "clear", "expect", "draws"});
+    const bool textures_allowed = requires_lists(root, kTexturesExtension);
+    if (!textures_allowed && root.is_object()) {
+        if (auto v = root.get("textures")) {
+            refuse_extension_key(*v, "textures", kTexturesExtension);
+        }
+    }
+    if (textures_allowed) {
+        root.require_object({"format", "name", "description", "requires", "target", "clear",
+                             "expect", "textures", "draws"});
+    } else {
+        root.require_object(
+            {"format", "name", "description", "requires", "target", "clear", "expect", "draws"});
+    }
     SceneFile s;
     const Node format = root.at("format");
     if (format.string_view() != kSceneFormatV1) {
@@ -1444,6 +1815,13 @@ SceneFile read_scene(const Node& root, const SceneLimits& limits) {
         }
     }
 
+    if (auto v = textures_allowed ? root.get("textures") : std::nullopt) {
+        // Relative file names start from the scene file's directory.
+        s.textures =
+            read_textures(*v, std::filesystem::path(root.context().file).parent_path(), limits);
+    }
+    const TextureScope textures{textures_allowed, &s.textures};
+
     const Node draws = root.at("draws");
     const std::size_t nd =
         draws.array_size(0, std::numeric_limits<std::uint32_t>::max(), "an array of draws");
@@ -1454,7 +1832,7 @@ SceneFile read_scene(const Node& root, const SceneLimits& limits) {
     WorkSoFar work{limits};
     s.draws.reserve(nd);
     draws.for_each([&](const Node& d) {
-        s.draws.push_back(read_draw(d, s.target, work, vertex_arrays_allowed));
+        s.draws.push_back(read_draw(d, s.target, work, vertex_arrays_allowed, textures));
     });
     return s;
 }
@@ -1531,6 +1909,14 @@ Scene finish_scene(SceneFile file, const std::string& file_label, const SceneLim
 }
 
 }  // namespace
+
+void set_texture_file_reader(TextureFileReader reader) {
+    g_texture_file_reader.store(reader);
+}
+
+TextureFileReader texture_file_reader() {
+    return g_texture_file_reader.load();
+}
 
 SceneFile parse_scene(std::string_view text, const std::string& file_label,
                       const SceneLimits& limits) {

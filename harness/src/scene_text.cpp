@@ -29,7 +29,7 @@ void append_number(std::string& out, float f) {
 constexpr char kBase64Alphabet[] =
     "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
 
-void append_base64(std::string& out, const std::vector<std::uint8_t>& bytes) {
+void append_base64(std::string& out, std::span<const std::uint8_t> bytes) {
     std::size_t i = 0;
     for (; i + 3 <= bytes.size(); i += 3) {
         const std::uint32_t v =
@@ -72,6 +72,13 @@ void append_attribute(std::string& out, const std::vector<float>& values, std::u
     out += "\"}";
 }
 
+void append_floats(std::string& out, const float* values, std::size_t n) {
+    for (std::size_t k = 0; k < n; ++k) {
+        if (k != 0) out += ", ";
+        append_number(out, values[k]);
+    }
+}
+
 void append_vertices(std::string& out, const SceneDraw& d, VertexForm form) {
     if (form == VertexForm::Plain) {
         out += "\"vertices\": [";
@@ -83,9 +90,11 @@ void append_vertices(std::string& out, const SceneDraw& d, VertexForm form) {
                 append_number(out, v.position[k]);
             }
             out += "], \"color\": [";
-            for (std::size_t k = 0; k < 4; ++k) {
-                if (k != 0) out += ", ";
-                append_number(out, v.color[k]);
+            append_floats(out, v.color.data(), 4);
+            if (!is_default_texcoord(v.texcoord)) {
+                out += "], \"texcoord\": [";
+                append_floats(out, v.texcoord.data(),
+                              is_two_component_texcoord(v.texcoord) ? 2 : 4);
             }
             out += "]}";
         }
@@ -97,6 +106,10 @@ void append_vertices(std::string& out, const SceneDraw& d, VertexForm form) {
     std::vector<float> color;
     position.reserve(d.vertices.size() * size);
     color.reserve(d.vertices.size() * 4);
+    // Texture coordinates only when some vertex has one, with two components when every
+    // vertex's r and q are 0 and 1.
+    bool texcoords = false;
+    bool two = true;
     for (const SceneVertex& v : d.vertices) {
         if (v.position_size != size) {
             throw std::invalid_argument(
@@ -104,12 +117,24 @@ void append_vertices(std::string& out, const SceneDraw& d, VertexForm form) {
         }
         position.insert(position.end(), v.position.begin(), v.position.begin() + size);
         color.insert(color.end(), v.color.begin(), v.color.end());
+        texcoords = texcoords || !is_default_texcoord(v.texcoord);
+        two = two && is_two_component_texcoord(v.texcoord);
     }
     out += "\"vertex_arrays\": {\"count\": " + std::to_string(d.vertices.size()) +
            ",\n    \"position\": ";
     append_attribute(out, position, size, form);
     out += ",\n    \"color\": ";
     append_attribute(out, color, 4, form);
+    if (texcoords) {
+        const std::uint32_t n = two ? 2 : 4;
+        std::vector<float> texcoord;
+        texcoord.reserve(d.vertices.size() * n);
+        for (const SceneVertex& v : d.vertices) {
+            texcoord.insert(texcoord.end(), v.texcoord.begin(), v.texcoord.begin() + n);
+        }
+        out += ",\n    \"texcoord\": ";
+        append_attribute(out, texcoord, n, form);
+    }
     out += "}";
 }
 
@@ -134,21 +159,46 @@ void append_indices(std::string& out, const std::vector<std::uint32_t>& indices,
 
 }  // namespace
 
+std::string base64_text(std::span<const std::uint8_t> bytes) {
+    std::string out;
+    out.reserve((bytes.size() + 2) / 3 * 4);
+    append_base64(out, bytes);
+    return out;
+}
+
+bool is_default_texcoord(const std::array<float, 4>& t) {
+    return std::bit_cast<std::array<std::uint32_t, 4>>(t) ==
+           std::bit_cast<std::array<std::uint32_t, 4>>(SceneVertex{}.texcoord);
+}
+
+bool is_two_component_texcoord(const std::array<float, 4>& t) {
+    return std::bit_cast<std::uint32_t>(t[2]) == std::bit_cast<std::uint32_t>(0.0f) &&
+           std::bit_cast<std::uint32_t>(t[3]) == std::bit_cast<std::uint32_t>(1.0f);
+}
+
 std::string scene_json_text(const SceneFile& s, VertexForm form) {
     // The file without vertices and indices, as the loader's inverse writes it.
     SceneFile shell;
     shell.name = s.name;
     shell.description = s.description;
     shell.requires_extensions = s.requires_extensions;
+    // The vertices written below may hold texture coordinates, which the shell lacks.
+    if (uses_textures(s) &&
+        std::find(shell.requires_extensions.begin(), shell.requires_extensions.end(), "textures") ==
+            shell.requires_extensions.end()) {
+        shell.requires_extensions.emplace_back("textures");
+    }
     shell.target = s.target;
     shell.clear = s.clear;
     shell.expect = s.expect;
+    shell.textures = s.textures;
     for (const SceneDraw& d : s.draws) {
         SceneDraw e;
         e.primitive = d.primitive;
         e.space = d.space;
         e.matrix = d.matrix;
         e.state = d.state;
+        e.texture = d.texture;
         shell.draws.push_back(std::move(e));
     }
     ojson j = ojson::parse(scene_to_json(shell));

@@ -417,8 +417,8 @@ TEST(SceneFiles, ValidSceneValuesAndDefaults) {
 
 TEST(SceneFiles, UnknownRequiredExtensionIsNotSupportedNotAnError) {
     const auto s = harness::load_scene_text(
-        scene_with(kTarget, "[]", R"("requires": ["textures"], )"), "mem.json");
-    EXPECT_EQ(s.unsupported_extensions, (std::vector<std::string>{"textures"}));
+        scene_with(kTarget, "[]", R"("requires": ["cube_maps"], )"), "mem.json");
+    EXPECT_EQ(s.unsupported_extensions, (std::vector<std::string>{"cube_maps"}));
 }
 
 // "multisample" is implemented: listing it leaves the scene supported, and only the other
@@ -429,9 +429,9 @@ TEST(SceneFiles, MultisampleExtensionIsKnown) {
     EXPECT_EQ(s.file.requires_extensions, (std::vector<std::string>{"multisample"}));
     EXPECT_TRUE(s.unsupported_extensions.empty());
     s = harness::load_scene_text(
-        scene_with(kTarget, "[]", R"("requires": ["textures", "multisample", "Multisample"], )"),
+        scene_with(kTarget, "[]", R"("requires": ["cube_maps", "multisample", "Multisample"], )"),
         "mem.json");
-    EXPECT_EQ(s.unsupported_extensions, (std::vector<std::string>{"textures", "Multisample"}));
+    EXPECT_EQ(s.unsupported_extensions, (std::vector<std::string>{"cube_maps", "Multisample"}));
 }
 
 // reduce writes a scene the loader reads back the same: "multisample": false is kept, the

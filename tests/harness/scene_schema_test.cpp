@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "harness/scene.hpp"
+#include "harness/scene_text.hpp"
 #include "test_util.hpp"
 
 namespace {
@@ -158,6 +159,56 @@ TEST(SceneSchema, VertexArraysMatchTheLoader) {
     EXPECT_FALSE(loads_arrays(2, 4, false));
     const json idx = draw["properties"]["indices"]["oneOf"][1];
     EXPECT_EQ(idx["required"], json::array({"uint32_base64"}));
+}
+
+// The extension "textures" as the schema publishes it: every enumerated value of a draw's
+// "texture" loads and nothing else does, texture sides span the schema's range, and the keys
+// load only when "requires" lists the extension.
+TEST(SceneSchema, TexturesMatchTheLoader) {
+    const json s = schema();
+    const json state = s["properties"]["draws"]["items"]["properties"]["state"]["properties"]
+                        ["texture"]["oneOf"][1];
+    EXPECT_EQ(state["required"], json::array({"name"}));
+    const json side = s["properties"]["textures"]["additionalProperties"]["properties"]["width"];
+    const auto loads_texture = [](const json& texture_state, std::int64_t width, bool listed) {
+        const json t = {
+            {"width", width},
+            {"height", 1},
+            {"data",
+             harness::base64_text(std::vector<std::uint8_t>(static_cast<std::size_t>(width) * 4))},
+            {"mipmaps", "generate"}};
+        json scene = {{"format", "refraster-scene/1"},
+                      {"target", {{"width", 4}, {"height", 4}}},
+                      {"textures", {{"t", t}}},
+                      {"draws", json::array({{{"primitive", "points"},
+                                              {"vertices", json::array()},
+                                              {"state", {{"texture", texture_state}}}}})}};
+        if (listed) scene["requires"] = json::array({"textures"});
+        try {
+            (void)harness::load_scene_text(scene.dump(), "t.json");
+            return true;
+        } catch (const harness::SceneError&) {
+            return false;
+        }
+    };
+    int checked = 0;
+    for (const auto& [key, spec] : state["properties"].items()) {
+        if (!spec.contains("enum")) continue;
+        for (const auto& v : spec["enum"]) {
+            EXPECT_TRUE(loads_texture({{"name", "t"}, {key, v}}, 1, true)) << key << " = " << v;
+            ++checked;
+        }
+        EXPECT_FALSE(loads_texture({{"name", "t"}, {key, "no-such-value"}}, 1, true)) << key;
+    }
+    EXPECT_EQ(checked, 18);  // min_filter 6, mag_filter 2, wrap_s 4, wrap_t 4, env 2
+    const std::int64_t lo = side["minimum"].get<std::int64_t>();
+    const std::int64_t hi = side["maximum"].get<std::int64_t>();
+    EXPECT_TRUE(loads_texture({{"name", "t"}}, lo, true));
+    EXPECT_TRUE(loads_texture({{"name", "t"}}, hi, true));
+    EXPECT_FALSE(loads_texture({{"name", "t"}}, lo - 1, true));
+    EXPECT_FALSE(loads_texture({{"name", "t"}}, hi + 1, true));
+    EXPECT_FALSE(loads_texture({{"name", "t"}}, 1, false));
+    EXPECT_TRUE(loads_texture(nullptr, 1, true));
 }
 
 // Every shipped scene loads, describes itself, and is named by its dotted path.

@@ -23,7 +23,10 @@ namespace harness {
 // draws[d].vertices[v].position) when a coordinate comes out non-finite.
 std::array<float, 4> to_clip_space(const SceneDraw& draw, const SceneVertex& v);
 
-// The whole scene: every draw once, with "color" as attribute 0.
+// The whole scene: every draw once, with "color" as attribute 0 and, in a draw with a texture
+// (extension "textures"), "texcoord" as attribute 1; the file's textures in name order, each
+// draw's texture its name's index. Throws SceneError (path draws[d].state.texture.name) for a
+// texture name the scene does not define.
 refraster::DrawList run_front_end(const SceneFile& scene, const std::string& file_label);
 
 }  // namespace harness

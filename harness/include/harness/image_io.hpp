@@ -2,7 +2,9 @@
 //
 // Implements: writing a Framebuffer's colour as an 8-bit RGBA PNG (rgba8) or a float32 EXR
 // (rgba32f), top row first as image files are, atomically (a temporary file renamed into
-// place, so a failed write leaves nothing behind); reading such files back into bottom-up rows.
+// place, so a failed write leaves nothing behind); reading such files back into bottom-up rows;
+// reading 8-bit PNGs as texture images for the scene loader (extension "textures"), which this
+// library installs as the loader's texture file reader (scene.hpp, set_texture_file_reader).
 //
 // Deliberately does not: compare files by their bytes. OpenImageIO stamps metadata into PNGs;
 // comparisons work on decoded pixels.
@@ -13,6 +15,8 @@
 #include <utility>
 #include <vector>
 
+#include "harness/scene.hpp"
+#include "refraster/draw.hpp"
 #include "refraster/framebuffer.hpp"
 
 namespace harness {
@@ -39,5 +43,14 @@ std::vector<std::filesystem::path> sample_image_paths(const std::filesystem::pat
 
 // Reads a PNG (as rgba8) or an EXR (as rgba32f). Depth is not stored in image files.
 refraster::Framebuffer read_color_image(const std::filesystem::path& path);
+
+// Reads a PNG of 8-bit channels as RGBA8 texels, rows bottom to top as glTexImage2D takes them
+// (the file's top row last). RGBA as stored (alpha not multiplied in), RGB with alpha 255, grey
+// g as (g, g, g, 255), grey and alpha as (g, g, g, a); a palette image as the RGB or RGBA its
+// palette gives. Any other file, and channels of 1, 2, 4 or 16 bits, are refused
+// (ImageIoError, naming the file). `check_size(width, height)`, when given, runs once the
+// header is read and before any pixel is decoded; what it throws passes through.
+refraster::TextureImage read_texture_png(const std::filesystem::path& path,
+                                         const TextureSizeCheck& check_size = {});
 
 }  // namespace harness

@@ -11,6 +11,8 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -21,9 +23,9 @@
 
 namespace harness {
 
-// The scene format's version string. The extensions this reader implements, "multisample" and
-// "vertex_arrays", are checked by the loader (scene_json.cpp); any other required name is
-// unsupported.
+// The scene format's version string. The extensions this reader implements, "multisample",
+// "vertex_arrays" and "textures", are checked by the loader (scene_json.cpp); any other
+// required name is unsupported.
 inline constexpr const char* kSceneFormatV1 = "refraster-scene/1";
 
 enum class VertexSpace : std::uint8_t { Window, Clip };
@@ -33,6 +35,8 @@ struct SceneVertex {
     std::array<float, 4> position{0.0f, 0.0f, 0.0f, 1.0f};
     std::uint32_t position_size = 0;  // how many coordinates the file gave (2, 3 or 4)
     std::array<float, 4> color{1.0f, 1.0f, 1.0f, 1.0f};
+    // (s, t, r, q); extension "textures". A file's [s, t] gives r = 0, q = 1.
+    std::array<float, 4> texcoord{0.0f, 0.0f, 0.0f, 1.0f};
 };
 
 struct SceneDraw {
@@ -42,6 +46,10 @@ struct SceneDraw {
     std::vector<SceneVertex> vertices;
     std::optional<std::vector<std::uint32_t>> indices;
     refraster::DrawState state;  // viewport already defaulted to the whole target
+    // The name of the texture `state.texture` samples (a key of SceneFile::textures), empty
+    // without one. The front end turns it into state.texture->texture, the texture's index in
+    // the draw list.
+    std::string texture;
     // The file gave the vertices as "vertex_arrays" (extension "vertex_arrays") rather than
     // "vertices": the values are the same, only the paths of messages differ.
     bool from_vertex_arrays = false;
@@ -59,6 +67,10 @@ struct SceneFile {
     refraster::Target target;
     refraster::ClearValues clear;
     Expect expect;
+    // Extension "textures": every texture the file defines, by name, decoded (RGBA8, rows
+    // bottom to top, the given mipmap levels after the base). The draw list holds them all,
+    // in this (name) order.
+    std::map<std::string, refraster::Texture> textures;
     std::vector<SceneDraw> draws;
 };
 
@@ -109,7 +121,22 @@ struct SceneLimits {
     std::uint64_t max_indices = 4'194'304;        // over all draws
     std::uint64_t max_primitives = 4'194'304;     // assembled, over all draws
     std::uint64_t max_fragments = 2'147'483'648;  // estimated (estimate_work), over all draws
+    std::uint64_t max_textures = 256;             // extension "textures"
+    // RGBA8 texels over every level of every texture, those glGenerateMipmap makes included.
+    std::uint64_t max_texel_bytes = std::uint64_t{1} << 30;
 };
+
+// How the loader reads the image file of a texture (extension "textures", key "file"): RGBA8
+// texels, rows bottom to top. `check_size(width, height)` must be called once the image's size
+// is known and before its pixels are decoded; it throws SceneError to refuse the size. Other
+// failures throw any std::exception whose what() names the file. harness_core reads no image
+// files itself: linking harness_image_io installs its PNG reader (image_io.hpp,
+// read_texture_png); a program without it refuses "file" with a message that says so.
+using TextureSizeCheck = std::function<void(std::uint32_t width, std::uint32_t height)>;
+using TextureFileReader = refraster::TextureImage (*)(const std::filesystem::path& path,
+                                                      const TextureSizeCheck& check_size);
+void set_texture_file_reader(TextureFileReader reader);
+TextureFileReader texture_file_reader();
 
 // An upper estimate of what rendering a draw list costs. `fragments` sums, over every
 // assembled primitive, the pixels of its window-space bounding box (lines and points widened by
@@ -127,7 +154,9 @@ SceneWork estimate_work(const refraster::DrawList& list);
 // a message quoting a key, a path or a string from a file stays on one line.
 std::string escape_for_message(std::string_view text);
 
-// Parses and validates text that claims to be a scene file. `file_label` names it in errors.
+// Parses and validates text that claims to be a scene file. `file_label` names it in errors;
+// a texture's "file" is read relative to the directory of `file_label`'s path (load_scene: the
+// scene file's own directory).
 SceneFile parse_scene(std::string_view text, const std::string& file_label,
                       const SceneLimits& limits = {});
 

@@ -11,9 +11,11 @@
 // plain form, scene_to_json).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <nlohmann/json.hpp>
+#include <span>
 #include <string>
 
 #include "harness/scene.hpp"
@@ -39,6 +41,14 @@ using DrawFieldWriter =
     std::function<void(std::string& out, std::size_t index, const nlohmann::ordered_json& draw)>;
 void open_draw_field(std::string& out, bool& first);
 std::string lay_out_scene_json(const nlohmann::ordered_json& scene, const DrawFieldWriter& draw);
+
+// `bytes` as base64 (RFC 4648, section 4, padded with '='), the spelling the loader reads.
+std::string base64_text(std::span<const std::uint8_t> bytes);
+
+// Whether a vertex's texture coordinate is the default (0, 0, 0, 1), and whether it is
+// (s, t, 0, 1), which a file can spell [s, t]; bit for bit, so -0 is no default.
+bool is_default_texcoord(const std::array<float, 4>& t);
+bool is_two_component_texcoord(const std::array<float, 4>& t);
 
 // `triangles` unindexed triangles of a few pixels each, scattered over a 1024 x 1024 target
 // with depth, positions [x, y, z] on a 1/256 grid and colours on a 1/16 grid: the shape of
