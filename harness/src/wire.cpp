@@ -95,6 +95,14 @@ class Decoder {
         pos_ += n;
         return s;
     }
+    // A counted byte block, copied once (no zero fill first).
+    std::vector<std::uint8_t> bytes() {
+        const std::size_t n = count(1);
+        const auto first = in_.begin() + static_cast<std::ptrdiff_t>(pos_);
+        std::vector<std::uint8_t> v(first, first + static_cast<std::ptrdiff_t>(n));
+        pos_ += n;
+        return v;
+    }
     template <typename T, typename A = std::allocator<T>>
     std::vector<T, A> array() {
         static_assert(std::is_trivially_copyable_v<T>);
@@ -167,6 +175,17 @@ void put_state(Encoder& e, const refraster::DrawState& s) {
     e.f32(s.point_size);
     e.enumeration(s.blend);
     e.boolean(s.multisample);
+    e.boolean(s.texture.has_value());
+    if (s.texture) {
+        const auto& t = *s.texture;
+        e.u32(t.texture);
+        e.enumeration(t.min_filter);
+        e.enumeration(t.mag_filter);
+        e.enumeration(t.wrap_s);
+        e.enumeration(t.wrap_t);
+        for (float c : t.border_color) e.f32(c);
+        e.enumeration(t.env);
+    }
 }
 
 refraster::DrawState get_state(Decoder& d) {
@@ -193,7 +212,50 @@ refraster::DrawState get_state(Decoder& d) {
     s.point_size = d.f32();
     s.blend = d.enumeration(BlendPreset::Add);
     s.multisample = d.boolean();
+    if (d.boolean()) {
+        TextureState t;
+        t.texture = d.u32();
+        t.min_filter = d.enumeration(TextureFilter::LinearMipmapLinear);
+        t.mag_filter = d.enumeration(TextureFilter::LinearMipmapLinear);
+        t.wrap_s = d.enumeration(TextureWrap::ClampToBorder);
+        t.wrap_t = d.enumeration(TextureWrap::ClampToBorder);
+        for (float& c : t.border_color) c = d.f32();
+        t.env = d.enumeration(TextureEnv::Replace);
+        s.texture = t;
+    }
     return s;
+}
+
+// A texture: the generate flag, then its levels, each its size and its texels as one block
+// (a 4096x4096 level is 64 MiB: copied once each way, never converted).
+void put_texture(Encoder& e, const refraster::Texture& t) {
+    e.boolean(t.generate_mipmaps);
+    e.u64(t.levels.size());
+    for (const auto& level : t.levels) {
+        e.u32(level.width);
+        e.u32(level.height);
+        e.array(level.rgba);
+    }
+}
+
+refraster::Texture get_texture(Decoder& d) {
+    refraster::Texture t;
+    t.generate_mipmaps = d.boolean();
+    // A level takes at least 16 bytes (two sizes and an empty block's count).
+    const std::size_t levels = d.count(16);
+    t.levels.reserve(levels);
+    for (std::size_t i = 0; i < levels; ++i) {
+        refraster::TextureImage level;
+        level.width = d.u32();
+        level.height = d.u32();
+        level.rgba = d.bytes();
+        // The GL worker hands the block to glTexImage2D, which reads width * height * 4 bytes.
+        if (level.rgba.size() != std::uint64_t{level.width} * level.height * 4) {
+            d.fail("texture level size does not match its texels");
+        }
+        t.levels.push_back(std::move(level));
+    }
+    return t;
 }
 
 void put_framebuffer(Encoder& e, const refraster::Framebuffer& fb) {
@@ -245,6 +307,10 @@ std::vector<std::uint8_t> encode_draw_list(const refraster::DrawList& list) {
     for (const auto& d : list.draws) {
         estimate += 128 + d.vertices.data.size() * 4 + (d.indices ? d.indices->size() * 4 : 0);
     }
+    for (const auto& texture : list.textures) {
+        estimate += 16;
+        for (const auto& level : texture.levels) estimate += 16 + level.rgba.size();
+    }
     e.reserve(estimate);
 
     const auto& t = list.target;
@@ -269,6 +335,10 @@ std::vector<std::uint8_t> encode_draw_list(const refraster::DrawList& list) {
         e.boolean(d.indices.has_value());
         if (d.indices) e.array(*d.indices);
     }
+    // The textures follow the draws, so that a list without any ends as it always did but
+    // for their count.
+    e.u64(list.textures.size());
+    for (const auto& texture : list.textures) put_texture(e, texture);
     return e.take();
 }
 
@@ -303,6 +373,10 @@ refraster::DrawList decode_draw_list(std::span<const std::uint8_t> payload) {
         if (d.boolean()) draw.indices = d.array<std::uint32_t>();
         list.draws.push_back(std::move(draw));
     }
+    // A texture takes at least 9 bytes (its flag and its level count).
+    const std::size_t textures = d.count(9);
+    list.textures.reserve(textures);
+    for (std::size_t i = 0; i < textures; ++i) list.textures.push_back(get_texture(d));
     d.finish();
     return list;
 }

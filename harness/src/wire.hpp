@@ -4,13 +4,16 @@
 // messages that cross them, a refraster::DrawList (request) and a harness::RenderResult
 // (reply: the image and, for a 4x target, every sample). A frame is a 12-byte header, uint32 type
 // then uint64 payload length, followed by the payload. Numbers are little-endian; floats travel as
-// their bit patterns, so a DrawList arrives bit for bit as it was sent.
+// their bit patterns, so a DrawList arrives bit for bit as it was sent. A DrawList's textures
+// travel after its draws, every level's texels as one block of bytes, and each draw's texture
+// state after the rest of its state.
 //
 // Reading and writing are incremental (FrameReader/FrameWriter do one read(2)/write(2) per
 // call) so that a caller can put poll(2) with a deadline between calls; blocking helpers
 // are built on the same classes. EINTR is retried, short reads and writes are resumed, and
 // every decode checks lengths before it touches memory: a truncated or corrupt stream throws
-// WireError, never reads past a buffer.
+// WireError, never reads past a buffer. A texture level whose bytes are not width * height * 4
+// is corrupt too, since the worker gives them to glTexImage2D as they are.
 //
 // Deliberately does not: know anything about GL, processes, signals or timeouts, nor
 // version the protocol (both ends are always built from the same tree).

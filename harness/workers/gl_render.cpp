@@ -202,6 +202,7 @@ const char* qualifier(refraster::ShadeModel s) {
 
 constexpr GLuint kPositionLocation = 0;
 constexpr GLuint kColorLocation = 1;
+constexpr GLuint kTexcoordLocation = 2;
 
 GLuint compile_shader(GLenum type, const std::string& source) {
     const GLuint sh = glCreateShader(type);
@@ -257,41 +258,67 @@ GLuint link_program(const std::string& vs_source, const std::string& fs_source,
 // integer output; everything else is the colour program's.
 constexpr const char* kGlslOwnerVersion = "#version 150 compatibility\n";
 
-GLuint build_program(refraster::ShadeModel shade, bool owners) {
+struct ProgramSources {
+    std::string vertex;
+    std::string fragment;
+};
+
+// The pass-through program of one shade model, with or without the owner output, and with a
+// texture (env given) or without. Without a texture the sources are exactly those the colour
+// and owner programs always had. With one, the texture coordinate is interpolated with the
+// colour's qualifier and the texel of unit 0 sampled with textureProj at (s, t, q).
+ProgramSources program_sources(refraster::ShadeModel shade, bool owners,
+                               std::optional<refraster::TextureEnv> env) {
     const std::string q = qualifier(shade);
     const std::string version = owners ? kGlslOwnerVersion : kGlslVersion;
-    const std::string vs = version +
-                           "in vec4 position;\n"
-                           "in vec4 color;\n" +
-                           q +
-                           " out vec4 v_color;\n"
-                           "void main() {\n"
-                           "    gl_Position = position;\n"
-                           "    v_color = color;\n"
-                           "}\n";
-    const std::string fs =
-        owners
-            ? version + q +
-                  " in vec4 v_color;\n"
-                  "out vec4 frag_color;\n"
-                  "out uint frag_owner;\n"
-                  "uniform uint draw_index;\n"
-                  "void main() {\n"
-                  "    frag_color = v_color;\n"
-                  "    frag_owner = (draw_index << 24) | (uint(gl_PrimitiveID + 1) & 0xffffffu);\n"
-                  "}\n"
-            : version + q +
-                  " in vec4 v_color;\n"
-                  "out vec4 frag_color;\n"
-                  "void main() {\n"
-                  "    frag_color = v_color;\n"
-                  "}\n";
-    const GLuint p = link_program(vs, fs, [owners](GLuint program) {
+    const bool textured = env.has_value();
+    const std::string color_out = !textured ? "    frag_color = v_color;\n"
+                                  : *env == refraster::TextureEnv::Modulate
+                                      ? "    frag_color = v_color * t;\n"
+                                      : "    frag_color = t;\n";
+    ProgramSources src;
+    src.vertex = version +
+                 "in vec4 position;\n"
+                 "in vec4 color;\n" +
+                 (textured ? "in vec4 texcoord;\n" : "") + q + " out vec4 v_color;\n" +
+                 (textured ? q + " out vec4 v_texcoord;\n" : "") +
+                 "void main() {\n"
+                 "    gl_Position = position;\n"
+                 "    v_color = color;\n" +
+                 (textured ? "    v_texcoord = texcoord;\n" : "") + "}\n";
+    const std::string sample =
+        textured
+            ? "    vec4 t = textureProj(tex, vec3(v_texcoord.s, v_texcoord.t, v_texcoord.q));\n"
+            : "";
+    src.fragment = version + q + " in vec4 v_color;\n" +
+                   (textured ? q + " in vec4 v_texcoord;\n" : "") + "out vec4 frag_color;\n" +
+                   (owners ? "out uint frag_owner;\n"
+                             "uniform uint draw_index;\n"
+                           : "") +
+                   (textured ? "uniform sampler2D tex;\n" : "") + "void main() {\n" + sample +
+                   color_out +
+                   (owners ? "    frag_owner = (draw_index << 24) | (uint(gl_PrimitiveID + 1) & "
+                             "0xffffffu);\n"
+                           : "") +
+                   "}\n";
+    return src;
+}
+
+GLuint build_program(refraster::ShadeModel shade, bool owners,
+                     std::optional<refraster::TextureEnv> env) {
+    const ProgramSources src = program_sources(shade, owners, env);
+    const bool textured = env.has_value();
+    const GLuint p = link_program(src.vertex, src.fragment, [owners, textured](GLuint program) {
         glBindAttribLocation(program, kPositionLocation, "position");
         glBindAttribLocation(program, kColorLocation, "color");
+        if (textured) glBindAttribLocation(program, kTexcoordLocation, "texcoord");
         glBindFragDataLocation(program, 0, "frag_color");
         if (owners) glBindFragDataLocation(program, 1, "frag_owner");
     });
+    if (textured) {
+        glUseProgram(p);
+        glUniform1i(glGetUniformLocation(p, "tex"), 0);  // texture unit 0
+    }
     check_gl("building the shader program");
     return p;
 }
@@ -745,10 +772,14 @@ refraster::Framebuffer SampleReader::read(const SampleSources& src) {
 
 struct Renderer::Impl {
     harness::Provenance provenance;
-    std::array<GLuint, 6> programs{};  // by ShadeModel, then with owners; 0 until first use
-    bool owners = false;               // this render writes the owner attachment
-    GLuint owner_rb = 0;               // 1x
-    GLuint owner_tex = 0;              // 4x: a multisample texture
+    // By ShadeModel, then with owners, then untextured, modulate, replace; 0 until first use.
+    std::array<GLuint, 18> programs{};
+    // The GL textures of the DrawList being rendered, by index; made at the start of each
+    // render and deleted at its end.
+    std::vector<GLuint> textures;
+    bool owners = false;                        // this render writes the owner attachment
+    GLuint owner_rb = 0;                        // 1x
+    GLuint owner_tex = 0;                       // 4x: a multisample texture
     std::optional<SampleReader> sample_reader;  // made at the first 4x target
     GLuint current_draw = 0;
     GLuint vao = 0;
@@ -763,11 +794,20 @@ struct Renderer::Impl {
     std::array<GLfloat, 2> line_width_range{};
     std::array<GLfloat, 2> point_size_range{};
 
-    GLuint program(refraster::ShadeModel shade) {
-        GLuint& p = programs[static_cast<std::size_t>(shade) + (owners ? 3 : 0)];
-        if (p == 0) p = build_program(shade, owners);
+    GLuint program(refraster::ShadeModel shade, std::optional<refraster::TextureEnv> env) {
+        const std::size_t variant = env ? 1 + static_cast<std::size_t>(*env) : 0;
+        GLuint& p = programs[static_cast<std::size_t>(shade) + (owners ? 3 : 0) + 6 * variant];
+        if (p == 0) p = build_program(shade, owners, env);
         return p;
     }
+    void upload_textures(const refraster::DrawList& list);
+    void release_textures() {
+        if (!textures.empty()) {
+            glDeleteTextures(static_cast<GLsizei>(textures.size()), textures.data());
+        }
+        textures.clear();
+    }
+    void bind_texture(const refraster::TextureState& ts);
     void attach_owners(const refraster::Target& t);
     void detach_owners();
 
@@ -1011,8 +1051,12 @@ void Renderer::Impl::draw(const refraster::Target& t, const refraster::Draw& d) 
     }
     check_gl("setting draw state");
 
-    glUseProgram(program(s.shade));
-    if (owners) glUniform1ui(glGetUniformLocation(program(s.shade), "draw_index"), current_draw);
+    const std::optional<refraster::TextureEnv> env =
+        s.texture ? std::optional(s.texture->env) : std::nullopt;
+    if (s.texture) bind_texture(*s.texture);
+    const GLuint prog = program(s.shade, env);
+    glUseProgram(prog);
+    if (owners) glUniform1ui(glGetUniformLocation(prog, "draw_index"), current_draw);
 
     const auto& va = d.vertices;
     const std::uint32_t stride_floats = va.stride();
@@ -1025,8 +1069,10 @@ void Renderer::Impl::draw(const refraster::Target& t, const refraster::Draw& d) 
     glVertexAttribPointer(kPositionLocation, 4, GL_FLOAT, GL_FALSE, stride_bytes, nullptr);
 
     std::optional<std::size_t> color;
+    std::optional<std::size_t> texcoord;
     for (std::size_t a = 0; a < va.attributes.size(); ++a) {
         if (va.attributes[a].name == "color") color = a;
+        if (va.attributes[a].name == "texcoord") texcoord = a;
     }
     if (color) {
         const std::uint32_t components = va.attributes[*color].components;
@@ -1042,6 +1088,23 @@ void Renderer::Impl::draw(const refraster::Target& t, const refraster::Draw& d) 
         glDisableVertexAttribArray(kColorLocation);
         glVertexAttrib4f(kColorLocation, 1.0f, 1.0f, 1.0f, 1.0f);
     }
+    if (s.texture && texcoord) {
+        const std::uint32_t components = va.attributes[*texcoord].components;
+        if (components < 1 || components > 4) {
+            throw GlFailure("texcoord attribute with " + std::to_string(components) +
+                            " components");
+        }
+        const std::uintptr_t offset_bytes = va.attribute_offset(*texcoord) * sizeof(float);
+        glEnableVertexAttribArray(kTexcoordLocation);
+        glVertexAttribPointer(kTexcoordLocation, static_cast<GLint>(components), GL_FLOAT, GL_FALSE,
+                              stride_bytes, reinterpret_cast<const void*>(offset_bytes));
+    } else {
+        // Untextured programs have no texcoord input; the array must not stay enabled with an
+        // earlier draw's layout all the same. A textured draw without coordinates samples at
+        // GL's current-attribute default.
+        glDisableVertexAttribArray(kTexcoordLocation);
+        glVertexAttrib4f(kTexcoordLocation, 0.0f, 0.0f, 0.0f, 1.0f);
+    }
     check_gl("uploading vertices");
 
     const GLenum mode = primitive_mode(d.primitive);
@@ -1055,6 +1118,145 @@ void Renderer::Impl::draw(const refraster::Target& t, const refraster::Draw& d) 
         glDrawArrays(mode, 0, static_cast<GLsizei>(count));
     }
     check_gl("drawing");
+}
+
+namespace {
+
+GLint texture_filter(refraster::TextureFilter f) {
+    using refraster::TextureFilter;
+    switch (f) {
+        case TextureFilter::Nearest:
+            return GL_NEAREST;
+        case TextureFilter::Linear:
+            return GL_LINEAR;
+        case TextureFilter::NearestMipmapNearest:
+            return GL_NEAREST_MIPMAP_NEAREST;
+        case TextureFilter::LinearMipmapNearest:
+            return GL_LINEAR_MIPMAP_NEAREST;
+        case TextureFilter::NearestMipmapLinear:
+            return GL_NEAREST_MIPMAP_LINEAR;
+        case TextureFilter::LinearMipmapLinear:
+            return GL_LINEAR_MIPMAP_LINEAR;
+    }
+    return GL_LINEAR;
+}
+
+GLint texture_wrap(refraster::TextureWrap w) {
+    using refraster::TextureWrap;
+    switch (w) {
+        case TextureWrap::Repeat:
+            return GL_REPEAT;
+        case TextureWrap::ClampToEdge:
+            return GL_CLAMP_TO_EDGE;
+        case TextureWrap::MirroredRepeat:
+            return GL_MIRRORED_REPEAT;
+        case TextureWrap::ClampToBorder:
+            return GL_CLAMP_TO_BORDER;
+    }
+    return GL_REPEAT;
+}
+
+// After a texture allocation: any error, GL_OUT_OF_MEMORY included, is a GlFailure naming
+// the texture and level.
+void check_texture(const char* step, std::size_t texture, std::size_t level) {
+    const GLenum e = glGetError();
+    if (e != GL_NO_ERROR) {
+        throw GlFailure(std::string("GL error ") + hex(e) + " (" + gl_error_name(e) + ") " + step +
+                        " texture " + std::to_string(texture) + " level " + std::to_string(level));
+    }
+}
+
+}  // namespace
+
+// Every texture of the list on texture unit 0, RGBA8 from the given rows (bottom to top, as
+// glTexImage2D takes them): each given level, GL_TEXTURE_MAX_LEVEL the last of them; or, with
+// generate_mipmaps, the base and glGenerateMipmap, GL_TEXTURE_MAX_LEVEL left at 1000. Sampling
+// state is set per draw (bind_texture).
+void Renderer::Impl::upload_textures(const refraster::DrawList& list) {
+    release_textures();
+    if (list.textures.empty()) return;
+    for (std::size_t i = 0; i < list.draws.size(); ++i) {
+        const auto& ts = list.draws[i].state.texture;
+        if (ts && ts->texture >= list.textures.size()) {
+            throw GlFailure("draw " + std::to_string(i) + " names texture " +
+                            std::to_string(ts->texture) + " of " +
+                            std::to_string(list.textures.size()));
+        }
+    }
+    glActiveTexture(GL_TEXTURE0);
+    glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+    glPixelStorei(GL_UNPACK_IMAGE_HEIGHT, 0);
+    glPixelStorei(GL_UNPACK_SKIP_ROWS, 0);
+    glPixelStorei(GL_UNPACK_SKIP_PIXELS, 0);
+    glPixelStorei(GL_UNPACK_SKIP_IMAGES, 0);
+    glPixelStorei(GL_UNPACK_SWAP_BYTES, GL_FALSE);
+    glPixelStorei(GL_UNPACK_LSB_FIRST, GL_FALSE);
+    check_gl("setting the unpack state");
+
+    textures.assign(list.textures.size(), 0);
+    glGenTextures(static_cast<GLsizei>(textures.size()), textures.data());
+    check_gl("creating textures");
+    for (std::size_t i = 0; i < list.textures.size(); ++i) {
+        const auto& tex = list.textures[i];
+        if (tex.levels.empty()) throw GlFailure("texture " + std::to_string(i) + " has no levels");
+        const std::size_t given = tex.generate_mipmaps ? 1 : tex.levels.size();
+        if (given > 1000) {
+            throw GlFailure("texture " + std::to_string(i) + " has " + std::to_string(given) +
+                            " levels");
+        }
+        glBindTexture(GL_TEXTURE_2D, textures[i]);
+        for (std::size_t level = 0; level < given; ++level) {
+            const auto& img = tex.levels[level];
+            if (img.width > static_cast<std::uint32_t>(max_texture_size) ||
+                img.height > static_cast<std::uint32_t>(max_texture_size)) {
+                throw Unsupported("texture " + std::to_string(i) + " level " +
+                                  std::to_string(level) + " of " + std::to_string(img.width) + "x" +
+                                  std::to_string(img.height) + " (GL_MAX_TEXTURE_SIZE " +
+                                  std::to_string(max_texture_size) + ")");
+            }
+            if (img.rgba.size() != std::size_t{img.width} * img.height * 4) {
+                throw GlFailure("texture " + std::to_string(i) + " level " + std::to_string(level) +
+                                ": " + std::to_string(img.rgba.size()) + " bytes for " +
+                                std::to_string(img.width) + "x" + std::to_string(img.height) +
+                                " texels");
+            }
+            glTexImage2D(GL_TEXTURE_2D, static_cast<GLint>(level), GL_RGBA8,
+                         static_cast<GLsizei>(img.width), static_cast<GLsizei>(img.height), 0,
+                         GL_RGBA, GL_UNSIGNED_BYTE, img.rgba.empty() ? nullptr : img.rgba.data());
+            check_texture("uploading", i, level);
+        }
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_BASE_LEVEL, 0);
+        if (tex.generate_mipmaps) {
+            glGenerateMipmap(GL_TEXTURE_2D);
+            check_texture("generating the mipmaps of", i, 0);
+        } else {
+            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, static_cast<GLint>(given - 1));
+        }
+        check_gl("setting texture levels");
+    }
+    glBindTexture(GL_TEXTURE_2D, 0);
+}
+
+// The draw's texture on unit 0 with its sampling state. LOD bias, the LOD range and
+// anisotropy stay at GL's defaults.
+void Renderer::Impl::bind_texture(const refraster::TextureState& ts) {
+    if (ts.texture >= textures.size()) {
+        throw GlFailure("a draw names texture " + std::to_string(ts.texture) + " of " +
+                        std::to_string(textures.size()));
+    }
+    if (refraster::uses_mipmaps(ts.mag_filter)) {
+        throw GlFailure("magnification filter other than nearest or linear");
+    }
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, textures[ts.texture]);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, texture_filter(ts.min_filter));
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, texture_filter(ts.mag_filter));
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, texture_wrap(ts.wrap_s));
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, texture_wrap(ts.wrap_t));
+    glTexParameterfv(GL_TEXTURE_2D, GL_TEXTURE_BORDER_COLOR, ts.border_color.data());
+    check_gl("setting texture state");
 }
 
 // The owner attachment at colour attachment 1 of the framebuffer drawn into, cleared to 0,
@@ -1237,6 +1439,7 @@ Renderer::~Renderer() {
     impl_->detach_owners();
     impl_->target.release();
     impl_->sample_reader.reset();
+    impl_->release_textures();
     for (GLuint p : impl_->programs) {
         if (p != 0) glDeleteProgram(p);
     }
@@ -1260,11 +1463,13 @@ harness::RenderResult Renderer::render(const refraster::DrawList& list, bool own
         impl_->clear(list);
         impl_->owners = owners;
         if (owners) impl_->attach_owners(list.target);
+        impl_->upload_textures(list);
         for (std::size_t i = 0; i < list.draws.size(); ++i) {
             impl_->current_draw = static_cast<GLuint>(i);
             impl_->draw(list.target, list.draws[i]);
         }
         impl_->read_back(list.target, r);
+        impl_->release_textures();
         impl_->detach_owners();
         impl_->owners = false;
     } catch (const Unsupported& e) {
@@ -1281,6 +1486,7 @@ harness::RenderResult Renderer::render(const refraster::DrawList& list, bool own
         r.message = e.what();
     }
     if (r.status != harness::RenderStatus::Ok) {
+        impl_->release_textures();
         impl_->detach_owners();
         impl_->owners = false;
         r.image = refraster::Framebuffer{};

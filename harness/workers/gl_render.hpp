@@ -6,8 +6,12 @@
 // (multisample textures) resolved with glBlitFramebuffer and every sample read back exactly
 // (SampleReader), GL_MULTISAMPLE per draw, a clear with scissor off and every mask on, a
 // pass-through shader per interpolation qualifier, all fixed-function state set from each draw's
-// own defaults, and glReadPixels into a refraster::Framebuffer (rows bottom-up). It also collects
-// the provenance of the context (renderer, version, driver, environment, Mesa package).
+// own defaults, and glReadPixels into a refraster::Framebuffer (rows bottom-up). Textures: every
+// texture of the DrawList is made (RGBA8, the given levels or glGenerateMipmap's) at the start of
+// a render and deleted at its end; a textured draw binds its texture on unit 0 with its filters,
+// wraps and border colour, and its program (per interpolation qualifier and env) samples it with
+// textureProj at the "texcoord" attribute, interpolated like the colour. It also collects the
+// provenance of the context (renderer, version, driver, environment, Mesa package).
 //
 // Deliberately does not: create or own a context (each worker does, with OSMesa or EGL),
 // transform vertices (the front end did), or compare anything. It is compiled into each worker

@@ -11,6 +11,7 @@
 #include <array>
 #include <bit>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -655,6 +656,228 @@ TEST_P(GlBackend, MissingWorkerDirectoryIsRefusedUpFront) {
     o.driver = GetParam();
     EXPECT_THROW(harness::GlWorkerBackend{o}, std::runtime_error);
     ::setenv("REFRASTER_WORKER_DIR", REFRASTER_TEST_WORKER_DIR, 1);
+}
+
+// Textures (extension "textures"): a draw's vertex records are position, colour, texcoord.
+struct TexVertex {
+    std::array<float, 4> clip;
+    std::array<float, 4> color;
+    std::array<float, 4> texcoord;
+};
+
+// A quad over the whole target, two indexed triangles, texture coordinates (0, 0) at the
+// bottom-left corner and (s1, t1) at the top-right, all multiplied by q (textureProj divides
+// them back). On a target of the texture's size every pixel centre then samples its own
+// texel centre exactly.
+Draw textured_quad(const Target& t, std::array<float, 4> color, float s1, float t1, float q,
+                   TextureState state) {
+    const std::vector<TexVertex> vs = {{{-1, -1, 0, 1}, color, {0, 0, 0, q}},
+                                       {{1, -1, 0, 1}, color, {s1 * q, 0, 0, q}},
+                                       {{1, 1, 0, 1}, color, {s1 * q, t1 * q, 0, q}},
+                                       {{-1, 1, 0, 1}, color, {0, t1 * q, 0, q}}};
+    Draw d;
+    d.primitive = PrimitiveType::Triangles;
+    d.state.viewport =
+        Rect{0, 0, static_cast<std::int32_t>(t.width), static_cast<std::int32_t>(t.height)};
+    d.state.texture = state;
+    d.vertices.attributes = {{"color", 4}, {"texcoord", 4}};
+    for (const auto& v : vs) {
+        d.vertices.data.insert(d.vertices.data.end(), v.clip.begin(), v.clip.end());
+        d.vertices.data.insert(d.vertices.data.end(), v.color.begin(), v.color.end());
+        d.vertices.data.insert(d.vertices.data.end(), v.texcoord.begin(), v.texcoord.end());
+    }
+    d.indices = std::vector<std::uint32_t>{0, 1, 2, 0, 2, 3};
+    return d;
+}
+
+// A 2x2 RGBA8 image from its texels, rows bottom to top: (0,0), (1,0), (0,1), (1,1).
+TextureImage image2x2(const std::array<Rgba, 4>& texels) {
+    TextureImage img{2, 2, {}};
+    for (const auto& t : texels) img.rgba.insert(img.rgba.end(), t.begin(), t.end());
+    return img;
+}
+
+TextureState nearest_state(TextureEnv env) {
+    TextureState s;
+    s.min_filter = TextureFilter::Nearest;
+    s.mag_filter = TextureFilter::Nearest;
+    s.env = env;
+    return s;
+}
+
+TEST_P(GlBackend, TextureReplaceGivesEachPixelItsTexel) {
+    auto b = make();
+    const std::array<Rgba, 4> texels = {Rgba{255, 0, 0, 255}, Rgba{0, 255, 1, 128},
+                                        Rgba{3, 7, 254, 64}, Rgba{17, 34, 51, 0}};
+    // q = 1 and q = 2: the coordinates are divided by q (textureProj). With q ignored, the
+    // q = 2 quad would sample (0.5, 0.5) and (1.5, 1.5) and give texel (1,1) everywhere but
+    // the pixel (0,0).
+    for (const float q : {1.0f, 2.0f}) {
+        DrawList list;
+        list.target = Target{2, 2, ColorFormat::Rgba8, DepthFormat::None, 1};
+        list.clear.color = {0.5f, 0.5f, 0.5f, 0.5f};
+        list.textures = {Texture{{image2x2(texels)}, false}};
+        list.draws.push_back(textured_quad(list.target, {0.2f, 0.4f, 0.6f, 0.8f}, 1, 1, q,
+                                           nearest_state(TextureEnv::Replace)));
+        const auto fb = render_ok(*b, make_scene("texture-replace", list));
+        ASSERT_EQ(fb.color8.size(), 2u * 2u * 4u);
+        for (std::uint32_t y = 0; y < 2; ++y) {
+            for (std::uint32_t x = 0; x < 2; ++x) {
+                EXPECT_EQ(pixel(fb, x, y), texels[y * 2 + x])
+                    << "q " << q << ", pixel " << x << "," << y << " got " << show(pixel(fb, x, y));
+            }
+        }
+    }
+}
+
+TEST_P(GlBackend, TextureModulateMultipliesTheColour) {
+    auto b = make();
+    // Texels that the colour's factors divide exactly: cvt8(c * t / 255) = c * t with no
+    // rounding to decide.
+    const std::array<Rgba, 4> texels = {Rgba{200, 40, 120, 254}, Rgba{0, 252, 8, 2},
+                                        Rgba{16, 100, 44, 128}, Rgba{96, 4, 252, 60}};
+    const std::array<float, 4> color{0.5f, 0.25f, 1.0f, 0.5f};
+    DrawList list;
+    list.target = Target{2, 2, ColorFormat::Rgba8, DepthFormat::None, 1};
+    list.textures = {Texture{{image2x2(texels)}, false}};
+    list.draws.push_back(
+        textured_quad(list.target, color, 1, 1, 1, nearest_state(TextureEnv::Modulate)));
+    const auto fb = render_ok(*b, make_scene("texture-modulate", list));
+    ASSERT_EQ(fb.color8.size(), 2u * 2u * 4u);
+    for (std::uint32_t y = 0; y < 2; ++y) {
+        for (std::uint32_t x = 0; x < 2; ++x) {
+            const Rgba& t = texels[y * 2 + x];
+            Rgba want{};
+            for (std::size_t c = 0; c < 4; ++c) {
+                want[c] =
+                    static_cast<std::uint8_t>(std::lround(static_cast<double>(color[c]) * t[c]));
+            }
+            EXPECT_EQ(pixel(fb, x, y), want)
+                << "pixel " << x << "," << y << " got " << show(pixel(fb, x, y));
+        }
+    }
+}
+
+// An untextured draw after a textured one: the texcoord array of the first must not leak
+// into the second, whose records are shorter. The untextured quad is scissored to the right
+// column.
+TEST_P(GlBackend, UntexturedDrawAfterATexturedOne) {
+    auto b = make();
+    const std::array<Rgba, 4> texels = {Rgba{10, 20, 30, 40}, Rgba{50, 60, 70, 80},
+                                        Rgba{90, 100, 110, 120}, Rgba{130, 140, 150, 160}};
+    DrawList list;
+    list.target = Target{2, 2, ColorFormat::Rgba8, DepthFormat::None, 1};
+    list.textures = {Texture{{image2x2(texels)}, false}};
+    list.draws.push_back(
+        textured_quad(list.target, {1, 1, 1, 1}, 1, 1, 1, nearest_state(TextureEnv::Replace)));
+    Draw plain = full_quad(list.target, 0.0f, {0.0f, 0.0f, 1.0f, 1.0f});
+    plain.state.scissor = Rect{1, 0, 1, 2};
+    list.draws.push_back(plain);
+    const auto fb = render_ok(*b, make_scene("texture-then-plain", list));
+    ASSERT_EQ(fb.color8.size(), 2u * 2u * 4u);
+    EXPECT_EQ(pixel(fb, 0, 0), texels[0]);
+    EXPECT_EQ(pixel(fb, 0, 1), texels[2]);
+    EXPECT_EQ(pixel(fb, 1, 0), (Rgba{0, 0, 255, 255}));
+    EXPECT_EQ(pixel(fb, 1, 1), (Rgba{0, 0, 255, 255}));
+}
+
+// Heavy minification (32 repeats of the texture a pixel) with nearest_mipmap_nearest: every
+// pixel is the last level's one texel.
+TextureState minified_state() {
+    TextureState s;
+    s.min_filter = TextureFilter::NearestMipmapNearest;
+    s.mag_filter = TextureFilter::Nearest;
+    s.env = TextureEnv::Replace;
+    return s;
+}
+
+TEST_P(GlBackend, GivenMipmapLevelIsSampledWhenMinified) {
+    auto b = make();
+    const Rgba level1{9, 99, 199, 249};
+    DrawList list;
+    list.target = Target{2, 2, ColorFormat::Rgba8, DepthFormat::None, 1};
+    list.textures = {Texture{{image2x2({Rgba{255, 0, 0, 255}, Rgba{0, 255, 0, 255},
+                                        Rgba{0, 0, 255, 255}, Rgba{255, 255, 255, 255}}),
+                              TextureImage{1, 1, {level1.begin(), level1.end()}}},
+                             false}};
+    list.draws.push_back(textured_quad(list.target, {1, 1, 1, 1}, 64, 64, 1, minified_state()));
+    const auto fb = render_ok(*b, make_scene("texture-given-mipmaps", list));
+    ASSERT_EQ(fb.color8.size(), 2u * 2u * 4u);
+    for (std::uint32_t y = 0; y < 2; ++y) {
+        for (std::uint32_t x = 0; x < 2; ++x) {
+            EXPECT_EQ(pixel(fb, x, y), level1) << x << "," << y << " got " << show(pixel(fb, x, y));
+        }
+    }
+    // The same texture with its base level alone is sampled at the base.
+    list.textures[0].levels.pop_back();
+    const auto base = render_ok(*b, make_scene("texture-base-only", list));
+    ASSERT_EQ(base.color8.size(), 2u * 2u * 4u);
+    EXPECT_NE(pixel(base, 0, 0), level1);
+}
+
+// glGenerateMipmap's level 1 of a 2x2 texture. llvmpipe (a linear blit, 8-bit lerps): per
+// channel the average of the row averages, each rounded half up,
+// (((a + b + 1) >> 1) + ((c + d + 1) >> 1) + 1) >> 1, a and b the bottom row; the channels
+// are chosen so that other roundings differ (a four-way (a+b+c+d+2)>>2, truncation). softpipe
+// filters in float (measured: 0, 1, 0, 1 gives 0 there, 1 in llvmpipe): its texel is only
+// required to be within half a step of the four-way mean.
+TEST_P(GlBackend, GeneratedMipmapIsTheCascadedAverage) {
+    auto b = make();
+    const std::array<Rgba, 4> texels = {Rgba{0, 0, 0, 255}, Rgba{1, 1, 3, 0}, Rgba{0, 1, 0, 100},
+                                        Rgba{1, 2, 0, 201}};
+    Rgba want{};
+    for (std::size_t c = 0; c < 4; ++c) {
+        const int a = texels[0][c], bb = texels[1][c], cc = texels[2][c], d = texels[3][c];
+        want[c] = static_cast<std::uint8_t>((((a + bb + 1) >> 1) + ((cc + d + 1) >> 1) + 1) >> 1);
+    }
+    DrawList list;
+    list.target = Target{2, 2, ColorFormat::Rgba8, DepthFormat::None, 1};
+    list.textures = {Texture{{image2x2(texels)}, true}};
+    list.draws.push_back(textured_quad(list.target, {1, 1, 1, 1}, 64, 64, 1, minified_state()));
+    const auto fb = render_ok(*b, make_scene("texture-generated-mipmaps", list));
+    ASSERT_EQ(fb.color8.size(), 2u * 2u * 4u);
+    for (std::uint32_t y = 0; y < 2; ++y) {
+        for (std::uint32_t x = 0; x < 2; ++x) {
+            const Rgba got = pixel(fb, x, y);
+            if (!softpipe()) {
+                EXPECT_EQ(got, want) << x << "," << y << " got " << show(got);
+                continue;
+            }
+            for (std::size_t c = 0; c < 4; ++c) {
+                const int sum = texels[0][c] + texels[1][c] + texels[2][c] + texels[3][c];
+                EXPECT_LE(std::abs(4 * got[c] - sum), 2)
+                    << x << "," << y << " channel " << c << " got " << show(got);
+            }
+        }
+    }
+}
+
+TEST_P(GlBackend, BadTexturesAreCleanFailures) {
+    auto b = make();
+    DrawList list;
+    list.target = Target{2, 2, ColorFormat::Rgba8, DepthFormat::None, 1};
+    list.textures = {Texture{{image2x2({})}, false}};
+    TextureState state = nearest_state(TextureEnv::Replace);
+    state.texture = 1;  // there is one texture
+    list.draws.push_back(textured_quad(list.target, {1, 1, 1, 1}, 1, 1, 1, state));
+    auto r = b->render(make_scene("texture-missing", list));
+    EXPECT_EQ(r.status, RenderStatus::InternalError) << r.message;
+    EXPECT_NE(r.message.find("texture 1"), std::string::npos) << r.message;
+
+    // Wider than any GL_MAX_TEXTURE_SIZE: the driver cannot, and says so.
+    list.draws[0].state.texture->texture = 0;
+    list.textures[0].levels[0] =
+        TextureImage{1u << 16, 1, std::vector<std::uint8_t>(std::size_t{4} << 16, 7)};
+    r = b->render(make_scene("texture-too-wide", list));
+    EXPECT_EQ(r.status, RenderStatus::NotSupported) << r.message;
+    EXPECT_NE(r.message.find("GL_MAX_TEXTURE_SIZE"), std::string::npos) << r.message;
+
+    // The worker lives on and textures again.
+    list.textures[0].levels[0] =
+        image2x2({Rgba{1, 2, 3, 4}, Rgba{5, 6, 7, 8}, Rgba{9, 10, 11, 12}, Rgba{13, 14, 15, 16}});
+    const auto fb = render_ok(*b, make_scene("texture-after-failures", list));
+    ASSERT_EQ(fb.color8.size(), 2u * 2u * 4u);
+    EXPECT_EQ(pixel(fb, 1, 1), (Rgba{13, 14, 15, 16}));
 }
 
 #if REFRASTER_TEST_EGL

@@ -59,7 +59,35 @@ DrawList sample_draw_list() {
     c.indices = std::vector<std::uint32_t>{};
     c.state.depth_test = CompareFunc::Never;
 
-    list.draws = {a, b, c};
+    Draw t;  // textured: color then texcoord
+    t.primitive = PrimitiveType::TriangleStrip;
+    t.state.shade = ShadeModel::Flat;
+    t.state.texture = TextureState{1,
+                                   TextureFilter::NearestMipmapLinear,
+                                   TextureFilter::Nearest,
+                                   TextureWrap::MirroredRepeat,
+                                   TextureWrap::ClampToBorder,
+                                   {0.25f, -0.0f, 1.0f, std::nextafter(0.0f, 1.0f)},
+                                   TextureEnv::Replace};
+    t.vertices.attributes = {{"color", 4}, {"texcoord", 4}};
+    for (int i = 0; i < 12 * 3; ++i) t.vertices.data.push_back(static_cast<float>(i) * -0.5f);
+
+    Draw u;  // textured with every default of the texture state
+    u.state.texture = TextureState{};
+
+    list.draws = {a, b, c, t, u};
+
+    // Texture 0: generated mipmaps from a 3x2 base. Texture 1: a 4x2 chain given in full,
+    // 4x2, 2x1, 1x1. Texture 2: no levels at all (the wire carries what it is given).
+    const auto image = [](std::uint32_t w, std::uint32_t h, int seed) {
+        TextureImage img{w, h, {}};
+        for (std::uint32_t i = 0; i < w * h * 4; ++i) {
+            img.rgba.push_back(static_cast<std::uint8_t>(static_cast<int>(i) * 29 + seed));
+        }
+        return img;
+    };
+    list.textures = {Texture{{image(3, 2, 1)}, true},
+                     Texture{{image(4, 2, 2), image(2, 1, 3), image(1, 1, 4)}, false}, Texture{}};
     return list;
 }
 
@@ -100,6 +128,61 @@ TEST(Wire, DrawListRoundTrip) {
     ASSERT_EQ(back.draws[1].vertices.data.size(), 4u);
     EXPECT_TRUE(std::signbit(back.draws[1].vertices.data[2]));
     EXPECT_TRUE(std::isinf(back.clear.color[2]));
+}
+
+TEST(Wire, TexturesRoundTrip) {
+    const DrawList list = sample_draw_list();
+    const DrawList back = harness::wire::decode_draw_list(harness::wire::encode_draw_list(list));
+    ASSERT_EQ(back.textures.size(), 3u);
+    EXPECT_EQ(back.textures, list.textures);
+    EXPECT_TRUE(back.textures[0].generate_mipmaps);
+    ASSERT_EQ(back.textures[1].levels.size(), 3u);
+    EXPECT_EQ(back.textures[1].levels[1].width, 2u);
+    EXPECT_EQ(back.textures[1].levels[1].height, 1u);
+    EXPECT_EQ(back.textures[1].levels[2].rgba, list.textures[1].levels[2].rgba);
+    ASSERT_EQ(back.draws.size(), 5u);
+    EXPECT_FALSE(back.draws[0].state.texture.has_value());
+    ASSERT_TRUE(back.draws[3].state.texture.has_value());
+    EXPECT_EQ(*back.draws[3].state.texture, *list.draws[3].state.texture);
+    EXPECT_TRUE(std::signbit(back.draws[3].state.texture->border_color[1]));
+    EXPECT_EQ(back.draws[3].vertices, list.draws[3].vertices);
+    EXPECT_EQ(back.draws[4].state.texture, TextureState{});
+
+    // Every value of every texture enum survives.
+    DrawList every;
+    for (int f = 0; f <= static_cast<int>(TextureFilter::LinearMipmapLinear); ++f) {
+        for (int w = 0; w <= static_cast<int>(TextureWrap::ClampToBorder); ++w) {
+            for (int env = 0; env <= static_cast<int>(TextureEnv::Replace); ++env) {
+                Draw d;
+                TextureState ts;
+                ts.min_filter = static_cast<TextureFilter>(f);
+                ts.mag_filter = static_cast<TextureFilter>(f % 2);
+                ts.wrap_s = static_cast<TextureWrap>(w);
+                ts.wrap_t = static_cast<TextureWrap>(3 - w);
+                ts.env = static_cast<TextureEnv>(env);
+                d.state.texture = ts;
+                every.draws.push_back(d);
+            }
+        }
+    }
+    every.textures.resize(1);
+    EXPECT_EQ(harness::wire::decode_draw_list(harness::wire::encode_draw_list(every)), every);
+}
+
+TEST(Wire, LargeTextureTravelsAsOneBlock) {
+    // 1024x1024 and its level 1: the payload is the texels plus a fixed overhead, nothing per
+    // texel.
+    DrawList list;
+    TextureImage base{1024, 1024, std::vector<std::uint8_t>(std::size_t{1024} * 1024 * 4)};
+    for (std::size_t i = 0; i < base.rgba.size(); ++i) {
+        base.rgba[i] = static_cast<std::uint8_t>(i * 7 + (i >> 12));
+    }
+    TextureImage level1{512, 512, std::vector<std::uint8_t>(std::size_t{512} * 512 * 4, 0x5a)};
+    list.textures = {Texture{{base, level1}, false}};
+    const auto bytes = harness::wire::encode_draw_list(list);
+    const std::size_t empty = harness::wire::encode_draw_list(DrawList{}).size();
+    EXPECT_EQ(bytes.size(), empty + 1 + 8 + 2 * 16 + base.rgba.size() + level1.rgba.size());
+    EXPECT_EQ(harness::wire::decode_draw_list(bytes), list);
 }
 
 TEST(Wire, ManyEmptyDrawsRoundTrip) {
@@ -160,6 +243,101 @@ TEST(Wire, MultisampleFlagRoundTripsPerDraw) {
     EXPECT_TRUE(back.draws[2].state.multisample);
 }
 
+// The encoding of a list with one empty draw and the given textures, and where its texture
+// part starts.
+struct TextureBytes {
+    std::vector<std::uint8_t> bytes;
+    std::size_t textures_at = 0;  // the texture count
+};
+
+TextureBytes encode_with_textures(std::vector<Texture> textures) {
+    DrawList list;
+    list.draws.resize(1);
+    TextureBytes out;
+    out.textures_at = harness::wire::encode_draw_list(list).size() - 8;
+    list.textures = std::move(textures);
+    out.bytes = harness::wire::encode_draw_list(list);
+    return out;
+}
+
+TEST(Wire, CorruptTexturesAreErrors) {
+    const Texture one{{TextureImage{2, 1, {1, 2, 3, 4, 5, 6, 7, 8}}}, false};
+    const auto good = encode_with_textures({one});
+    ASSERT_NO_THROW(harness::wire::decode_draw_list(good.bytes));
+    // Layout after the count: generate flag (1), level count (8), width (4), height (4),
+    // byte count (8), bytes.
+    const std::size_t flag_at = good.textures_at + 8;
+    const std::size_t levels_at = flag_at + 1;
+    const std::size_t width_at = levels_at + 8;
+    const std::size_t height_at = width_at + 4;
+
+    auto bytes = good.bytes;
+    bytes[flag_at] = 2;  // a boolean is 0 or 1
+    EXPECT_THROW(harness::wire::decode_draw_list(bytes), WireError);
+
+    bytes = good.bytes;  // a level count past what the payload could hold
+    for (std::size_t i = levels_at; i < levels_at + 8; ++i) bytes[i] = 0xff;
+    EXPECT_THROW(harness::wire::decode_draw_list(bytes), WireError);
+
+    // A level whose size disagrees with its texels, either way: glTexImage2D would read past
+    // the block, or leave texels unread.
+    bytes = good.bytes;
+    bytes[width_at] = 3;
+    EXPECT_THROW(harness::wire::decode_draw_list(bytes), WireError);
+    bytes = good.bytes;
+    bytes[width_at] = 1;
+    EXPECT_THROW(harness::wire::decode_draw_list(bytes), WireError);
+    bytes = good.bytes;
+    bytes[height_at] = 0;
+    EXPECT_THROW(harness::wire::decode_draw_list(bytes), WireError);
+    // Sizes whose product overflows 32 bits must not wrap to a match:
+    // (2^29 + 1) x 2 x 4 = 2^32 + 8.
+    bytes = good.bytes;
+    bytes[width_at] = 1;
+    bytes[width_at + 3] = 0x20;
+    bytes[height_at] = 2;
+    EXPECT_THROW(harness::wire::decode_draw_list(bytes), WireError);
+
+    // A 0x0 level with no bytes is consistent; what to make of it is the renderer's business.
+    EXPECT_NO_THROW(harness::wire::decode_draw_list(
+        encode_with_textures({Texture{{TextureImage{0, 0, {}}}, false}}).bytes));
+}
+
+TEST(Wire, CorruptTextureStateIsAnError) {
+    DrawList list;
+    list.draws.resize(1);
+    list.draws[0].state.texture = TextureState{};
+    list.textures.resize(1);
+    const auto good = harness::wire::encode_draw_list(list);
+    ASSERT_NO_THROW(harness::wire::decode_draw_list(good));
+    // From the end: the texture count (8) and the empty texture (1 + 8); before them the
+    // draw's empty vertex block and index flag (8 + 1) and its attribute count (8) follow
+    // the state, which ends with the texture state: index (4), four enums (1 each), the
+    // border colour (16) and the env (1).
+    const std::size_t env_at = good.size() - 8 - 9 - 9 - 8 - 1;
+    const std::size_t min_filter_at = env_at - 16 - 4;
+    ASSERT_EQ(good[env_at], 0);
+    ASSERT_EQ(good[min_filter_at], static_cast<std::uint8_t>(TextureFilter::Linear));
+
+    auto bytes = good;
+    bytes[env_at] = 2;
+    EXPECT_THROW(harness::wire::decode_draw_list(bytes), WireError);
+    bytes = good;
+    bytes[min_filter_at] = 6;
+    EXPECT_THROW(harness::wire::decode_draw_list(bytes), WireError);
+    bytes = good;
+    bytes[min_filter_at + 2] = 4;  // wrap_s: 0..3
+    EXPECT_THROW(harness::wire::decode_draw_list(bytes), WireError);
+    bytes = good;
+    bytes[min_filter_at + 2] = 3;
+    const DrawList back = harness::wire::decode_draw_list(bytes);
+    EXPECT_EQ(back.draws[0].state.texture->wrap_s, TextureWrap::ClampToBorder);
+    // The has-texture flag is a boolean.
+    bytes = good;
+    bytes[min_filter_at - 4 - 1] = 2;
+    EXPECT_THROW(harness::wire::decode_draw_list(bytes), WireError);
+}
+
 TEST(Wire, EveryTruncationIsAnError) {
     const auto list_bytes = harness::wire::encode_draw_list(sample_draw_list());
     for (std::size_t n = 0; n < list_bytes.size(); ++n) {
@@ -183,10 +361,15 @@ TEST(Wire, TrailingBytesAndBadEnumsAreErrors) {
     bytes[8] = 7;
     EXPECT_THROW(harness::wire::decode_draw_list(bytes), WireError);
 
-    // A huge draw count must be refused, not reserved.
+    // A huge draw count must be refused, not reserved. An empty list ends with the draw
+    // count, then the texture count.
     bytes = harness::wire::encode_draw_list(DrawList{});
-    const std::size_t count_at = bytes.size() - 8;
-    for (std::size_t i = count_at; i < bytes.size(); ++i) bytes[i] = 0xff;
+    const std::size_t count_at = bytes.size() - 16;
+    for (std::size_t i = count_at; i < count_at + 8; ++i) bytes[i] = 0xff;
+    EXPECT_THROW(harness::wire::decode_draw_list(bytes), WireError);
+    // And a huge texture count.
+    bytes = harness::wire::encode_draw_list(DrawList{});
+    for (std::size_t i = bytes.size() - 8; i < bytes.size(); ++i) bytes[i] = 0xff;
     EXPECT_THROW(harness::wire::decode_draw_list(bytes), WireError);
 
     // The status is the first byte; past InternalError is corrupt.
