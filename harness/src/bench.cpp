@@ -30,6 +30,9 @@ struct Spec {
     std::uint32_t size;         // the target: size x size rgba8, z24
     refraster::ShadeModel shade;
     bool perspective;
+    // Textured workloads: a 256x256 texture with generated mipmaps, sampled with this min
+    // filter (mag linear) at about two texels a pixel, modulating the colour.
+    std::optional<refraster::TextureFilter> texture = std::nullopt;
 };
 
 std::optional<Spec> spec_of(const std::string& name) {
@@ -44,6 +47,11 @@ std::optional<Spec> spec_of(const std::string& name) {
         {"full-smooth", {200, 0.0, 0.0, 1024, smooth, false}},
         {"medium-perspective", {100'000, 100.0, 500.0, 1024, smooth, true}},
         {"full-perspective", {200, 0.0, 0.0, 1024, smooth, true}},
+        {"medium-textured-bilinear",
+         {100'000, 100.0, 500.0, 1024, smooth, false, refraster::TextureFilter::Linear}},
+        {"medium-textured-trilinear",
+         {100'000, 100.0, 500.0, 1024, smooth, false,
+          refraster::TextureFilter::LinearMipmapLinear}},
         {"tiny-flat-4m", {4'000'000, 2.0, 10.0, 1024, flat, false}},
         {"full-flat-2048", {200, 0.0, 0.0, 2048, flat, false}},
         {"full-smooth-2048", {200, 0.0, 0.0, 2048, smooth, false}},
@@ -56,9 +64,16 @@ std::optional<Spec> spec_of(const std::string& name) {
 }  // namespace
 
 const std::vector<std::string>& bench_workload_names() {
-    static const std::vector<std::string> names{
-        "tiny-flat", "tiny-smooth", "medium-flat",        "medium-smooth",
-        "full-flat", "full-smooth", "medium-perspective", "full-perspective"};
+    static const std::vector<std::string> names{"tiny-flat",
+                                                "tiny-smooth",
+                                                "medium-flat",
+                                                "medium-smooth",
+                                                "full-flat",
+                                                "full-smooth",
+                                                "medium-perspective",
+                                                "full-perspective",
+                                                "medium-textured-bilinear",
+                                                "medium-textured-trilinear"};
     return names;
 }
 
@@ -102,7 +117,26 @@ BenchWorkload make_bench_workload(const std::string& name, std::uint64_t seed, d
     d.state.depth_test = refraster::CompareFunc::Less;
     d.state.shade = shape.shade;
     d.vertices.attributes = {{"color", 4}};
-    d.vertices.data.reserve(count * 3 * 8);
+    const bool textured = shape.texture.has_value();
+    if (textured) {
+        d.vertices.attributes.push_back({"texcoord", 4});
+        refraster::Texture t;
+        refraster::TextureImage img;
+        img.width = img.height = 256;
+        img.rgba.resize(256 * 256 * 4);
+        for (std::size_t i = 0; i < img.rgba.size(); ++i) {
+            const std::size_t texel = i / 4;
+            const std::size_t x = texel % 256, y = texel / 256;
+            img.rgba[i] = static_cast<std::uint8_t>(((x ^ y) * (i % 4 + 3) + x * 7) & 0xff);
+        }
+        t.levels.push_back(std::move(img));
+        t.generate_mipmaps = true;
+        w.list.textures.push_back(std::move(t));
+        refraster::TextureState ts;
+        ts.min_filter = *shape.texture;
+        d.state.texture = ts;
+    }
+    d.vertices.data.reserve(count * 3 * (textured ? 12 : 8));
 
     std::mt19937_64 rng(seed ^ std::hash<std::string>{}(name));
     std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -141,6 +175,12 @@ BenchWorkload make_bench_workload(const std::string& name, std::uint64_t seed, d
                 d.vertices.data.push_back(static_cast<float>(c));
             for (int c = 0; c < 3; ++c) d.vertices.data.push_back(static_cast<float>(u(rng)));
             d.vertices.data.push_back(1.0f);
+            if (textured) {
+                // About two texels of the 256x256 base level a pixel.
+                const auto& p = win[static_cast<std::size_t>(k)];
+                for (double c : {p[0] / 128.0, p[1] / 128.0, 0.0, 1.0})
+                    d.vertices.data.push_back(static_cast<float>(c));
+            }
         }
     }
     w.list.draws.push_back(std::move(d));
@@ -156,6 +196,9 @@ std::size_t bench_framebuffer_bytes(const refraster::Target& target) {
 
 std::size_t bench_vertex_data_bytes(const refraster::DrawList& list) {
     std::size_t bytes = 0;
+    // Textures count as the scene's data too (every level given, the base of a generated chain).
+    for (const auto& t : list.textures)
+        for (const auto& l : t.levels) bytes += l.rgba.size();
     for (const auto& d : list.draws) {
         bytes += d.vertices.data.size() * sizeof(float);
         if (d.indices) bytes += d.indices->size() * sizeof(std::uint32_t);

@@ -309,17 +309,31 @@ struct Kernel {
                                                              unsigned trace_pixel = 0) {
         std::array<float, 4> s{}, t{};
         std::array<std::array<float, 4>, 4> col{};
-        for (unsigned p = 0; p < 4; ++p) {
-            const float px = static_cast<float>(qx + static_cast<std::int32_t>(p & 1u)) + centre;
-            const float py = static_cast<float>(qy + static_cast<std::int32_t>(p >> 1)) + centre;
-            const auto a = attributes8(planes, flat, px, py, k, fp);
-            const float rq = fp.div(1.0f, a[7]);
-            s[p] = fp.mul(a[4], rq);
-            t[p] = fp.mul(a[5], rq);
-            col[p] = {a[0], a[1], a[2], a[3]};
+        const auto coords = [&](std::int32_t x0, std::array<float, 4>& ss, std::array<float, 4>& ts,
+                                std::array<std::array<float, 4>, 4>* c) {
+            for (unsigned p = 0; p < 4; ++p) {
+                const float px =
+                    static_cast<float>(x0 + static_cast<std::int32_t>(p & 1u)) + centre;
+                const float py =
+                    static_cast<float>(qy + static_cast<std::int32_t>(p >> 1)) + centre;
+                const auto a = attributes8(planes, flat, px, py, k, fp);
+                const float rq = fp.div(1.0f, a[7]);
+                ss[p] = fp.mul(a[4], rq);
+                ts[p] = fp.mul(a[5], rq);
+                if (c != nullptr) (*c)[p] = {a[0], a[1], a[2], a[3]};
+            }
+        };
+        coords(qx, s, t, &col);
+        // The other quad of the shader's eight-pixel vector (lp_state_fs.c: a 4x4 block in two
+        // vectors of two quads side by side), covered or not.
+        bool pair_linear = false;
+        if (k.texture->soa_nearest_as_linear) {
+            std::array<float, 4> ps{}, pt{};
+            coords(qx ^ 2, ps, pt, nullptr);
+            pair_linear = quad_takes_linear(*k.texture, ps, pt);
         }
         std::array<std::array<float, 4>, 4> out{};
-        sample_quad(*k.texture, s, t, k.options.fma, out, trace, trace_pixel);
+        sample_quad(*k.texture, s, t, k.options.fma, out, pair_linear, trace, trace_pixel);
         if (k.texture->state.env == TextureEnv::Modulate) {
             for (unsigned p = 0; p < 4; ++p)
                 for (std::size_t c = 0; c < 4; ++c) out[p][c] = fp.mul(col[p][c], out[p][c]);

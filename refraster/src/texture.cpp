@@ -50,11 +50,12 @@ std::int32_t lerp8(std::int32_t w, std::int32_t a, std::int32_t b) {
 }
 
 // lp_bld_sample_soa.c, lp_build_coord_mirror: |2 * (u/2 - round(u/2))|, in float, round to
-// nearest even.
+// nearest even, then a max with 0 that turns a NaN into 0 (GALLIVM_NAN_RETURN_OTHER_SECOND_NONNAN).
 float mirror(float u) {
     const float h = u * 0.5f;
     const float d = h - round_to_nearest_even(h);
-    return std::fabs(d + d);
+    const float m = std::fabs(d + d);
+    return std::isnan(m) ? 0.0f : m;
 }
 
 // Texel coordinates and weights of one axis of one level.
@@ -256,7 +257,8 @@ float lerp_float(float w, float a, float b, bool fma) {
 
 // One level sampled by the float path: floats.
 std::array<float, 4> sample_level_soa(const TextureUnit& u, const LevelView& lv, float s, float t,
-                                      bool linear, bool fma, TexelSample* tr, std::size_t slot) {
+                                      bool linear, bool both, bool fma, TexelSample* tr,
+                                      std::size_t slot) {
     const auto& st = u.state;
     // Texels as floats, the border colour where the wrap says so (lp_build_sample_texel_soa).
     const auto fetch = [&](std::int32_t x, std::int32_t y, bool border) {
@@ -269,7 +271,7 @@ std::array<float, 4> sample_level_soa(const TextureUnit& u, const LevelView& lv,
         for (std::size_t c = 0; c < 4; ++c) v[c] = unorm8_to_float(p[c]);
         return v;
     };
-    if (!linear && !u.soa_nearest_as_linear) {
+    if (!linear && !both) {
         const AxisNearest x = nearest_soa(s, lv.w, u.pot_s, st.wrap_s);
         const AxisNearest y = nearest_soa(t, lv.h, u.pot_t, st.wrap_t);
         if (tr != nullptr) {
@@ -283,8 +285,9 @@ std::array<float, 4> sample_level_soa(const TextureUnit& u, const LevelView& lv,
     if (!linear) {
         // lp_build_sample_mipmap_both: a quad that takes the nearest filter runs the linear
         // one with each weight replaced by (weight > 0.5 ? 1 : 0).
-        x.w = x.w > 0.5f ? 1.0f : 0.0f;
-        y.w = y.w > 0.5f ? 1.0f : 0.0f;
+        // (lp_build_cmp, unordered: a NaN weight becomes 1.)
+        x.w = !(x.w <= 0.5f) ? 1.0f : 0.0f;
+        y.w = !(y.w <= 0.5f) ? 1.0f : 0.0f;
     }
     const auto t00 = fetch(x.i0, y.i0, x.border0 || y.border0);
     const auto t10 = fetch(x.i1, y.i0, x.border1 || y.border0);
@@ -323,6 +326,12 @@ struct QuadLod {
     std::array<float, 4> terms{};
 };
 
+// Whether a filter's image filter is linear.
+bool is_linear(TextureFilter f) {
+    return f == TextureFilter::Linear || f == TextureFilter::LinearMipmapNearest ||
+           f == TextureFilter::LinearMipmapLinear;
+}
+
 // x86 maxps: the second operand unless the first compares greater.
 float max_ps(float a, float b) {
     return a > b ? a : b;
@@ -341,7 +350,8 @@ QuadLod quad_lod(const TextureUnit& u, const std::array<float, 4>& s,
     const float rx = dsdx * dsdx + dtdx * dtdx;
     const float ry = dsdy * dsdy + dtdy * dtdy;
     q.rho2 = max_ps(rx, ry);
-    q.minified = q.rho2 > 1.0f;
+    // lp_build_cmp compares unordered: a NaN rho counts as minified.
+    q.minified = !(q.rho2 <= 1.0f);
     if (!q.minified || !u.mipmapped) return q;
     const auto bits = std::bit_cast<std::uint32_t>(q.rho2);
     const auto e = static_cast<std::int32_t>((bits >> 23) & 0xffu);
@@ -409,13 +419,19 @@ TextureUnit make_texture_unit(const TextureState& state, const std::vector<Textu
     return u;
 }
 
+bool quad_takes_linear(const TextureUnit& u, const std::array<float, 4>& s,
+                       const std::array<float, 4>& t) {
+    return is_linear(quad_lod(u, s, t).minified ? u.state.min_filter : u.state.mag_filter);
+}
+
 void sample_quad(const TextureUnit& u, const std::array<float, 4>& s, const std::array<float, 4>& t,
-                 bool fma, std::array<std::array<float, 4>, 4>& out, TexelSample* trace,
-                 unsigned trace_pixel) {
+                 bool fma, std::array<std::array<float, 4>, 4>& out, bool pair_linear,
+                 TexelSample* trace, unsigned trace_pixel) {
     const QuadLod lod = quad_lod(u, s, t);
-    const TextureFilter f = lod.minified ? u.state.min_filter : u.state.mag_filter;
-    const bool linear = f == TextureFilter::Linear || f == TextureFilter::LinearMipmapNearest ||
-                        f == TextureFilter::LinearMipmapLinear;
+    const bool linear = is_linear(lod.minified ? u.state.min_filter : u.state.mag_filter);
+    // The float path with different image filters: the combined filter when this quad or
+    // the other quad of its eight-pixel vector takes the linear one, nearest otherwise.
+    const bool both = u.soa_nearest_as_linear && (linear || pair_linear);
     const bool two_levels = lod.minified && u.mipmapped && lod.level0 != lod.level1;
     const LevelView lv0 = level_view(u, lod.minified ? lod.level0 : 0);
     const LevelView lv1 = two_levels ? level_view(u, lod.level1) : lv0;
@@ -430,9 +446,9 @@ void sample_quad(const TextureUnit& u, const std::array<float, 4>& s, const std:
             }
             for (std::size_t c = 0; c < 4; ++c) out[p][c] = unorm8_to_float(c0[c]);
         } else {
-            auto c0 = sample_level_soa(u, lv0, s[p], t[p], linear, fma, tr, 0);
+            auto c0 = sample_level_soa(u, lv0, s[p], t[p], linear, both, fma, tr, 0);
             if (two_levels) {
-                const auto c1 = sample_level_soa(u, lv1, s[p], t[p], linear, fma, tr, 1);
+                const auto c1 = sample_level_soa(u, lv1, s[p], t[p], linear, both, fma, tr, 1);
                 for (std::size_t c = 0; c < 4; ++c) c0[c] = lerp_float(lod.frac, c0[c], c1[c], fma);
             }
             out[p] = c0;

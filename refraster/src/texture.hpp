@@ -40,10 +40,11 @@ struct TextureUnit {
     bool mipmapped = false;  // the min filter reads mip levels
     // No LOD is computed when the min and mag filters are the same image filter without mipmaps.
     bool needs_lod = false;
-    // The float path with different min and mag image filters filters every quad linearly,
-    // a nearest quad with its weights rounded to 0 or 1 (lp_build_sample_mipmap_both with a
-    // linear mask, the 8-wide code): the texel nearest the coordinate except where
-    // u * size - 0.5 has a fraction of exactly one half.
+    // The float path with different min and mag image filters runs the shader's eight pixels
+    // (two quads side by side, x and x + 2 of a 4x4 block) through one filter: nearest when
+    // neither quad takes the linear filter, otherwise the linear one for both, a nearest quad's
+    // weights rounded to 0 or 1 (w > 0.5: lp_build_sample_mipmap_both with a linear mask): its
+    // nearest texel, except where u * size - 0.5 has a fraction of exactly one half.
     bool soa_nearest_as_linear = false;
     float base_width = 1.0f;
     float base_height = 1.0f;
@@ -64,9 +65,17 @@ using TexelSample = TextureTrace;
 // (pixel 0 at the quad's (x, y), 1 to its right, 2 above it, 3 above and right). `fma` says
 // whether the float lerps fuse (gallivm's lp_build_fmuladd on an FMA CPU). Writes each pixel's
 // RGBA as the shader sees it; `trace`, when given, records pixel `trace_pixel`'s decisions.
+// `pair_linear`: whether the other quad of the pixels' eight-wide shader vector takes the
+// linear image filter (quad_takes_linear); it matters only with
+// TextureUnit::soa_nearest_as_linear.
 void sample_quad(const TextureUnit& unit, const std::array<float, 4>& s,
                  const std::array<float, 4>& t, bool fma, std::array<std::array<float, 4>, 4>& out,
-                 TexelSample* trace = nullptr, unsigned trace_pixel = 0);
+                 bool pair_linear = false, TexelSample* trace = nullptr, unsigned trace_pixel = 0);
+
+// Whether a quad at these coordinates takes the linear image filter (its LOD decides between
+// the min and mag filters).
+bool quad_takes_linear(const TextureUnit& unit, const std::array<float, 4>& s,
+                       const std::array<float, 4>& t);
 
 // A byte as llvmpipe's shader sees it: fl(v * K), K the float nearest to 1/255.
 float unorm8_to_float(std::uint8_t v);

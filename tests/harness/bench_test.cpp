@@ -64,7 +64,12 @@ TEST(BenchWorkloads, SeededAndScaled) {
     EXPECT_EQ(harness::make_bench_workload("medium-flat", 3, 0.01).triangles, 1000u);
     EXPECT_THROW((void)harness::make_bench_workload("huge-flat", 3), std::invalid_argument);
     EXPECT_THROW((void)harness::make_bench_workload("tiny-flat", 3, 0.0), std::invalid_argument);
-    EXPECT_EQ(harness::bench_workload_names().size(), 8u);
+    EXPECT_EQ(harness::bench_workload_names().size(), 10u);
+    // The textured workloads carry a texture and coordinates after the colour.
+    const auto tex = harness::make_bench_workload("medium-textured-trilinear", 3, 0.01);
+    ASSERT_EQ(tex.list.textures.size(), 1u);
+    ASSERT_TRUE(tex.list.draws.front().state.texture);
+    EXPECT_EQ(tex.list.draws.front().vertices.stride(), 12u);
 }
 
 TEST(BenchWorkloads, ScalingWorkloadsScaleTheirCounterparts) {
@@ -156,6 +161,9 @@ TEST(BenchTargets, SpeedTargetsOfTheIssue) {
     EXPECT_EQ(harness::bench_speed_target("full-perspective"), 1.5);
     for (const auto& n : harness::bench_scaling_workload_names())
         EXPECT_FALSE(harness::bench_speed_target(n)) << n;
+    // The textured workloads' ratios are reported, not judged.
+    EXPECT_FALSE(harness::bench_speed_target("medium-textured-bilinear"));
+    EXPECT_FALSE(harness::bench_speed_target("medium-textured-trilinear"));
 }
 
 // Made-up rows judged against their targets: nothing here is timed.

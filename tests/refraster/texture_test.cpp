@@ -174,7 +174,7 @@ std::array<std::array<float, 4>, 4> sample_with_step(const TextureUnit& u, float
                                                      TexelSample* tr) {
     std::array<std::array<float, 4>, 4> out{};
     const float s0 = 0.25f, t0 = 0.25f;
-    sample_quad(u, {s0, s0 + d, s0, s0 + d}, {t0, t0, t0 + d, t0 + d}, true, out, tr, 0);
+    sample_quad(u, {s0, s0 + d, s0, s0 + d}, {t0, t0, t0 + d, t0 + d}, true, out, false, tr, 0);
     return out;
 }
 
