@@ -67,21 +67,29 @@ static_assert(
 // The outcome of comparing a fragment's depth with the stored one. z32f values are compared as
 // floats (both are in [0, 1], so their bit patterns order the same way, but the intent is kept
 // explicit); neither less nor equal counts as greater, as GREATER, NOTEQUAL and GEQUAL are
-// decided (!lt && !eq, !eq, !lt).
+// decided (!lt && !eq, !eq, !lt). With `daz` a denormal compares as zero: llvmpipe's depth test
+// runs under the rasterizer's denormals-are-zero mode (lp_rast.c), which a cleared depth such
+// as 1e-40 meets (measured: the scene extreme.z32f_denormal_clear).
 template <bool kFloat>
-[[gnu::always_inline]] inline unsigned depth_outcome(std::uint32_t frag, std::uint32_t stored) {
+[[gnu::always_inline]] inline unsigned depth_outcome(std::uint32_t frag, std::uint32_t stored,
+                                                     bool daz) {
     if constexpr (kFloat) {
-        const float f = std::bit_cast<float>(frag);
-        const float s = std::bit_cast<float>(stored);
+        float f = std::bit_cast<float>(frag);
+        float s = std::bit_cast<float>(stored);
+        if (daz) {
+            f = flush_denormal(f);
+            s = flush_denormal(s);
+        }
         return f < s ? 1u : f == s ? 2u : 4u;
     } else {
+        (void)daz;
         return frag < stored ? 1u : frag == stored ? 2u : 4u;
     }
 }
 
 bool compare(CompareFunc f, std::uint32_t frag, std::uint32_t stored, bool is_float) {
-    const unsigned outcome =
-        is_float ? depth_outcome<true>(frag, stored) : depth_outcome<false>(frag, stored);
+    const unsigned outcome = is_float ? depth_outcome<true>(frag, stored, false)
+                                      : depth_outcome<false>(frag, stored, false);
     return (static_cast<unsigned>(f) & outcome) != 0;
 }
 
@@ -333,7 +341,13 @@ struct Kernel {
             pair_linear = quad_takes_linear(*k.texture, ps, pt);
         }
         std::array<std::array<float, 4>, 4> out{};
-        sample_quad(*k.texture, s, t, k.options.fma, out, pair_linear, trace, trace_pixel);
+        {
+            // The sampler's plain operations run under the CPU's flush modes where the profile
+            // flushes, as llvmpipe's rasterizer threads run.
+            const ScopedDenormalsAreZero mode(k.options.flush_denormals &&
+                                              cpu_flush_modes_available());
+            sample_quad(*k.texture, s, t, k.options.fma, out, pair_linear, trace, trace_pixel);
+        }
         if (k.texture->state.env == TextureEnv::Modulate) {
             for (unsigned p = 0; p < 4; ++p)
                 for (std::size_t c = 0; c < 4; ++c) out[p][c] = fp.mul(col[p][c], out[p][c]);
@@ -387,8 +401,9 @@ struct Kernel {
                         const std::uint32_t value =
                             depth_value(planes, prim.z_offset, px, py, k, fp, z);
                         const std::size_t i0 = fb.sample_index(x, y, 0);
-                        if ((k.depth_pass &
-                             depth_outcome<D == DepthFormat::Z32f>(value, fb.depth[i0])) == 0)
+                        if ((k.depth_pass & depth_outcome<D == DepthFormat::Z32f>(
+                                                value, fb.depth[i0], k.options.flush_denormals)) ==
+                            0)
                             continue;
                         if (k.depth_write) fb.depth[i0] = value;
                     }
@@ -403,7 +418,8 @@ struct Kernel {
                             const std::uint32_t value = depth_value(
                                 planes, prim.z_offset, px + pos.x, py + pos.y, k, fp, z);
                             if ((k.depth_pass &
-                                 depth_outcome<D == DepthFormat::Z32f>(value, fb.depth[i])) == 0)
+                                 depth_outcome<D == DepthFormat::Z32f>(
+                                     value, fb.depth[i], k.options.flush_denormals)) == 0)
                                 continue;
                             if (k.depth_write) fb.depth[i] = value;
                         }
@@ -493,7 +509,8 @@ struct Kernel {
         if constexpr (D != DepthFormat::None) {
             float z = 0.0f;
             const std::uint32_t value = depth_value(in.planes, prim.z_offset, px, py, k, fp, z);
-            if ((k.depth_pass & depth_outcome<D == DepthFormat::Z32f>(value, fb.depth[i])) == 0)
+            if ((k.depth_pass & depth_outcome<D == DepthFormat::Z32f>(
+                                    value, fb.depth[i], k.options.flush_denormals)) == 0)
                 return;
             if (k.depth_write) fb.depth[i] = value;
         }
@@ -514,7 +531,8 @@ struct Kernel {
             float z = 0.0f;
             const std::uint32_t value = depth_value(in.planes, prim.z_offset, static_cast<float>(x),
                                                     static_cast<float>(y), k, fp, z);
-            if ((k.depth_pass & depth_outcome<D == DepthFormat::Z32f>(value, fb.depth[i])) == 0)
+            if ((k.depth_pass & depth_outcome<D == DepthFormat::Z32f>(
+                                    value, fb.depth[i], k.options.flush_denormals)) == 0)
                 return;
             if (k.depth_write) fb.depth[i] = value;
         }
@@ -582,8 +600,9 @@ struct Kernel {
                                                                 static_cast<std::uint32_t>(y), 0)
                                        : i;
             t.depth_stored = fb_before.depth[di];
-            t.depth_pass = (k.depth_pass & depth_outcome<D == DepthFormat::Z32f>(
-                                               t.depth_value, t.depth_stored)) != 0;
+            t.depth_pass =
+                (k.depth_pass & depth_outcome<D == DepthFormat::Z32f>(
+                                    t.depth_value, t.depth_stored, k.options.flush_denormals)) != 0;
         }
         if (k.texture != nullptr) {
             // The pixel's quad, helper pixels included.
@@ -622,7 +641,8 @@ FragmentKernel make_kernel(KernelState state) {
     const KernelPath path = state.options.kernels;
     if (path == KernelPath::Model) return {state, &K::shade, &K::trace};
     if (state.texture != nullptr) {
-        // Quads only: the level of detail is a quad's.
+        // Quads only: the level of detail is a quad's. The model's operations (its flushes
+        // emulated, as the scalar row kernels do), compiled for FMA where the CPU has it.
 #if REFRASTER_KERNEL_ISA_VARIANTS
         if (host_runs_fma_sse41()) return {state, &K::shade_fma, &K::trace};
 #endif

@@ -44,6 +44,12 @@ struct VectorKernel {
         const I magnitude = V::and_i(bits, V::splati(0x7fffffff));
         return V::select(V::lt_i(bits, V::splati(0)), magnitude, V::sub32(V::splati(0), magnitude));
     }
+    // The same key for a value read under the CPU's denormals-are-zero mode: a denormal is 0.
+    [[gnu::always_inline]] static I ordered_key_daz(I bits) {
+        const I magnitude = V::and_i(bits, V::splati(0x7fffffff));
+        return V::select(V::lt_i(magnitude, V::splati(0x00800000)), ordered_key(bits),
+                         V::splati(0));
+    }
     // color_to_unorm8: 0 unless c > 0 (NaN too), 255 from 1 on, RNE(c * 255) between.
     [[gnu::always_inline]] static I unorm8(F c) {
         const I v = V::to_int_rne(V::mul(c, V::splat(255.0f)));
@@ -81,6 +87,7 @@ struct VectorKernel {
         const Plane* planes = list.planes.data() + prim.planes;
         const float* flat = list.flat.data() + prim.flat;
         const bool fma = k.options.fma;
+        [[maybe_unused]] const bool daz = k.options.flush_denormals;
         const bool owners = !fb.owner.empty();
         const auto width = static_cast<std::int32_t>(fb.width);
         const PlaneV zp = splat(planes[kZPlane]);
@@ -159,12 +166,12 @@ struct VectorKernel {
                     const I stored = inside ? V::load(dp) : V::load_masked(dp, live);
                     M lt, eq;
                     if constexpr (D == DepthFormat::Z32f) {
-                        // The scalar model compares the floats as plain C++ does, which the
-                        // CPU's denormals-are-zero mode would change for a stored denormal
-                        // (a cleared depth may be one): compare them as integers ordered as
-                        // the floats are instead (neither side is NaN; -0 equals +0).
-                        const I kz = ordered_key(value);
-                        const I ks = ordered_key(stored);
+                        // Compared as integers ordered as the floats are (neither side is
+                        // NaN; -0 equals +0), a stored denormal (a cleared depth may be one)
+                        // as 0 where the profile flushes: llvmpipe compares under the
+                        // rasterizer's denormals-are-zero mode (fragment.cpp, depth_outcome).
+                        const I kz = daz ? ordered_key_daz(value) : ordered_key(value);
+                        const I ks = daz ? ordered_key_daz(stored) : ordered_key(stored);
                         lt = V::lt_i(kz, ks);
                         eq = V::eq_i(kz, ks);
                     } else {

@@ -73,6 +73,16 @@ class SceneMaker {
                     static_cast<DepthFormat>(pick(4)), pick(8) == 0 ? 4u : 1u};
         l.clear.color = {uniform(0, 1), uniform(0, 1), uniform(0, 1), uniform(0, 1)};
         l.clear.depth = pick(6) == 0 ? 1e-40f : uniform(0, 1);
+        // A texture some draws sample (texture.cpp: every filter and wrap, both paths).
+        refraster::Texture tex;
+        refraster::TextureImage img;
+        img.width = 1 + pick(20);
+        img.height = 1 + pick(20);
+        for (std::uint32_t i = 0; i < img.width * img.height * 4; ++i)
+            img.rgba.push_back(static_cast<std::uint8_t>(pick(256)));
+        tex.levels.push_back(std::move(img));
+        tex.generate_mipmaps = true;
+        l.textures.push_back(std::move(tex));
         const int draws = 1 + static_cast<int>(pick(5));
         for (int i = 0; i < draws; ++i) l.draws.push_back(draw(l.target));
         return l;
@@ -133,6 +143,18 @@ class SceneMaker {
         if (pick(3) == 0) s.point_size = 1.0f + static_cast<float>(pick(9));
         s.multisample = pick(4) != 0;
         d.vertices.attributes = {{"color", 4}};
+        const bool textured = pick(4) == 0;
+        if (textured) {
+            d.vertices.attributes.push_back({"texcoord", 4});
+            refraster::TextureState ts;
+            ts.min_filter = static_cast<refraster::TextureFilter>(pick(6));
+            ts.mag_filter = static_cast<refraster::TextureFilter>(pick(2));
+            ts.wrap_s = static_cast<refraster::TextureWrap>(pick(4));
+            ts.wrap_t = static_cast<refraster::TextureWrap>(pick(4));
+            ts.border_color = {uniform(-0.2f, 1.2f), uniform(0, 1), uniform(0, 1), uniform(0, 1)};
+            ts.env = static_cast<refraster::TextureEnv>(pick(2));
+            s.texture = ts;
+        }
         // Small primitives around a point, or large ones across (and beyond) the viewport.
         const bool large = pick(3) == 0;
         const int vertices = 3 * (1 + static_cast<int>(pick(12)));
@@ -156,6 +178,11 @@ class SceneMaker {
                 {tiny_or(x * ww), tiny_or(y * ww), edge_value(-1.05f, 1.05f) * ww, ww,
                  edge_value(-0.3f, 1.3f), edge_value(-0.3f, 1.3f), edge_value(-0.3f, 1.3f),
                  edge_value(-0.3f, 1.3f)});
+            if (textured) {
+                d.vertices.data.insert(d.vertices.data.end(),
+                                       {edge_value(-3.0f, 3.0f), edge_value(-3.0f, 3.0f), 0.0f,
+                                        pick(6) == 0 ? uniform(0.5f, 2.0f) : 1.0f});
+            }
         }
         return d;
     }
