@@ -201,3 +201,39 @@ TEST(Cli, ThreadsChangeNoByteOfARender) {
     EXPECT_EQ(bad.exit_code, 2) << bad.err;
     EXPECT_FALSE(std::filesystem::exists(dir.path() / "x.png"));
 }
+
+namespace {
+
+// A 2x2 texture (red, green / blue, white, rows bottom to top) magnified over an 8x8 target
+// with bilinear filtering and repeat: pixel (3, 2) samples at (3.5/8, 2.5/8); the numbers below
+// follow from the rules of docs/precision.md, "Textures".
+const char* kTexturedScene = R"({"format": "refraster-scene/1", "requires": ["textures"],
+  "target": {"width": 8, "height": 8},
+  "textures": {"t": {"width": 2, "height": 2, "data": "/wAA/wD/AP8AAP///////w=="}},
+  "draws": [{"primitive": "triangles", "state": {"texture": {"name": "t", "env": "replace"}},
+    "vertices": [{"position": [0, 0], "texcoord": [0, 0]}, {"position": [8, 0], "texcoord": [1, 0]},
+                 {"position": [0, 8], "texcoord": [0, 1]}, {"position": [8, 0], "texcoord": [1, 0]},
+                 {"position": [8, 8], "texcoord": [1, 1]}, {"position": [0, 8], "texcoord": [0, 1]}]}]})";
+
+TEST(Cli, ExplainShowsTheSamplersDecisionsAndTheTexelGrid) {
+    testutil::TempDir dir;
+    const auto scene = dir.write("tex.json", kTexturedScene);
+    const auto svg = dir.path() / "e.svg";
+    const auto r =
+        testutil::run_cli({"explain", scene.string(), "--pixel", "3,2", "--svg", svg.string()});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    // u = 3.5 / 8, S = RNE(u * 512) - 128 = 96: texels 0 and 1, weight 96/256 along s;
+    // v = 2.5 / 8, S = 32: texels 0 and 1, weight 32/256 along t.
+    EXPECT_NE(r.out.find("texture (8-bit path): s 0.4375 t 0.3125"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("bilinear in level 0"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("texels x 0, 1 y 0, 1, weights 96/256 along s, 32/256 along t"),
+              std::string::npos)
+        << r.out;
+    const std::string text = testutil::read_text(svg);
+    EXPECT_NE(text.find("texels of level 0 (2x2), bilinear, 8-bit path"), std::string::npos);
+    // The four texels of the 2x2 level, each a rectangle with its bytes in its title.
+    EXPECT_NE(text.find("texel (1, 1): 255,255,255,255"), std::string::npos);
+    EXPECT_NE(text.find("texel (0, 0): 255,0,0,255"), std::string::npos);
+}
+
+}  // namespace
