@@ -343,7 +343,8 @@ struct Kernel {
         std::array<std::array<float, 4>, 4> out{};
         {
             // The sampler's plain operations run under the CPU's flush modes where the profile
-            // flushes, as llvmpipe's rasterizer threads run.
+            // flushes, as llvmpipe's rasterizer threads run (set for the whole kernel already
+            // on the fast path, whose options then say no flushing).
             const ScopedDenormalsAreZero mode(k.options.flush_denormals &&
                                               cpu_flush_modes_available());
             sample_quad(*k.texture, s, t, k.options.fma, out, pair_linear, trace, trace_pixel);
@@ -641,12 +642,16 @@ FragmentKernel make_kernel(KernelState state) {
     const KernelPath path = state.options.kernels;
     if (path == KernelPath::Model) return {state, &K::shade, &K::trace};
     if (state.texture != nullptr) {
-        // Quads only: the level of detail is a quad's. The model's operations (its flushes
-        // emulated, as the scalar row kernels do), compiled for FMA where the CPU has it.
+        // Quads only: the level of detail is a quad's. Where the profile flushes and the CPU
+        // has the modes, the kernel runs under them (hardware_denormals) with plain operations:
+        // the same results as the emulated flushes, depth compares included (depth_outcome).
+        KernelState plain = state;
+        const bool hardware = state.options.flush_denormals && cpu_flush_modes_available();
+        if (hardware) plain.options.flush_denormals = false;
 #if REFRASTER_KERNEL_ISA_VARIANTS
-        if (host_runs_fma_sse41()) return {state, &K::shade_fma, &K::trace};
+        if (host_runs_fma_sse41()) return {plain, &K::shade_fma, &K::trace, nullptr, hardware};
 #endif
-        return {state, &K::shade, &K::trace};
+        return {plain, &K::shade, &K::trace, nullptr, hardware};
     }
     if constexpr (C == ColorFormat::Rgba8) {
         // The vector kernels write rgba8; rgba32f targets take the scalar path.

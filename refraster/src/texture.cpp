@@ -8,6 +8,13 @@
 #include "float_ops.hpp"
 #include "refraster/assert.hpp"
 #include "refraster/fixed.hpp"
+#include "vector_kernels.hpp"
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define REFRASTER_SAMPLER_ISA_VARIANTS 1
+#else
+#define REFRASTER_SAMPLER_ISA_VARIANTS 0
+#endif
 
 namespace refraster::detail {
 
@@ -424,9 +431,14 @@ bool quad_takes_linear(const TextureUnit& u, const std::array<float, 4>& s,
     return is_linear(quad_lod(u, s, t).minified ? u.state.min_filter : u.state.mag_filter);
 }
 
-void sample_quad(const TextureUnit& u, const std::array<float, 4>& s, const std::array<float, 4>& t,
-                 bool fma, std::array<std::array<float, 4>, 4>& out, bool pair_linear,
-                 TexelSample* trace, unsigned trace_pixel) {
+namespace {
+
+[[gnu::always_inline]] inline void sample_quad_body(const TextureUnit& u,
+                                                    const std::array<float, 4>& s,
+                                                    const std::array<float, 4>& t, bool fma,
+                                                    std::array<std::array<float, 4>, 4>& out,
+                                                    bool pair_linear, TexelSample* trace,
+                                                    unsigned trace_pixel) {
     const QuadLod lod = quad_lod(u, s, t);
     const bool linear = is_linear(lod.minified ? u.state.min_filter : u.state.mag_filter);
     // The float path with different image filters: the combined filter when this quad or
@@ -468,6 +480,30 @@ void sample_quad(const TextureUnit& u, const std::array<float, 4>& s, const std:
             tr->color = out[p];
         }
     }
+}
+
+}  // namespace
+
+#if REFRASTER_SAMPLER_ISA_VARIANTS
+// The same sampler compiled for CPUs with FMA and SSE4.1 (chosen at run time): floor, trunc and
+// the rounding become single instructions and the fused lerps one instruction each, instead of
+// library calls; the operations and their order are the body's, so the results are the same.
+[[gnu::target("fma,sse4.1,popcnt"), gnu::flatten]] void sample_quad_fma(
+    const TextureUnit& u, const std::array<float, 4>& s, const std::array<float, 4>& t, bool fma,
+    std::array<std::array<float, 4>, 4>& out, bool pair_linear, TexelSample* trace,
+    unsigned trace_pixel) {
+    sample_quad_body(u, s, t, fma, out, pair_linear, trace, trace_pixel);
+}
+#endif
+
+void sample_quad(const TextureUnit& u, const std::array<float, 4>& s, const std::array<float, 4>& t,
+                 bool fma, std::array<std::array<float, 4>, 4>& out, bool pair_linear,
+                 TexelSample* trace, unsigned trace_pixel) {
+#if REFRASTER_SAMPLER_ISA_VARIANTS
+    static const bool kVariant = host_runs_fma_sse41();
+    if (kVariant) return sample_quad_fma(u, s, t, fma, out, pair_linear, trace, trace_pixel);
+#endif
+    sample_quad_body(u, s, t, fma, out, pair_linear, trace, trace_pixel);
 }
 
 std::vector<TextureImage> generate_mipmaps(const TextureImage& base) {
