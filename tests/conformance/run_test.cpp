@@ -356,8 +356,9 @@ TEST(Bench, TablesJsonAndRefusesWrongPixels) {
         {"bench", "--scale", "0.002", "--rounds", "2", "--json", json_path.string()});
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NE(r.out.find("| full-perspective |"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("| medium-textured-trilinear |"), std::string::npos) << r.out;
     const auto j = json::parse(testutil::read_text(json_path));
-    ASSERT_EQ(j["scenes"].size(), 8u);
+    ASSERT_EQ(j["scenes"].size(), 10u);
     for (const auto& s : j["scenes"]) {
         for (const char* k :
              {"ref_ms", "llvmpipe_t0_ms", "llvmpipe_ms", "softpipe_ms", "speedup_vs_llvmpipe_t0"}) {
