@@ -266,43 +266,33 @@ struct Kernel {
         return quantise_depth(z, D);
     }
 
-    [[gnu::always_inline]] static std::array<float, 4> color(const Plane* planes, const float* flat,
-                                                             float px, float py,
-                                                             const KernelState& k, const Fp& fp) {
-        std::array<float, 4> c{};
+    // The first N attributes (the colour, then s, t, r, q for a textured draw) at (px, py):
+    // flat ones the provoking vertex's, noperspective ones the plane, smooth ones the plane
+    // times 1 / (the 1/w plane).
+    template <std::size_t N>
+    [[gnu::always_inline]] static std::array<float, N> attributes(const Plane* planes,
+                                                                  const float* flat, float px,
+                                                                  float py, const KernelState& k,
+                                                                  const Fp& fp) {
+        std::array<float, N> a{};
         if constexpr (S == ShadeModel::Flat) {
-            std::copy(flat, flat + 4, c.begin());
+            std::copy(flat, flat + N, a.begin());
         } else if constexpr (S == ShadeModel::NoPerspective) {
-            for (std::size_t j = 0; j < 4; ++j)
-                c[j] = plane_at(planes[kFirstAttributePlane + j], px, py, k, fp);
+            for (std::size_t j = 0; j < N; ++j)
+                a[j] = plane_at(planes[kFirstAttributePlane + j], px, py, k, fp);
         } else {
             const float w = fp.div(
                 1.0f, plane_at(planes[kWPlane], px, py, k, fp));  // lp_build_rcp: a true division
-            for (std::size_t j = 0; j < 4; ++j) {
-                c[j] = fp.mul(plane_at(planes[kFirstAttributePlane + j], px, py, k, fp), w);
-            }
-        }
-        return c;
-    }
-
-    // Attribute j (0 to 7: colour, then s, t, r, q) at (px, py), as color() evaluates
-    // the colour.
-    [[gnu::always_inline]] static std::array<float, 8> attributes8(const Plane* planes,
-                                                                   const float* flat, float px,
-                                                                   float py, const KernelState& k,
-                                                                   const Fp& fp) {
-        std::array<float, 8> a{};
-        if constexpr (S == ShadeModel::Flat) {
-            std::copy(flat, flat + 8, a.begin());
-        } else if constexpr (S == ShadeModel::NoPerspective) {
-            for (std::size_t j = 0; j < 8; ++j)
-                a[j] = plane_at(planes[kFirstAttributePlane + j], px, py, k, fp);
-        } else {
-            const float w = fp.div(1.0f, plane_at(planes[kWPlane], px, py, k, fp));
-            for (std::size_t j = 0; j < 8; ++j)
+            for (std::size_t j = 0; j < N; ++j)
                 a[j] = fp.mul(plane_at(planes[kFirstAttributePlane + j], px, py, k, fp), w);
         }
         return a;
+    }
+
+    [[gnu::always_inline]] static std::array<float, 4> color(const Plane* planes, const float* flat,
+                                                             float px, float py,
+                                                             const KernelState& k, const Fp& fp) {
+        return attributes<4>(planes, flat, px, py, k, fp);
     }
 
     // The colours of a textured draw's quad: every pixel of the packet, covered or not (the
@@ -324,7 +314,7 @@ struct Kernel {
                     static_cast<float>(x0 + static_cast<std::int32_t>(p & 1u)) + centre;
                 const float py =
                     static_cast<float>(qy + static_cast<std::int32_t>(p >> 1)) + centre;
-                const auto a = attributes8(planes, flat, px, py, k, fp);
+                const auto a = attributes<8>(planes, flat, px, py, k, fp);
                 const float rq = fp.div(1.0f, a[7]);
                 ss[p] = fp.mul(a[4], rq);
                 ts[p] = fp.mul(a[5], rq);

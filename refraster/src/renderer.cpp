@@ -131,10 +131,17 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
     if (kernels == KernelPath::Model || options.stop_after != RenderStage::Fragment) threads = 1;
     std::optional<detail::BandWorkers> workers;
     if (threads > 1) workers.emplace(threads);
-    // Every texture's levels once (generated ones made), each textured draw's unit.
-    std::vector<std::vector<TextureImage>> texture_levels;
+    // Every texture's levels: the draw list's own, or (generated mipmaps) the base and the
+    // levels made once here.
+    std::vector<std::vector<TextureImage>> generated(list.textures.size());
+    std::vector<const std::vector<TextureImage>*> texture_levels;
     texture_levels.reserve(list.textures.size());
-    for (const Texture& t : list.textures) texture_levels.push_back(detail::resolve_levels(t));
+    for (std::size_t t = 0; t < list.textures.size(); ++t) {
+        if (list.textures[t].generate_mipmaps)
+            generated[t] = detail::resolve_levels(list.textures[t]);
+        texture_levels.push_back(list.textures[t].generate_mipmaps ? &generated[t]
+                                                                   : &list.textures[t].levels);
+    }
     RenderOutcome outcome;
     for (std::size_t i = 0; i < list.draws.size(); ++i) {
         const Draw& d = list.draws[i];
@@ -147,7 +154,7 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
                                  VertexArray::kPositionComponents + 8,
                              "colour and texture coordinates in a textured draw's vertices");
             unit = detail::make_texture_unit(*d.state.texture,
-                                             texture_levels[d.state.texture->texture]);
+                                             *texture_levels[d.state.texture->texture]);
         }
         const detail::DrawContext ctx{i,
                                       d,
