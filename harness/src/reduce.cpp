@@ -69,6 +69,11 @@ ojson texture_state_json(const refraster::TextureState& t, const std::string& na
         j["border_color"] = t.border_color;
     }
     if (t.env != d.env) j["env"] = t.env == TextureEnv::Replace ? "replace" : "modulate";
+    if (t.coord_replace != d.coord_replace) j["coord_replace"] = t.coord_replace;
+    if (t.point_coord_origin != d.point_coord_origin) {
+        j["point_coord_origin"] =
+            t.point_coord_origin == PointCoordOrigin::LowerLeft ? "lower_left" : "upper_left";
+    }
     return j;
 }
 

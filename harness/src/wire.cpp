@@ -185,6 +185,8 @@ void put_state(Encoder& e, const refraster::DrawState& s) {
         e.enumeration(t.wrap_t);
         for (float c : t.border_color) e.f32(c);
         e.enumeration(t.env);
+        e.boolean(t.coord_replace);
+        e.enumeration(t.point_coord_origin);
     }
 }
 
@@ -221,6 +223,8 @@ refraster::DrawState get_state(Decoder& d) {
         t.wrap_t = d.enumeration(TextureWrap::ClampToBorder);
         for (float& c : t.border_color) c = d.f32();
         t.env = d.enumeration(TextureEnv::Replace);
+        t.coord_replace = d.boolean();
+        t.point_coord_origin = d.enumeration(PointCoordOrigin::LowerLeft);
         s.texture = t;
     }
     return s;

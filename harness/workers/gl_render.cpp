@@ -266,12 +266,15 @@ struct ProgramSources {
 // The pass-through program of one shade model, with or without the owner output, and with a
 // texture (env given) or without. Without a texture the sources are exactly those the colour
 // and owner programs always had. With one, the texture coordinate is interpolated with the
-// colour's qualifier and the texel of unit 0 sampled with textureProj at (s, t, q).
+// colour's qualifier and the texel of unit 0 sampled with textureProj at (s, t, q); with
+// `point_sprite` it is sampled with texture at gl_PointCoord (GL_POINT_SPRITE is always on,
+// so the rasterizer replaces it for points) and the vertex's coordinate is not read.
 ProgramSources program_sources(refraster::ShadeModel shade, bool owners,
-                               std::optional<refraster::TextureEnv> env) {
+                               std::optional<refraster::TextureEnv> env, bool point_sprite) {
     const std::string q = qualifier(shade);
     const std::string version = owners ? kGlslOwnerVersion : kGlslVersion;
     const bool textured = env.has_value();
+    const bool coords = textured && !point_sprite;
     const std::string color_out = !textured ? "    frag_color = v_color;\n"
                                   : *env == refraster::TextureEnv::Modulate
                                       ? "    frag_color = v_color * t;\n"
@@ -280,18 +283,19 @@ ProgramSources program_sources(refraster::ShadeModel shade, bool owners,
     src.vertex = version +
                  "in vec4 position;\n"
                  "in vec4 color;\n" +
-                 (textured ? "in vec4 texcoord;\n" : "") + q + " out vec4 v_color;\n" +
-                 (textured ? q + " out vec4 v_texcoord;\n" : "") +
+                 (coords ? "in vec4 texcoord;\n" : "") + q + " out vec4 v_color;\n" +
+                 (coords ? q + " out vec4 v_texcoord;\n" : "") +
                  "void main() {\n"
                  "    gl_Position = position;\n"
                  "    v_color = color;\n" +
-                 (textured ? "    v_texcoord = texcoord;\n" : "") + "}\n";
+                 (coords ? "    v_texcoord = texcoord;\n" : "") + "}\n";
     const std::string sample =
-        textured
-            ? "    vec4 t = textureProj(tex, vec3(v_texcoord.s, v_texcoord.t, v_texcoord.q));\n"
-            : "";
+        !textured ? ""
+        : point_sprite
+            ? "    vec4 t = texture(tex, gl_PointCoord);\n"
+            : "    vec4 t = textureProj(tex, vec3(v_texcoord.s, v_texcoord.t, v_texcoord.q));\n";
     src.fragment = version + q + " in vec4 v_color;\n" +
-                   (textured ? q + " in vec4 v_texcoord;\n" : "") + "out vec4 frag_color;\n" +
+                   (coords ? q + " in vec4 v_texcoord;\n" : "") + "out vec4 frag_color;\n" +
                    (owners ? "out uint frag_owner;\n"
                              "uniform uint draw_index;\n"
                            : "") +
@@ -305,17 +309,17 @@ ProgramSources program_sources(refraster::ShadeModel shade, bool owners,
 }
 
 GLuint build_program(refraster::ShadeModel shade, bool owners,
-                     std::optional<refraster::TextureEnv> env) {
-    const ProgramSources src = program_sources(shade, owners, env);
-    const bool textured = env.has_value();
-    const GLuint p = link_program(src.vertex, src.fragment, [owners, textured](GLuint program) {
+                     std::optional<refraster::TextureEnv> env, bool point_sprite) {
+    const ProgramSources src = program_sources(shade, owners, env, point_sprite);
+    const bool coords = env.has_value() && !point_sprite;
+    const GLuint p = link_program(src.vertex, src.fragment, [owners, coords](GLuint program) {
         glBindAttribLocation(program, kPositionLocation, "position");
         glBindAttribLocation(program, kColorLocation, "color");
-        if (textured) glBindAttribLocation(program, kTexcoordLocation, "texcoord");
+        if (coords) glBindAttribLocation(program, kTexcoordLocation, "texcoord");
         glBindFragDataLocation(program, 0, "frag_color");
         if (owners) glBindFragDataLocation(program, 1, "frag_owner");
     });
-    if (textured) {
+    if (env) {
         glUseProgram(p);
         glUniform1i(glGetUniformLocation(p, "tex"), 0);  // texture unit 0
     }
@@ -773,7 +777,9 @@ refraster::Framebuffer SampleReader::read(const SampleSources& src) {
 struct Renderer::Impl {
     harness::Provenance provenance;
     // By ShadeModel, then with owners, then untextured, modulate, replace; 0 until first use.
-    std::array<GLuint, 18> programs{};
+    // By shade model (3), owners (2) and variant (5): untextured, then each env with the
+    // vertex's coordinates and with point sprite coordinates.
+    std::array<GLuint, 30> programs{};
     // The GL textures of the DrawList being rendered, by index; made at the start of each
     // render and deleted at its end.
     std::vector<GLuint> textures;
@@ -794,10 +800,12 @@ struct Renderer::Impl {
     std::array<GLfloat, 2> line_width_range{};
     std::array<GLfloat, 2> point_size_range{};
 
-    GLuint program(refraster::ShadeModel shade, std::optional<refraster::TextureEnv> env) {
-        const std::size_t variant = env ? 1 + static_cast<std::size_t>(*env) : 0;
+    GLuint program(refraster::ShadeModel shade, std::optional<refraster::TextureEnv> env,
+                   bool point_sprite) {
+        const std::size_t variant =
+            env ? 1 + static_cast<std::size_t>(*env) + (point_sprite ? 2 : 0) : 0;
         GLuint& p = programs[static_cast<std::size_t>(shade) + (owners ? 3 : 0) + 6 * variant];
-        if (p == 0) p = build_program(shade, owners, env);
+        if (p == 0) p = build_program(shade, owners, env, point_sprite);
         return p;
     }
     void upload_textures(const refraster::DrawList& list);
@@ -1054,7 +1062,13 @@ void Renderer::Impl::draw(const refraster::Target& t, const refraster::Draw& d) 
     const std::optional<refraster::TextureEnv> env =
         s.texture ? std::optional(s.texture->env) : std::nullopt;
     if (s.texture) bind_texture(*s.texture);
-    const GLuint prog = program(s.shade, env);
+    const bool point_sprite = d.samples_point_coords();
+    glPointParameteri(GL_POINT_SPRITE_COORD_ORIGIN,
+                      s.texture && s.texture->point_coord_origin ==
+                                       refraster::PointCoordOrigin::LowerLeft
+                          ? GL_LOWER_LEFT
+                          : GL_UPPER_LEFT);
+    const GLuint prog = program(s.shade, env, point_sprite);
     glUseProgram(prog);
     if (owners) glUniform1ui(glGetUniformLocation(prog, "draw_index"), current_draw);
 
@@ -1088,7 +1102,7 @@ void Renderer::Impl::draw(const refraster::Target& t, const refraster::Draw& d) 
         glDisableVertexAttribArray(kColorLocation);
         glVertexAttrib4f(kColorLocation, 1.0f, 1.0f, 1.0f, 1.0f);
     }
-    if (s.texture && texcoord) {
+    if (s.texture && texcoord && !point_sprite) {
         const std::uint32_t components = va.attributes[*texcoord].components;
         if (components < 1 || components > 4) {
             throw GlFailure("texcoord attribute with " + std::to_string(components) +

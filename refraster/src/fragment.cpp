@@ -299,6 +299,9 @@ struct Kernel {
     // level of detail is the quad's, from helper pixels too: docs/precision.md, "Textures").
     // Coordinates are projected as textureProj does it: s and t times 1/q (lp_build_rcp, a
     // true division). Modulate multiplies the interpolated colour by the texel in float.
+    // A textured draw's attribute floats: the colour, then s, t, r, q.
+    static constexpr std::size_t kTexturedFloats = 8;
+
     static std::array<std::array<float, 4>, 4> textured_quad(const KernelState& k,
                                                              const Plane* planes, const float* flat,
                                                              std::int32_t qx, std::int32_t qy,
@@ -314,7 +317,18 @@ struct Kernel {
                     static_cast<float>(x0 + static_cast<std::int32_t>(p & 1u)) + centre;
                 const float py =
                     static_cast<float>(qy + static_cast<std::int32_t>(p >> 1)) + centre;
-                const auto a = attributes<8>(planes, flat, px, py, k, fp);
+                if (k.point_coords) {
+                    // Point sprite coordinates (point_planes): perspective planes after the
+                    // attributes, sampled without projection (texture at gl_PointCoord).
+                    constexpr std::size_t kSprite =
+                        kFirstAttributePlane + (S == ShadeModel::Flat ? 0 : kTexturedFloats);
+                    const float w = fp.div(1.0f, plane_at(planes[kWPlane], px, py, k, fp));
+                    ss[p] = fp.mul(plane_at(planes[kSprite], px, py, k, fp), w);
+                    ts[p] = fp.mul(plane_at(planes[kSprite + 1], px, py, k, fp), w);
+                    if (c != nullptr) (*c)[p] = attributes<4>(planes, flat, px, py, k, fp);
+                    continue;
+                }
+                const auto a = attributes<kTexturedFloats>(planes, flat, px, py, k, fp);
                 const float rq = fp.div(1.0f, a[7]);
                 ss[p] = fp.mul(a[4], rq);
                 ts[p] = fp.mul(a[5], rq);
@@ -698,6 +712,7 @@ FragmentKernel choose_fragment_kernel(const Draw& draw, const Target& target,
     KernelState state;
     state.options = options;
     state.texture = texture;
+    state.point_coords = texture != nullptr && draw.samples_point_coords();
     state.samples = target.samples;
     if (draw.state.depth_test && target.depth != DepthFormat::None) {
         state.depth_pass = static_cast<std::uint8_t>(*draw.state.depth_test);

@@ -122,6 +122,9 @@ struct KernelState {
     // colour is then the texel (replace) or the colour times it (modulate), sampled a quad at
     // a time at the texture coordinates (attributes 4 to 7) divided by q.
     const TextureUnit* texture = nullptr;
+    // Draw::samples_point_coords: s and t come from the two planes after the attributes
+    // (point_planes), as a perspective input, and are not divided by q.
+    bool point_coords = false;
     std::uint8_t depth_pass = 7;  // outcomes that pass: 1 less, 2 equal, 4 greater
     bool depth_write = false;
     std::uint32_t samples = 1;  // of the target: 1 or 4

@@ -372,6 +372,7 @@ std::optional<PointSetup> setup_point(const StageVertex& v, float size, const Se
     const std::int32_t y1 = y0 + fw;
     PointSetup s;
     s.bits = p.bits;
+    s.fixed_width = fw;
     // Left, right, bottom, top, oriented like a set-up triangle (interior where E > 0): the
     // planes of try_setup_point, with the tie rule's +1 on the owned sides.
     s.edges = {edge(x0, y0, x0, y1, p.tie_rule), edge(x1, y1, x1, y0, p.tie_rule),
@@ -385,8 +386,9 @@ std::optional<PointSetup> setup_point(const StageVertex& v, float size, const Se
     return s;
 }
 
-void point_planes(const StageVertex& v, const VertexStage& stage, const Draw& draw,
-                  FragmentOptions options, SetupList& list, SetupPrimitive& prim) {
+void point_planes(const StageVertex& v, const PointSetup& setup, const SetupParams& params,
+                  const VertexStage& stage, const Draw& draw, FragmentOptions options,
+                  SetupList& list, SetupPrimitive& prim) {
     // setup_point_coefficients: every attribute constant; smooth ones premultiplied by 1/w
     // (point_persp_coeff) and divided again per pixel by the constant 1/w plane.
     const auto f = [fp = Fp{options.flush_denormals}](float x) { return fp.f(x); };
@@ -406,6 +408,32 @@ void point_planes(const StageVertex& v, const VertexStage& stage, const Draw& dr
                 break;
         }
     }
+    if (!draw.samples_point_coords()) return;
+    // lp_setup_point.c, texcoord_coef: s rises by FIXED_ONE / fixed_width a pixel to the right,
+    // t the same upwards or downwards, both 0.5 at the vertex; x0 and y0 are the position less
+    // setup->pixel_offset, which is half_pixel_center's even on a multisampled point (whose
+    // pixels are then evaluated at their centres: half a pixel further on). The sums are
+    // float, the subtraction from 0.5 double (its literal), stored as float. gl_PointCoord is
+    // a perspective input there (LP_INTERP_PERSPECTIVE): every term times the vertex's 1/w,
+    // divided by the 1/w plane per pixel as smooth attributes are.
+    const float one = static_cast<float>(std::int32_t{1} << setup.bits);
+    const float step = one / static_cast<float>(setup.fixed_width);
+    const float x0 = v.window[0] - params.half_pixel_center;
+    const float y0 = v.window[1] - params.half_pixel_center;
+    // In an FBO gallium's y is GL's, so GL's upper-left origin is gallium's lower left
+    // (st_atom_rasterizer.c flips sprite_coord_mode for FBOs): t falls as y rises.
+    const float t_step = draw.state.texture->point_coord_origin == PointCoordOrigin::UpperLeft
+                             ? -step
+                             : step;
+    const auto a0 = [](float dadx, float x, float dady, float y) {
+        return static_cast<float>(0.5 - static_cast<double>(dadx * x + dady * y));
+    };
+    const float w0 = v.window[3];
+    const auto persp = [&](Plane q) {
+        return Plane{f(q.a0 * w0), f(q.dadx * w0), f(q.dady * w0)};
+    };
+    out.attribute(persp({a0(step, x0, 0.0f, y0), step, 0.0f}));
+    out.attribute(persp({a0(0.0f, x0, t_step, y0), 0.0f, t_step}));
 }
 
 }  // namespace refraster::detail

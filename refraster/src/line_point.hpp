@@ -13,10 +13,12 @@
 //  - points as quads (lp_setup_point.c, try_setup_point with point sprites on): a square of
 //    side max(1, util_iround(256 * size) / 256) around the snapped centre, left and bottom
 //    edges inclusive (docs/precision.md "Points"); attributes constant over the point
-//    (constant_coef, point_persp_coeff).
+//    (constant_coef, point_persp_coeff); with point sprite coordinates
+//    (Draw::samples_point_coords) two more planes, s and t across the point (texcoord_coef,
+//    perspective: premultiplied by the vertex's 1/w, docs/precision.md "Point sprites").
 //
 // Deliberately does not: smooth (antialiased) lines, stipple, legacy (non-sprite) points,
-// point sprite texture coordinates, per-vertex point size.
+// per-vertex point size.
 //
 // Under multisampling (SetupParams::multisample) lines are rectangles (setup_rect_line) and
 // points keep their quads, both snapped without the pixel offset and tested per sample.
@@ -69,11 +71,15 @@ struct PointSetup {
     std::array<EdgeFunction, 4> edges;  // left, right, bottom, top
     PixelRect bbox;
     std::uint8_t scissor_leak = 0;  // always 0: points show no scissor leak
+    std::int32_t fixed_width = 0;   // the side in subpixels, at least one pixel
 };
 
 std::optional<PointSetup> setup_point(const StageVertex& v, float size, const SetupParams& p);
 
-void point_planes(const StageVertex& v, const VertexStage& stage, const Draw& draw,
-                  FragmentOptions options, SetupList& list, SetupPrimitive& prim);
+// The point's planes into `list` (constants when flat), then, when the draw samples point
+// sprite coordinates, the planes of s and t (kernel: sprite_planes_at).
+void point_planes(const StageVertex& v, const PointSetup& setup, const SetupParams& params,
+                  const VertexStage& stage, const Draw& draw, FragmentOptions options,
+                  SetupList& list, SetupPrimitive& prim);
 
 }  // namespace refraster::detail

@@ -260,7 +260,7 @@ void LlvmpipeModel::point(const VertexStage& stage, const StageVertex& v, Observ
     SetupPrimitive& prim = list_.primitives.emplace_back();
     copy_quad_coverage(*setup, prim);
     prim.owner = owner_;
-    point_planes(v, stage, ctx_.draw, ctx_.fragment_options(), list_, prim);
+    point_planes(v, *setup, ctx_.params, stage, ctx_.draw, ctx_.fragment_options(), list_, prim);
     obs.point_drawn(v, *setup, list_.primitives.size() - 1);
 }
 

@@ -18,6 +18,7 @@ SetupParams setup_params(const Profile& profile, const DrawState& state, const T
     p.bits = profile.gl.subpixel_bits;
     p.rounding = profile.gl.snap_rounding;
     p.pixel_center_offset = profile.gl.pixel_center_offset;
+    p.half_pixel_center = profile.gl.pixel_center_offset;
     p.tie_rule = profile.gl.tie_rule;
     p.wrapping = profile.quirks.wrapping_arithmetic;
     // lp_setup_tri.c / lp_setup_line.c / lp_setup_point.c: with the rasterizer's

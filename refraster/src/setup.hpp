@@ -116,6 +116,9 @@ struct SetupParams {
     int bits = 8;
     SnapRounding rounding = SnapRounding::NearestEven;
     float pixel_center_offset = 0.5f;
+    // The profile's pixel centre offset even when multisampling zeroes the one above
+    // (llvmpipe's setup->pixel_offset, from half_pixel_center alone).
+    float half_pixel_center = 0.5f;
     TieRule tie_rule = TieRule::LeftBottom;
     CullMode cull = CullMode::None;
     bool front_ccw = false;  // gallium's rasterizer front_ccw (FBO: flipped from GL)

@@ -70,6 +70,9 @@ enum class TextureWrap : std::uint8_t { Repeat, ClampToEdge, MirroredRepeat, Cla
 // How the texel combines with the interpolated colour: GL_MODULATE (colour times texel) or
 // GL_REPLACE (the texel alone).
 enum class TextureEnv : std::uint8_t { Modulate, Replace };
+// Where a point sprite's coordinates start (GL_POINT_SPRITE_COORD_ORIGIN): t = 0 at the top
+// of the point (GL's default) or at its bottom.
+enum class PointCoordOrigin : std::uint8_t { UpperLeft, LowerLeft };
 
 inline constexpr bool uses_mipmaps(TextureFilter f) {
     return f != TextureFilter::Nearest && f != TextureFilter::Linear;
@@ -103,6 +106,12 @@ struct TextureState {
     TextureWrap wrap_t = TextureWrap::Repeat;
     std::array<float, 4> border_color{0.0f, 0.0f, 0.0f, 0.0f};
     TextureEnv env = TextureEnv::Modulate;
+    // Point sprite coordinates (GL_COORD_REPLACE, gl_PointCoord): a draw that rasterizes
+    // points samples at the fragment's place in its point, s across from 0 at the left to 1
+    // at the right and t from 0 at `point_coord_origin` to 1 at the other side, instead of
+    // the vertex's coordinates; other draws ignore it.
+    bool coord_replace = false;
+    PointCoordOrigin point_coord_origin = PointCoordOrigin::UpperLeft;
     friend bool operator==(const TextureState&, const TextureState&) = default;
 };
 
@@ -203,6 +212,17 @@ struct Draw {
         return e;
     }
     friend bool operator==(const Draw&, const Draw&) = default;
+
+    // Every primitive of the draw reaches the rasterizer as points: a points draw, or
+    // triangles drawn with polygon mode point.
+    bool rasterizes_points() const {
+        return primitive == PrimitiveType::Points ||
+               (primitive >= PrimitiveType::Triangles && state.polygon_mode == PolygonMode::Point);
+    }
+    // The draw samples its texture at point sprite coordinates (TextureState::coord_replace).
+    bool samples_point_coords() const {
+        return state.texture && state.texture->coord_replace && rasterizes_points();
+    }
 };
 
 struct Target {
