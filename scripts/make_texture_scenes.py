@@ -388,6 +388,97 @@ def main():
                     tex_state(min_filter="linear_mipmap_linear"))],
               {"tex": texture(16, 16, "random", 82, mipmaps=True)}, samples=4))
 
+    # Point sprite coordinates (state.texture.coord_replace).
+    def sprite(origin="upper_left", **kw):
+        st = tex_state(**kw)
+        st["coord_replace"] = True
+        st["point_coord_origin"] = origin
+        return st
+
+    def points(centres, **extra):
+        return [dict({"position": list(c), "color": [1, 1, 1, 1]}, **extra) for c in centres]
+
+    add(scene("sprite_upper_left_nearest",
+              "Point sprites of sizes 8 and 5.5 with nearest filtering and GL's default origin: "
+              "each point shows the whole 8x8 texture, its first row at the top.",
+              [draw(points([(6.0, 6.0), (19.5, 7.25)]),
+                    sprite(min_filter="nearest", mag_filter="nearest"), primitive="points",
+                    point_size=8),
+               draw(points([(7.3, 22.1), (22.0, 24.0)]),
+                    sprite(min_filter="nearest", mag_filter="nearest"), primitive="points",
+                    point_size=5.5)],
+              {"tex": texture(8, 8, "random", 91)}))
+    add(scene("sprite_lower_left_linear",
+              "Point sprites with bilinear filtering and origin lower_left: t rises upwards; "
+              "the repeat wrap blends the texture's opposite edges at the point's border.",
+              [draw(points([(8.0, 8.0), (23.4, 9.1), (15.7, 23.3)]),
+                    sprite(origin="lower_left"), primitive="points", point_size=12)],
+              {"tex": texture(8, 8, "random", 92)}))
+    add(scene("sprite_clamp_fractional_sizes",
+              "Sprites of sizes 1, 1.5, 2.25, 3.7 and 6.7 (a side in 1/256 pixels, not whole "
+              "pixels): s and t step by 256 / the snapped side, clamp_to_edge.",
+              [draw(points([(3.0 + 6.0 * i + 0.3 * i, 8.0 + 3.1 * i)]),
+                    sprite(wrap_s="clamp_to_edge", wrap_t="clamp_to_edge"), primitive="points",
+                    point_size=size) for i, size in enumerate([1, 1.5, 2.25, 3.7, 6.7])],
+              {"tex": texture(4, 4, "random", 93)}))
+    add(scene("sprite_mipmapped",
+              "Small sprites over a 32x32 mipmapped texture: the LOD comes from the sprite's "
+              "own derivatives (1/size a pixel), trilinear and nearest-mipmap-nearest.",
+              [draw(points([(4.0 + 7.0 * i, 6.0) for i in range(4)]),
+                    sprite(min_filter="linear_mipmap_linear"), primitive="points",
+                    point_size=3),
+               draw(points([(5.5 + 7.0 * i, 20.5) for i in range(4)]),
+                    sprite(min_filter="nearest_mipmap_nearest", mag_filter="nearest"),
+                    primitive="points", point_size=5)],
+              {"tex": texture(32, 32, "random", 94, mipmaps=True)}))
+    add(scene("sprite_perspective_w",
+              "Sprites whose vertices have w of 0.25, 3 and 7: gl_PointCoord is a perspective "
+              "input in llvmpipe, its planes multiplied by 1/w and divided again per pixel.",
+              [draw([{"position": [6.0 + 10.0 * i, 8.0 + 7.0 * i, 0.0, w],
+                      "color": [1, 1, 1, 1]} for i, w in enumerate([0.25, 3.0, 7.0])],
+                    sprite(), primitive="points", point_size=9.3)],
+              {"tex": texture(16, 16, "random", 95)}))
+    rng = random.Random(2024)
+    add(scene("sprite_perspective_many",
+              "1,200 bilinear sprites of sides 13.3 to 31 with w from 0.2 to 5 over a 64x64 "
+              "texture: the rounding of the 1/w products and of the division shows.",
+              [draw([{"position": [round(rng.uniform(4, 92), 3), round(rng.uniform(4, 92), 3),
+                                   0.0, round(rng.uniform(0.2, 5.0), 3)],
+                      "color": [1, 1, 1, 1]} for _ in range(40)],
+                    sprite(name="big"), primitive="points",
+                    point_size=rng.choice([13.3, 16, 24.6, 31])) for _ in range(30)],
+              {"big": texture(64, 64, "random", 100)}, width=96, height=96))
+    add(scene("sprite_polygon_mode_point",
+              "Triangles drawn with polygon mode point: each vertex is a sprite.",
+              [draw(points([(5.0, 5.0), (26.0, 6.5), (15.5, 26.0)], texcoord=[0.3, 0.3]),
+                    sprite(min_filter="nearest", mag_filter="nearest"), polygon_mode="point",
+                    point_size=7)],
+              {"tex": texture(8, 8, "random", 96)}))
+    add(scene("sprite_flat_modulate",
+              "Flat-shaded coloured sprites with modulate: the colour is the vertex's, the "
+              "coordinates the sprite's.",
+              [draw([{"position": [6.0 + 9.0 * i, 16.0], "color": c}
+                     for i, c in enumerate([[1, 0.2, 0.2, 1], [0.2, 1, 0.2, 1], [0.3, 0.3, 1, 1]])],
+                    sprite(origin="lower_left"), primitive="points", point_size=8,
+                    shade="flat")],
+              {"tex": texture(8, 8, "random", 97)}))
+    add(scene("sprite_msaa_4x",
+              "Sprites on a 4x target: llvmpipe sets their coordinate planes up with the "
+              "half-pixel offset and evaluates them at the pixel centre, half a pixel on.",
+              [draw(points([(8.0, 8.0), (22.3, 21.6)]), sprite(), primitive="points",
+                    point_size=10)],
+              {"tex": texture(8, 8, "random", 98)}, samples=4))
+    add(scene("sprite_ignored_off_points",
+              "coord_replace on a triangle and a line: they sample at their texcoords, only "
+              "points take sprite coordinates.",
+              [draw([{"position": p, "color": [1, 1, 1, 1], "texcoord": tc} for p, tc in [
+                  ([1.0, 1.0], [0, 0]), ([30.0, 3.0], [1, 0]), ([4.0, 20.0], [0, 1])]],
+                    sprite()),
+               draw([{"position": p, "color": [1, 1, 1, 1], "texcoord": tc} for p, tc in [
+                   ([2.5, 27.5], [0, 0.5]), ([30.5, 25.5], [1.5, 0.5])]],
+                    sprite(), primitive="lines", line_width=2)],
+              {"tex": texture(8, 8, "random", 99)}))
+
     for s in scenes:
         path = os.path.join(OUT, s["name"].split(".", 1)[1] + ".json")
         with open(path, "w") as f:

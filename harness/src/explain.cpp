@@ -685,7 +685,9 @@ std::string resolve_text(const std::vector<std::array<float, 4>>& samples, bool 
 // What the sampler decided for a textured fragment (docs/precision.md, "Textures").
 void write_texture_trace(std::ostream& o, const refraster::TextureTrace& t) {
     o << "    texture (" << (t.aos ? "8-bit path" : "float path") << "): s " << t.coord[0] << " t "
-      << t.coord[1] << " (after the division by q)\n";
+      << t.coord[1]
+      << (t.point_coord ? " (point sprite coordinates: the fragment's place in its point)\n"
+                        : " (after the division by q)\n");
     o << "      quad derivatives in base texels: ds/dx " << t.rho_terms[0] << " dt/dx "
       << t.rho_terms[1] << " ds/dy " << t.rho_terms[2] << " dt/dy " << t.rho_terms[3] << "; rho^2 "
       << t.rho2 << (t.minified ? " > 1: minified, min filter" : " <= 1 or no LOD: mag filter")
@@ -732,6 +734,7 @@ void write_texture_trace(std::ostream& o, const refraster::TextureTrace& t) {
 nlohmann::ordered_json texture_trace_json(const refraster::TextureTrace& t) {
     nlohmann::ordered_json j{{"path", t.aos ? "8-bit" : "float"},
                              {"coord", t.coord},
+                             {"point_coord", t.point_coord},
                              {"rho_terms", t.rho_terms},
                              {"rho2", t.rho2},
                              {"minified", t.minified},

@@ -870,9 +870,8 @@ refraster::TextureState read_texture_state(const Node& n,
                                            const std::map<std::string, refraster::Texture>& defined,
                                            std::string& name) {
     using namespace refraster;
-    n.require_object(
-        {"name", "min_filter", "mag_filter", "wrap_s", "wrap_t", "border_color", "env",
-         "coord_replace", "point_coord_origin"});
+    n.require_object({"name", "min_filter", "mag_filter", "wrap_s", "wrap_t", "border_color", "env",
+                      "coord_replace", "point_coord_origin"});
     TextureState t;
     const Node name_node = n.at("name");
     const auto it = defined.find(name_node.string());
@@ -926,9 +925,9 @@ refraster::TextureState read_texture_state(const Node& n,
     }
     if (auto v = n.get("coord_replace")) t.coord_replace = v->boolean();
     if (auto v = n.get("point_coord_origin")) {
-        t.point_coord_origin = v->choice<PointCoordOrigin>(
-            {{"upper_left", PointCoordOrigin::UpperLeft},
-             {"lower_left", PointCoordOrigin::LowerLeft}});
+        t.point_coord_origin =
+            v->choice<PointCoordOrigin>({{"upper_left", PointCoordOrigin::UpperLeft},
+                                         {"lower_left", PointCoordOrigin::LowerLeft}});
     }
     return t;
 }

@@ -1063,11 +1063,11 @@ void Renderer::Impl::draw(const refraster::Target& t, const refraster::Draw& d) 
         s.texture ? std::optional(s.texture->env) : std::nullopt;
     if (s.texture) bind_texture(*s.texture);
     const bool point_sprite = d.samples_point_coords();
-    glPointParameteri(GL_POINT_SPRITE_COORD_ORIGIN,
-                      s.texture && s.texture->point_coord_origin ==
-                                       refraster::PointCoordOrigin::LowerLeft
-                          ? GL_LOWER_LEFT
-                          : GL_UPPER_LEFT);
+    glPointParameteri(
+        GL_POINT_SPRITE_COORD_ORIGIN,
+        s.texture && s.texture->point_coord_origin == refraster::PointCoordOrigin::LowerLeft
+            ? GL_LOWER_LEFT
+            : GL_UPPER_LEFT);
     const GLuint prog = program(s.shade, env, point_sprite);
     glUseProgram(prog);
     if (owners) glUniform1ui(glGetUniformLocation(prog, "draw_index"), current_draw);

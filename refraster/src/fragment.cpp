@@ -353,6 +353,7 @@ struct Kernel {
                                               cpu_flush_modes_available());
             sample_quad(*k.texture, s, t, k.options.fma, out, pair_linear, trace, trace_pixel);
         }
+        if (trace != nullptr) trace->point_coord = k.point_coords;
         if (k.texture->state.env == TextureEnv::Modulate) {
             for (unsigned p = 0; p < 4; ++p)
                 for (std::size_t c = 0; c < 4; ++c) out[p][c] = fp.mul(col[p][c], out[p][c]);

@@ -422,16 +422,13 @@ void point_planes(const StageVertex& v, const PointSetup& setup, const SetupPara
     const float y0 = v.window[1] - params.half_pixel_center;
     // In an FBO gallium's y is GL's, so GL's upper-left origin is gallium's lower left
     // (st_atom_rasterizer.c flips sprite_coord_mode for FBOs): t falls as y rises.
-    const float t_step = draw.state.texture->point_coord_origin == PointCoordOrigin::UpperLeft
-                             ? -step
-                             : step;
+    const float t_step =
+        draw.state.texture->point_coord_origin == PointCoordOrigin::UpperLeft ? -step : step;
     const auto a0 = [](float dadx, float x, float dady, float y) {
         return static_cast<float>(0.5 - static_cast<double>(dadx * x + dady * y));
     };
     const float w0 = v.window[3];
-    const auto persp = [&](Plane q) {
-        return Plane{f(q.a0 * w0), f(q.dadx * w0), f(q.dady * w0)};
-    };
+    const auto persp = [&](Plane q) { return Plane{f(q.a0 * w0), f(q.dadx * w0), f(q.dady * w0)}; };
     out.attribute(persp({a0(step, x0, 0.0f, y0), step, 0.0f}));
     out.attribute(persp({a0(0.0f, x0, t_step, y0), 0.0f, t_step}));
 }

@@ -1,7 +1,8 @@
 // Random textured triangles through the reference (llvmpipe-22.3) and OSMesa llvmpipe,
 // compared byte for byte: every filter, wrap pair, size class (powers of two and not, 1x1,
 // 1xN), given and generated mipmaps, both envs, affine and perspective coordinates, q other
-// than 1, magnification and minification. Seeds: two fixed, one from REFRASTER_TEST_SEED.
+// than 1, magnification and minification; and random point sprites (coord_replace) of any
+// size, as points and as polygon-mode points. Seeds: two fixed, one from REFRASTER_TEST_SEED.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -43,6 +44,11 @@ struct TexturedCell {
     refraster::ShadeModel shade = refraster::ShadeModel::Smooth;
     bool depth = false;
     refraster::BlendPreset blend = refraster::BlendPreset::None;
+    // A sprite cell: its three vertices drawn as points (or triangles in polygon mode point)
+    // of side point_size, sampled at point sprite coordinates.
+    bool sprite = false;
+    bool polygon_points = false;
+    float point_size = 1.0f;
 };
 
 class TexturedGenerator {
@@ -85,8 +91,22 @@ class TexturedGenerator {
         return t;
     }
 
-    TexturedCell cell(std::uint32_t texture_index) {
+    TexturedCell cell(std::uint32_t texture_index, bool sprite = false) {
         TexturedCell c;
+        if (sprite) {
+            c.sprite = true;
+            c.polygon_points = uniform(0, 1) < 0.25f;
+            // Whole, half and arbitrary sides, from below a pixel to 40.
+            const int kind = uniform_int(0, 2);
+            const float size = uniform(0.5f, 40.0f);
+            c.point_size = kind == 0   ? std::round(size)
+                           : kind == 1 ? std::round(size * 2.0f) / 2.0f
+                                       : size;
+            c.state.coord_replace = true;
+            c.state.point_coord_origin = uniform(0, 1) < 0.5f
+                                             ? refraster::PointCoordOrigin::UpperLeft
+                                             : refraster::PointCoordOrigin::LowerLeft;
+        }
         c.state.texture = texture_index;
         c.state.min_filter = kMinFilters[uniform_int(0, 5)];
         c.state.mag_filter = uniform(0, 1) < 0.5f ? refraster::TextureFilter::Nearest
@@ -169,7 +189,10 @@ harness::Scene textured_scene(const std::vector<TexturedCell>& cells,
         const int cx = static_cast<int>(i % testscenes::kGrid) * testscenes::kCell;
         const int cy = static_cast<int>(i / testscenes::kGrid) * testscenes::kCell;
         refraster::Draw d;
-        d.primitive = refraster::PrimitiveType::Triangles;
+        d.primitive = c.sprite && !c.polygon_points ? refraster::PrimitiveType::Points
+                                                    : refraster::PrimitiveType::Triangles;
+        if (c.polygon_points) d.state.polygon_mode = refraster::PolygonMode::Point;
+        d.state.point_size = c.point_size;
         d.state.viewport = {cx, cy, testscenes::kCell, testscenes::kCell};
         d.state.scissor = refraster::Rect{cx, cy, testscenes::kCell, testscenes::kCell};
         d.state.shade = c.shade;
@@ -190,12 +213,14 @@ std::string describe(const TexturedCell& c, const refraster::Texture& t) {
     char buf[512];
     std::snprintf(buf, sizeof buf,
                   "\n  texture %ux%u levels %zu%s; min %d mag %d wrap %d %d env %d shade %d "
-                  "depth %d blend %d",
+                  "depth %d blend %d sprite %d (size %a, origin %d, polygon points %d)",
                   t.levels[0].width, t.levels[0].height, t.levels.size(),
                   t.generate_mipmaps ? " generated" : "", static_cast<int>(c.state.min_filter),
                   static_cast<int>(c.state.mag_filter), static_cast<int>(c.state.wrap_s),
                   static_cast<int>(c.state.wrap_t), static_cast<int>(c.state.env),
-                  static_cast<int>(c.shade), static_cast<int>(c.depth), static_cast<int>(c.blend));
+                  static_cast<int>(c.shade), static_cast<int>(c.depth), static_cast<int>(c.blend),
+                  static_cast<int>(c.sprite), static_cast<double>(c.point_size),
+                  static_cast<int>(c.state.point_coord_origin), static_cast<int>(c.polygon_points));
     std::string s = buf;
     for (std::size_t v = 0; v < 3; ++v) {
         std::snprintf(buf, sizeof buf, "\n  v%zu clip %a %a %a %a tc %a %a %a %a", v,
@@ -219,6 +244,10 @@ std::string cell_scene_text(const TexturedCell& c, const refraster::Texture& t) 
     f.clear.color = {0.1f, 0.2f, 0.3f, 0.4f};
     f.textures["tex"] = t;
     harness::SceneDraw d;
+    d.primitive = c.sprite && !c.polygon_points ? refraster::PrimitiveType::Points
+                                                : refraster::PrimitiveType::Triangles;
+    if (c.polygon_points) d.state.polygon_mode = refraster::PolygonMode::Point;
+    d.state.point_size = c.point_size;
     d.space = harness::VertexSpace::Clip;
     d.state.viewport = {0, 0, testscenes::kCell, testscenes::kCell};
     d.state.shade = c.shade;
@@ -239,8 +268,9 @@ std::string cell_scene_text(const TexturedCell& c, const refraster::Texture& t) 
     return harness::scene_to_json(f);
 }
 
-// Renders `triangles` random textured triangles, one a cell, and returns the cells that differ.
-int run_seed(std::uint64_t seed, int triangles) {
+// Renders `triangles` random textured triangles (or sprite cells of three points), one a cell,
+// and returns the cells that differ.
+int run_seed(std::uint64_t seed, int triangles, bool sprites = false) {
     TexturedGenerator gen(seed);
     auto [ref, osmesa] = testscenes::make_renderers();
     int bad = 0;
@@ -250,7 +280,7 @@ int run_seed(std::uint64_t seed, int triangles) {
         for (int i = 0; i < 4; ++i) textures.push_back(gen.texture());
         std::vector<TexturedCell> cells;
         for (int i = 0; i < testscenes::kCells; ++i)
-            cells.push_back(gen.cell(static_cast<std::uint32_t>(gen.uniform_int(0, 3))));
+            cells.push_back(gen.cell(static_cast<std::uint32_t>(gen.uniform_int(0, 3)), sprites));
         const auto scene = textured_scene(cells, textures);
         const auto a = ref->render(scene);
         const auto b = osmesa->render(scene);
@@ -269,10 +299,11 @@ int run_seed(std::uint64_t seed, int triangles) {
                 std::string saved;
                 // REFRASTER_TEST_DUMP=DIR writes each reported cell as a scene file there.
                 if (const char* dir = std::getenv("REFRASTER_TEST_DUMP"); dir && *dir) {
-                    const auto path = std::filesystem::path(dir) /
-                                      ("textures-seed" + std::to_string(seed) + "-batch" +
-                                       std::to_string(done / testscenes::kCells) + "-cell" +
-                                       std::to_string(i) + ".json");
+                    const auto path =
+                        std::filesystem::path(dir) /
+                        ((sprites ? "sprites-seed" : "textures-seed") + std::to_string(seed) +
+                         "-batch" + std::to_string(done / testscenes::kCells) + "-cell" +
+                         std::to_string(i) + ".json");
                     std::ofstream(path) << cell_scene_text(cells[i], tex);
                     saved = "\n  scene written to " + path.string();
                 }
@@ -291,6 +322,14 @@ class RandomTextures : public ::testing::TestWithParam<std::uint64_t> {};
 TEST_P(RandomTextures, ThreeThousandTexturedTriangles) {
     std::cout << "seed " << GetParam() << "\n";
     EXPECT_EQ(run_seed(GetParam(), 3000), 0);
+}
+
+// 1,000 cells of three random sprites each: every filter, wrap, size class, both origins,
+// flat, smooth and noperspective draws (the coordinates are perspective whatever the shade
+// model), w other than 1.
+TEST_P(RandomTextures, ThreeThousandRandomPointSprites) {
+    std::cout << "seed " << GetParam() << "\n";
+    EXPECT_EQ(run_seed(GetParam(), 1000, true), 0);
 }
 
 INSTANTIATE_TEST_SUITE_P(Seeds, RandomTextures,

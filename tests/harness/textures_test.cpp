@@ -201,6 +201,37 @@ TEST(Textures, DataTexturesReachTheDrawListInNameOrder) {
               (std::vector<float>{1, 0, 0, 1, 0, 0, 0, 1}));
 }
 
+TEST(Textures, PointSpriteKeysLoadAndRoundTrip) {
+    json j = scene_json(
+        {{"t", image_json(2, 2)}},
+        {{"texture",
+          {{"name", "t"}, {"coord_replace", true}, {"point_coord_origin", "lower_left"}}}});
+    j["draws"][0]["primitive"] = "points";
+    const auto s = load(j);
+    const auto& d = s.draw_list.draws[0];
+    ASSERT_TRUE(d.state.texture.has_value());
+    EXPECT_TRUE(d.state.texture->coord_replace);
+    EXPECT_EQ(d.state.texture->point_coord_origin, refraster::PointCoordOrigin::LowerLeft);
+    EXPECT_TRUE(d.samples_point_coords());
+    // Written back, only what differs from the defaults appears, and it loads the same.
+    const std::string written = harness::scene_to_json(s.file);
+    const auto w = json::parse(written);
+    EXPECT_EQ(w["draws"][0]["state"]["texture"]["coord_replace"], true);
+    EXPECT_EQ(w["draws"][0]["state"]["texture"]["point_coord_origin"], "lower_left");
+    EXPECT_EQ(harness::load_scene_text(written, "again.json").draw_list, s.draw_list);
+    // Triangles ignore it unless polygon mode point turns them into points.
+    refraster::Draw tri = d;
+    tri.primitive = refraster::PrimitiveType::Triangles;
+    EXPECT_FALSE(tri.samples_point_coords());
+    tri.state.polygon_mode = refraster::PolygonMode::Point;
+    EXPECT_TRUE(tri.samples_point_coords());
+    tri.primitive = refraster::PrimitiveType::LineStrip;
+    EXPECT_FALSE(tri.samples_point_coords());
+    const auto plain = harness::scene_to_json(
+        load(scene_json({{"t", image_json(1, 1)}}, {{"texture", {{"name", "t"}}}})).file);
+    EXPECT_EQ(json::parse(plain)["draws"][0]["state"]["texture"].count("coord_replace"), 0u);
+}
+
 TEST(Textures, StateDefaults) {
     const auto s = load(scene_json({{"t", image_json(1, 1)}}, {{"texture", {{"name", "t"}}}}));
     const refraster::TextureState defaults;
@@ -211,6 +242,8 @@ TEST(Textures, StateDefaults) {
     EXPECT_EQ(defaults.wrap_t, refraster::TextureWrap::Repeat);
     EXPECT_EQ(defaults.border_color, (std::array<float, 4>{0, 0, 0, 0}));
     EXPECT_EQ(defaults.env, refraster::TextureEnv::Modulate);
+    EXPECT_FALSE(defaults.coord_replace);
+    EXPECT_EQ(defaults.point_coord_origin, refraster::PointCoordOrigin::UpperLeft);
     // "texture": null is no texture, as "polygon_offset": null is no offset.
     const auto n = load(scene_json({{"t", image_json(1, 1)}}, {{"texture", nullptr}}));
     EXPECT_FALSE(n.draw_list.draws[0].state.texture.has_value());
@@ -461,7 +494,8 @@ TEST(TexturesRefusal, UnknownKeysAndBadValues) {
                    "unknown key \"colour\" (allowed: width, height, data, file, levels, mipmaps)");
     EXPECT_REFUSED(scene_json(one, {{"texture", {{"name", "t"}, {"unit", 0}}}}),
                    "draws[0].state.texture.unit",
-                   "(allowed: name, min_filter, mag_filter, wrap_s, wrap_t, border_color, env)");
+                   "(allowed: name, min_filter, mag_filter, wrap_s, wrap_t, border_color, env, "
+                   "coord_replace, point_coord_origin)");
     EXPECT_REFUSED(scene_json(one, {{"texture", {{"min_filter", "linear"}}}}),
                    "draws[0].state.texture", "missing required key \"name\"");
     EXPECT_REFUSED(scene_json(one, {{"texture", {{"name", "t"}, {"wrap_s", "clamp"}}}}),
@@ -483,6 +517,12 @@ TEST(TexturesRefusal, UnknownKeysAndBadValues) {
                    "expected one of modulate, replace, got \"decal\"");
     EXPECT_REFUSED(scene_json(one, {{"texture", {{"name", "t"}, {"border_color", {0, 0, 0}}}}}),
                    "draws[0].state.texture.border_color", "four numbers [r, g, b, a]");
+    EXPECT_REFUSED(scene_json(one, {{"texture", {{"name", "t"}, {"coord_replace", 1}}}}),
+                   "draws[0].state.texture.coord_replace", "true or false");
+    EXPECT_REFUSED(
+        scene_json(one, {{"texture", {{"name", "t"}, {"point_coord_origin", "top_left"}}}}),
+        "draws[0].state.texture.point_coord_origin",
+        "expected one of upper_left, lower_left, got \"top_left\"");
     EXPECT_REFUSED(
         scene_json(one, {{"texture", {{"name", "t"}, {"border_color", {0, 0, 0, 1e39}}}}}),
         "draws[0].state.texture.border_color[3]", "does not fit in float32");

@@ -160,6 +160,8 @@ TEST(Wire, TexturesRoundTrip) {
                 ts.wrap_s = static_cast<TextureWrap>(w);
                 ts.wrap_t = static_cast<TextureWrap>(3 - w);
                 ts.env = static_cast<TextureEnv>(env);
+                ts.coord_replace = (f + w) % 2 == 0;
+                ts.point_coord_origin = static_cast<PointCoordOrigin>(env);
                 d.state.texture = ts;
                 every.draws.push_back(d);
             }
@@ -313,14 +315,21 @@ TEST(Wire, CorruptTextureStateIsAnError) {
     // From the end: the texture count (8) and the empty texture (1 + 8); before them the
     // draw's empty vertex block and index flag (8 + 1) and its attribute count (8) follow
     // the state, which ends with the texture state: index (4), four enums (1 each), the
-    // border colour (16) and the env (1).
-    const std::size_t env_at = good.size() - 8 - 9 - 9 - 8 - 1;
+    // border colour (16), the env (1), coord_replace (1) and the point coord origin (1).
+    const std::size_t origin_at = good.size() - 8 - 9 - 9 - 8 - 1;
+    const std::size_t env_at = origin_at - 2;
     const std::size_t min_filter_at = env_at - 16 - 4;
     ASSERT_EQ(good[env_at], 0);
     ASSERT_EQ(good[min_filter_at], static_cast<std::uint8_t>(TextureFilter::Linear));
 
     auto bytes = good;
     bytes[env_at] = 2;
+    EXPECT_THROW(harness::wire::decode_draw_list(bytes), WireError);
+    bytes = good;
+    bytes[origin_at] = 2;
+    EXPECT_THROW(harness::wire::decode_draw_list(bytes), WireError);
+    bytes = good;
+    bytes[origin_at - 1] = 2;  // a boolean: 0 or 1
     EXPECT_THROW(harness::wire::decode_draw_list(bytes), WireError);
     bytes = good;
     bytes[min_filter_at] = 6;

@@ -153,6 +153,8 @@ class SceneMaker {
             ts.wrap_t = static_cast<refraster::TextureWrap>(pick(4));
             ts.border_color = {uniform(-0.2f, 1.2f), uniform(0, 1), uniform(0, 1), uniform(0, 1)};
             ts.env = static_cast<refraster::TextureEnv>(pick(2));
+            ts.coord_replace = pick(3) == 0;  // sprite coordinates where points are drawn
+            ts.point_coord_origin = static_cast<refraster::PointCoordOrigin>(pick(2));
             s.texture = ts;
         }
         // Small primitives around a point, or large ones across (and beyond) the viewport.

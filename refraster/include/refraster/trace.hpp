@@ -34,6 +34,7 @@ struct EdgeTrace {
 struct TextureTrace {
     bool aos = true;               // the 8-bit path (else the float path)
     std::array<float, 2> coord{};  // (s, t) as sampled, after the division by q
+    bool point_coord = false;      // (s, t) are point sprite coordinates (no division by q)
     // The quad's differences in base-level texels: W*ds/dx, H*dt/dx, W*ds/dy, H*dt/dy.
     std::array<float, 4> rho_terms{};
     float rho2 = 0.0f;         // the larger of the two squared lengths
