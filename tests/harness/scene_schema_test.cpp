@@ -200,7 +200,13 @@ TEST(SceneSchema, TexturesMatchTheLoader) {
         }
         EXPECT_FALSE(loads_texture({{"name", "t"}, {key, "no-such-value"}}, 1, true)) << key;
     }
-    EXPECT_EQ(checked, 18);  // min_filter 6, mag_filter 2, wrap_s 4, wrap_t 4, env 2
+    // min_filter 6, mag_filter 2, wrap_s 4, wrap_t 4, env 2, point_coord_origin 2
+    EXPECT_EQ(checked, 20);
+    // The boolean coord_replace: both values load, a number does not.
+    EXPECT_EQ(state["properties"]["coord_replace"]["type"], "boolean");
+    EXPECT_TRUE(loads_texture({{"name", "t"}, {"coord_replace", true}}, 1, true));
+    EXPECT_TRUE(loads_texture({{"name", "t"}, {"coord_replace", false}}, 1, true));
+    EXPECT_FALSE(loads_texture({{"name", "t"}, {"coord_replace", 1}}, 1, true));
     const std::int64_t lo = side["minimum"].get<std::int64_t>();
     const std::int64_t hi = side["maximum"].get<std::int64_t>();
     EXPECT_TRUE(loads_texture({{"name", "t"}}, lo, true));
