@@ -131,23 +131,31 @@ std::vector<std::string> worker_environment(Driver driver, const std::vector<std
 
 }  // namespace
 
-std::filesystem::path gl_worker_path(BackendKind kind) {
+std::filesystem::path gl_worker_path(BackendKind kind, const std::filesystem::path& worker_dir) {
     const char* name = worker_name(kind);
+    if (!worker_dir.empty()) return worker_dir / name;
     if (const char* dir = std::getenv(kWorkerDirVariable); dir && *dir) {
         return std::filesystem::path(dir) / name;
     }
     std::error_code ec;
     const auto self = std::filesystem::read_symlink("/proc/self/exe", ec);
     if (ec) return std::filesystem::path(name);
-    return self.parent_path() / name;
+    // A build tree keeps the workers beside the tool; an installation puts them under
+    // libexec/refraster beside bin/ (the CMake package, docs/library.md).
+    const auto beside = self.parent_path() / name;
+    const auto installed = self.parent_path().parent_path() / "libexec" / "refraster" / name;
+    if (::access(beside.c_str(), X_OK) != 0 && ::access(installed.c_str(), X_OK) == 0) {
+        return installed;
+    }
+    return beside;
 }
 
 GlWorkerBackend::GlWorkerBackend(const BackendOptions& options)
-    : options_(options), worker_path_(gl_worker_path(options.kind)) {
+    : options_(options), worker_path_(gl_worker_path(options.kind, options.worker_dir)) {
     if (::access(worker_path_.c_str(), X_OK) != 0) {
         throw std::runtime_error("GL worker " + worker_path_.string() +
                                  " is not an executable file (set " + kWorkerDirVariable +
-                                 " to the directory that holds it)");
+                                 " or BackendOptions::worker_dir to the directory that holds it)");
     }
     ::signal(SIGPIPE, SIG_IGN);
 }

@@ -97,6 +97,7 @@ class GlWorkerBackend : public Backend {
 std::unique_ptr<Backend> make_gl_backend(const BackendOptions& options);
 
 // Where the worker executable of `kind` is looked for (see the file comment).
-std::filesystem::path gl_worker_path(BackendKind kind);
+std::filesystem::path gl_worker_path(BackendKind kind,
+                                     const std::filesystem::path& worker_dir = {});
 
 }  // namespace harness

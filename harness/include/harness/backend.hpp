@@ -6,6 +6,7 @@
 // Deliberately does not: compare images or write files.
 #pragma once
 
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <string>
@@ -81,6 +82,9 @@ struct BackendOptions {
     // Threads the reference shades with (refraster::RenderOptions::threads; 0: one per core).
     // The bytes are the same for any count.
     unsigned threads = 0;
+    // GL backends: the directory holding the worker executables. Empty: REFRASTER_WORKER_DIR,
+    // else beside the running program, else ../libexec/refraster from it.
+    std::filesystem::path worker_dir;
 };
 
 // Throws std::runtime_error when the backend was not built into this binary.
