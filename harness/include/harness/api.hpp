@@ -7,7 +7,9 @@
 //    `refraster compare` does (images, every sample of a 4x target, the scene's expectation,
 //    the pixel classes); compare_images (compare.hpp) for two framebuffers of your own;
 //  - explain_pixel and explanation_text / _json / _svg (explain.hpp);
-//  - write_color_image (image_io.hpp).
+//  - write_color_image (image_io.hpp);
+//  - scenes written in code: SceneFile (scene.hpp), scene_to_json (reduce.hpp), camera
+//    matrices (authoring.hpp).
 //
 // Link refraster::harness (find_package(refraster), docs/library.md). Deliberately does not:
 // run the conformance suite (the runner's reports and resumable runs are the CLI's), or hide
@@ -19,12 +21,14 @@
 #include <string>
 #include <vector>
 
+#include "harness/authoring.hpp"
 #include "harness/backend.hpp"
 #include "harness/case_result.hpp"
 #include "harness/compare.hpp"
 #include "harness/explain.hpp"
 #include "harness/image_io.hpp"
 #include "harness/profile_io.hpp"
+#include "harness/reduce.hpp"
 #include "harness/scene.hpp"
 
 namespace harness {
