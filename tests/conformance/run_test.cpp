@@ -654,6 +654,27 @@ TEST(HtmlReport, ChromiumShowsSummaryChartImagesAndNumbers) {
     EXPECT_NE(index.find("href=\"cases/triangles.coverage.square_through_centres.html\""),
               std::string::npos);
     EXPECT_NE(index.find(">triangles.coverage<"), std::string::npos);  // counts per area
+    // The chart's axes carry ticks with units, and a legend counts the statuses.
+    EXPECT_NE(index.find("class=\"tick-x\""), std::string::npos);
+    EXPECT_NE(index.find("class=\"tick-y\""), std::string::npos);
+    EXPECT_NE(index.find("render time, reference + backend (log scale)"), std::string::npos);
+    EXPECT_NE(index.find("id=\"chart-legend\""), std::string::npos);
+    EXPECT_NE(index.find(">Fail (2)<"), std::string::npos);
+    EXPECT_NE(index.find(">Pass (8)<"), std::string::npos);
+    // The table's script ran (it counts the rows it shows), and the failing rows carry their
+    // verdict and pixel classes.
+    EXPECT_NE(index.find("10 of 10 cases shown"), std::string::npos);
+    EXPECT_NE(index.find("coverage: tie rule"), std::string::npos);
+    EXPECT_NE(index.find("<option>Fail</option>"), std::string::npos);
+    // JUnit: every case says its verdict, its numbers and its page.
+    const auto junit = testutil::read_text(out / "junit.xml");
+    EXPECT_NE(junit.find("Fail: 38 mismatched pixels (missing 19, extra 19, colour only 0"),
+              std::string::npos)
+        << junit;
+    EXPECT_NE(junit.find("verdict: coverage: tie rule"), std::string::npos);
+    EXPECT_NE(junit.find("case page: cases/triangles.coverage.square_through_centres.html"),
+              std::string::npos);
+    EXPECT_NE(junit.find("Pass: 0 mismatched pixels"), std::string::npos);
     const auto page = dump_dom(out / "cases" / "triangles.coverage.square_through_centres.html",
                                dir.path() / "chrome");
     EXPECT_NE(page.find("id=\"case-status\""), std::string::npos);

@@ -181,57 +181,163 @@ th{background:#f3f3f3}.num{text-align:right;font-variant-numeric:tabular-nums}
 .st{font-weight:600}.imgs{display:flex;gap:16px;flex-wrap:wrap}.imgs figure{margin:0}
 .imgs img{image-rendering:pixelated;image-rendering:crisp-edges;border:1px solid #999;background:#444}
 code{background:#f3f3f3;padding:1px 4px}
+th[aria-sort=ascending]::after{content:" \25B2"}th[aria-sort=descending]::after{content:" \25BC"}
+td.verdict{max-width:28em;font-size:13px}#case-filters input{width:22em}
 </style>)";
 
+// Sorting and filtering of the index's case table: a click on a header sorts by that column
+// (again: the other way), numbers as numbers and empty cells last; the filter keeps the rows
+// whose text holds every word typed, and the status menu those of one status.
+const char* kTableScript = R"(</table><script>
+(function () {
+  var table = document.getElementById('cases');
+  var body = table.tBodies[0];
+  var rows = Array.prototype.slice.call(body.rows);
+  var text = document.getElementById('case-filter');
+  var status = document.getElementById('status-filter');
+  var count = document.getElementById('case-count');
+  function filter() {
+    var words = text.value.toLowerCase().split(/\s+/).filter(Boolean);
+    var shown = 0;
+    rows.forEach(function (r) {
+      var t = r.textContent.toLowerCase();
+      var ok = words.every(function (w) { return t.indexOf(w) >= 0; }) &&
+               (!status.value || r.getAttribute('data-status') === status.value);
+      r.style.display = ok ? '' : 'none';
+      shown += ok ? 1 : 0;
+    });
+    count.textContent = shown + ' of ' + rows.length + ' cases shown';
+  }
+  var order = {};
+  Array.prototype.forEach.call(table.tHead.rows[0].cells, function (th) {
+    th.style.cursor = 'pointer';
+    th.title = 'sort';
+    th.addEventListener('click', function () {
+      var col = +th.getAttribute('data-col');
+      var num = th.getAttribute('data-type') === 'num';
+      var dir = order[col] = -(order[col] || -1);
+      rows.sort(function (a, b) {
+        var x = a.cells[col].textContent, y = b.cells[col].textContent;
+        if (x === '' || y === '') return (x === '') - (y === '');
+        return dir * (num ? parseFloat(x) - parseFloat(y) : x.localeCompare(y));
+      });
+      rows.forEach(function (r) { body.appendChild(r); });
+      Array.prototype.forEach.call(table.tHead.rows[0].cells, function (c) {
+        c.removeAttribute('aria-sort');
+      });
+      th.setAttribute('aria-sort', dir > 0 ? 'ascending' : 'descending');
+    });
+  });
+  text.addEventListener('input', filter);
+  status.addEventListener('change', filter);
+  filter();
+})();
+</script>)";
+
+// A run time in seconds as people read it: "100 µs", "1 ms", "10 s".
+std::string time_label(double seconds_value) {
+    const double e = std::round(std::log10(seconds_value));
+    const int k = static_cast<int>(e);
+    if (k <= -7) return "1e" + std::to_string(k) + " s";
+    if (k < -3)
+        return std::to_string(static_cast<long long>(std::llround(std::pow(10.0, k + 6)))) +
+               " \xC2\xB5s";
+    if (k < 0)
+        return std::to_string(static_cast<long long>(std::llround(std::pow(10.0, k + 3)))) + " ms";
+    return std::to_string(static_cast<long long>(std::llround(std::pow(10.0, k)))) + " s";
+}
+
+// A pixel count at a decade: 1, 10, 100, 1k, 10k, 100k, 1M ...
+std::string count_label(int decade) {
+    static const char* names[] = {"1", "10", "100", "1k", "10k", "100k", "1M", "10M", "100M"};
+    if (decade >= 0 && decade < 9) return names[decade];
+    return "1e" + std::to_string(decade);
+}
+
 // The chart: every case as a dot, run time (reference + backend) on a log x axis, mismatched
-// pixels on a log(1 + n) y axis, coloured by status.
+// pixels on a log(1 + n) y axis (0 at the bottom, then decades), coloured by status, with a
+// legend of the statuses present. Both axes span decades, so both are logarithmic, with a
+// tick and a light grid line at each decade and minor ticks at 2..9 times it.
 std::string chart(const std::vector<json>& results) {
-    const double W = 640, H = 260, L = 60, B = 40, T = 10, R = 10;
+    const double W = 720, H = 300, L = 64, B = 44, T = 12, R = 150;
     double tmin = 1e9, tmax = 0, emax = 0;
+    std::map<std::string, std::size_t> statuses;
     for (const auto& r : results) {
         const double t = std::max(1e-6, seconds(r, "reference") + seconds(r, "actual"));
         tmin = std::min(tmin, t);
         tmax = std::max(tmax, t);
         emax = std::max(emax, std::log10(1.0 + static_cast<double>(mismatched(r))));
+        ++statuses[r.value("status", "")];
     }
-    if (tmax <= tmin) tmax = tmin * 10;
-    if (emax <= 0) emax = 1;
-    const double lx0 = std::floor(std::log10(tmin)), lx1 = std::ceil(std::log10(tmax));
+    if (results.empty()) tmin = tmax = 1e-3;
+    const double lx0 = std::floor(std::log10(tmin));
+    double lx1 = std::ceil(std::log10(tmax));
+    if (lx1 <= lx0) lx1 = lx0 + 1;
+    const double ey = std::max(1.0, std::ceil(emax));
+    const double pw = W - L - R, ph = H - T - B;
+    const auto x_of = [&](double t) { return L + (std::log10(t) - lx0) / (lx1 - lx0) * pw; };
+    const auto y_of = [&](double e) { return H - B - e / ey * ph; };
     std::ostringstream s;
     s << "<svg id=\"error-chart\" xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W
-      << "\" height=\"" << H
-      << "\" role=\"img\" aria-label=\"mismatched pixels against run time\">";
-    s << "<rect x=\"" << L << "\" y=\"" << T << "\" width=\"" << W - L - R << "\" height=\""
-      << H - T - B << "\" fill=\"#fafafa\" stroke=\"#999\"/>";
+      << "\" height=\"" << H << "\" role=\"img\" aria-label=\"mismatched pixels against run time\" "
+      << "font-family=\"system-ui,sans-serif\" font-size=\"11\">";
+    s << "<rect x=\"" << L << "\" y=\"" << T << "\" width=\"" << pw << "\" height=\"" << ph
+      << "\" fill=\"#fafafa\" stroke=\"#999\"/>";
+    // x: decades with grid lines and labels, minor ticks between.
     for (double lx = lx0; lx <= lx1; lx += 1) {
-        const double x = L + (lx - lx0) / std::max(1.0, lx1 - lx0) * (W - L - R);
-        s << "<line x1=\"" << x << "\" y1=\"" << H - B << "\" x2=\"" << x << "\" y2=\"" << H - B + 4
-          << "\" stroke=\"#999\"/><text x=\"" << x << "\" y=\"" << H - B + 16
-          << "\" font-size=\"10\" text-anchor=\"middle\">1e" << static_cast<int>(lx) << " s</text>";
+        const double x = x_of(std::pow(10.0, lx));
+        s << "<line class=\"grid\" x1=\"" << fixed(x, 1) << "\" y1=\"" << T << "\" x2=\""
+          << fixed(x, 1) << "\" y2=\"" << H - B << "\" stroke=\"#e3e3e3\"/>";
+        s << "<line x1=\"" << fixed(x, 1) << "\" y1=\"" << H - B << "\" x2=\"" << fixed(x, 1)
+          << "\" y2=\"" << H - B + 5 << "\" stroke=\"#666\"/><text class=\"tick-x\" x=\""
+          << fixed(x, 1) << "\" y=\"" << H - B + 17 << "\" text-anchor=\"middle\">"
+          << time_label(std::pow(10.0, lx)) << "</text>";
+        for (int m = 2; m <= 9 && lx < lx1; ++m) {
+            const double xm = x_of(m * std::pow(10.0, lx));
+            s << "<line x1=\"" << fixed(xm, 1) << "\" y1=\"" << H - B << "\" x2=\"" << fixed(xm, 1)
+              << "\" y2=\"" << H - B + 3 << "\" stroke=\"#999\"/>";
+        }
     }
-    s << "<text x=\"" << (L + W - R) / 2 << "\" y=\"" << H - 4
-      << "\" font-size=\"11\" text-anchor=\"middle\">reference + backend render time</text>";
-    s << "<text x=\"12\" y=\"" << (T + H - B) / 2
-      << "\" font-size=\"11\" transform=\"rotate(-90 12 " << (T + H - B) / 2
-      << ")\" text-anchor=\"middle\">mismatched pixels (log)</text>";
-    for (int k = 0; k <= static_cast<int>(std::ceil(emax)); ++k) {
-        const double y = H - B - k / std::ceil(emax) * (H - T - B);
-        s << "<text x=\"" << L - 4 << "\" y=\"" << y + 3
-          << "\" font-size=\"10\" text-anchor=\"end\">" << (k == 0 ? "0" : "1e" + std::to_string(k))
-          << "</text>";
+    s << "<text x=\"" << L + pw / 2 << "\" y=\"" << H - 6
+      << "\" text-anchor=\"middle\">render time, reference + backend (log scale)</text>";
+    // y: 0, then decades of mismatched pixels.
+    for (int k = 0; k <= static_cast<int>(ey); ++k) {
+        const double y = y_of(k);
+        if (k > 0) {
+            s << "<line class=\"grid\" x1=\"" << L << "\" y1=\"" << fixed(y, 1) << "\" x2=\""
+              << L + pw << "\" y2=\"" << fixed(y, 1) << "\" stroke=\"#e3e3e3\"/>";
+        }
+        s << "<line x1=\"" << L - 5 << "\" y1=\"" << fixed(y, 1) << "\" x2=\"" << L << "\" y2=\""
+          << fixed(y, 1) << "\" stroke=\"#666\"/><text class=\"tick-y\" x=\"" << L - 8 << "\" y=\""
+          << fixed(y + 4, 1) << "\" text-anchor=\"end\">"
+          << (k == 0 ? std::string("0") : count_label(k)) << "</text>";
+        for (int m = 2; m <= 9 && k < static_cast<int>(ey); ++m) {
+            const double ym = y_of(std::log10(1.0 + m * std::pow(10.0, k)));
+            s << "<line x1=\"" << L - 3 << "\" y1=\"" << fixed(ym, 1) << "\" x2=\"" << L
+              << "\" y2=\"" << fixed(ym, 1) << "\" stroke=\"#999\"/>";
+        }
     }
+    s << "<text x=\"14\" y=\"" << T + ph / 2 << "\" transform=\"rotate(-90 14 " << T + ph / 2
+      << ")\" text-anchor=\"middle\">mismatched pixels (log scale, 0 at the bottom)</text>";
     for (const auto& r : results) {
         const double t = std::max(1e-6, seconds(r, "reference") + seconds(r, "actual"));
-        const double x = L + (std::log10(t) - lx0) / std::max(1.0, lx1 - lx0) * (W - L - R);
         const double e = std::log10(1.0 + static_cast<double>(mismatched(r)));
-        const double y = H - B - e / std::ceil(emax) * (H - T - B);
         const std::string st = r.value("status", "");
-        s << "<circle cx=\"" << fixed(x, 1) << "\" cy=\"" << fixed(y, 1) << "\" r=\"3\" fill=\""
-          << status_color(st) << "\" fill-opacity=\"0.7\"><title>" << esc(r.value("case", ""))
-          << ": " << esc(st) << ", " << mismatched(r) << " px, " << fixed(t * 1000, 2)
-          << " ms</title></circle>";
+        s << "<circle cx=\"" << fixed(x_of(t), 1) << "\" cy=\"" << fixed(y_of(e), 1)
+          << "\" r=\"3.5\" fill=\"" << status_color(st) << "\" fill-opacity=\"0.7\"><title>"
+          << esc(r.value("case", "")) << ": " << esc(st) << ", " << mismatched(r) << " px, "
+          << fixed(t * 1000, 2) << " ms</title></circle>";
     }
-    s << "</svg>";
+    // The legend: one entry a status present, with its count.
+    s << "<g id=\"chart-legend\">";
+    double ly = T + 8;
+    for (const auto& [st, n] : statuses) {
+        s << "<circle cx=\"" << W - R + 18 << "\" cy=\"" << ly << "\" r=\"4\" fill=\""
+          << status_color(st) << "\"/><text x=\"" << W - R + 28 << "\" y=\"" << ly + 4 << "\">"
+          << esc(st) << " (" << n << ")</text>";
+        ly += 18;
+    }
+    s << "</g></svg>";
     return s.str();
 }
 
@@ -496,11 +602,26 @@ void write_reports(const std::filesystem::path& output, std::size_t selected_cas
             x << "<failure type=\"" << esc(st) << "\" message=\"" << esc(r.value("message", st))
               << "\"/>";
         }
-        if (has_samples(r)) {
-            x << "<system-out>"
-              << esc(std::to_string(mismatched(r)) + " mismatched pixels; " + samples_line(r))
-              << "</system-out>";
+        // What a CI page shows beside the test: the verdict, the numbers, where to look.
+        std::string out = st + ": " + std::to_string(mismatched(r)) + " mismatched pixels";
+        if (r.contains("comparison")) {
+            const auto& c = r["comparison"];
+            out += " (missing " + std::to_string(c.value("missing", std::uint64_t{0})) +
+                   ", extra " + std::to_string(c.value("extra", std::uint64_t{0})) +
+                   ", colour only " + std::to_string(c.value("color_only", std::uint64_t{0})) +
+                   ", depth only " + std::to_string(c.value("depth_only", std::uint64_t{0})) +
+                   ", other primitive " +
+                   std::to_string(c.value("other_primitive", std::uint64_t{0})) + ")";
         }
+        if (has_samples(r)) out += "; " + samples_line(r);
+        if (r.contains("explanation")) {
+            const auto& e = r["explanation"];
+            out += "\nverdict: " + e.value("difference", "") + ": " + e.value("rule", "");
+        } else if (!r.value("message", "").empty()) {
+            out += "\n" + r.value("message", "");
+        }
+        out += "\ncase page: cases/" + name + ".html";
+        x << "<system-out>" << esc(out) << "</system-out>";
         x << "</testcase>\n";
     }
     x << "</testsuite></testsuites>\n";
@@ -552,26 +673,66 @@ void write_reports(const std::filesystem::path& output, std::size_t selected_cas
           << f << "</td><td class=\"num\">" << k << "</td></tr>";
     }
     h << "</table><h2>Error against run time</h2>" << chart(results);
-    h << "<h2>Cases</h2><table id=\"cases\"><tr><th>case</th><th>status</th><th>mismatched "
-         "px</th><th>mismatched samples</th><th>max colour "
-         "error</th><th>reference ms</th><th>backend ms</th></tr>";
+    // The cases: verdict and pixel classes, sortable by any column (click its header) and
+    // filterable by text and status; the script keeps working without a server (file://).
+    h << "<h2>Cases</h2><p id=\"case-filters\"><label>filter <input id=\"case-filter\" "
+         "type=\"search\" placeholder=\"case name, status or verdict\"></label> <label>status "
+         "<select id=\"status-filter\"><option value=\"\">any</option>";
+    for (const auto& [st, n] : counts) {
+        h << "<option>" << esc(st) << "</option>";
+    }
+    h << "</select></label> <span id=\"case-count\"></span></p>";
+    h << "<table id=\"cases\" class=\"sortable\"><thead><tr>";
+    const char* headers[] = {"case",
+                             "status",
+                             "verdict",
+                             "mismatched px",
+                             "missing",
+                             "extra",
+                             "colour only",
+                             "depth only",
+                             "other primitive",
+                             "mismatched samples",
+                             "max colour error",
+                             "reference ms",
+                             "backend ms"};
+    for (std::size_t i = 0; i < std::size(headers); ++i) {
+        h << "<th data-col=\"" << i << "\"" << (i >= 3 ? " data-type=\"num\"" : "") << ">"
+          << headers[i] << "</th>";
+    }
+    h << "</tr></thead><tbody>";
     for (const auto& r : results) {
         const std::string name = r.value("case", "");
         const std::string st = r.value("status", "");
+        const json c = r.value("comparison", json::object());
+        const auto count = [&](const char* k) -> std::string {
+            return r.contains("comparison") ? std::to_string(c.value(k, std::uint64_t{0})) : "";
+        };
         std::string maxc;
-        if (r.contains("comparison") && r["comparison"].contains("max_color")) {
-            maxc = std::to_string(r["comparison"]["max_color"].value("amount", 0));
+        if (c.contains("max_color")) maxc = std::to_string(c["max_color"].value("amount", 0));
+        std::string verdict;
+        if (r.contains("explanation")) {
+            const auto& e = r["explanation"];
+            verdict = e.value("difference", "") + ": " + e.value("rule", "");
+        } else if (failed(st)) {
+            verdict = r.value("message", "");
         }
-        h << "<tr><td><a href=\"cases/" << esc(name) << ".html\">" << esc(name)
-          << "</a></td><td class=\"st\" style=\"color:" << status_color(st) << "\">" << esc(st)
-          << "</td><td class=\"num\">" << mismatched(r) << "</td><td class=\"num\">"
+        h << "<tr data-status=\"" << esc(st) << "\"><td><a href=\"cases/" << esc(name) << ".html\">"
+          << esc(name) << "</a></td><td class=\"st\" style=\"color:" << status_color(st) << "\">"
+          << esc(st) << "</td><td class=\"verdict\">" << esc(verdict) << "</td><td class=\"num\">"
+          << count("mismatched_pixels") << "</td><td class=\"num\">" << count("missing")
+          << "</td><td class=\"num\">" << count("extra") << "</td><td class=\"num\">"
+          << count("color_only") << "</td><td class=\"num\">" << count("depth_only")
+          << "</td><td class=\"num\">" << count("other_primitive") << "</td><td class=\"num\">"
           << (has_samples(r) ? std::to_string(mismatched_samples(r)) : std::string())
           << "</td><td class=\"num\">" << maxc << "</td><td class=\"num\">"
           << fixed(seconds(r, "reference") * 1000, 3) << "</td><td class=\"num\">"
           << fixed(seconds(r, "actual") * 1000, 3) << "</td></tr>";
         write_file(output / "cases" / (name + ".html"), case_page(r, output / "images"));
     }
-    h << "</table></body></html>\n";
+    h << "</tbody>";
+    h << kTableScript;
+    h << "</body></html>\n";
     write_file(output / "index.html", h.str());
 }
 
