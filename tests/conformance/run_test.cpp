@@ -688,6 +688,82 @@ TEST(HtmlReport, ChromiumShowsSummaryChartImagesAndNumbers) {
     // The zoom script ran and scaled the 32-pixel images eightfold.
     EXPECT_NE(page.find("width: 256px"), std::string::npos);
     EXPECT_NE(page.find("refraster explain"), std::string::npos);
+    // 8-bit values print as whole numbers; the mask legend names every class.
+    EXPECT_NE(page.find("(0, 0, 0, 255) vs (255, 255, 255, 255)"), std::string::npos);
+    EXPECT_EQ(page.find("255.0"), std::string::npos);
+    for (const char* cls :
+         {"equal:", "missing:", "extra:", "another primitive", "colour only:", "depth only:"}) {
+        EXPECT_NE(page.find(cls), std::string::npos) << cls;
+    }
+    // The explain view was written and is linked.
+    EXPECT_NE(page.find("href=\"../explain/triangles.coverage.square_through_centres.svg\""),
+              std::string::npos);
+    const auto svg =
+        testutil::read_text(out / "explain" / "triangles.coverage.square_through_centres.svg");
+    EXPECT_NE(svg.find("<svg"), std::string::npos);
+    EXPECT_NE(testutil::read_text(out / "explain" / "triangles.coverage.square_through_centres.txt")
+                  .find("verdict"),
+              std::string::npos);
+}
+
+// The case page at a pixel (#pixel=X,Y, what the pointer does): the readout names the pixel
+// in GL's coordinates, the explain command is for that pixel, and a screenshot shows the
+// outline at the same place in each of the three images, side by side.
+TEST(HtmlReport, ChromiumCasePageOutlinesThePixelInEveryImage) {
+    testutil::TempDir dir;
+    const auto out = dir.path() / "run";
+    const auto r = testutil::run_cli({"conformance", "run", "--cases",
+                                      "triangles.coverage.square_through_centres", "--profile-set",
+                                      "tie_rule=right-top", "--output", out.string()});
+    ASSERT_EQ(r.exit_code, 1) << r.err;
+    const auto page_path = out / "cases" / "triangles.coverage.square_through_centres.html";
+    const std::string at = page_path.string() + "#pixel=12,20";
+    const auto page = dump_dom(at, dir.path() / "chrome");
+    ASSERT_FALSE(page.empty());
+    EXPECT_NE(page.find("pixel (12, 20)"), std::string::npos);
+    EXPECT_NE(page.find("--pixel 12,20"), std::string::npos);
+    EXPECT_NE(page.find("display: block"), std::string::npos);  // the outlines are shown
+
+    const auto shot = dir.path() / "case.png";
+    const std::string cmd =
+        "timeout 120 chromium --headless --no-sandbox --disable-gpu --no-first-run "
+        "--user-data-dir=" +
+        testutil::shell_quote((dir.path() / "chrome").string()) +
+        " --virtual-time-budget=2000 --window-size=1200,900 --hide-scrollbars --screenshot=" +
+        testutil::shell_quote(shot.string()) + " " + testutil::shell_quote("file://" + at) +
+        " > /dev/null 2>&1";
+    ASSERT_EQ(std::system(cmd.c_str()), 0);
+    const auto img = harness::read_color_image(shot);
+    ASSERT_GT(img.width, 0u);
+    // The outline colour (#00e5ff): in three places side by side, each 8 screen pixels a
+    // side plus its 2-pixel border, all on the same rows.
+    std::vector<std::uint32_t> xs;
+    std::uint32_t top = img.height, bottom = 0;
+    for (std::uint32_t y = 0; y < img.height; ++y) {
+        for (std::uint32_t x = 0; x < img.width; ++x) {
+            const auto* p = &img.color8[4 * (std::size_t{y} * img.width + x)];
+            if (p[0] < 40 && p[1] > 200 && p[2] > 230) {
+                xs.push_back(x);
+                top = std::min(top, y);
+                bottom = std::max(bottom, y);
+            }
+        }
+    }
+    ASSERT_FALSE(xs.empty()) << "no outline in the screenshot";
+    std::sort(xs.begin(), xs.end());
+    int groups = 1;
+    for (std::size_t i = 1; i < xs.size(); ++i) groups += xs[i] - xs[i - 1] > 20 ? 1 : 0;
+    EXPECT_EQ(groups, 3);
+    EXPECT_LE(bottom - top, 14u);  // one row of outlines, 8 px plus borders
+    // The mask's magenta (missing) and red (extra) are on screen too.
+    bool magenta = false, red = false;
+    for (std::size_t i = 0; i + 3 < img.color8.size(); i += 4) {
+        const auto* p = &img.color8[i];
+        magenta = magenta || (p[0] > 240 && p[1] < 20 && p[2] > 240);
+        red = red || (p[0] > 240 && p[1] < 20 && p[2] < 20);
+    }
+    EXPECT_TRUE(magenta);
+    EXPECT_TRUE(red);
 }
 
 }  // namespace

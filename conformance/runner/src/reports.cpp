@@ -183,6 +183,10 @@ th{background:#f3f3f3}.num{text-align:right;font-variant-numeric:tabular-nums}
 code{background:#f3f3f3;padding:1px 4px}
 th[aria-sort=ascending]::after{content:" \25B2"}th[aria-sort=descending]::after{content:" \25BC"}
 td.verdict{max-width:28em;font-size:13px}#case-filters input{width:22em}
+.frame{position:relative;display:inline-block;line-height:0}
+.cursor{position:absolute;display:none;outline:2px solid #00e5ff;pointer-events:none}
+.swatch{display:inline-block;width:1.2em;height:1.2em;border:1px solid #999;vertical-align:middle}
+#pixel-readout{font-variant-numeric:tabular-nums}
 </style>)";
 
 // Sorting and filtering of the index's case table: a click on a header sorts by that column
@@ -233,6 +237,29 @@ const char* kTableScript = R"(</table><script>
   filter();
 })();
 </script>)";
+
+// A pixel's channel values as people read them: "0, 0, 0, 255" for an rgba8 target's bytes
+// (whole numbers, however the record stores them), the float values otherwise.
+std::string channel_values(const json& values) {
+    if (!values.is_array()) return esc(values.dump());
+    std::ostringstream o;
+    bool first = true;
+    for (const auto& v : values) {
+        o << (first ? "" : ", ");
+        first = false;
+        if (v.is_number()) {
+            const double d = v.get<double>();
+            if (std::isfinite(d) && d == std::floor(d) && std::fabs(d) < 1e15) {
+                o << static_cast<long long>(d);
+            } else {
+                o << v.dump();
+            }
+        } else {
+            o << esc(v.dump());
+        }
+    }
+    return "(" + o.str() + ")";
+}
 
 // A run time in seconds as people read it: "100 µs", "1 ms", "10 s".
 std::string time_label(double seconds_value) {
@@ -358,13 +385,17 @@ std::string case_page(const json& r, const std::filesystem::path& images) {
         h << "<p id=\"case-message\">" << esc(r["message"].get<std::string>()) << "</p>";
 
     // Images, side by side, pixelated and zoomable.
-    h << "<p><label>Zoom <input id=\"zoom\" type=\"range\" min=\"1\" max=\"32\" "
+    h << "<p><label>Zoom <input id=\"zoom\" type=\"range\" min=\"1\" max=\"64\" "
          "value=\"8\"></label> "
-         "<span id=\"zoom-value\">8</span>x</p><div class=\"imgs\">";
+         "<span id=\"zoom-value\">8</span>x &nbsp; <span id=\"pixel-readout\">move the "
+         "pointer over an image: its pixel (x, y), y up from the bottom row as GL counts "
+         "it</span></p><div class=\"imgs\">";
     const auto figure = [&](const std::string& file, const std::string& caption) {
         if (!std::filesystem::exists(images / file)) return;
-        h << "<figure><img class=\"zoomable\" src=\"../images/" << esc(file) << "\" alt=\""
-          << esc(caption) << "\"><figcaption>" << esc(caption) << "</figcaption></figure>";
+        h << "<figure><div class=\"frame\"><img class=\"zoomable pixels\" src=\"../images/"
+          << esc(file) << "\" alt=\"" << esc(caption)
+          << "\"><div class=\"cursor\"></div></div><figcaption>" << esc(caption)
+          << "</figcaption></figure>";
     };
     const std::string ref =
         r.contains("reference") ? r["reference"].value("backend", "ref") : "ref";
@@ -373,9 +404,7 @@ std::string case_page(const json& r, const std::filesystem::path& images) {
         figure(name + "." + ref + ext, "reference (" + ref + ")");
         figure(name + "." + act + ext, act);
     }
-    figure(name + ".mask.png",
-           "error mask: magenta missing, red extra, orange another primitive, yellow colour only, "
-           "blue depth only");
+    figure(name + ".mask.png", "error mask (legend below)");
     // A 4x case's sample mask is 2W x 2H: shown at the size of the others, a sample a quarter
     // of a pixel.
     if (std::filesystem::exists(images / (name + ".samples.png"))) {
@@ -388,6 +417,30 @@ std::string case_page(const json& r, const std::filesystem::path& images) {
           << esc(caption) << "</figcaption></figure>";
     }
     h << "</div>";
+    if (std::filesystem::exists(images / (name + ".mask.png")) ||
+        std::filesystem::exists(images / (name + ".samples.png"))) {
+        // Every class a mask pixel can have (harness::mask_color), with its colour.
+        h << "<table id=\"mask-legend\"><tr><th colspan=\"2\">mask colours</th></tr>";
+        const std::pair<harness::PixelClass, const char*> classes[] = {
+            {harness::PixelClass::Equal, "equal: within the tolerance, depth equal"},
+            {harness::PixelClass::Missing, "missing: drawn by the reference only"},
+            {harness::PixelClass::Extra, "extra: drawn by the backend only"},
+            {harness::PixelClass::Coverage, "another primitive owns the pixel"},
+            {harness::PixelClass::ColorOnly, "colour only: both drew it, colours differ"},
+            {harness::PixelClass::DepthOnly, "depth only: colours agree, depth differs"}};
+        for (const auto& [k, what] : classes) {
+            const auto c = harness::mask_color(k);
+            h << "<tr><td><span class=\"swatch\" style=\"background:rgb(" << int{c[0]} << ","
+              << int{c[1]} << "," << int{c[2]} << ")\"></span></td><td>" << what << "</td></tr>";
+        }
+        h << "</table>";
+    }
+    if (std::filesystem::exists(images.parent_path() / "explain" / (name + ".svg"))) {
+        h << "<p id=\"explain-view\">The explain view of the pixel of largest difference: <a "
+             "href=\"../explain/"
+          << esc(name) << ".svg\">picture</a>, <a href=\"../explain/" << esc(name)
+          << ".txt\">every decision as text</a>.</p>";
+    }
 
     if (r.contains("comparison")) {
         const auto& c = r["comparison"];
@@ -400,8 +453,8 @@ std::string case_page(const json& r, const std::filesystem::path& images) {
             const auto& m = c["max_color"];
             h << "<tr><th>max colour error</th><td class=\"num\">" << m.value("amount", 0)
               << " at (" << m.value("x", 0) << ", " << m.value("y", 0) << ") channel "
-              << "RGBA"[m.value("channel", 0) & 3] << ": " << esc(m["reference"].dump()) << " vs "
-              << esc(m["actual"].dump()) << "</td></tr>";
+              << "RGBA"[m.value("channel", 0) & 3] << ": " << channel_values(m["reference"])
+              << " vs " << channel_values(m["actual"]) << "</td></tr>";
         }
         if (c.contains("max_depth")) {
             const auto& m = c["max_depth"];
@@ -438,8 +491,8 @@ std::string case_page(const json& r, const std::filesystem::path& images) {
                 const auto& m = c["max_sample_color"];
                 h << "<tr><th>max sample colour error</th><td class=\"num\">" << difference_at(m)
                   << " channel "
-                  << "RGBA"[m.value("channel", 0) & 3] << ": " << esc(m["reference"].dump())
-                  << " vs " << esc(m["actual"].dump()) << "</td></tr>";
+                  << "RGBA"[m.value("channel", 0) & 3] << ": " << channel_values(m["reference"])
+                  << " vs " << channel_values(m["actual"]) << "</td></tr>";
             }
             if (c.contains("max_sample_depth")) {
                 const auto& m = c["max_sample_depth"];
@@ -488,15 +541,55 @@ std::string case_page(const json& r, const std::filesystem::path& images) {
     };
     provenance("reference", "Reference provenance");
     provenance("actual", "Backend provenance");
-    h << "<script>(function(){var "
-         "z=document.getElementById('zoom'),v=document.getElementById('zoom-value');"
-         "function apply(){var "
-         "s=+z.value;v.textContent=s;document.querySelectorAll('img.zoomable').forEach("
-         "function(i){if(i.naturalWidth){i.style.width=(i.naturalWidth*s*(+i.dataset.scale||1))+"
-         "'px';}});}"
-         "z.addEventListener('input',apply);document.querySelectorAll('img.zoomable').forEach("
-         "function(i){"
-         "i.addEventListener('load',apply);});apply();})();</script>";
+    // Zoom, and the pixel under the pointer: its coordinates (GL's, y up), the same pixel
+    // outlined in every image, and the command that explains it.
+    std::string template_command;
+    if (r.contains("comparison")) template_command = explain_command(r, 77770, 88880);
+    h << "<p id=\"pixel-command\"></p><script>(function () {\n"
+         "var z = document.getElementById('zoom'), v = document.getElementById('zoom-value');\n"
+         "var readout = document.getElementById('pixel-readout');\n"
+         "var command = document.getElementById('pixel-command');\n"
+         "var template = "
+      << json(template_command).dump()
+      << ";\n"
+         "var imgs = Array.prototype.slice.call(document.querySelectorAll('img.zoomable'));\n"
+         "function apply() {\n"
+         "  var s = +z.value; v.textContent = s;\n"
+         "  imgs.forEach(function (i) { if (i.naturalWidth) {\n"
+         "    i.style.width = (i.naturalWidth * s * (+i.dataset.scale || 1)) + 'px'; } });\n"
+         "}\n"
+         "function show(x, y) {\n"
+         "  imgs.forEach(function (i) {\n"
+         "    var c = i.parentNode.querySelector('.cursor'); if (!c || !i.naturalWidth) return;\n"
+         "    if (x < 0) { c.style.display = 'none'; return; }\n"
+         "    var k = i.clientWidth / i.naturalWidth, h = i.naturalHeight;\n"
+         "    c.style.display = 'block'; c.style.left = (x * k) + 'px';\n"
+         "    c.style.top = ((h - 1 - y) * k) + 'px';\n"
+         "    c.style.width = k + 'px'; c.style.height = k + 'px';\n"
+         "  });\n"
+         "  if (x < 0) return;\n"
+         "  readout.textContent = 'pixel (' + x + ', ' + y + ')';\n"
+         "  if (template) command.innerHTML = 'Explain it: <code>' + template\n"
+         "      .replace('77770,88880', x + ',' + y).replace(/&/g, '&amp;').replace(/</g, '&lt;')\n"
+         "      + '</code>';\n"
+         "}\n"
+         "imgs.forEach(function (i) {\n"
+         "  i.addEventListener('load', apply);\n"
+         "  if (!i.classList.contains('pixels')) return;\n"
+         "  i.addEventListener('mousemove', function (e) {\n"
+         "    var r = i.getBoundingClientRect();\n"
+         "    var x = Math.floor((e.clientX - r.left) / r.width * i.naturalWidth);\n"
+         "    var row = Math.floor((e.clientY - r.top) / r.height * i.naturalHeight);\n"
+         "    show(Math.min(x, i.naturalWidth - 1), i.naturalHeight - 1 -\n"
+         "         Math.min(row, i.naturalHeight - 1));\n"
+         "  });\n"
+         "  i.addEventListener('mouseleave', function () { show(-1, -1); });\n"
+         "});\n"
+         "z.addEventListener('input', apply); apply();\n"
+         "// A link to a pixel: case.html#pixel=X,Y outlines it once the images are in.\n"
+         "var m = /^#pixel=(\\d+),(\\d+)$/.exec(location.hash);\n"
+         "if (m) window.addEventListener('load', function () { apply(); show(+m[1], +m[2]); });\n"
+         "})();</script>";
     h << "</body></html>\n";
     return h.str();
 }

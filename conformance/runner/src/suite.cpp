@@ -16,6 +16,7 @@
 #include "conformance/reports.hpp"
 #include "harness/case_result.hpp"
 #include "harness/explain.hpp"
+#include "harness/files.hpp"
 #include "harness/image_io.hpp"
 
 namespace conformance {
@@ -252,6 +253,8 @@ harness::CaseResult run_one(const CaseFile& c, harness::Backend& reference,
                     r.explanation = e.verdict;
                     r.explanation_difference = e.difference;
                     r.explanation_rule = e.rule;
+                    r.explanation_text = harness::explanation_text(e);
+                    r.explanation_svg = harness::explanation_svg(e);
                 } catch (const std::exception&) {
                     // The case's result stands without an explanation.
                 }
@@ -274,6 +277,18 @@ void write_images(const harness::CaseResult& r, const std::filesystem::path& dir
     save(r.actual, r.actual_name);
     if (r.comparison && r.comparison->mismatched_pixels > 0 && !r.comparison->size_mismatch) {
         harness::write_color_image(r.comparison->mask, dir / (r.name + ".mask.png"));
+    }
+    // The explain view of an explained failure: explain/NAME.svg and NAME.txt beside images/.
+    if (!r.explanation_svg.empty()) {
+        // An aid, not a result: a view that cannot be written is left out (the case page
+        // links it only where it exists).
+        try {
+            const auto explain_dir = dir.parent_path() / "explain";
+            std::filesystem::create_directories(explain_dir);
+            harness::write_file_atomically(explain_dir / (r.name + ".svg"), r.explanation_svg);
+            harness::write_file_atomically(explain_dir / (r.name + ".txt"), r.explanation_text);
+        } catch (const std::exception&) {
+        }
     }
     // A 4x target's sample mask: each pixel a 2x2 block of its samples' classes.
     if (r.sample_comparison && r.sample_comparison->mismatched_samples > 0 &&

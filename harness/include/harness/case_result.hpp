@@ -55,6 +55,10 @@ struct CaseResult {
     std::string explanation;
     std::string explanation_difference;  // coverage, colour, depth, sample
     std::string explanation_rule;
+    // The whole explanation of that pixel (explain.hpp), as text and as the SVG teaching view;
+    // written beside the report by the conformance runner, not part of the JSON line.
+    std::string explanation_text;
+    std::string explanation_svg;
 };
 
 // Renders `scene` through both backends and compares actual against reference: the image, and
