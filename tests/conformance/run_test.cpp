@@ -764,6 +764,41 @@ TEST(HtmlReport, ChromiumCasePageOutlinesThePixelInEveryImage) {
     }
     EXPECT_TRUE(magenta);
     EXPECT_TRUE(red);
+
+    // The explain view the page links, drawn by Chromium: the explained pixel outlined in
+    // magenta in both panels (unsnapped, snapped), side by side, and a primitive's outline.
+    const auto view_shot = dir.path() / "explain.png";
+    const std::string view_cmd =
+        "timeout 120 chromium --headless --no-sandbox --disable-gpu --no-first-run "
+        "--user-data-dir=" +
+        testutil::shell_quote((dir.path() / "chrome").string()) +
+        " --window-size=900,700 --hide-scrollbars --screenshot=" +
+        testutil::shell_quote(view_shot.string()) + " " +
+        testutil::shell_quote(
+            "file://" +
+            (out / "explain" / "triangles.coverage.square_through_centres.svg").string()) +
+        " > /dev/null 2>&1";
+    ASSERT_EQ(std::system(view_cmd.c_str()), 0);
+    const auto view = harness::read_color_image(view_shot);
+    std::vector<std::uint32_t> outline_x;
+    bool primitive = false;
+    for (std::uint32_t y = 0; y < view.height; ++y) {
+        for (std::uint32_t x = 0; x < view.width; ++x) {
+            const auto* p = &view.color8[4 * (std::size_t{y} * view.width + x)];
+            if (p[0] > 240 && p[1] < 20 && p[2] > 240) outline_x.push_back(x);
+            primitive =
+                primitive ||
+                (p[0] < 20 && p[1] > 150 && p[1] < 190 && p[2] > 50 && p[2] < 90) ||  // #00a844
+                (p[0] < 60 && p[1] > 80 && p[1] < 120 && p[2] > 240);                 // #2962ff
+        }
+    }
+    ASSERT_FALSE(outline_x.empty());
+    std::sort(outline_x.begin(), outline_x.end());
+    int panels = 1;
+    for (std::size_t i = 1; i < outline_x.size(); ++i)
+        panels += outline_x[i] - outline_x[i - 1] > 100 ? 1 : 0;
+    EXPECT_GE(panels, 2);  // both panels (the legend's swatch may add one)
+    EXPECT_TRUE(primitive);
 }
 
 }  // namespace

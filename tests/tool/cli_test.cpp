@@ -236,4 +236,43 @@ TEST(Cli, ExplainShowsTheSamplersDecisionsAndTheTexelGrid) {
     EXPECT_NE(text.find("texel (0, 0): 255,0,0,255"), std::string::npos);
 }
 
+TEST(Cli, ExplainSvgShowsBothGeometriesAxesGridAndLegend) {
+    testutil::TempDir dir;
+    const auto scene = dir.write("tex.json", kTexturedScene);
+    const auto svg = dir.path() / "corner.svg";
+    // Pixel (0, 0): the 9x9 neighbourhood reaches four pixels beyond the target's left and
+    // bottom sides.
+    const auto r =
+        testutil::run_cli({"explain", scene.string(), "--pixel", "0,0", "--svg", svg.string()});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::string text = testutil::read_text(svg);
+    const auto count = [&](const std::string& what) {
+        std::size_t n = 0;
+        for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+        return n;
+    };
+    EXPECT_EQ(count("<g class=\"panel\""), 2u);
+    EXPECT_NE(text.find("id=\"unsnapped\""), std::string::npos);
+    EXPECT_NE(text.find("id=\"snapped\""), std::string::npos);
+    // 81 cells a panel; outside the 8x8 target: 81 - 25 = 56 of them, hatched.
+    EXPECT_EQ(count("class=\"cell outside\""), 2u * 56u);
+    EXPECT_EQ(count("class=\"cell\""), 2u * 25u);
+    EXPECT_NE(text.find("pixel (-4, -4): outside the target"), std::string::npos);
+    // Axes: columns -4..4 below each panel, rows -4..4 beside it.
+    EXPECT_EQ(count("class=\"axis-x\""), 18u);
+    EXPECT_EQ(count("class=\"axis-y\""), 18u);
+    EXPECT_NE(text.find(">-4</text>"), std::string::npos);
+    // The unsnapped outlines dashed, the snapped ones with edge arrows and inside ticks,
+    // every primitive clipped to its panel.
+    EXPECT_EQ(count("class=\"unsnapped\""), 2u);  // the two triangles that reach (0, 0)
+    EXPECT_EQ(count("class=\"snapped\""), 2u);
+    EXPECT_GT(count("class=\"edge-direction\""), 0u);
+    EXPECT_EQ(count("class=\"edge-direction\""), count("class=\"inside-side\""));
+    EXPECT_EQ(count("clip-path=\"url(#clip-"), 2u);
+    EXPECT_EQ(count("class=\"subpixel-grid\""), 2u);
+    EXPECT_NE(text.find("id=\"legend\""), std::string::npos);
+    EXPECT_NE(text.find("outside the target</text>"), std::string::npos);
+    EXPECT_NE(text.find("the sub-pixel grid"), std::string::npos);
+}
+
 }  // namespace
