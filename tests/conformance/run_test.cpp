@@ -657,7 +657,11 @@ TEST(HtmlReport, ChromiumShowsSummaryChartImagesAndNumbers) {
     // The chart's axes carry ticks with units, and a legend counts the statuses.
     EXPECT_NE(index.find("class=\"tick-x\""), std::string::npos);
     EXPECT_NE(index.find("class=\"tick-y\""), std::string::npos);
-    EXPECT_NE(index.find("render time, reference + backend (log scale)"), std::string::npos);
+    // 38 mismatched pixels against none: a decade and more, so a log scale with its decades.
+    EXPECT_NE(index.find("data-y-scale=\"log\""), std::string::npos);
+    EXPECT_NE(index.find("mismatched pixels (log scale, 0 at the bottom)"), std::string::npos);
+    EXPECT_NE(index.find("text-anchor=\"end\">10</text>"), std::string::npos);
+    EXPECT_NE(index.find("render time, reference + backend"), std::string::npos);
     EXPECT_NE(index.find("id=\"chart-legend\""), std::string::npos);
     EXPECT_NE(index.find(">Fail (2)<"), std::string::npos);
     EXPECT_NE(index.find(">Pass (8)<"), std::string::npos);
@@ -666,6 +670,20 @@ TEST(HtmlReport, ChromiumShowsSummaryChartImagesAndNumbers) {
     EXPECT_NE(index.find("10 of 10 cases shown"), std::string::npos);
     EXPECT_NE(index.find("coverage: tie rule"), std::string::npos);
     EXPECT_NE(index.find("<option>Fail</option>"), std::string::npos);
+    // A link to a view of the table: the failing cases only, the most mismatched pixels first.
+    const auto view =
+        dump_dom(out.string() + "/index.html#status=Fail&sort=-3", dir.path() / "chrome");
+    EXPECT_NE(view.find("2 of 10 cases shown"), std::string::npos);
+    EXPECT_NE(view.find("aria-sort=\"descending\""), std::string::npos);
+    const auto filtered =
+        dump_dom(out.string() + "/index.html#filter=strip", dir.path() / "chrome");
+    EXPECT_NE(filtered.find("1 of 10 cases shown"), std::string::npos);  // smoke.triangle_strip
+    // Sorted by name descending, the last case comes first.
+    const auto sorted = dump_dom(out.string() + "/index.html#sort=-0", dir.path() / "chrome");
+    const auto first_row = sorted.find("id=\"cases\"");
+    ASSERT_NE(first_row, std::string::npos);
+    EXPECT_LT(sorted.find("triangles.coverage.square_through_centres_cw", first_row),
+              sorted.find("smoke.blending", first_row));
     // JUnit: every case says its verdict, its numbers and its page.
     const auto junit = testutil::read_text(out / "junit.xml");
     EXPECT_NE(junit.find("Fail: 38 mismatched pixels (missing 19, extra 19, colour only 0"),
@@ -840,6 +858,10 @@ TEST(ConformanceRun, ProgressLineOnATerminalOnly) {
         {"conformance", "run", "--cases", "smoke.*", "--output", (dir.path() / "b").string()});
     EXPECT_EQ(plain.out.find("ETA"), std::string::npos);
     EXPECT_NE(plain.out.find("Pass smoke.triangles\n"), std::string::npos);
+    // Nothing differs: the chart's pixel axis is linear (0 and 1), not a log scale of nothing.
+    const auto index = testutil::read_text(dir.path() / "b" / "index.html");
+    EXPECT_NE(index.find("data-y-scale=\"linear\""), std::string::npos);
+    EXPECT_EQ(index.find("(log scale, 0 at the bottom)"), std::string::npos);
 }
 
 }  // namespace

@@ -28,6 +28,10 @@ config=$(find "$prefix" -name refrasterConfig.cmake)
 [[ -n $config ]] || fail "no refrasterConfig.cmake installed"
 [[ -n $(find "$prefix" -name refrasterConfigVersion.cmake) ]] || fail "no version file"
 
+step "the installed CLI finds its installed worker"
+env -u REFRASTER_WORKER_DIR "$prefix/bin/refraster" compare \
+  "$src/conformance/scenes/smoke/depth.json" --against osmesa || fail "installed refraster compare"
+
 step "examples/ against the installed package"
 cmake -S "$src/examples" -B "$work/examples" -G Ninja -DCMAKE_BUILD_TYPE=Release \
   -DCMAKE_PREFIX_PATH="$prefix" >"$work/examples-configure.log"

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <iomanip>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -234,6 +235,22 @@ const char* kTableScript = R"(</table><script>
   });
   text.addEventListener('input', filter);
   status.addEventListener('change', filter);
+  // Links to a view of the table: index.html#status=Fail&filter=coverage&sort=-3 (the column
+  // by its number from 0, descending with a minus).
+  var params = {};
+  location.hash.replace(/^#/, '').split('&').forEach(function (kv) {
+    var i = kv.indexOf('=');
+    if (i > 0) params[kv.slice(0, i)] = decodeURIComponent(kv.slice(i + 1));
+  });
+  if (params.filter) text.value = params.filter;
+  if (params.status) status.value = params.status;
+  if (params.sort) {
+    var col = Math.abs(+params.sort), th = table.tHead.rows[0].cells[col];
+    if (th) {
+      th.click();
+      if (params.sort.charAt(0) === '-') th.click();
+    }
+  }
   filter();
 })();
 </script>)";
@@ -261,99 +278,171 @@ std::string channel_values(const json& values) {
     return "(" + o.str() + ")";
 }
 
-// A run time in seconds as people read it: "100 µs", "1 ms", "10 s".
-std::string time_label(double seconds_value) {
-    const double e = std::round(std::log10(seconds_value));
-    const int k = static_cast<int>(e);
-    if (k <= -7) return "1e" + std::to_string(k) + " s";
-    if (k < -3)
-        return std::to_string(static_cast<long long>(std::llround(std::pow(10.0, k + 6)))) +
-               " \xC2\xB5s";
-    if (k < 0)
-        return std::to_string(static_cast<long long>(std::llround(std::pow(10.0, k + 3)))) + " ms";
-    return std::to_string(static_cast<long long>(std::llround(std::pow(10.0, k)))) + " s";
+// A run time in seconds as people read it: "250 µs", "1.5 ms", "10 s".
+std::string time_label(double t) {
+    std::ostringstream o;
+    const auto trimmed = [](double v) {
+        std::ostringstream n;
+        n << std::setprecision(3) << v;
+        return n.str();
+    };
+    if (t == 0) return "0";
+    if (t < 1e-3) {
+        o << trimmed(t * 1e6) << " \xC2\xB5s";
+    } else if (t < 1) {
+        o << trimmed(t * 1e3) << " ms";
+    } else {
+        o << trimmed(t) << " s";
+    }
+    return o.str();
 }
 
-// A pixel count at a decade: 1, 10, 100, 1k, 10k, 100k, 1M ...
-std::string count_label(int decade) {
-    static const char* names[] = {"1", "10", "100", "1k", "10k", "100k", "1M", "10M", "100M"};
-    if (decade >= 0 && decade < 9) return names[decade];
-    return "1e" + std::to_string(decade);
+// A pixel count: 7, 1k, 25k, 1M ...
+std::string count_label(double n) {
+    std::ostringstream o;
+    o << std::setprecision(3);
+    if (n >= 1e6) {
+        o << n / 1e6 << "M";
+    } else if (n >= 1e3) {
+        o << n / 1e3 << "k";
+    } else {
+        o << n;
+    }
+    return o.str();
 }
 
-// The chart: every case as a dot, run time (reference + backend) on a log x axis, mismatched
-// pixels on a log(1 + n) y axis (0 at the bottom, then decades), coloured by status, with a
-// legend of the statuses present. Both axes span decades, so both are logarithmic, with a
-// tick and a light grid line at each decade and minor ticks at 2..9 times it.
+// One axis of the chart: logarithmic where its data spans a decade or more (run times; pixel
+// counts, as log(1 + n) so that 0 stays on the axis), linear otherwise, with ticks at decades
+// (and minor ticks at 2..9 times them) or at a 1-2-5 step.
+struct ChartAxis {
+    bool log = false;
+    bool counts = false;  // log(1 + n) rather than log(n)
+    double lo = 0, hi = 1;
+    std::vector<double> major, minor;
+
+    double position(double v) const {  // 0 at lo, 1 at hi
+        const double f = log ? (counts ? std::log10(1.0 + v) : std::log10(v)) : v;
+        return (f - lo) / (hi - lo);
+    }
+
+    static ChartAxis times(double tmin, double tmax) {
+        ChartAxis a;
+        a.log = tmax >= 10 * tmin;
+        if (a.log) {
+            a.lo = std::floor(std::log10(tmin));
+            a.hi = std::ceil(std::log10(tmax));
+            if (a.hi <= a.lo) a.hi = a.lo + 1;
+            for (double d = a.lo; d <= a.hi; d += 1) {
+                a.major.push_back(std::pow(10.0, d));
+                for (int m = 2; m <= 9 && d < a.hi; ++m) a.minor.push_back(m * std::pow(10.0, d));
+            }
+        } else {
+            a.linear_ticks(tmin, tmax, 0.0);
+        }
+        return a;
+    }
+
+    static ChartAxis pixel_counts(double nmax) {
+        ChartAxis a;
+        a.counts = true;
+        a.log = nmax >= 10;
+        if (a.log) {
+            a.lo = 0;
+            a.hi = std::ceil(std::log10(1.0 + nmax));
+            a.major.push_back(0);
+            for (double d = 0; d <= a.hi; d += 1) {
+                if (d > 0) a.major.push_back(std::pow(10.0, d));
+                for (int m = 2; m <= 9 && d < a.hi; ++m) a.minor.push_back(m * std::pow(10.0, d));
+            }
+        } else {
+            a.linear_ticks(0.0, std::max(1.0, nmax), 0.0);
+        }
+        return a;
+    }
+
+  private:
+    // Ticks at the 1-2-5 step that gives about five of them, the range widened to whole steps
+    // (never below `floor_at`).
+    void linear_ticks(double from, double to, double floor_at) {
+        const double span = std::max(to - from, to * 1e-3 + 1e-12);
+        const double raw = span / 5;
+        const double p = std::pow(10.0, std::floor(std::log10(raw)));
+        const double step = raw <= p ? p : raw <= 2 * p ? 2 * p : raw <= 5 * p ? 5 * p : 10 * p;
+        lo = std::max(floor_at, std::floor(from / step) * step);
+        hi = std::ceil(to / step) * step;
+        if (hi <= lo) hi = lo + step;
+        for (double v = lo; v <= hi + step / 2; v += step) major.push_back(v);
+    }
+};
+
+// The chart: every case as a dot, run time (reference + backend) across, mismatched pixels
+// up, coloured by status, with a legend of the statuses present.
 std::string chart(const std::vector<json>& results) {
     const double W = 720, H = 300, L = 64, B = 44, T = 12, R = 150;
-    double tmin = 1e9, tmax = 0, emax = 0;
+    double tmin = 1e9, tmax = 0, nmax = 0;
     std::map<std::string, std::size_t> statuses;
     for (const auto& r : results) {
         const double t = std::max(1e-6, seconds(r, "reference") + seconds(r, "actual"));
         tmin = std::min(tmin, t);
         tmax = std::max(tmax, t);
-        emax = std::max(emax, std::log10(1.0 + static_cast<double>(mismatched(r))));
+        nmax = std::max(nmax, static_cast<double>(mismatched(r)));
         ++statuses[r.value("status", "")];
     }
     if (results.empty()) tmin = tmax = 1e-3;
-    const double lx0 = std::floor(std::log10(tmin));
-    double lx1 = std::ceil(std::log10(tmax));
-    if (lx1 <= lx0) lx1 = lx0 + 1;
-    const double ey = std::max(1.0, std::ceil(emax));
+    const ChartAxis ax = ChartAxis::times(tmin, tmax);
+    const ChartAxis ay = ChartAxis::pixel_counts(nmax);
     const double pw = W - L - R, ph = H - T - B;
-    const auto x_of = [&](double t) { return L + (std::log10(t) - lx0) / (lx1 - lx0) * pw; };
-    const auto y_of = [&](double e) { return H - B - e / ey * ph; };
+    const auto x_of = [&](double t) { return L + ax.position(t) * pw; };
+    const auto y_of = [&](double n) { return H - B - ay.position(n) * ph; };
     std::ostringstream s;
     s << "<svg id=\"error-chart\" xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W
       << "\" height=\"" << H << "\" role=\"img\" aria-label=\"mismatched pixels against run time\" "
-      << "font-family=\"system-ui,sans-serif\" font-size=\"11\">";
+      << "font-family=\"system-ui,sans-serif\" font-size=\"11\" data-x-scale=\""
+      << (ax.log ? "log" : "linear") << "\" data-y-scale=\"" << (ay.log ? "log" : "linear")
+      << "\">";
     s << "<rect x=\"" << L << "\" y=\"" << T << "\" width=\"" << pw << "\" height=\"" << ph
       << "\" fill=\"#fafafa\" stroke=\"#999\"/>";
-    // x: decades with grid lines and labels, minor ticks between.
-    for (double lx = lx0; lx <= lx1; lx += 1) {
-        const double x = x_of(std::pow(10.0, lx));
+    for (const double v : ax.major) {
+        const double x = x_of(v);
         s << "<line class=\"grid\" x1=\"" << fixed(x, 1) << "\" y1=\"" << T << "\" x2=\""
           << fixed(x, 1) << "\" y2=\"" << H - B << "\" stroke=\"#e3e3e3\"/>";
         s << "<line x1=\"" << fixed(x, 1) << "\" y1=\"" << H - B << "\" x2=\"" << fixed(x, 1)
           << "\" y2=\"" << H - B + 5 << "\" stroke=\"#666\"/><text class=\"tick-x\" x=\""
-          << fixed(x, 1) << "\" y=\"" << H - B + 17 << "\" text-anchor=\"middle\">"
-          << time_label(std::pow(10.0, lx)) << "</text>";
-        for (int m = 2; m <= 9 && lx < lx1; ++m) {
-            const double xm = x_of(m * std::pow(10.0, lx));
-            s << "<line x1=\"" << fixed(xm, 1) << "\" y1=\"" << H - B << "\" x2=\"" << fixed(xm, 1)
-              << "\" y2=\"" << H - B + 3 << "\" stroke=\"#999\"/>";
-        }
+          << fixed(x, 1) << "\" y=\"" << H - B + 17 << "\" text-anchor=\"middle\">" << time_label(v)
+          << "</text>";
+    }
+    for (const double v : ax.minor) {
+        s << "<line x1=\"" << fixed(x_of(v), 1) << "\" y1=\"" << H - B << "\" x2=\""
+          << fixed(x_of(v), 1) << "\" y2=\"" << H - B + 3 << "\" stroke=\"#999\"/>";
     }
     s << "<text x=\"" << L + pw / 2 << "\" y=\"" << H - 6
-      << "\" text-anchor=\"middle\">render time, reference + backend (log scale)</text>";
-    // y: 0, then decades of mismatched pixels.
-    for (int k = 0; k <= static_cast<int>(ey); ++k) {
-        const double y = y_of(k);
-        if (k > 0) {
+      << "\" text-anchor=\"middle\">render time, reference + backend"
+      << (ax.log ? " (log scale)" : "") << "</text>";
+    for (const double v : ay.major) {
+        const double y = y_of(v);
+        if (v > 0) {
             s << "<line class=\"grid\" x1=\"" << L << "\" y1=\"" << fixed(y, 1) << "\" x2=\""
               << L + pw << "\" y2=\"" << fixed(y, 1) << "\" stroke=\"#e3e3e3\"/>";
         }
         s << "<line x1=\"" << L - 5 << "\" y1=\"" << fixed(y, 1) << "\" x2=\"" << L << "\" y2=\""
           << fixed(y, 1) << "\" stroke=\"#666\"/><text class=\"tick-y\" x=\"" << L - 8 << "\" y=\""
-          << fixed(y + 4, 1) << "\" text-anchor=\"end\">"
-          << (k == 0 ? std::string("0") : count_label(k)) << "</text>";
-        for (int m = 2; m <= 9 && k < static_cast<int>(ey); ++m) {
-            const double ym = y_of(std::log10(1.0 + m * std::pow(10.0, k)));
-            s << "<line x1=\"" << L - 3 << "\" y1=\"" << fixed(ym, 1) << "\" x2=\"" << L
-              << "\" y2=\"" << fixed(ym, 1) << "\" stroke=\"#999\"/>";
-        }
+          << fixed(y + 4, 1) << "\" text-anchor=\"end\">" << count_label(v) << "</text>";
+    }
+    for (const double v : ay.minor) {
+        s << "<line x1=\"" << L - 3 << "\" y1=\"" << fixed(y_of(v), 1) << "\" x2=\"" << L
+          << "\" y2=\"" << fixed(y_of(v), 1) << "\" stroke=\"#999\"/>";
     }
     s << "<text x=\"14\" y=\"" << T + ph / 2 << "\" transform=\"rotate(-90 14 " << T + ph / 2
-      << ")\" text-anchor=\"middle\">mismatched pixels (log scale, 0 at the bottom)</text>";
+      << ")\" text-anchor=\"middle\">mismatched pixels"
+      << (ay.log ? " (log scale, 0 at the bottom)" : "") << "</text>";
     for (const auto& r : results) {
         const double t = std::max(1e-6, seconds(r, "reference") + seconds(r, "actual"));
-        const double e = std::log10(1.0 + static_cast<double>(mismatched(r)));
         const std::string st = r.value("status", "");
-        s << "<circle cx=\"" << fixed(x_of(t), 1) << "\" cy=\"" << fixed(y_of(e), 1)
-          << "\" r=\"3.5\" fill=\"" << status_color(st) << "\" fill-opacity=\"0.7\"><title>"
-          << esc(r.value("case", "")) << ": " << esc(st) << ", " << mismatched(r) << " px, "
-          << fixed(t * 1000, 2) << " ms</title></circle>";
+        s << "<circle cx=\"" << fixed(x_of(t), 1) << "\" cy=\""
+          << fixed(y_of(static_cast<double>(mismatched(r))), 1) << "\" r=\"3.5\" fill=\""
+          << status_color(st) << "\" fill-opacity=\"0.7\"><title>" << esc(r.value("case", ""))
+          << ": " << esc(st) << ", " << mismatched(r) << " px, " << fixed(t * 1000, 2)
+          << " ms</title></circle>";
     }
     // The legend: one entry a status present, with its count.
     s << "<g id=\"chart-legend\">";
