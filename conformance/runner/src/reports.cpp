@@ -799,8 +799,8 @@ void write_reports(const std::filesystem::path& output, std::size_t selected_cas
         if (r.contains("explanation")) {
             const auto& e = r["explanation"];
             out += "\nverdict: " + e.value("difference", "") + ": " + e.value("rule", "");
-        } else if (!r.value("message", "").empty()) {
-            out += "\n" + r.value("message", "");
+        } else if (!r.contains("comparison") && !r.value("message", "").empty()) {
+            out += "\n" + r.value("message", "");  // why nothing was compared
         }
         out += "\ncase page: cases/" + name + ".html";
         x << "<system-out>" << esc(out) << "</system-out>";
