@@ -103,6 +103,12 @@ ScanlineOutcome setup_scanline_triangle(const std::array<std::array<float, 2>, 3
     emaj.dy = vmax[1] - vmin[1];
     etop.dx = vmax[0] - vmid[0];
     etop.dy = vmax[1] - vmid[1];
+    out.ebot_dx = ebot.dx;
+    out.ebot_dy = ebot.dy;
+    out.emaj_dx = emaj.dx;
+    out.emaj_dy = emaj.dy;
+    out.xmin = vmin[0];
+    out.ymin = vmin[1];
     const float area = emaj.dx * ebot.dy - ebot.dx * emaj.dy;
     out.one_over_area = 1.0f / area;
     if (!std::isfinite(out.one_over_area)) return ScanlineOutcome::Degenerate;
@@ -129,6 +135,43 @@ ScanlineOutcome setup_scanline_triangle(const std::array<std::array<float, 2>, 3
         walk(etop, emaj, etop.lines, region, out.rows);
     }
     return ScanlineOutcome::Ok;
+}
+
+namespace {
+
+ScanlinePlane plane_of(const ScanlineTriangle& t, float vmin, float vmid, float vmax) {
+    const float botda = vmid - vmin;
+    const float majda = vmax - vmin;
+    const float a = t.ebot_dy * majda - botda * t.emaj_dy;
+    const float b = t.emaj_dx * botda - majda * t.ebot_dx;
+    ScanlinePlane p;
+    p.dadx = a * t.one_over_area;
+    p.dady = b * t.one_over_area;
+    p.a0 = vmin - (p.dadx * (t.xmin - kPixelOffset) + p.dady * (t.ymin - kPixelOffset));
+    return p;
+}
+
+}  // namespace
+
+ScanlinePlane scanline_plane(const ScanlineTriangle& t, const std::array<float, 3>& v) {
+    const auto at = [&](int k) {
+        return v[static_cast<std::size_t>(t.order[static_cast<std::size_t>(k)])];
+    };
+    return plane_of(t, at(0), at(1), at(2));
+}
+
+ScanlinePlane scanline_persp_plane(const ScanlineTriangle& t, const std::array<float, 3>& v,
+                                   const std::array<float, 3>& one_over_w) {
+    const auto at = [&](int k) {
+        const auto i = static_cast<std::size_t>(t.order[static_cast<std::size_t>(k)]);
+        return v[i] * one_over_w[i];
+    };
+    return plane_of(t, at(0), at(1), at(2));
+}
+
+std::array<float, 4> scanline_quad(const ScanlinePlane& p, int x0, int y0) {
+    const float q = (p.a0 + p.dadx * static_cast<float>(x0)) + p.dady * static_cast<float>(y0);
+    return {q, q + p.dadx, q + p.dady, (q + p.dadx) + p.dady};
 }
 
 }  // namespace refraster::detail

@@ -19,8 +19,11 @@
 // is outside, on a right edge inside; in an FBO (gallium y = GL y) a centre on a bottom edge is
 // inside and on a top edge outside.
 //
-// Deliberately does not: attribute planes or quads (softpipe evaluates attributes a 2x2 quad at
-// a time), lines or points.
+// Also the attribute planes (tri_linear_coeff, tri_persp_coeff) and their evaluation a 2x2
+// quad at a time (tgsi_exec.c, eval_linear_coef; perspective values are then divided by the
+// quad's interpolated 1/w, eval_perspective_coef).
+//
+// Deliberately does not: depth, fragment output, lines or points.
 #pragma once
 
 #include <array>
@@ -43,8 +46,34 @@ struct ScanlineTriangle {
     float det = 0.0f;
     float one_over_area = 0.0f;
     bool front_facing = true;
+    // What the attribute planes need: ebot's and emaj's deltas and vmin's position.
+    float ebot_dx = 0.0f, ebot_dy = 0.0f, emaj_dx = 0.0f, emaj_dy = 0.0f;
+    float xmin = 0.0f, ymin = 0.0f;
     std::vector<ScanlineRow> rows;  // bottom to top, only rows with pixels
 };
+
+// An attribute plane as softpipe sets it up: value = a0 + dadx * x + dady * y at integer
+// pixel coordinates (the half-pixel offset is in a0).
+struct ScanlinePlane {
+    float a0 = 0.0f;
+    float dadx = 0.0f;
+    float dady = 0.0f;
+};
+
+// tri_linear_coeff: `v` the attribute at the input vertices (before sorting).
+//   botda = v_mid - v_min, majda = v_max - v_min,
+//   dadx = (ebot.dy*majda - botda*emaj.dy) * (1/area), dady = (emaj.dx*botda - majda*ebot.dx)
+//   * (1/area), a0 = v_min - (dadx*(xmin - 0.5) + dady*(ymin - 0.5)).
+// tri_persp_coeff is the same on v_i * (1/w)_i (`one_over_w` the window positions' w).
+ScanlinePlane scanline_plane(const ScanlineTriangle& t, const std::array<float, 3>& v);
+ScanlinePlane scanline_persp_plane(const ScanlineTriangle& t, const std::array<float, 3>& v,
+                                   const std::array<float, 3>& one_over_w);
+
+// The four values of a 2x2 quad whose first pixel is (x0, y0) (both even, gallium
+// coordinates), in the order (x0, y0), (x0 + 1, y0), (x0, y0 + 1), (x0 + 1, y0 + 1)
+// (tgsi_exec.c, eval_linear_coef): q = (a0 + dadx*x0) + dady*y0, then q + dadx, q + dady,
+// (q + dadx) + dady. Unfused.
+std::array<float, 4> scanline_quad(const ScanlinePlane& p, int x0, int y0);
 
 enum class ScanlineOutcome : std::uint8_t { Ok, Degenerate, Culled };
 

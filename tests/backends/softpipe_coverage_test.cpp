@@ -1,11 +1,14 @@
-// softpipe's triangle coverage (refraster/src/scanline_setup.cpp) against OSMesa softpipe, pixel
-// for pixel: the random coverage generator's triangles that need no clipping, each alone in a
-// 64x64 cell with its own viewport and scissor, cull mode and front face. The window positions
-// are the draw module's (the reference's vertex stage, fused as on llvmpipe: both drivers use
-// the same draw module). Seeds: two fixed, one from REFRASTER_TEST_SEED.
+// softpipe's triangle coverage and colour planes (refraster/src/scanline_setup.cpp) against
+// OSMesa softpipe, pixel for pixel: the random coverage generator's triangles that need no
+// clipping, each alone in a 64x64 cell with its own viewport and scissor, cull mode and front face.
+// The window positions are the draw module's (the reference's vertex stage, fused as on llvmpipe:
+// both drivers use the same draw module). Seeds: two fixed, one from REFRASTER_TEST_SEED.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <iostream>
+#include <random>
 
 #include "harness/backend.hpp"
 #include "random_scenes.hpp"
@@ -92,6 +95,85 @@ TEST_P(SoftpipeCoverage, UnclippedTrianglesMatchOsmesaSoftpipe) {
     EXPECT_EQ(differing, 0) << "of " << compared << " triangles";
     EXPECT_GT(drawn, 0);
     EXPECT_GT(ties, 100);  // edges exactly through pixel centres are among them
+}
+
+// Smooth (perspective-correct) colours: softpipe's planes (tri_persp_coeff), evaluated a quad
+// at a time and divided by the quad's interpolated 1/w, then RNE(fl(c * 255)) of the clamped
+// value (docs/precision.md, "softpipe's triangle coverage" and its attributes).
+TEST_P(SoftpipeCoverage, SmoothColoursMatchOsmesaSoftpipe) {
+    testscenes::CoverageGenerator gen(GetParam() + 1000);
+    std::mt19937 rng(static_cast<std::uint32_t>(GetParam()));
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    harness::BackendOptions o;
+    o.kind = harness::BackendKind::OSMesa;
+    o.driver = harness::Driver::Softpipe;
+    const auto softpipe = harness::make_backend(o);
+    testscenes::CategoryCounts counts;
+    int compared = 0, differing = 0;
+    std::uint64_t pixels = 0;
+    while (compared < 1000) {
+        const auto cells = gen.next_batch(counts);
+        auto scene = testscenes::cell_scene(cells);
+        for (auto& d : scene.draw_list.draws) {
+            d.state.shade = refraster::ShadeModel::Smooth;
+            d.state.cull = refraster::CullMode::None;
+            for (std::size_t v = 0; v < 3; ++v)
+                for (std::size_t c = 0; c < 4; ++c) d.vertices.data[v * 8 + 4 + c] = unit(rng);
+        }
+        const auto r = softpipe->render(scene);
+        ASSERT_EQ(r.status, harness::RenderStatus::Ok) << r.message;
+        for (std::size_t i = 0; i < cells.size(); ++i) {
+            const auto& d = scene.draw_list.draws[i];
+            const refraster::detail::VertexStage stage(
+                d, {refraster::host_has_fma(), true, false, false});
+            if (stage.clipmask(0) != 0 || stage.clipmask(1) != 0 || stage.clipmask(2) != 0)
+                continue;
+            std::array<std::array<float, 2>, 3> w{};
+            std::array<float, 3> oow{};
+            std::array<std::array<float, 3>, 4> colour{};
+            for (std::uint32_t k = 0; k < 3; ++k) {
+                const auto v = stage.vertex(k);
+                w[k] = {v.window[0], v.window[1]};
+                oow[k] = v.window[3];
+                for (std::size_t c = 0; c < 4; ++c) colour[c][k] = d.vertices.data[k * 8 + 4 + c];
+            }
+            const auto& sc = *d.state.scissor;
+            refraster::detail::ScanlineTriangle t;
+            if (refraster::detail::setup_scanline_triangle(
+                    w, refraster::CullMode::None, false,
+                    {sc.x, sc.y, sc.x + sc.width - 1, sc.y + sc.height - 1},
+                    t) != refraster::detail::ScanlineOutcome::Ok)
+                continue;
+            ++compared;
+            const auto wplane = refraster::detail::scanline_plane(t, oow);
+            std::array<refraster::detail::ScanlinePlane, 4> planes{};
+            for (std::size_t c = 0; c < 4; ++c)
+                planes[c] = refraster::detail::scanline_persp_plane(t, colour[c], oow);
+            int diff = 0;
+            for (const auto& row : t.rows) {
+                for (int x = row.x0; x < row.x1; ++x) {
+                    const int x0 = x & ~1, y0 = row.y & ~1;
+                    const auto k = static_cast<std::size_t>((x & 1) + 2 * (row.y & 1));
+                    const float wq = refraster::detail::scanline_quad(wplane, x0, y0)[k];
+                    const std::size_t p = r.image.index(static_cast<std::uint32_t>(x),
+                                                        static_cast<std::uint32_t>(row.y));
+                    for (std::size_t c = 0; c < 4; ++c) {
+                        const float v = refraster::detail::scanline_quad(planes[c], x0, y0)[k] / wq;
+                        const float clamped = std::min(std::max(v, 0.0f), 1.0f);
+                        const auto want = static_cast<int>(std::nearbyint(clamped * 255.0f));
+                        diff += r.image.color8[4 * p + c] != want;
+                    }
+                    ++pixels;
+                }
+            }
+            if (diff != 0 && ++differing <= 5) {
+                ADD_FAILURE() << "seed " << GetParam() << " cell " << i << ": " << diff
+                              << " channels differ" << testscenes::describe(cells[i]);
+            }
+        }
+    }
+    EXPECT_EQ(differing, 0) << "of " << compared << " triangles";
+    EXPECT_GT(pixels, 10000u);
 }
 
 INSTANTIATE_TEST_SUITE_P(Seeds, SoftpipeCoverage,

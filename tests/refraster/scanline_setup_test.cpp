@@ -133,4 +133,30 @@ TEST(ScanlineSetup, RegionClipsRowsAndColumnsAndFacingCulls) {
               ScanlineOutcome::Degenerate);
 }
 
+TEST(ScanlineSetup, PlanesReproduceALinearAttributeAtPixelCentresAQuadAtATime) {
+    // f(x, y) = 2x + 3y + 1 at the vertices, all values exact in float: the plane has slopes
+    // 2 and 3 (up to the rounding of 1/area: within 4 ulps), and at integer pixel (x, y) the value
+    // f(x + 0.5, y + 0.5) (the half-pixel offset lives in a0); the quad's four values are its
+    // pixels' in the order (x0, y0), (x0 + 1, y0), (x0, y0 + 1), (x0 + 1, y0 + 1).
+    const std::array<std::array<float, 2>, 3> v{{{4.0f, 2.0f}, {20.0f, 6.0f}, {8.0f, 18.0f}}};
+    ScanlineTriangle t;
+    ASSERT_EQ(
+        refraster::detail::setup_scanline_triangle(v, CullMode::None, false, {0, 0, 63, 63}, t),
+        ScanlineOutcome::Ok);
+    const auto f = [](float x, float y) { return 2.0f * x + 3.0f * y + 1.0f; };
+    const auto p = refraster::detail::scanline_plane(t, {f(4, 2), f(20, 6), f(8, 18)});
+    EXPECT_FLOAT_EQ(p.dadx, 2.0f);
+    EXPECT_FLOAT_EQ(p.dady, 3.0f);
+    const auto q = refraster::detail::scanline_quad(p, 10, 6);
+    EXPECT_NEAR(double{q[0]}, double{f(10.5f, 6.5f)}, 1e-4);
+    EXPECT_NEAR(double{q[1]}, double{f(11.5f, 6.5f)}, 1e-4);
+    EXPECT_NEAR(double{q[2]}, double{f(10.5f, 7.5f)}, 1e-4);
+    EXPECT_NEAR(double{q[3]}, double{f(11.5f, 7.5f)}, 1e-4);
+    // Perspective: the values times each vertex's 1/w (here 1/2 everywhere) before the plane.
+    const auto pp = refraster::detail::scanline_persp_plane(t, {f(4, 2), f(20, 6), f(8, 18)},
+                                                            {0.5f, 0.5f, 0.5f});
+    EXPECT_FLOAT_EQ(pp.dadx, 1.0f);
+    EXPECT_FLOAT_EQ(pp.dady, 1.5f);
+}
+
 }  // namespace
