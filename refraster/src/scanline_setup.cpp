@@ -1,6 +1,7 @@
 // scanline_setup.cpp: softpipe's triangle setup and span walk (scanline_setup.hpp).
 #include "scanline_setup.hpp"
 
+#include <bit>
 #include <cmath>
 #include <limits>
 
@@ -172,6 +173,21 @@ ScanlinePlane scanline_persp_plane(const ScanlineTriangle& t, const std::array<f
 std::array<float, 4> scanline_quad(const ScanlinePlane& p, int x0, int y0) {
     const float q = (p.a0 + p.dadx * static_cast<float>(x0)) + p.dady * static_cast<float>(y0);
     return {q, q + p.dadx, q + p.dady, (q + p.dadx) + p.dady};
+}
+
+std::uint32_t scanline_depth_value(float z, DepthFormat format) {
+    const float c = z < 0.0f ? 0.0f : (z > 1.0f ? 1.0f : z);
+    switch (format) {
+        case DepthFormat::Z24:
+            return static_cast<std::uint32_t>(c * 16777215.0f);
+        case DepthFormat::Z16:
+            return static_cast<std::uint32_t>(c * 65535.0f);
+        case DepthFormat::Z32f:
+            return std::bit_cast<std::uint32_t>(c);
+        case DepthFormat::None:
+            break;
+    }
+    return 0;
 }
 
 }  // namespace refraster::detail

@@ -23,7 +23,9 @@
 // quad at a time (tgsi_exec.c, eval_linear_coef; perspective values are then divided by the
 // quad's interpolated 1/w, eval_perspective_coef).
 //
-// Deliberately does not: depth, fragment output, lines or points.
+// Also softpipe's depth quantisation (scanline_depth_value).
+//
+// Deliberately does not: the depth test's z16 fast path, fragment output, lines or points.
 #pragma once
 
 #include <array>
@@ -74,6 +76,12 @@ ScanlinePlane scanline_persp_plane(const ScanlineTriangle& t, const std::array<f
 // (tgsi_exec.c, eval_linear_coef): q = (a0 + dadx*x0) + dady*y0, then q + dadx, q + dady,
 // (q + dadx) + dady. Unfused.
 std::array<float, 4> scanline_quad(const ScanlinePlane& p, int x0, int y0);
+
+// softpipe's stored depth (sp_quad_depth_test.c, convert_quad_depth): z clamped to [0, 1],
+// then truncated: (unsigned)(z * 16777215.0f) for z24, (unsigned)(z * 65535.0f) for z16, the
+// float itself for z32f (its bits). z is the linear plane of window z, evaluated a quad at a
+// time. (The z16 fast path, which steps by a truncated integer along the span, is not this.)
+std::uint32_t scanline_depth_value(float z, DepthFormat format);
 
 enum class ScanlineOutcome : std::uint8_t { Ok, Degenerate, Culled };
 
