@@ -44,10 +44,7 @@ struct ProfileArgs {
         harness::apply_profile_overrides(p, overrides);
         return p;
     }
-    std::string source() const {
-        const auto names = refraster::builtin_profile_names();
-        return std::find(names.begin(), names.end(), profile) != names.end() ? "built-in" : profile;
-    }
+    std::string source() const { return harness::profile_source(profile); }
 };
 
 void add_threads_option(CLI::App* cmd, unsigned& threads) {

@@ -1,8 +1,6 @@
 // api.cpp: the in-process API's own steps (api.hpp); everything else is the harness's.
 #include "harness/api.hpp"
 
-#include <algorithm>
-
 namespace harness {
 
 Scene load_scene_file(const std::filesystem::path& path, const SceneLimits& limits) {
@@ -18,10 +16,7 @@ std::unique_ptr<Backend> make_reference(const ReferenceOptions& options) {
     o.kind = BackendKind::Ref;
     o.profile = load_profile(options.profile);
     apply_profile_overrides(o.profile, options.profile_overrides);
-    const auto names = refraster::builtin_profile_names();
-    o.profile_source = std::find(names.begin(), names.end(), options.profile) != names.end()
-                           ? "built-in"
-                           : options.profile;
+    o.profile_source = profile_source(options.profile);
     o.profile_overrides = options.profile_overrides;
     o.threads = options.threads;
     return make_backend(o);

@@ -29,6 +29,10 @@ void name_by_rules(refraster::Profile& p) {
     p.name = base + changes;
 }
 
+std::string profile_source(const std::string& name_or_path) {
+    return is_builtin(name_or_path) ? "built-in" : name_or_path;
+}
+
 refraster::Profile load_profile(const std::string& name_or_path) {
     if (is_builtin(name_or_path)) return refraster::builtin_profile(name_or_path);
     if (!std::filesystem::is_regular_file(name_or_path)) {

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <memory>
 #include <random>
 
 #include "harness/backend.hpp"
@@ -21,29 +22,43 @@ namespace {
 using testscenes::kCell;
 using testscenes::kGrid;
 
-// The cell's covered pixels as the scanline model draws them: a mask over the whole target.
-void model_cell(const refraster::Draw& d, std::vector<std::uint8_t>& mask) {
+// One cell's triangle as the scanline model sees it: the draw module's window positions (its
+// vertex stage), then setup with the cell's scissor, cull mode and front face.
+struct ModelledCell {
+    bool unclipped = false;  // no vertex needs the clipper (softpipe's is not modelled yet)
+    bool drawn = false;      // setup drew it (not degenerate, not culled)
+    refraster::detail::ScanlineTriangle triangle;
+    std::array<float, 3> z{};           // window z
+    std::array<float, 3> one_over_w{};  // window 1/w
+};
+
+ModelledCell model_cell(const refraster::Draw& d) {
+    ModelledCell m;
     const refraster::detail::VertexStage stage(d, {refraster::host_has_fma(), true, false, false});
-    for (std::uint32_t i = 0; i < 3; ++i) {
-        if (stage.clipmask(i) != 0) return;  // not compared (see below)
-    }
+    if (stage.clipmask(0) != 0 || stage.clipmask(1) != 0 || stage.clipmask(2) != 0) return m;
+    m.unclipped = true;
     std::array<std::array<float, 2>, 3> w{};
     for (std::uint32_t i = 0; i < 3; ++i) {
         const auto v = stage.vertex(i);
         w[i] = {v.window[0], v.window[1]};
+        m.z[i] = v.window[2];
+        m.one_over_w[i] = v.window[3];
     }
     const auto& sc = *d.state.scissor;
-    const refraster::detail::PixelRect region{sc.x, sc.y, sc.x + sc.width - 1,
-                                              sc.y + sc.height - 1};
-    refraster::detail::ScanlineTriangle t;
     // st_atom_rasterizer.c: front_ccw = (FrontFace == GL_CCW), flipped for an FBO.
     const bool front_ccw = d.state.front_face != refraster::FrontFace::Ccw;
-    if (refraster::detail::setup_scanline_triangle(w, d.state.cull, front_ccw, region, t) !=
-        refraster::detail::ScanlineOutcome::Ok)
-        return;
-    for (const auto& row : t.rows)
-        for (int x = row.x0; x < row.x1; ++x)
-            mask[static_cast<std::size_t>(row.y * testscenes::kSize + x)] = 1;
+    m.drawn =
+        refraster::detail::setup_scanline_triangle(
+            w, d.state.cull, front_ccw, {sc.x, sc.y, sc.x + sc.width - 1, sc.y + sc.height - 1},
+            m.triangle) == refraster::detail::ScanlineOutcome::Ok;
+    return m;
+}
+
+std::unique_ptr<harness::Backend> make_softpipe() {
+    harness::BackendOptions o;
+    o.kind = harness::BackendKind::OSMesa;
+    o.driver = harness::Driver::Softpipe;
+    return harness::make_backend(o);
 }
 
 class SoftpipeCoverage : public ::testing::TestWithParam<std::uint64_t> {};
@@ -51,10 +66,7 @@ class SoftpipeCoverage : public ::testing::TestWithParam<std::uint64_t> {};
 TEST_P(SoftpipeCoverage, UnclippedTrianglesMatchOsmesaSoftpipe) {
     std::cout << "seed " << GetParam() << "\n";
     testscenes::CoverageGenerator gen(GetParam());
-    harness::BackendOptions o;
-    o.kind = harness::BackendKind::OSMesa;
-    o.driver = harness::Driver::Softpipe;
-    const auto softpipe = harness::make_backend(o);
+    const auto softpipe = make_softpipe();
     testscenes::CategoryCounts counts;
     int compared = 0, differing = 0, drawn = 0, ties = 0;
     while (compared < 2000) {
@@ -62,15 +74,20 @@ TEST_P(SoftpipeCoverage, UnclippedTrianglesMatchOsmesaSoftpipe) {
         const auto scene = testscenes::cell_scene(cells);
         const auto r = softpipe->render(scene);
         ASSERT_EQ(r.status, harness::RenderStatus::Ok) << r.message;
+        // The covered pixels as the model draws them: a mask over the whole target.
+        std::vector<ModelledCell> modelled;
         std::vector<std::uint8_t> mask(static_cast<std::size_t>(testscenes::kSize) *
                                        testscenes::kSize);
-        for (const auto& d : scene.draw_list.draws) model_cell(d, mask);
+        for (const auto& d : scene.draw_list.draws) {
+            modelled.push_back(model_cell(d));
+            if (!modelled.back().drawn) continue;
+            for (const auto& row : modelled.back().triangle.rows)
+                for (int x = row.x0; x < row.x1; ++x)
+                    mask[static_cast<std::size_t>(row.y * testscenes::kSize + x)] = 1;
+        }
         for (std::size_t i = 0; i < cells.size(); ++i) {
-            const auto& d = scene.draw_list.draws[i];
-            const refraster::detail::VertexStage stage(
-                d, {refraster::host_has_fma(), true, false, false});
-            if (stage.clipmask(0) != 0 || stage.clipmask(1) != 0 || stage.clipmask(2) != 0)
-                continue;  // the clipper's triangles: not modelled for softpipe yet
+            // The clipper's triangles: not modelled for softpipe yet.
+            if (!modelled[i].unclipped) continue;
             ++compared;
             const int cx = static_cast<int>(i % kGrid) * kCell;
             const int cy = static_cast<int>(i / kGrid) * kCell;
@@ -104,10 +121,7 @@ TEST_P(SoftpipeCoverage, SmoothColoursMatchOsmesaSoftpipe) {
     testscenes::CoverageGenerator gen(GetParam() + 1000);
     std::mt19937 rng(static_cast<std::uint32_t>(GetParam()));
     std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-    harness::BackendOptions o;
-    o.kind = harness::BackendKind::OSMesa;
-    o.driver = harness::Driver::Softpipe;
-    const auto softpipe = harness::make_backend(o);
+    const auto softpipe = make_softpipe();
     testscenes::CategoryCounts counts;
     int compared = 0, differing = 0;
     std::uint64_t pixels = 0;
@@ -124,27 +138,14 @@ TEST_P(SoftpipeCoverage, SmoothColoursMatchOsmesaSoftpipe) {
         ASSERT_EQ(r.status, harness::RenderStatus::Ok) << r.message;
         for (std::size_t i = 0; i < cells.size(); ++i) {
             const auto& d = scene.draw_list.draws[i];
-            const refraster::detail::VertexStage stage(
-                d, {refraster::host_has_fma(), true, false, false});
-            if (stage.clipmask(0) != 0 || stage.clipmask(1) != 0 || stage.clipmask(2) != 0)
-                continue;
-            std::array<std::array<float, 2>, 3> w{};
-            std::array<float, 3> oow{};
-            std::array<std::array<float, 3>, 4> colour{};
-            for (std::uint32_t k = 0; k < 3; ++k) {
-                const auto v = stage.vertex(k);
-                w[k] = {v.window[0], v.window[1]};
-                oow[k] = v.window[3];
-                for (std::size_t c = 0; c < 4; ++c) colour[c][k] = d.vertices.data[k * 8 + 4 + c];
-            }
-            const auto& sc = *d.state.scissor;
-            refraster::detail::ScanlineTriangle t;
-            if (refraster::detail::setup_scanline_triangle(
-                    w, refraster::CullMode::None, false,
-                    {sc.x, sc.y, sc.x + sc.width - 1, sc.y + sc.height - 1},
-                    t) != refraster::detail::ScanlineOutcome::Ok)
-                continue;
+            const ModelledCell m = model_cell(d);
+            if (!m.drawn) continue;
             ++compared;
+            const auto& t = m.triangle;
+            const auto& oow = m.one_over_w;
+            std::array<std::array<float, 3>, 4> colour{};
+            for (std::size_t k = 0; k < 3; ++k)
+                for (std::size_t c = 0; c < 4; ++c) colour[c][k] = d.vertices.data[k * 8 + 4 + c];
             const auto wplane = refraster::detail::scanline_plane(t, oow);
             std::array<refraster::detail::ScanlinePlane, 4> planes{};
             for (std::size_t c = 0; c < 4; ++c)
@@ -181,10 +182,7 @@ TEST_P(SoftpipeCoverage, SmoothColoursMatchOsmesaSoftpipe) {
 // writes on, over a depth of 1.0: every covered pixel stores the triangle's value.
 TEST_P(SoftpipeCoverage, Z24DepthMatchesOsmesaSoftpipe) {
     testscenes::CoverageGenerator gen(GetParam() + 2000);
-    harness::BackendOptions o;
-    o.kind = harness::BackendKind::OSMesa;
-    o.driver = harness::Driver::Softpipe;
-    const auto softpipe = harness::make_backend(o);
+    const auto softpipe = make_softpipe();
     testscenes::CategoryCounts counts;
     int compared = 0, differing = 0;
     std::uint64_t pixels = 0;
@@ -204,27 +202,11 @@ TEST_P(SoftpipeCoverage, Z24DepthMatchesOsmesaSoftpipe) {
         ASSERT_EQ(r.status, harness::RenderStatus::Ok) << r.message;
         ASSERT_FALSE(r.image.depth.empty());
         for (std::size_t i = 0; i < cells.size(); ++i) {
-            const auto& d = scene.draw_list.draws[i];
-            const refraster::detail::VertexStage stage(
-                d, {refraster::host_has_fma(), true, false, false});
-            if (stage.clipmask(0) != 0 || stage.clipmask(1) != 0 || stage.clipmask(2) != 0)
-                continue;
-            std::array<std::array<float, 2>, 3> w{};
-            std::array<float, 3> z{};
-            for (std::uint32_t k = 0; k < 3; ++k) {
-                const auto v = stage.vertex(k);
-                w[k] = {v.window[0], v.window[1]};
-                z[k] = v.window[2];
-            }
-            const auto& sc = *d.state.scissor;
-            refraster::detail::ScanlineTriangle t;
-            if (refraster::detail::setup_scanline_triangle(
-                    w, refraster::CullMode::None, false,
-                    {sc.x, sc.y, sc.x + sc.width - 1, sc.y + sc.height - 1},
-                    t) != refraster::detail::ScanlineOutcome::Ok)
-                continue;
+            const ModelledCell m = model_cell(scene.draw_list.draws[i]);
+            if (!m.drawn) continue;
             ++compared;
-            const auto zplane = refraster::detail::scanline_plane(t, z);
+            const auto& t = m.triangle;
+            const auto zplane = refraster::detail::scanline_plane(t, m.z);
             int diff = 0;
             for (const auto& row : t.rows) {
                 for (int x = row.x0; x < row.x1; ++x) {

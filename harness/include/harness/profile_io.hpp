@@ -22,6 +22,10 @@ namespace harness {
 // name and the offending key.
 refraster::Profile load_profile(const std::string& name_or_path);
 
+// Where a profile named by `name_or_path` comes from, as provenance records it: "built-in"
+// for a built-in name, else the file's path.
+std::string profile_source(const std::string& name_or_path);
+
 // Applies "key=value" overrides in order.
 void apply_profile_overrides(refraster::Profile& p, const std::vector<std::string>& overrides);
 
