@@ -8,7 +8,8 @@
 //   traverse(list, primitive, emit)       quad packets of the pixels it covers, a tile at a time
 //   kernel()                              the per-draw fragment kernel: shade(list, primitive,
 //                                         quads, framebuffer) and trace(list, primitive, x, y, fb)
-// Models today: LlvmpipeModel (llvmpipe_model.hpp) and ExactModel (exact_model.hpp).
+// Models today: LlvmpipeModel (llvmpipe_model.hpp), SoftpipeModel (softpipe_model.hpp) and
+// ExactModel (exact_model.hpp).
 //
 // Deliberately does not: choose the model (pipeline.hpp does, once per draw).
 #pragma once

@@ -29,6 +29,7 @@ struct LineSetup;
 struct PointSetup;
 class VertexStage;
 class ExactCoverage;
+struct ScanlineRow;
 
 // When a primitive's record is kept: always (a line the clipper removed), when it covers the
 // pixel or one of its set-up boxes holds it, or only when it covers it (points).
@@ -52,6 +53,11 @@ struct NoObserver {
     void line_drawn(const StageVertex&, const StageVertex&, const LineSetup&, std::size_t) {}
     void point_drawn(const StageVertex&, const PointSetup&, std::size_t) {}
     void exact_setup(const ExactCoverage&) {}
+    // The scanline model: a set-up primitive with its window vertices and covered rows, or
+    // one setup rejected.
+    void scanline_drawn(std::span<const std::array<float, 4>>, bool,
+                        std::span<const ScanlineRow>, std::size_t) {}
+    void scanline_rejected(std::span<const std::array<float, 4>>, bool, const char*) {}
     void end_primitive(KeepRecord) {}
     template <class List, class Primitive, class Kernel>
     void before_fragments(std::size_t, const List&, const Primitive&, const Kernel&,

@@ -10,6 +10,7 @@
 //                     in API order                               line_point.cpp (lp_setup_line.c,
 //                                                                lp_setup_point.c), planes in
 //                                                                fragment.cpp (lp_state_setup.c);
+//                                                                or softpipe_model.cpp (sp_setup.c),
 //                                                                or exact_model.cpp (the oracle)
 //   traversal         quad packets of the covered pixels, or     traverse.hpp (lp_rast_tri_tmp.h),
 //                     row blocks for the fast kernels            quad.hpp, row_block.hpp
@@ -29,6 +30,7 @@
 #include "exact_model.hpp"
 #include "llvmpipe_model.hpp"
 #include "model.hpp"
+#include "softpipe_model.hpp"
 #include "quad.hpp"
 #include "refraster/framebuffer.hpp"
 #include "refraster/renderer.hpp"
@@ -154,7 +156,14 @@ std::uint64_t draw(const DrawContext& ctx, Observer& obs, RenderStage stop, Fram
 // The model, chosen once per draw from the profile.
 template <class Observer>
 std::uint64_t run_draw(const DrawContext& ctx, Observer& obs, RenderStage stop, Framebuffer& fb) {
-    if (ctx.profile.model == CoverageModel::Exact) return draw<ExactModel>(ctx, obs, stop, fb);
+    switch (ctx.profile.model) {
+        case CoverageModel::Exact:
+            return draw<ExactModel>(ctx, obs, stop, fb);
+        case CoverageModel::Scanline:
+            return draw<SoftpipeModel>(ctx, obs, stop, fb);
+        case CoverageModel::Snapped:
+            break;
+    }
     return draw<LlvmpipeModel>(ctx, obs, stop, fb);
 }
 

@@ -20,14 +20,29 @@ Profile gl_exact_profile() {
     return p;
 }
 
+Profile softpipe_22_3_profile() {
+    Profile p;
+    p.name = "softpipe-22.3";
+    p.model = CoverageModel::Scanline;
+    // No snapping: the subpixel parameters are llvmpipe's, unused by the scanline model.
+    // softpipe's tie rule in an FBO (sp_setup.c: spans [ceil-truncated left, right), rows from
+    // ceilf(y - 0.5)): right edges and bottom edges own their centres.
+    p.gl.tie_rule = TieRule::RightBottom;
+    p.quirks.nine_vertex_quirk = false;
+    p.quirks.wrapping_arithmetic = false;
+    return p;
+}
+
 std::vector<std::string> builtin_profile_names() {
-    return {"llvmpipe-22.3", "gl-exact"};
+    return {"llvmpipe-22.3", "softpipe-22.3", "gl-exact"};
 }
 
 Profile builtin_profile(const std::string& name) {
     if (name == "llvmpipe-22.3") return llvmpipe_22_3_profile();
     if (name == "gl-exact") return gl_exact_profile();
-    throw ProfileError("unknown profile \"" + name + "\" (built in: llvmpipe-22.3, gl-exact)");
+    if (name == "softpipe-22.3") return softpipe_22_3_profile();
+    throw ProfileError("unknown profile \"" + name +
+                       "\" (built in: llvmpipe-22.3, softpipe-22.3, gl-exact)");
 }
 
 std::string to_string(TieRule r) {
@@ -59,7 +74,15 @@ std::string to_string(SnapRounding r) {
 namespace {
 
 std::string to_string(CoverageModel c) {
-    return c == CoverageModel::Snapped ? "snapped" : "exact";
+    switch (c) {
+        case CoverageModel::Snapped:
+            return "snapped";
+        case CoverageModel::Exact:
+            return "exact";
+        case CoverageModel::Scanline:
+            return "scanline";
+    }
+    return "?";
 }
 std::string to_string(FmaMode m) {
     return m == FmaMode::Auto ? "auto" : m == FmaMode::On ? "on" : "off";
@@ -141,7 +164,10 @@ void set_profile_parameter(Profile& p, const std::string& key, const std::string
         p.name = value;
     } else if (key == "coverage") {
         p.model = pick<CoverageModel>(
-            key, value, {{"snapped", CoverageModel::Snapped}, {"exact", CoverageModel::Exact}});
+            key, value,
+            {{"snapped", CoverageModel::Snapped},
+             {"exact", CoverageModel::Exact},
+             {"scanline", CoverageModel::Scanline}});
     } else if (key == "subpixel_bits") {
         // 8 bits is llvmpipe's FIXED_ORDER; the edge-function budget in setup.cpp holds up to 8.
         p.gl.subpixel_bits = parse_int(key, value, 1, 8);

@@ -83,6 +83,11 @@ bool is_triangle(PrimitiveType p) {
 }
 
 std::string unsupported(const Draw& d, const Target& target, const Profile& profile) {
+    if (profile.model == CoverageModel::Scanline) {
+        // softpipe has no multisampling (GL_MAX_SAMPLES is 0) and its own float sampler.
+        if (d.state.texture) return "the scanline (softpipe) profile draws untextured primitives only";
+        return {};
+    }
     if (profile.model != CoverageModel::Exact) return {};
     if (d.state.texture) return "the exact profile draws untextured primitives only";
     if (!is_triangle(d.primitive) || d.state.polygon_mode != PolygonMode::Fill) {
@@ -103,6 +108,10 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
     if (samples != 1 && samples != 4) {
         return {RenderStatus::NotSupported,
                 "targets of " + std::to_string(samples) + " samples (1 and 4 exist)"};
+    }
+    if (samples != 1 && options.profile.model == CoverageModel::Scanline) {
+        // softpipe has no multisampling (GL_MAX_SAMPLES is 0).
+        return {RenderStatus::NotSupported, "the scanline (softpipe) profile has no multisampling"};
     }
     out = Framebuffer(list.target.width, list.target.height, list.target.color, list.target.depth,
                       samples);

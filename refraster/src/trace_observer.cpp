@@ -6,6 +6,7 @@
 #include "exact_coverage.hpp"
 #include "line_point.hpp"
 #include "samples.hpp"
+#include "scanline_setup.hpp"
 #include "traverse.hpp"
 #include "vertex_stage.hpp"
 
@@ -178,11 +179,50 @@ void TraceObserver::exact_setup(const ExactCoverage& ex) {
     pt_.setups.push_back(s);
 }
 
+void TraceObserver::scanline_drawn(std::span<const std::array<float, 4>> window, bool clipped,
+                                   std::span<const ScanlineRow> rows, std::size_t list_index) {
+    s_ = SetupTrace{};
+    s_.window.assign(window.begin(), window.end());
+    s_.clipped = clipped;
+    bool in = false;
+    for (const auto& r : rows) {
+        if (r.y != trace_.y) continue;
+        in = trace_.x >= r.x0 && trace_.x < r.x1;
+        s_.coverage_note = "softpipe's scanline row " + std::to_string(r.y) + " spans pixels " +
+                           std::to_string(r.x0) + " to " + std::to_string(r.x1 - 1);
+    }
+    if (s_.coverage_note.empty()) s_.coverage_note = "softpipe's scanline rows miss this row";
+    covered(in, list_index);
+}
+
+void TraceObserver::scanline_rejected(std::span<const std::array<float, 4>> window, bool clipped,
+                                      const char* outcome) {
+    s_ = SetupTrace{};
+    s_.window.assign(window.begin(), window.end());
+    s_.clipped = clipped;
+    s_.outcome = outcome;
+    pt_.setups.push_back(s_);
+}
+
 bool TraceObserver::near(const PrimitiveTrace& pt) const {
     // A primitive is worth showing when one of its set-up triangles' boxes (before the
     // draw region) holds the pixel.
     for (const auto& s : pt.setups) {
-        if (s.x.empty()) continue;
+        if (s.x.empty()) {
+            // Unsnapped setups (the scanline model): the window box, a pixel wider.
+            if (s.window.empty()) continue;
+            float x0 = s.window[0][0], x1 = x0, y0 = s.window[0][1], y1 = y0;
+            for (const auto& w : s.window) {
+                x0 = std::min(x0, w[0]);
+                x1 = std::max(x1, w[0]);
+                y0 = std::min(y0, w[1]);
+                y1 = std::max(y1, w[1]);
+            }
+            const auto px = static_cast<float>(trace_.x), py = static_cast<float>(trace_.y);
+            if (px >= x0 - 1.0f && px <= x1 + 1.0f && py >= y0 - 1.0f && py <= y1 + 1.0f)
+                return true;
+            continue;
+        }
         const auto [xmin, xmax] = std::minmax_element(s.x.begin(), s.x.end());
         const auto [ymin, ymax] = std::minmax_element(s.y.begin(), s.y.end());
         const int b = s.subpixel_bits;

@@ -43,6 +43,10 @@ class TraceObserver {
                     std::size_t list_index);
     void point_drawn(const StageVertex& v, const PointSetup& s, std::size_t list_index);
     void exact_setup(const ExactCoverage& ex);
+    void scanline_drawn(std::span<const std::array<float, 4>> window, bool clipped,
+                        std::span<const ScanlineRow> rows, std::size_t list_index);
+    void scanline_rejected(std::span<const std::array<float, 4>> window, bool clipped,
+                           const char* outcome);
     void end_primitive(KeepRecord keep);
 
     template <class List, class Primitive, class Kernel>

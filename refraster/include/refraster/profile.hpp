@@ -1,12 +1,12 @@
 // profile.hpp: every rasterization rule the reference follows, as data.
 //
 // Implements: Profile, in three parts kept apart: the model that draws (llvmpipe 22.3's
-// snapped setup and traversal, or the exact oracle), the general GL rules, the parameters in
+// snapped setup and traversal, softpipe 22.3's scanline setup, or the exact oracle), the general GL rules, the parameters in
 // which the GL specification leaves implementations free and one implementation differs from
 // another (subpixel precision, snapping rounding, pixel-centre offset, the tie rule, the
 // clipper, FMA and denormal behaviour), and the quirks of the model's driver beyond those rules
-// (Mesa draw-module and llvmpipe behaviour); the built-in profiles `llvmpipe-22.3` and
-// `gl-exact`; reading and writing single parameters as text (`tie_rule=right-top`), one flat
+// (Mesa draw-module and llvmpipe behaviour); the built-in profiles `llvmpipe-22.3`,
+// `softpipe-22.3` and `gl-exact`; reading and writing single parameters as text (`tie_rule=right-top`), one flat
 // list of keys over all three parts, so that profiles can be stored and overridden from the
 // outside.
 //
@@ -33,6 +33,8 @@ enum class CoverageModel : std::uint8_t {
               // functions
     Exact,    // the oracle: exact predicates on the float32 clip-space inputs, no snapping, no
               // clipper
+    Scanline,  // softpipe 22.3: float window coordinates, a scanline walk of truncated spans,
+               // Bresenham lines, attribute planes evaluated a 2x2 quad at a time
 };
 
 // Which edges own a pixel centre lying exactly on them, in GL window terms (y up).
@@ -109,6 +111,7 @@ class ProfileError : public std::runtime_error {
 // The built-in profiles.
 Profile llvmpipe_22_3_profile();
 Profile gl_exact_profile();
+Profile softpipe_22_3_profile();
 // By name; throws ProfileError for an unknown name.
 Profile builtin_profile(const std::string& name);
 std::vector<std::string> builtin_profile_names();

@@ -1,0 +1,407 @@
+// softpipe_model.cpp: softpipe's primitives from the draw module to set-up rows and planes
+// (softpipe_model.hpp).
+#include "softpipe_model.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cstdlib>
+
+#include "observer.hpp"
+#include "rules.hpp"
+#include "trace_observer.hpp"
+
+namespace refraster::detail {
+
+namespace {
+
+bool is_triangle(PrimitiveType p) {
+    return p == PrimitiveType::Triangles || p == PrimitiveType::TriangleStrip ||
+           p == PrimitiveType::TriangleFan;
+}
+
+ScanlineInterp interp_of(ShadeModel s) {
+    switch (s) {
+        case ShadeModel::Flat:
+            return ScanlineInterp::Constant;
+        case ShadeModel::NoPerspective:
+            return ScanlineInterp::Linear;
+        case ShadeModel::Smooth:
+            break;
+    }
+    return ScanlineInterp::Perspective;
+}
+
+// (int) of a float or double as softpipe's x86-64 build converts it (cvttss2si/cvttsd2si):
+// towards zero, INT_MIN for NaN or a value outside int's range.
+template <class Real>
+int truncate_to_int(Real v) {
+    if (!(v > Real(-2147483648.0) && v < Real(2147483648.0))) return INT32_MIN;
+    return static_cast<int>(v);
+}
+
+// Rows of the pixels (x, y) listed in order, merged into runs per row: the rows of a set of
+// pixels with at most one run a row (a Bresenham line, a square).
+void pixels_to_rows(std::vector<std::array<int, 2>>& px, const PixelRect& region,
+                    std::vector<ScanlineRow>& rows) {
+    rows.clear();
+    std::sort(px.begin(), px.end(), [](const auto& a, const auto& b) {
+        return a[1] != b[1] ? a[1] < b[1] : a[0] < b[0];
+    });
+    for (const auto& [x, y] : px) {
+        if (x < region.x0 || x > region.x1 || y < region.y0 || y > region.y1) continue;
+        if (!rows.empty() && rows.back().y == y && rows.back().x1 == x) {
+            ++rows.back().x1;
+        } else {
+            rows.push_back({y, x, x + 1});
+        }
+    }
+}
+
+}  // namespace
+
+ScanlinePrimitive& SoftpipeModel::add_primitive(std::span<const ScanlineRow> rows,
+                                                ScanlineInterp interp) {
+    ScanlinePrimitive& prim = list_.primitives.emplace_back();
+    prim.first_row = static_cast<std::uint32_t>(list_.rows.size());
+    prim.row_count = static_cast<std::uint32_t>(rows.size());
+    list_.rows.insert(list_.rows.end(), rows.begin(), rows.end());
+    prim.planes = static_cast<std::uint32_t>(list_.planes.size());
+    prim.interp = interp;
+    prim.owner = owner_;
+    return prim;
+}
+
+template <class Observer>
+void SoftpipeModel::setup(VertexStage& stage, Observer& obs, const ListSink<List>& sink) {
+    sink_ = &sink;
+    list_.clear();
+    list_.attribute_floats = stage.attribute_floats();
+    const Draw& d = ctx_.draw;
+    if (d.primitive == PrimitiveType::Points) {
+        points(stage, obs);
+    } else if (!is_triangle(d.primitive)) {
+        lines(stage, obs);
+    } else if (d.state.polygon_mode != PolygonMode::Fill) {
+        unfilled(stage, obs);
+    } else {
+        triangles(stage, obs);
+    }
+    if (!list_.primitives.empty()) sink(list_);
+    obs.list_done();
+    list_.clear();
+}
+
+template <class Observer>
+void SoftpipeModel::next_primitive(std::size_t p, Observer& obs) {
+    owner_ = owner_id(ctx_.index, p);
+    if (list_.full()) {
+        (*sink_)(list_);
+        obs.list_done();
+        list_.clear();
+    }
+}
+
+// Filled triangles: the draw module's clipper for triangles with a clip-mask bit, its float
+// cull for triangles of segments that go through its pipeline, and its polygon offset stage
+// (softpipe has no offset of its own: draw_pipe_offset.c), then softpipe's setup.
+template <class Observer>
+void SoftpipeModel::triangles(VertexStage& stage, Observer& obs) {
+    const Draw& d = ctx_.draw;
+    const bool first = ctx_.params.provoking_first;
+    const auto tris = draw_triangles(ctx_);
+    const std::vector<bool> segment_clipped = clipped_segments(stage, d, tris);
+    // Polygon offset puts every triangle through the pipeline.
+    const bool offset = d.state.polygon_offset.has_value();
+    std::vector<StageTriangle> staged;
+    for (std::size_t p = 0; p < tris.size(); ++p) {
+        next_primitive(p, obs);
+        const auto& at = tris[p];
+        const std::array<std::uint32_t, 3> idx{d.element(at.element[0]), d.element(at.element[1]),
+                                               d.element(at.element[2])};
+        const bool in_pipeline = segment_clipped[at.segment] || offset;
+        obs.begin_primitive("triangle", ctx_.index, p, idx, stage, in_pipeline);
+        staged.clear();
+        stage.clip_triangle(idx, first, staged, obs.clip_polygons());
+        obs.clipped(staged.empty());
+        for (auto& t : staged) {
+            if (in_pipeline && ctx_.profile.quirks.draw_pipeline_cull &&
+                !passes_draw_cull(t, d.state.cull, ctx_.params.front_ccw)) {
+                continue;
+            }
+            if (offset) {
+                apply_draw_offset(t, draw_determinant(t, ctx_.profile.gl.flush_denormals),
+                                  *d.state.polygon_offset, ctx_.target.depth,
+                                  ctx_.profile.gl.flush_denormals);
+            }
+            triangle(stage, t, obs);
+        }
+        obs.end_primitive(KeepRecord::CoveredOrNear);
+    }
+}
+
+// sp_setup_tri: setup_sort_vertices, setup_tri_coefficients, subtriangle.
+template <class Observer>
+void SoftpipeModel::triangle(const VertexStage& stage, const StageTriangle& st, Observer& obs) {
+    const Draw& d = ctx_.draw;
+    const std::array<std::array<float, 2>, 3> w{{{st.v[0].window[0], st.v[0].window[1]},
+                                                 {st.v[1].window[0], st.v[1].window[1]},
+                                                 {st.v[2].window[0], st.v[2].window[1]}}};
+    const std::array<std::array<float, 4>, 3> window{st.v[0].window, st.v[1].window,
+                                                     st.v[2].window};
+    const auto outcome = setup_scanline_triangle(w, d.state.cull, ctx_.params.front_ccw,
+                                                 ctx_.params.draw_region, triangle_);
+    if (outcome != ScanlineOutcome::Ok) {
+        obs.scanline_rejected(window, st.clipped,
+                              outcome == ScanlineOutcome::Culled ? "culled" : "zero area");
+        return;
+    }
+    const ScanlineInterp interp = interp_of(d.state.shade);
+    ScanlinePrimitive& prim = add_primitive(triangle_.rows, interp);
+    const ScanlineTriangle& t = triangle_;
+    const std::array<float, 3> z{st.v[0].window[2], st.v[1].window[2], st.v[2].window[2]};
+    const std::array<float, 3> oow{st.v[0].window[3], st.v[1].window[3], st.v[2].window[3]};
+    // setup_tri_coefficients: the position's z and w are linear.
+    list_.planes.push_back(scanline_plane(t, z));
+    list_.planes.push_back(scanline_plane(t, oow));
+    const std::array<std::span<const float>, 3> a{stage.attributes(st.v[0]),
+                                                  stage.attributes(st.v[1]),
+                                                  stage.attributes(st.v[2])};
+    // The provoking vertex of the input order (setup->vprovoke: v2, or v0 with
+    // flatshade_first), before sorting.
+    const std::size_t provoking = ctx_.params.provoking_first ? 0 : 2;
+    std::array<std::span<const float>, 3> attrs = a;
+    for (std::size_t f = 0; f < list_.attribute_floats; ++f) {
+        const std::array<float, 3> v{attrs[0][f], attrs[1][f], attrs[2][f]};
+        switch (interp) {
+            case ScanlineInterp::Constant:
+                list_.planes.push_back({v[provoking], 0.0f, 0.0f});
+                break;
+            case ScanlineInterp::Linear:
+                list_.planes.push_back(scanline_plane(t, v));
+                break;
+            case ScanlineInterp::Perspective:
+                list_.planes.push_back(scanline_persp_plane(t, v, oow));
+                break;
+        }
+    }
+    obs.scanline_drawn(window, st.clipped, list_.rows_of(prim), list_.primitives.size() - 1);
+}
+
+// Lines: assembly, the draw module's clipper (do_clip_line), then sp_setup_line.
+template <class Observer>
+void SoftpipeModel::lines(VertexStage& stage, Observer& obs) {
+    const Draw& d = ctx_.draw;
+    const bool first = ctx_.params.provoking_first;
+    const auto segs = assemble_lines(d.primitive, d.element_count());
+    for (std::size_t p = 0; p < segs.size(); ++p) {
+        next_primitive(p, obs);
+        const std::array<std::uint32_t, 2> ends{d.element(segs[p][0]), d.element(segs[p][1])};
+        obs.begin_primitive("line", ctx_.index, p, ends, stage);
+        const auto clipped = stage.clip_line(ends[0], ends[1], first);
+        if (!clipped) {
+            obs.note("clipped away entirely");
+            obs.end_primitive(KeepRecord::Always);
+            continue;
+        }
+        segment(stage, (*clipped)[0], (*clipped)[1], obs);
+        obs.end_primitive(KeepRecord::CoveredOrNear);
+    }
+}
+
+// sp_setup_line: Bresenham from the truncated start to the truncated end, the end excluded;
+// attributes on the line's planes (setup_line_coefficients: line_linear_coeff,
+// line_persp_coeff), whose "area" is the squared length.
+template <class Observer>
+void SoftpipeModel::segment(const VertexStage& stage, const StageVertex& v0, const StageVertex& v1,
+                            Observer& obs) {
+    const Draw& d = ctx_.draw;
+    const std::array<std::array<float, 4>, 2> window{v0.window, v1.window};
+    int x0 = truncate_to_int(v0.window[0]);
+    int y0 = truncate_to_int(v0.window[1]);
+    const int x1 = truncate_to_int(v1.window[0]);
+    const int y1 = truncate_to_int(v1.window[1]);
+    int dx = x1 - x0;
+    int dy = y1 - y0;
+    if (dx == 0 && dy == 0) {
+        obs.scanline_rejected(window, v0.generated || v1.generated, "zero length");
+        return;
+    }
+    const float emaj_dx = v1.window[0] - v0.window[0];
+    const float emaj_dy = v1.window[1] - v0.window[1];
+    const float area = emaj_dx * emaj_dx + emaj_dy * emaj_dy;
+    const float one_over_area = 1.0f / area;
+    if (area == 0.0f || !std::isfinite(area)) {
+        obs.scanline_rejected(window, v0.generated || v1.generated, "zero area");
+        return;
+    }
+    const int xstep = dx < 0 ? -1 : 1;
+    const int ystep = dy < 0 ? -1 : 1;
+    dx = std::abs(dx);
+    dy = std::abs(dy);
+    std::vector<std::array<int, 2>> px;
+    if (dx > dy) {
+        const int inc = dy + dy;
+        int error = inc - dx;
+        const int dec = error - dx;
+        for (int i = 0; i < dx; ++i) {
+            px.push_back({x0, y0});
+            x0 += xstep;
+            if (error < 0) {
+                error += inc;
+            } else {
+                error += dec;
+                y0 += ystep;
+            }
+        }
+    } else {
+        const int inc = dx + dx;
+        int error = inc - dy;
+        const int dec = error - dy;
+        for (int i = 0; i < dy; ++i) {
+            px.push_back({x0, y0});
+            y0 += ystep;
+            if (error < 0) {
+                error += inc;
+            } else {
+                error += dec;
+                x0 += xstep;
+            }
+        }
+    }
+    pixels_to_rows(px, ctx_.params.draw_region, rows_);
+    const ScanlineInterp interp = interp_of(d.state.shade);
+    ScanlinePrimitive& prim = add_primitive(rows_, interp);
+    // line_linear_coeff: dadx = da * dx * (1/area), a0 at vmin less the half pixel.
+    const auto linear = [&](float a_min, float a_max) {
+        const float da = a_max - a_min;
+        ScanlinePlane pl;
+        pl.dadx = da * emaj_dx * one_over_area;
+        pl.dady = da * emaj_dy * one_over_area;
+        pl.a0 = a_min - (pl.dadx * (v0.window[0] - 0.5f) + pl.dady * (v0.window[1] - 0.5f));
+        return pl;
+    };
+    list_.planes.push_back(linear(v0.window[2], v1.window[2]));
+    list_.planes.push_back(linear(v0.window[3], v1.window[3]));
+    const auto a0 = stage.attributes(v0);
+    const auto a1 = stage.attributes(v1);
+    const bool first = ctx_.params.provoking_first;
+    for (std::size_t f = 0; f < list_.attribute_floats; ++f) {
+        switch (interp) {
+            case ScanlineInterp::Constant:
+                list_.planes.push_back({first ? a0[f] : a1[f], 0.0f, 0.0f});
+                break;
+            case ScanlineInterp::Linear:
+                list_.planes.push_back(linear(a0[f], a1[f]));
+                break;
+            case ScanlineInterp::Perspective:
+                list_.planes.push_back(linear(a0[f] * v0.window[3], a1[f] * v1.window[3]));
+                break;
+        }
+    }
+    obs.scanline_drawn(window, v0.generated || v1.generated, list_.rows_of(prim),
+                       list_.primitives.size() - 1);
+}
+
+// sp_setup_point: a size of at most 1 lights the pixel of the truncated position; a larger
+// one the square of side (int)size from ((int)(x + 0.75 - size/2), (int)(y + 0.25 - size/2)),
+// the sums in double. Every attribute is the vertex's (const_coeff; point_persp_coeff
+// multiplies by 1/w, which the quad's 1/w divides out again).
+template <class Observer>
+void SoftpipeModel::point(const VertexStage& stage, const StageVertex& v, Observer& obs) {
+    const Draw& d = ctx_.draw;
+    const float size = d.state.point_size;
+    const float half = 0.5f * size;
+    const float x = v.window[0];
+    const float y = v.window[1];
+    std::vector<std::array<int, 2>> px;
+    if (half <= 0.5f) {
+        px.push_back({truncate_to_int(x), truncate_to_int(y)});
+    } else {
+        const int xmin = truncate_to_int(static_cast<double>(x) + 0.75 - static_cast<double>(half));
+        const int ymin = truncate_to_int(static_cast<double>(y) + 0.25 - static_cast<double>(half));
+        const int side = truncate_to_int(size);
+        for (int j = 0; j < side; ++j)
+            for (int i = 0; i < side; ++i) px.push_back({xmin + i, ymin + j});
+    }
+    pixels_to_rows(px, ctx_.params.draw_region, rows_);
+    const ScanlineInterp interp = interp_of(d.state.shade);
+    ScanlinePrimitive& prim = add_primitive(rows_, interp);
+    list_.planes.push_back({v.window[2], 0.0f, 0.0f});
+    list_.planes.push_back({v.window[3], 0.0f, 0.0f});
+    const auto a = stage.attributes(v);
+    for (std::size_t f = 0; f < list_.attribute_floats; ++f) {
+        const float value = interp == ScanlineInterp::Perspective ? a[f] * v.window[3] : a[f];
+        list_.planes.push_back({value, 0.0f, 0.0f});
+    }
+    const std::array<std::array<float, 4>, 1> window{v.window};
+    obs.scanline_drawn(window, false, list_.rows_of(prim), list_.primitives.size() - 1);
+}
+
+// Points: clipped by their centre (draw_pipe_clip.c clip_point).
+template <class Observer>
+void SoftpipeModel::points(VertexStage& stage, Observer& obs) {
+    const Draw& d = ctx_.draw;
+    for (std::size_t p = 0; p < d.element_count(); ++p) {
+        const std::array<std::uint32_t, 1> i{d.element(p)};
+        if (stage.clipmask(i[0]) != 0) continue;
+        const StageVertex v = stage.vertex(i[0]);
+        next_primitive(p, obs);
+        obs.begin_primitive("point", ctx_.index, p, i, stage);
+        point(stage, v, obs);
+        obs.end_primitive(KeepRecord::Covered);
+    }
+}
+
+// Polygon modes line and point: the draw pipeline's clip, cull, offset, flat-shade and
+// unfilled stages, as for llvmpipe (the same draw module), then softpipe's lines and points.
+template <class Observer>
+void SoftpipeModel::unfilled(VertexStage& stage, Observer& obs) {
+    const Draw& d = ctx_.draw;
+    const SetupParams& params = ctx_.params;
+    const bool first = params.provoking_first;
+    const auto tris = draw_triangles(ctx_);
+    const char* kind =
+        d.state.polygon_mode == PolygonMode::Line ? "polygon edges" : "polygon vertices";
+    std::vector<StageTriangle> staged;
+    for (std::size_t p = 0; p < tris.size(); ++p) {
+        next_primitive(p, obs);
+        const auto& at = tris[p];
+        const std::array<std::uint32_t, 3> idx{d.element(at.element[0]), d.element(at.element[1]),
+                                               d.element(at.element[2])};
+        obs.begin_primitive(kind, ctx_.index, p, idx, stage);
+        staged.clear();
+        stage.clip_triangle(idx, first, staged, nullptr);
+        for (auto t : staged) {
+            if (!passes_draw_cull(t, d.state.cull, params.front_ccw)) continue;
+            if (d.state.polygon_offset) {
+                apply_draw_offset(t, draw_determinant(t, ctx_.profile.gl.flush_denormals),
+                                  *d.state.polygon_offset, ctx_.target.depth,
+                                  ctx_.profile.gl.flush_denormals);
+            }
+            if (d.state.shade == ShadeModel::Flat) {
+                const StageVertex prov = t.v[first ? 0 : 2];
+                for (std::size_t k = 0; k < 3; ++k) {
+                    if (k != (first ? 0u : 2u)) t.v[k] = stage.duplicate_with_flat(t.v[k], prov);
+                }
+            }
+            const auto edge = [&](unsigned bit, std::size_t from) {
+                return (t.edge_flags & bit) != 0 && t.v[from].edgeflag;
+            };
+            if (d.state.polygon_mode == PolygonMode::Line) {
+                if (edge(4, 2)) segment(stage, t.v[2], t.v[0], obs);
+                if (edge(1, 0)) segment(stage, t.v[0], t.v[1], obs);
+                if (edge(2, 1)) segment(stage, t.v[1], t.v[2], obs);
+            } else {
+                if (edge(1, 0)) point(stage, t.v[0], obs);
+                if (edge(2, 1)) point(stage, t.v[1], obs);
+                if (edge(4, 2)) point(stage, t.v[2], obs);
+            }
+        }
+        obs.end_primitive(KeepRecord::CoveredOrNear);
+    }
+}
+
+template void SoftpipeModel::setup(VertexStage&, NoObserver&, const ListSink<List>&);
+template void SoftpipeModel::setup(VertexStage&, TraceObserver&, const ListSink<List>&);
+
+}  // namespace refraster::detail

@@ -1,0 +1,107 @@
+// softpipe_model.hpp: the scanline model, Mesa 22.3 softpipe's setup and traversal.
+//
+// Implements: from a draw's vertex stage to set-up primitives in API order, as Mesa's draw
+// module and softpipe's setup (gallium/drivers/softpipe/sp_setup.c) produce them: triangle
+// assembly and the draw module's clipper and float cull (the same draw module as llvmpipe's:
+// vertex_stage.hpp), then softpipe's float scanline setup (scanline_setup.hpp: no snapping,
+// the vertices sorted by y, truncating spans, its own facing and cull) and attribute planes;
+// lines as Bresenham segments of the truncated end points (sp_setup_line); points as
+// softpipe's squares (sp_setup_point). Traversal of a set-up primitive's rows into quad
+// packets. The fragment stage: softpipe_fragment.hpp.
+//
+// Deliberately does not: snap, multisample (softpipe has no multisampling: render() answers
+// NotSupported), texture (refused the same way), or reproduce llvmpipe's quirks.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "model.hpp"
+#include "quad.hpp"
+#include "softpipe_fragment.hpp"
+
+namespace refraster::detail {
+
+class SoftpipeModel {
+  public:
+    using List = ScanlineList;
+    using Primitive = ScanlinePrimitive;
+    static constexpr bool kRowBlocks = false;  // quad packets only
+
+    explicit SoftpipeModel(const DrawContext& ctx) : ctx_(ctx) {}
+
+    template <class Observer>
+    void setup(VertexStage& stage, Observer& obs, const ListSink<List>& sink);
+
+    // The primitive's rows as quad packets, a pair of rows (an even row and the one above it)
+    // at a time, as softpipe's span walk hands quads to the quad pipeline (flush_spans).
+    template <class Emit>
+    static void traverse(const ScanlineList& list, const ScanlinePrimitive& p, Emit&& emit) {
+        const auto rows = list.rows_of(p);
+        std::vector<QuadPacket> quads;
+        std::size_t r = 0;
+        while (r < rows.size()) {
+            const int y0 = rows[r].y & ~1;
+            // The (at most two) rows of this pair; rows are sorted bottom to top, one a y.
+            const ScanlineRow* lo = rows[r].y == y0 ? &rows[r] : nullptr;
+            const ScanlineRow* hi = nullptr;
+            if (lo == nullptr) {
+                hi = &rows[r++];
+            } else {
+                ++r;
+                if (r < rows.size() && rows[r].y == y0 + 1) hi = &rows[r++];
+            }
+            int x_begin = lo != nullptr ? lo->x0 : hi->x0;
+            int x_end = lo != nullptr ? lo->x1 : hi->x1;
+            if (lo != nullptr && hi != nullptr) {
+                x_begin = std::min(lo->x0, hi->x0);
+                x_end = std::max(lo->x1, hi->x1);
+            }
+            quads.clear();
+            for (int x = x_begin & ~1; x < x_end; x += 2) {
+                unsigned mask = 0;
+                for (unsigned k = 0; k < 4; ++k) {
+                    const ScanlineRow* row = k < 2 ? lo : hi;
+                    const int px = x + static_cast<int>(k & 1u);
+                    if (row != nullptr && px >= row->x0 && px < row->x1)
+                        mask |= 1u << quad_bit(k, 0);
+                }
+                if (mask != 0) quads.push_back({x, y0, static_cast<std::uint16_t>(mask)});
+            }
+            if (!quads.empty()) emit(std::span<const QuadPacket>(quads));
+        }
+    }
+
+    ScanlineKernel kernel() const { return {ctx_.draw, ctx_.target}; }
+
+  private:
+    template <class Observer>
+    void triangles(VertexStage& stage, Observer& obs);
+    template <class Observer>
+    void lines(VertexStage& stage, Observer& obs);
+    template <class Observer>
+    void points(VertexStage& stage, Observer& obs);
+    template <class Observer>
+    void unfilled(VertexStage& stage, Observer& obs);
+    template <class Observer>
+    void triangle(const VertexStage& stage, const StageTriangle& t, Observer& obs);
+    template <class Observer>
+    void segment(const VertexStage& stage, const StageVertex& v1, const StageVertex& v2,
+                 Observer& obs);
+    template <class Observer>
+    void point(const VertexStage& stage, const StageVertex& v, Observer& obs);
+    template <class Observer>
+    void next_primitive(std::size_t p, Observer& obs);
+    // Appends a primitive of `rows` with planes made by `plane(value_of_vertex)`.
+    ScanlinePrimitive& add_primitive(std::span<const ScanlineRow> rows, ScanlineInterp interp);
+
+    const DrawContext& ctx_;
+    const ListSink<List>* sink_ = nullptr;
+    ScanlineList list_;
+    std::uint32_t owner_ = 0;
+    ScanlineTriangle triangle_;  // the triangle being set up (its rows' storage is reused)
+    std::vector<ScanlineRow> rows_;
+};
+
+}  // namespace refraster::detail
