@@ -29,6 +29,8 @@
 
 namespace refraster::detail {
 
+class SoftpipeTileCache;
+
 struct DrawContext {
     std::size_t index = 0;  // of the draw in its DrawList
     const Draw& draw;
@@ -40,6 +42,9 @@ struct DrawContext {
     KernelPath kernels = KernelPath::Model;  // resolved for this CPU (resolve_kernel_path)
     BandWorkers* workers = nullptr;          // more than one thread shades (band_workers.hpp)
     const TextureUnit* texture = nullptr;    // the draw's texture unit (texture.hpp), if any
+    // The scanline model's colour tile cache, which lives for the whole render
+    // (softpipe_tiles.hpp); null under the other models.
+    SoftpipeTileCache* tiles = nullptr;
 
     VertexStageOptions vertex_options() const {
         return {fma, profile.gl.flush_denormals, profile.gl.clipping == Clipping::GuardBand,

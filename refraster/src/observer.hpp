@@ -55,8 +55,8 @@ struct NoObserver {
     void exact_setup(const ExactCoverage&) {}
     // The scanline model: a set-up primitive with its window vertices and covered rows, or
     // one setup rejected.
-    void scanline_drawn(std::span<const std::array<float, 4>>, bool,
-                        std::span<const ScanlineRow>, std::size_t) {}
+    void scanline_drawn(std::span<const std::array<float, 4>>, bool, std::span<const ScanlineRow>,
+                        std::size_t) {}
     void scanline_rejected(std::span<const std::array<float, 4>>, bool, const char*) {}
     void end_primitive(KeepRecord) {}
     template <class List, class Primitive, class Kernel>

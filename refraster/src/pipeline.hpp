@@ -10,8 +10,9 @@
 //                     in API order                               line_point.cpp (lp_setup_line.c,
 //                                                                lp_setup_point.c), planes in
 //                                                                fragment.cpp (lp_state_setup.c);
-//                                                                or softpipe_model.cpp (sp_setup.c),
-//                                                                or exact_model.cpp (the oracle)
+//                                                                or softpipe_model.cpp
+//                                                                (sp_setup.c), or exact_model.cpp
+//                                                                (the oracle)
 //   traversal         quad packets of the covered pixels, or     traverse.hpp (lp_rast_tri_tmp.h),
 //                     row blocks for the fast kernels            quad.hpp, row_block.hpp
 //   fragment kernel,  depth, colour, blending, stores            fragment.cpp (lp_bld_interp.c,
@@ -30,10 +31,10 @@
 #include "exact_model.hpp"
 #include "llvmpipe_model.hpp"
 #include "model.hpp"
-#include "softpipe_model.hpp"
 #include "quad.hpp"
 #include "refraster/framebuffer.hpp"
 #include "refraster/renderer.hpp"
+#include "softpipe_model.hpp"
 #include "vector_kernels.hpp"
 #include "vertex_stage.hpp"
 

@@ -28,6 +28,9 @@ Profile softpipe_22_3_profile() {
     // softpipe's tie rule in an FBO (sp_setup.c: spans [ceil-truncated left, right), rows from
     // ceilf(y - 0.5)): right edges and bottom edges own their centres.
     p.gl.tie_rule = TieRule::RightBottom;
+    // softpipe's draw module is the C one (sp_context.c: draw_create_no_llvm): the viewport
+    // transform is x * (1/w) * scale + translate, unfused (draw_cliptest_tmp.h).
+    p.gl.viewport_fma = FmaMode::Off;
     p.quirks.nine_vertex_quirk = false;
     p.quirks.wrapping_arithmetic = false;
     return p;
@@ -163,11 +166,10 @@ void set_profile_parameter(Profile& p, const std::string& key, const std::string
         if (value.empty()) bad(key, value, "a non-empty name");
         p.name = value;
     } else if (key == "coverage") {
-        p.model = pick<CoverageModel>(
-            key, value,
-            {{"snapped", CoverageModel::Snapped},
-             {"exact", CoverageModel::Exact},
-             {"scanline", CoverageModel::Scanline}});
+        p.model = pick<CoverageModel>(key, value,
+                                      {{"snapped", CoverageModel::Snapped},
+                                       {"exact", CoverageModel::Exact},
+                                       {"scanline", CoverageModel::Scanline}});
     } else if (key == "subpixel_bits") {
         // 8 bits is llvmpipe's FIXED_ORDER; the edge-function budget in setup.cpp holds up to 8.
         p.gl.subpixel_bits = parse_int(key, value, 1, 8);

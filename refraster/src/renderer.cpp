@@ -14,6 +14,7 @@
 #include "pipeline.hpp"
 #include "rules.hpp"
 #include "setup.hpp"
+#include "softpipe_tiles.hpp"
 #include "texture.hpp"
 #include "trace_observer.hpp"
 
@@ -85,7 +86,8 @@ bool is_triangle(PrimitiveType p) {
 std::string unsupported(const Draw& d, const Target& target, const Profile& profile) {
     if (profile.model == CoverageModel::Scanline) {
         // softpipe has no multisampling (GL_MAX_SAMPLES is 0) and its own float sampler.
-        if (d.state.texture) return "the scanline (softpipe) profile draws untextured primitives only";
+        if (d.state.texture)
+            return "the scanline (softpipe) profile draws untextured primitives only";
         return {};
     }
     if (profile.model != CoverageModel::Exact) return {};
@@ -151,6 +153,18 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
         texture_levels.push_back(list.textures[t].generate_mipmaps ? &generated[t]
                                                                    : &list.textures[t].levels);
     }
+    // softpipe's colours stay float in its tile cache until written back (softpipe_tiles.hpp).
+    // glGenerateMipmap's blit, which the GL backends run after the clear, flushes it.
+    std::optional<detail::SoftpipeTileCache> tiles;
+    if (options.profile.model == CoverageModel::Scanline) {
+        tiles.emplace(out, list.clear.color);
+        for (const auto& t : list.textures) {
+            if (t.generate_mipmaps) {
+                tiles->flush();
+                break;
+            }
+        }
+    }
     RenderOutcome outcome;
     for (std::size_t i = 0; i < list.draws.size(); ++i) {
         const Draw& d = list.draws[i];
@@ -174,7 +188,8 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
                                       !out.owner.empty(),
                                       kernels,
                                       workers ? &*workers : nullptr,
-                                      unit ? &*unit : nullptr};
+                                      unit ? &*unit : nullptr,
+                                      tiles ? &*tiles : nullptr};
         if (trace != nullptr) {
             detail::TraceObserver obs(*trace, ctx.params.multisample);
             outcome.fragments += detail::run_draw(ctx, obs, options.stop_after, out);
@@ -183,6 +198,7 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
             outcome.fragments += detail::run_draw(ctx, obs, options.stop_after, out);
         }
     }
+    if (tiles) tiles->flush();
     if (trace != nullptr && trace->x >= 0 && trace->y >= 0 &&
         static_cast<std::uint32_t>(trace->x) < out.width &&
         static_cast<std::uint32_t>(trace->y) < out.height) {

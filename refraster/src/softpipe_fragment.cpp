@@ -5,6 +5,8 @@
 #include <bit>
 
 #include "fragment.hpp"
+#include "softpipe_tiles.hpp"
+#include "vertex_stage.hpp"
 
 namespace refraster::detail {
 
@@ -13,6 +15,24 @@ namespace {
 // The value of plane `p` at pixel k (0..3) of the quad at (x0, y0).
 float at(const ScanlinePlane& p, int x0, int y0, unsigned k) {
     return scanline_quad(p, x0, y0)[k];
+}
+
+// cvttss2si with a 64-bit destination: truncation towards zero, 0x8000000000000000 for NaN
+// and values outside int64's range.
+std::int64_t truncate_to_int64(float v) {
+    if (!(v >= -9223372036854775808.0f && v < 9223372036854775808.0f)) return INT64_MIN;
+    return static_cast<std::int64_t>(v);
+}
+
+// cvttss2si with a 32-bit destination: 0x80000000 for NaN and values outside int32's range.
+std::int32_t truncate_to_int32(float v) {
+    if (!(v >= -2147483648.0f && v < 2147483648.0f)) return INT32_MIN;
+    return static_cast<std::int32_t>(v);
+}
+
+// sp_quad_blend.c's clamp: NaN passes through.
+float clamp01(float v) {
+    return v < 0.0f ? 0.0f : (v > 1.0f ? 1.0f : v);
 }
 
 unsigned depth_outcome(std::uint32_t frag, std::uint32_t stored, bool is_float) {
@@ -26,58 +46,49 @@ unsigned depth_outcome(std::uint32_t frag, std::uint32_t stored, bool is_float) 
 
 }  // namespace
 
-float softpipe_blend(BlendPreset preset, float s, float a, float d) {
-    switch (preset) {
-        case BlendPreset::Alpha:
-            return s * a + d * (1.0f - a);
-        case BlendPreset::Add:
-            return s + d;
-        case BlendPreset::None:
+std::uint32_t softpipe_depth_value(float z, DepthFormat format) {
+    switch (format) {
+        case DepthFormat::Z16:
+            return static_cast<std::uint32_t>(truncate_to_int64(z * 65535.0f));
+        case DepthFormat::Z24:
+            return static_cast<std::uint32_t>(truncate_to_int64(z * 16777215.0f));
+        case DepthFormat::Z32f:
+            return std::bit_cast<std::uint32_t>(z);
+        case DepthFormat::None:
             break;
     }
-    return s;
+    return 0;
 }
 
-ScanlineKernel::ScanlineKernel(const Draw& draw, const Target& target) : draw_(draw) {
+ScanlineKernel::ScanlineKernel(const Draw& draw, const Target& target, SoftpipeTileCache& tiles)
+    : draw_(draw), tiles_(tiles) {
+    rgba8_ = target.color == ColorFormat::Rgba8;
     depth_ = draw.state.depth_test.has_value() && target.depth != DepthFormat::None;
-    if (depth_) depth_pass_ = static_cast<std::uint8_t>(*draw.state.depth_test);
+    if (depth_) {
+        const CompareFunc f = *draw.state.depth_test;
+        depth_pass_ = static_cast<std::uint8_t>(f);
+        // st_atom_depth.c: the write mask is cleared for GL_EQUAL.
+        depth_write_ = draw.state.depth_write && f != CompareFunc::Equal;
+        // sp_quad_depth_test.c choose_depth_test: the z16 fast paths exist for every function
+        // but never and equal, with writes on (no stencil, alpha test or queries here).
+        z16_fast_path_ =
+            target.depth == DepthFormat::Z16 && depth_write_ && f != CompareFunc::Never;
+    }
+    const ViewportTransform vp = viewport_transform(draw.state);
+    const float near = vp.translate[2] - vp.scale[2];
+    const auto far =
+        static_cast<float>(static_cast<double>(near) + static_cast<double>(vp.scale[2]) * 2.0);
+    depth_min_ = std::min(near, far);
+    depth_max_ = std::max(near, far);
 }
 
-void ScanlineKernel::fragment(const ScanlineList& list, const ScanlinePrimitive& p, int x0, int y0,
-                              unsigned k, Framebuffer& fb, FragmentTrace* t) const {
-    const auto x = static_cast<std::uint32_t>(x0 + static_cast<int>(k & 1u));
-    const auto y = static_cast<std::uint32_t>(y0 + static_cast<int>(k >> 1));
-    const std::size_t i = fb.index(x, y);
-    const ScanlinePlane* planes = list.planes.data() + p.planes;
-    if (t != nullptr) {
-        const auto& z = planes[kScanlineZPlane];
-        const auto& w = planes[kScanlineWPlane];
-        t->z_plane = {z.a0, z.dadx, z.dady};
-        t->w_plane = {w.a0, w.dadx, w.dady};
-    }
-    if (depth_) {
-        // sp_quad_depth_test.c: the quad's z (the position input's linear plane), then
-        // convert_quad_depth.
-        const float z = at(planes[kScanlineZPlane], x0, y0, k);
-        const std::uint32_t value = scanline_depth_value(z, fb.depth_format);
-        const std::uint32_t stored = fb.depth[i];
-        const bool pass =
-            (depth_pass_ & depth_outcome(value, stored, fb.depth_format == DepthFormat::Z32f)) != 0;
-        if (t != nullptr) {
-            t->z = std::clamp(z, 0.0f, 1.0f);
-            t->depth_tested = true;
-            t->depth_value = value;
-            t->depth_stored = stored;
-            t->depth_pass = pass;
-        }
-        if (!pass) return;
-        if (draw_.state.depth_write) fb.depth[i] = value;
-    }
+std::array<float, 4> ScanlineKernel::color(const ScanlineList& list, const ScanlinePrimitive& p,
+                                           int x0, int y0, unsigned k) const {
     // The colour: attributes 0..3 of the vertex (the "color" attribute).
+    const ScanlinePlane* planes = list.planes.data() + p.planes;
     std::array<float, 4> c{};
-    const float w = p.interp == ScanlineInterp::Perspective
-                        ? at(planes[kScanlineWPlane], x0, y0, k)
-                        : 1.0f;
+    const float w =
+        p.interp == ScanlineInterp::Perspective ? at(planes[kScanlineWPlane], x0, y0, k) : 1.0f;
     for (std::size_t ch = 0; ch < 4; ++ch) {
         const ScanlinePlane& a = planes[kScanlineFirstAttribute + ch];
         switch (p.interp) {
@@ -92,42 +103,111 @@ void ScanlineKernel::fragment(const ScanlineList& list, const ScanlinePrimitive&
                 break;
         }
     }
-    std::array<float, 4> written{};
-    if (fb.color_format == ColorFormat::Rgba8) {
-        std::uint8_t* px = fb.color8.data() + 4 * i;
-        if (t != nullptr) {
-            for (std::size_t ch = 0; ch < 4; ++ch) t->destination[ch] = px[ch] / 255.0f;
-        }
-        if (draw_.state.blend == BlendPreset::None) {
-            for (std::size_t ch = 0; ch < 4; ++ch) px[ch] = color_to_unorm8(c[ch]);
-        } else {
-            const float a = std::clamp(c[3], 0.0f, 1.0f);
-            for (std::size_t ch = 0; ch < 4; ++ch) {
-                const float s = std::clamp(c[ch], 0.0f, 1.0f);
-                const float d = static_cast<float>(px[ch]) / 255.0f;
-                px[ch] = color_to_unorm8(softpipe_blend(draw_.state.blend, s, a, d));
+    return c;
+}
+
+void ScanlineKernel::merge(const std::array<float, 4>& c, float* dst) const {
+    // sp_quad_blend.c: single_output_color, blend_single_add_src_alpha_inv_src_alpha,
+    // blend_single_add_one_one; the source and result clamped for a unorm target only.
+    switch (draw_.state.blend) {
+        case BlendPreset::None:
+            std::copy(c.begin(), c.end(), dst);
+            break;
+        case BlendPreset::Alpha: {
+            std::array<float, 4> s = c;
+            if (rgba8_) {
+                for (auto& v : s) v = clamp01(v);
             }
+            const float a = s[3];
+            const float one_minus_a = 1.0f - a;
+            for (std::size_t k = 0; k < 4; ++k) {
+                const float v = s[k] * a + dst[k] * one_minus_a;
+                dst[k] = rgba8_ ? clamp01(v) : v;
+            }
+            break;
         }
-        for (std::size_t ch = 0; ch < 4; ++ch) written[ch] = px[ch];
-    } else {
-        float* px = fb.color32f.data() + 4 * i;
-        if (t != nullptr) std::copy(px, px + 4, t->destination.begin());
-        for (std::size_t ch = 0; ch < 4; ++ch)
-            px[ch] = softpipe_blend(draw_.state.blend, c[ch], c[3], px[ch]);
-        std::copy(px, px + 4, written.begin());
-    }
-    if (!fb.owner.empty()) fb.owner[i] = p.owner;
-    if (t != nullptr) {
-        t->shader_color = c;
-        t->written = written;
+        case BlendPreset::Add:
+            for (std::size_t k = 0; k < 4; ++k) {
+                const float v = (rgba8_ ? clamp01(c[k]) : c[k]) + dst[k];
+                dst[k] = rgba8_ ? clamp01(v) : v;
+            }
+            break;
     }
 }
 
 void ScanlineKernel::shade(const ScanlineList& list, const ScanlinePrimitive& p,
                            std::span<const QuadPacket> quads, Framebuffer& fb) const {
-    for (const QuadPacket& q : quads) {
+    if (quads.empty()) return;
+    const ScanlinePlane& zp = list.planes[p.planes + kScanlineZPlane];
+    // The early depth test over the batch: the surviving pixels of each quad.
+    std::array<std::uint16_t, 8> live{};
+    std::vector<std::uint16_t> live_more;
+    std::uint16_t* alive = live.data();
+    if (quads.size() > live.size()) {
+        live_more.resize(quads.size());
+        alive = live_more.data();
+    }
+    bool any = false;
+    // sp_quad_depth_test_tmp.h: exact values at the batch's first quad, a truncated step on.
+    std::array<std::int32_t, 4> init{};
+    std::int32_t step = 0;
+    if (depth_ && z16_fast_path_ && !p.clamp_depth) {
+        const auto z = scanline_quad(zp, quads[0].x, quads[0].y);
+        for (std::size_t j = 0; j < 4; ++j) init[j] = truncate_to_int32(z[j] * 65535.0f) & 0xffff;
+        step = truncate_to_int32(zp.dadx * 65535.0f) & 0xffff;
+    }
+    for (std::size_t q = 0; q < quads.size(); ++q) {
+        const QuadPacket& quad = quads[q];
+        std::uint16_t mask = quad.mask & kSample0Pixels;
+        if (depth_) {
+            std::array<float, 4> z{};
+            if (!z16_fast_path_ || p.clamp_depth) z = scanline_quad(zp, quad.x, quad.y);
+            for (unsigned k = 0; k < 4; ++k) {
+                if ((mask & (1u << k)) == 0) continue;
+                const auto x = static_cast<std::uint32_t>(quad.x + static_cast<int>(k & 1u));
+                const auto y = static_cast<std::uint32_t>(quad.y + static_cast<int>(k >> 1));
+                const std::size_t i = fb.index(x, y);
+                std::uint32_t value = 0;
+                std::uint32_t stored_value = 0;
+                if (z16_fast_path_ && !p.clamp_depth) {
+                    const std::int32_t dx = quad.x - quads[0].x;
+                    value = static_cast<std::uint32_t>(init[k] + dx * step) & 0xffffu;
+                    stored_value = value;
+                } else {
+                    float zk = z[k];
+                    // depth_test_quads_fallback's clamp, for primitives drawn with depth
+                    // clipping off (the point sprites).
+                    if (p.clamp_depth) zk = std::min(std::max(zk, depth_min_), depth_max_);
+                    value = softpipe_depth_value(zk, fb.depth_format);
+                    stored_value = fb.depth_format == DepthFormat::Z16   ? value & 0xffffu
+                                   : fb.depth_format == DepthFormat::Z24 ? value & 0xffffffu
+                                                                         : value;
+                }
+                const bool pass =
+                    (depth_pass_ &
+                     depth_outcome(value, fb.depth[i], fb.depth_format == DepthFormat::Z32f)) != 0;
+                if (!pass) {
+                    mask = static_cast<std::uint16_t>(mask & ~(1u << k));
+                } else if (depth_write_) {
+                    fb.depth[i] = stored_value;
+                }
+            }
+        }
+        alive[q] = mask;
+        any = any || mask != 0;
+    }
+    if (!any) return;  // the batch never reaches the blend stage: no tile is fetched
+    tiles_.fetch(quads[0].x, quads[0].y);
+    for (std::size_t q = 0; q < quads.size(); ++q) {
+        const QuadPacket& quad = quads[q];
         for (unsigned k = 0; k < 4; ++k) {
-            if ((q.mask & (1u << quad_bit(k, 0))) != 0) fragment(list, p, q.x, q.y, k, fb, nullptr);
+            if ((alive[q] & (1u << k)) == 0) continue;
+            const int x = quad.x + static_cast<int>(k & 1u);
+            const int y = quad.y + static_cast<int>(k >> 1);
+            merge(color(list, p, quad.x, quad.y, k), tiles_.pixel(x, y));
+            if (!fb.owner.empty())
+                fb.owner[fb.index(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y))] =
+                    p.owner;
         }
     }
 }
@@ -135,9 +215,33 @@ void ScanlineKernel::shade(const ScanlineList& list, const ScanlinePrimitive& p,
 FragmentTrace ScanlineKernel::trace(const ScanlineList& list, const ScanlinePrimitive& p, int x,
                                     int y, unsigned, const Framebuffer& fb) const {
     FragmentTrace t;
-    Framebuffer scratch = fb;  // the fragment is traced, not drawn
-    const unsigned k = static_cast<unsigned>((x & 1) + 2 * (y & 1));
-    fragment(list, p, x & ~1, y & ~1, k, scratch, &t);
+    const ScanlinePlane* planes = list.planes.data() + p.planes;
+    const auto& zp = planes[kScanlineZPlane];
+    const auto& wp = planes[kScanlineWPlane];
+    t.z_plane = {zp.a0, zp.dadx, zp.dady};
+    t.w_plane = {wp.a0, wp.dadx, wp.dady};
+    const int x0 = x & ~1;
+    const int y0 = y & ~1;
+    const auto k = static_cast<unsigned>((x & 1) + 2 * (y & 1));
+    const std::size_t i = fb.index(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y));
+    if (depth_) {
+        float z = at(zp, x0, y0, k);
+        if (p.clamp_depth) z = std::min(std::max(z, depth_min_), depth_max_);
+        t.z = z;
+        t.depth_tested = true;
+        t.depth_value = softpipe_depth_value(z, fb.depth_format);
+        t.depth_stored = fb.depth[i];
+        t.depth_pass = (depth_pass_ & depth_outcome(t.depth_value, t.depth_stored,
+                                                    fb.depth_format == DepthFormat::Z32f)) != 0;
+    }
+    t.shader_color = color(list, p, x0, y0, k);
+    t.destination = tiles_.peek(x, y);
+    std::array<float, 4> written = t.destination;
+    if (t.depth_pass) merge(t.shader_color, written.data());
+    if (rgba8_) {
+        for (auto& v : written) v = color_to_unorm8(v);
+    }
+    t.written = written;
     return t;
 }
 

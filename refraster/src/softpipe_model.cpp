@@ -133,58 +133,61 @@ void SoftpipeModel::triangles(VertexStage& stage, Observer& obs) {
                                   *d.state.polygon_offset, ctx_.target.depth,
                                   ctx_.profile.gl.flush_denormals);
             }
-            triangle(stage, t, obs);
+            triangle(stage, {&t.v[0], &t.v[1], &t.v[2]}, t.clipped, false, obs);
         }
         obs.end_primitive(KeepRecord::CoveredOrNear);
     }
 }
 
-// sp_setup_tri: setup_sort_vertices, setup_tri_coefficients, subtriangle.
+// sp_setup_tri: setup_sort_vertices, setup_tri_coefficients, subtriangle. `v` in the order the
+// draw module emits them; `sprite` for the wide-point stage's triangles, which it emits under
+// its own rasterizer state (draw_get_rasterizer_no_cull: no culling, front_ccw set, depth
+// clipping off, so that softpipe clamps their depth to the depth range).
 template <class Observer>
-void SoftpipeModel::triangle(const VertexStage& stage, const StageTriangle& st, Observer& obs) {
+void SoftpipeModel::triangle(const VertexStage& stage, const std::array<const StageVertex*, 3>& v,
+                             bool clipped, bool sprite, Observer& obs) {
     const Draw& d = ctx_.draw;
-    const std::array<std::array<float, 2>, 3> w{{{st.v[0].window[0], st.v[0].window[1]},
-                                                 {st.v[1].window[0], st.v[1].window[1]},
-                                                 {st.v[2].window[0], st.v[2].window[1]}}};
-    const std::array<std::array<float, 4>, 3> window{st.v[0].window, st.v[1].window,
-                                                     st.v[2].window};
-    const auto outcome = setup_scanline_triangle(w, d.state.cull, ctx_.params.front_ccw,
+    const std::array<std::array<float, 2>, 3> w{{{v[0]->window[0], v[0]->window[1]},
+                                                 {v[1]->window[0], v[1]->window[1]},
+                                                 {v[2]->window[0], v[2]->window[1]}}};
+    const std::array<std::array<float, 4>, 3> window{v[0]->window, v[1]->window, v[2]->window};
+    const auto outcome = setup_scanline_triangle(w, sprite ? CullMode::None : d.state.cull,
+                                                 sprite ? true : ctx_.params.front_ccw,
                                                  ctx_.params.draw_region, triangle_);
     if (outcome != ScanlineOutcome::Ok) {
-        obs.scanline_rejected(window, st.clipped,
+        obs.scanline_rejected(window, clipped,
                               outcome == ScanlineOutcome::Culled ? "culled" : "zero area");
         return;
     }
     const ScanlineInterp interp = interp_of(d.state.shade);
     ScanlinePrimitive& prim = add_primitive(triangle_.rows, interp);
+    prim.clamp_depth = sprite;
     const ScanlineTriangle& t = triangle_;
-    const std::array<float, 3> z{st.v[0].window[2], st.v[1].window[2], st.v[2].window[2]};
-    const std::array<float, 3> oow{st.v[0].window[3], st.v[1].window[3], st.v[2].window[3]};
+    const std::array<float, 3> z{v[0]->window[2], v[1]->window[2], v[2]->window[2]};
+    const std::array<float, 3> oow{v[0]->window[3], v[1]->window[3], v[2]->window[3]};
     // setup_tri_coefficients: the position's z and w are linear.
     list_.planes.push_back(scanline_plane(t, z));
     list_.planes.push_back(scanline_plane(t, oow));
-    const std::array<std::span<const float>, 3> a{stage.attributes(st.v[0]),
-                                                  stage.attributes(st.v[1]),
-                                                  stage.attributes(st.v[2])};
+    const std::array<std::span<const float>, 3> attrs{
+        stage.attributes(*v[0]), stage.attributes(*v[1]), stage.attributes(*v[2])};
     // The provoking vertex of the input order (setup->vprovoke: v2, or v0 with
-    // flatshade_first), before sorting.
-    const std::size_t provoking = ctx_.params.provoking_first ? 0 : 2;
-    std::array<std::span<const float>, 3> attrs = a;
+    // flatshade_first), before sorting; the sprite rasterizer's flatshade_first is 0.
+    const std::size_t provoking = ctx_.params.provoking_first && !sprite ? 0 : 2;
     for (std::size_t f = 0; f < list_.attribute_floats; ++f) {
-        const std::array<float, 3> v{attrs[0][f], attrs[1][f], attrs[2][f]};
+        const std::array<float, 3> a{attrs[0][f], attrs[1][f], attrs[2][f]};
         switch (interp) {
             case ScanlineInterp::Constant:
-                list_.planes.push_back({v[provoking], 0.0f, 0.0f});
+                list_.planes.push_back({a[provoking], 0.0f, 0.0f});
                 break;
             case ScanlineInterp::Linear:
-                list_.planes.push_back(scanline_plane(t, v));
+                list_.planes.push_back(scanline_plane(t, a));
                 break;
             case ScanlineInterp::Perspective:
-                list_.planes.push_back(scanline_persp_plane(t, v, oow));
+                list_.planes.push_back(scanline_persp_plane(t, a, oow));
                 break;
         }
     }
-    obs.scanline_drawn(window, st.clipped, list_.rows_of(prim), list_.primitives.size() - 1);
+    obs.scanline_drawn(window, clipped, list_.rows_of(prim), list_.primitives.size() - 1);
 }
 
 // Lines: assembly, the draw module's clipper (do_clip_line), then sp_setup_line.
@@ -268,9 +271,30 @@ void SoftpipeModel::segment(const VertexStage& stage, const StageVertex& v0, con
             }
         }
     }
-    pixels_to_rows(px, ctx_.params.draw_region, rows_);
+    // plot(): pixels gathered into the quad they fall in, a quad handed on (clipped to the
+    // draw region, clip_emit_quad) when the next pixel leaves it.
+    const PixelRect& region = ctx_.params.draw_region;
+    const auto first_quad = static_cast<std::uint32_t>(list_.quads.size());
+    QuadPacket quad{0, 0, 0};
+    const auto emit_quad = [&] {
+        if (quad.mask != 0) list_.quads.push_back(quad);
+    };
+    for (const auto& [x, y] : px) {
+        if (quad.mask == 0 || quad.x != (x & ~1) || quad.y != (y & ~1)) {
+            emit_quad();
+            quad = {x & ~1, y & ~1, 0};
+        }
+        if (x >= region.x0 && x <= region.x1 && y >= region.y0 && y <= region.y1)
+            quad.mask = static_cast<std::uint16_t>(
+                quad.mask | (1u << quad_bit(static_cast<unsigned>((x & 1) + 2 * (y & 1)), 0)));
+    }
+    emit_quad();
+    const auto quad_count = static_cast<std::uint32_t>(list_.quads.size()) - first_quad;
+    pixels_to_rows(px, region, rows_);
     const ScanlineInterp interp = interp_of(d.state.shade);
     ScanlinePrimitive& prim = add_primitive(rows_, interp);
+    prim.first_quad = first_quad;
+    prim.quad_count = quad_count;
     // line_linear_coeff: dadx = da * dx * (1/area), a0 at vmin less the half pixel.
     const auto linear = [&](float a_min, float a_max) {
         const float da = a_max - a_min;
@@ -302,39 +326,33 @@ void SoftpipeModel::segment(const VertexStage& stage, const StageVertex& v0, con
                        list_.primitives.size() - 1);
 }
 
-// sp_setup_point: a size of at most 1 lights the pixel of the truncated position; a larger
-// one the square of side (int)size from ((int)(x + 0.75 - size/2), (int)(y + 0.25 - size/2)),
-// the sums in double. Every attribute is the vertex's (const_coeff; point_persp_coeff
-// multiplies by 1/w, which the quad's 1/w divides out again).
+// A point as the draw module's wide-point stage hands it to softpipe (the project's GL state
+// enables GL_POINT_SPRITE, so every point of every size takes this path:
+// draw_pipe_wide_point.c, widepoint_point): two triangles of the corners x - h + 0.125 and
+// x + h + 0.125, y - h - 0.125 and y + h - 0.125 (h = size / 2, each offset rounded before it
+// is added), (v0, v2, v3) then (v0, v3, v1), every corner with the point's z, 1/w and
+// attributes, drawn by softpipe's triangle setup. The size is glPointSize clamped to [0, 255]
+// (st_atom_rasterizer.c), not rounded.
 template <class Observer>
 void SoftpipeModel::point(const VertexStage& stage, const StageVertex& v, Observer& obs) {
-    const Draw& d = ctx_.draw;
-    const float size = d.state.point_size;
+    const float size = std::clamp(ctx_.draw.state.point_size, 0.0f, 255.0f);
     const float half = 0.5f * size;
-    const float x = v.window[0];
-    const float y = v.window[1];
-    std::vector<std::array<int, 2>> px;
-    if (half <= 0.5f) {
-        px.push_back({truncate_to_int(x), truncate_to_int(y)});
-    } else {
-        const int xmin = truncate_to_int(static_cast<double>(x) + 0.75 - static_cast<double>(half));
-        const int ymin = truncate_to_int(static_cast<double>(y) + 0.25 - static_cast<double>(half));
-        const int side = truncate_to_int(size);
-        for (int j = 0; j < side; ++j)
-            for (int i = 0; i < side; ++i) px.push_back({xmin + i, ymin + j});
-    }
-    pixels_to_rows(px, ctx_.params.draw_region, rows_);
-    const ScanlineInterp interp = interp_of(d.state.shade);
-    ScanlinePrimitive& prim = add_primitive(rows_, interp);
-    list_.planes.push_back({v.window[2], 0.0f, 0.0f});
-    list_.planes.push_back({v.window[3], 0.0f, 0.0f});
-    const auto a = stage.attributes(v);
-    for (std::size_t f = 0; f < list_.attribute_floats; ++f) {
-        const float value = interp == ScanlineInterp::Perspective ? a[f] * v.window[3] : a[f];
-        list_.planes.push_back({value, 0.0f, 0.0f});
-    }
-    const std::array<std::array<float, 4>, 1> window{v.window};
-    obs.scanline_drawn(window, false, list_.rows_of(prim), list_.primitives.size() - 1);
+    const float left = -half + 0.125f;
+    const float right = half + 0.125f;
+    const float bottom = -half + -0.125f;  // gallium's "top" (y down), GL's bottom in an FBO
+    const float top = half + -0.125f;
+    const auto corner = [&](float dx, float dy) {
+        StageVertex c = v;
+        c.window[0] = v.window[0] + dx;
+        c.window[1] = v.window[1] + dy;
+        return c;
+    };
+    const StageVertex v0 = corner(left, bottom);
+    const StageVertex v1 = corner(left, top);
+    const StageVertex v2 = corner(right, bottom);
+    const StageVertex v3 = corner(right, top);
+    triangle(stage, {&v0, &v2, &v3}, false, true, obs);
+    triangle(stage, {&v0, &v3, &v1}, false, true, obs);
 }
 
 // Points: clipped by their centre (draw_pipe_clip.c clip_point).

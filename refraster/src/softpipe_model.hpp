@@ -5,14 +5,16 @@
 // assembly and the draw module's clipper and float cull (the same draw module as llvmpipe's:
 // vertex_stage.hpp), then softpipe's float scanline setup (scanline_setup.hpp: no snapping,
 // the vertices sorted by y, truncating spans, its own facing and cull) and attribute planes;
-// lines as Bresenham segments of the truncated end points (sp_setup_line); points as
-// softpipe's squares (sp_setup_point). Traversal of a set-up primitive's rows into quad
-// packets. The fragment stage: softpipe_fragment.hpp.
+// lines as Bresenham segments of the truncated end points (sp_setup_line); points as the
+// draw module's point sprites, two triangles each (draw_pipe_wide_point.c). Traversal of a set-up
+// primitive's rows into quad packets. The fragment stage: softpipe_fragment.hpp.
 //
 // Deliberately does not: snap, multisample (softpipe has no multisampling: render() answers
 // NotSupported), texture (refused the same way), or reproduce llvmpipe's quirks.
 #pragma once
 
+#include <algorithm>
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -34,46 +36,54 @@ class SoftpipeModel {
     template <class Observer>
     void setup(VertexStage& stage, Observer& obs, const ListSink<List>& sink);
 
-    // The primitive's rows as quad packets, a pair of rows (an even row and the one above it)
-    // at a time, as softpipe's span walk hands quads to the quad pipeline (flush_spans).
+    // The primitive's quads a batch at a time, as softpipe hands them to its quad pipeline:
+    // a line's quads one by one in plotting order (clip_emit_quad); a triangle's a 2-row block
+    // (an even row and the one above it) at a time, bottom to top, each block in 16-pixel
+    // aligned column chunks from (min(left) & ~15) to max(right), left to right, each chunk's
+    // non-empty quads one batch (sp_setup.c flush_spans).
     template <class Emit>
     static void traverse(const ScanlineList& list, const ScanlinePrimitive& p, Emit&& emit) {
+        if (p.quad_count != 0) {
+            for (std::uint32_t q = 0; q < p.quad_count; ++q)
+                emit(std::span<const QuadPacket>(&list.quads[p.first_quad + q], 1));
+            return;
+        }
         const auto rows = list.rows_of(p);
-        std::vector<QuadPacket> quads;
+        std::array<QuadPacket, 8> batch;
         std::size_t r = 0;
         while (r < rows.size()) {
             const int y0 = rows[r].y & ~1;
-            // The (at most two) rows of this pair; rows are sorted bottom to top, one a y.
-            const ScanlineRow* lo = rows[r].y == y0 ? &rows[r] : nullptr;
+            // The (at most two) rows of this block; rows are sorted bottom to top, one a y.
+            const ScanlineRow* lo = nullptr;
             const ScanlineRow* hi = nullptr;
-            if (lo == nullptr) {
-                hi = &rows[r++];
-            } else {
-                ++r;
+            if (rows[r].y == y0) {
+                lo = &rows[r++];
                 if (r < rows.size() && rows[r].y == y0 + 1) hi = &rows[r++];
+            } else {
+                hi = &rows[r++];
             }
-            int x_begin = lo != nullptr ? lo->x0 : hi->x0;
-            int x_end = lo != nullptr ? lo->x1 : hi->x1;
-            if (lo != nullptr && hi != nullptr) {
-                x_begin = std::min(lo->x0, hi->x0);
-                x_end = std::max(lo->x1, hi->x1);
-            }
-            quads.clear();
-            for (int x = x_begin & ~1; x < x_end; x += 2) {
-                unsigned mask = 0;
-                for (unsigned k = 0; k < 4; ++k) {
-                    const ScanlineRow* row = k < 2 ? lo : hi;
-                    const int px = x + static_cast<int>(k & 1u);
-                    if (row != nullptr && px >= row->x0 && px < row->x1)
-                        mask |= 1u << quad_bit(k, 0);
+            const int left =
+                std::min(lo != nullptr ? lo->x0 : hi->x0, hi != nullptr ? hi->x0 : lo->x0);
+            const int right =
+                std::max(lo != nullptr ? lo->x1 : hi->x1, hi != nullptr ? hi->x1 : lo->x1);
+            for (int chunk = left & ~15; chunk < right; chunk += 16) {
+                std::size_t n = 0;
+                for (int x = chunk; x < chunk + 16; x += 2) {
+                    unsigned mask = 0;
+                    for (unsigned k = 0; k < 4; ++k) {
+                        const ScanlineRow* row = k < 2 ? lo : hi;
+                        const int px = x + static_cast<int>(k & 1u);
+                        if (row != nullptr && px >= row->x0 && px < row->x1)
+                            mask |= 1u << quad_bit(k, 0);
+                    }
+                    if (mask != 0) batch[n++] = {x, y0, static_cast<std::uint16_t>(mask)};
                 }
-                if (mask != 0) quads.push_back({x, y0, static_cast<std::uint16_t>(mask)});
+                if (n != 0) emit(std::span<const QuadPacket>(batch.data(), n));
             }
-            if (!quads.empty()) emit(std::span<const QuadPacket>(quads));
         }
     }
 
-    ScanlineKernel kernel() const { return {ctx_.draw, ctx_.target}; }
+    ScanlineKernel kernel() const { return {ctx_.draw, ctx_.target, *ctx_.tiles}; }
 
   private:
     template <class Observer>
@@ -85,7 +95,8 @@ class SoftpipeModel {
     template <class Observer>
     void unfilled(VertexStage& stage, Observer& obs);
     template <class Observer>
-    void triangle(const VertexStage& stage, const StageTriangle& t, Observer& obs);
+    void triangle(const VertexStage& stage, const std::array<const StageVertex*, 3>& v,
+                  bool clipped, bool sprite, Observer& obs);
     template <class Observer>
     void segment(const VertexStage& stage, const StageVertex& v1, const StageVertex& v2,
                  Observer& obs);

@@ -347,9 +347,11 @@ struct Renderers {
     std::unique_ptr<harness::Backend> osmesa;
 };
 
-inline Renderers make_renderers(const refraster::Profile& profile = {}) {
+inline Renderers make_renderers(const refraster::Profile& profile = {},
+                                harness::Driver driver = harness::Driver::Llvmpipe) {
     harness::BackendOptions gl;
     gl.kind = harness::BackendKind::OSMesa;
+    gl.driver = driver;
     harness::BackendOptions ro;
     ro.profile = profile;
     return {harness::make_backend(ro), harness::make_backend(gl)};

@@ -1,14 +1,14 @@
 // profile.hpp: every rasterization rule the reference follows, as data.
 //
 // Implements: Profile, in three parts kept apart: the model that draws (llvmpipe 22.3's
-// snapped setup and traversal, softpipe 22.3's scanline setup, or the exact oracle), the general GL rules, the parameters in
-// which the GL specification leaves implementations free and one implementation differs from
-// another (subpixel precision, snapping rounding, pixel-centre offset, the tie rule, the
-// clipper, FMA and denormal behaviour), and the quirks of the model's driver beyond those rules
-// (Mesa draw-module and llvmpipe behaviour); the built-in profiles `llvmpipe-22.3`,
-// `softpipe-22.3` and `gl-exact`; reading and writing single parameters as text (`tie_rule=right-top`), one flat
-// list of keys over all three parts, so that profiles can be stored and overridden from the
-// outside.
+// snapped setup and traversal, softpipe 22.3's scanline setup, or the exact oracle), the general GL
+// rules, the parameters in which the GL specification leaves implementations free and one
+// implementation differs from another (subpixel precision, snapping rounding, pixel-centre offset,
+// the tie rule, the clipper, FMA and denormal behaviour), and the quirks of the model's driver
+// beyond those rules (Mesa draw-module and llvmpipe behaviour); the built-in profiles
+// `llvmpipe-22.3`, `softpipe-22.3` and `gl-exact`; reading and writing single parameters as text
+// (`tie_rule=right-top`), one flat list of keys over all three parts, so that profiles can be
+// stored and overridden from the outside.
 //
 // Deliberately does not: parse files (the harness reads profile JSON through these setters),
 // or describe rules not implemented yet (attribute, depth, line and point rules arrive with
@@ -29,10 +29,10 @@ namespace refraster {
 
 // The model: how coverage is decided, and so which setup, traversal and fragment code runs.
 enum class CoverageModel : std::uint8_t {
-    Snapped,  // llvmpipe 22.3: window coordinates snapped to a subpixel grid, integer edge
-              // functions
-    Exact,    // the oracle: exact predicates on the float32 clip-space inputs, no snapping, no
-              // clipper
+    Snapped,   // llvmpipe 22.3: window coordinates snapped to a subpixel grid, integer edge
+               // functions
+    Exact,     // the oracle: exact predicates on the float32 clip-space inputs, no snapping, no
+               // clipper
     Scanline,  // softpipe 22.3: float window coordinates, a scanline walk of truncated spans,
                // Bresenham lines, attribute planes evaluated a 2x2 quad at a time
 };
