@@ -30,9 +30,10 @@ std::int32_t truncate_to_int32(float v) {
     return static_cast<std::int32_t>(v);
 }
 
-// sp_quad_blend.c's clamp: NaN passes through.
+// sp_quad_blend.c clamp_colors: CLAMP(x, 0, 1) = x > 0 ? (x > 1 ? 1 : x) : 0, so NaN and -0
+// become +0.
 float clamp01(float v) {
-    return v < 0.0f ? 0.0f : (v > 1.0f ? 1.0f : v);
+    return v > 0.0f ? (v > 1.0f ? 1.0f : v) : 0.0f;
 }
 
 unsigned depth_outcome(std::uint32_t frag, std::uint32_t stored, bool is_float) {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdlib>
 
 #include "observer.hpp"
@@ -140,9 +141,10 @@ void SoftpipeModel::triangles(VertexStage& stage, Observer& obs) {
 }
 
 // sp_setup_tri: setup_sort_vertices, setup_tri_coefficients, subtriangle. `v` in the order the
-// draw module emits them; `sprite` for the wide-point stage's triangles, which it emits under
-// its own rasterizer state (draw_get_rasterizer_no_cull: no culling, front_ccw set, depth
-// clipping off, so that softpipe clamps their depth to the depth range).
+// draw module emits them; `sprite` for the triangles of the wide-point and wide-line stages,
+// which they emit under their own rasterizer state (draw_get_rasterizer_no_cull: no culling,
+// front_ccw set, flatshade_first clear, depth clipping off, so that softpipe clamps their
+// depth to the depth range and never takes the z16 fast path).
 template <class Observer>
 void SoftpipeModel::triangle(const VertexStage& stage, const std::array<const StageVertex*, 3>& v,
                              bool clipped, bool sprite, Observer& obs) {
@@ -218,6 +220,10 @@ template <class Observer>
 void SoftpipeModel::segment(const VertexStage& stage, const StageVertex& v0, const StageVertex& v1,
                             Observer& obs) {
     const Draw& d = ctx_.draw;
+    // st_atom_rasterizer.c clamps the width to [1, 255]; draw_pipe_validate.c sends a line to
+    // the wide-line stage when width != 1 and roundf(width) > 1, that is from 1.5 on.
+    const float width = std::clamp(d.state.line_width, 1.0f, 255.0f);
+    if (width != 1.0f && std::round(width) > 1.0f) return wide_segment(stage, v0, v1, width, obs);
     const std::array<std::array<float, 4>, 2> window{v0.window, v1.window};
     int x0 = truncate_to_int(v0.window[0]);
     int y0 = truncate_to_int(v0.window[1]);
@@ -324,6 +330,55 @@ void SoftpipeModel::segment(const VertexStage& stage, const StageVertex& v0, con
     }
     obs.scanline_drawn(window, v0.generated || v1.generated, list_.rows_of(prim),
                        list_.primitives.size() - 1);
+}
+
+// A wide line as the draw module's wide-line stage hands it to softpipe
+// (draw_pipe_wide_line.c, wideline_line): the end points moved ±width/2 across the major axis
+// (x-major iff |dx| > |dy| of the window positions) with a bias of 0.125 (subtracted in y for
+// an x-major line, added in x for a y-major one), and the whole quad shifted half a pixel
+// along the major axis towards the start, not extended; A, B copies of the first end and C,
+// D of the second, drawn as (A, C, D) then (A, D, B) under the stage's own rasterizer state
+// (no culling, depth clamped to the range). The flat-shade stage before it has given both ends
+// the provoking vertex's attributes.
+template <class Observer>
+void SoftpipeModel::wide_segment(const VertexStage& stage, const StageVertex& v0,
+                                 const StageVertex& v1, float width, Observer& obs) {
+    const float hw = 0.5f * width;
+    const float bias = 0.125f;
+    const auto& p0 = v0.window;
+    const auto& p1 = v1.window;
+    const float dx = std::fabs(p0[0] - p1[0]);
+    const float dy = std::fabs(p0[1] - p1[1]);
+    StageVertex a = v0, b = v0, c = v1, e = v1;
+    if (dx > dy) {
+        a.window[1] = (p0[1] - hw) - bias;
+        b.window[1] = (p0[1] + hw) - bias;
+        c.window[1] = (p1[1] - hw) - bias;
+        e.window[1] = (p1[1] + hw) - bias;
+        const float shift = p0[0] < p1[0] ? -0.5f : 0.5f;
+        a.window[0] = p0[0] + shift;
+        b.window[0] = p0[0] + shift;
+        c.window[0] = p1[0] + shift;
+        e.window[0] = p1[0] + shift;
+    } else {
+        a.window[0] = (p0[0] - hw) + bias;
+        b.window[0] = (p0[0] + hw) + bias;
+        c.window[0] = (p1[0] - hw) + bias;
+        e.window[0] = (p1[0] + hw) + bias;
+        const float shift = p0[1] < p1[1] ? -0.5f : 0.5f;
+        a.window[1] = p0[1] + shift;
+        b.window[1] = p0[1] + shift;
+        c.window[1] = p1[1] + shift;
+        e.window[1] = p1[1] + shift;
+    }
+    if (ctx_.draw.state.shade == ShadeModel::Flat) {
+        // draw_pipe_flatshade.c flatshade_line_0/1: the provoking end's values on both.
+        const std::uint32_t provoking = ctx_.params.provoking_first ? v0.attributes : v1.attributes;
+        a.attributes = b.attributes = c.attributes = e.attributes = provoking;
+    }
+    const bool clipped = v0.generated || v1.generated;
+    triangle(stage, {&a, &c, &e}, clipped, true, obs);
+    triangle(stage, {&a, &e, &b}, clipped, true, obs);
 }
 
 // A point as the draw module's wide-point stage hands it to softpipe (the project's GL state

@@ -5,7 +5,8 @@
 // assembly and the draw module's clipper and float cull (the same draw module as llvmpipe's:
 // vertex_stage.hpp), then softpipe's float scanline setup (scanline_setup.hpp: no snapping,
 // the vertices sorted by y, truncating spans, its own facing and cull) and attribute planes;
-// lines as Bresenham segments of the truncated end points (sp_setup_line); points as the
+// lines as Bresenham segments of the truncated end points (sp_setup_line), wide ones as the
+// draw module's two triangles (draw_pipe_wide_line.c); points as the
 // draw module's point sprites, two triangles each (draw_pipe_wide_point.c). Traversal of a set-up
 // primitive's rows into quad packets. The fragment stage: softpipe_fragment.hpp.
 //
@@ -100,6 +101,9 @@ class SoftpipeModel {
     template <class Observer>
     void segment(const VertexStage& stage, const StageVertex& v1, const StageVertex& v2,
                  Observer& obs);
+    template <class Observer>
+    void wide_segment(const VertexStage& stage, const StageVertex& v0, const StageVertex& v1,
+                      float width, Observer& obs);
     template <class Observer>
     void point(const VertexStage& stage, const StageVertex& v, Observer& obs);
     template <class Observer>

@@ -6,10 +6,12 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <fstream>
 #include <random>
 
 #include "harness/backend.hpp"
 #include "harness/compare.hpp"
+#include "harness/reduce.hpp"
 #include "random_scenes.hpp"
 #include "refraster/renderer.hpp"
 
@@ -46,6 +48,11 @@ inline int run_variant(std::uint64_t seed, const Variant& v, const refraster::Pr
         if (a.status != harness::RenderStatus::Ok || b.status != harness::RenderStatus::Ok)
             return -1;
         const auto c = harness::compare_images(a.image, b.image, scene.draw_list.clear, {});
+        if (const char* dump = std::getenv("REFRASTER_DUMP_SCENE");
+            dump != nullptr && c.mismatched_pixels != 0) {
+            std::ofstream(dump) << harness::scene_to_json(
+                testscenes::scene_file_of(scene.file, scene.draw_list));
+        }
         drawn_pixels += static_cast<int>(c.mask.pixel_count());
         if (c.mismatched_pixels == 0) continue;
         for (std::size_t i = 0; i < cells.size(); ++i) {

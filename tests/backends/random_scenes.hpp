@@ -342,6 +342,32 @@ inline std::string describe(const AttributeCell& c) {
 
 // The two renderers every random test compares: the reference under `profile`, and OSMesa
 // llvmpipe.
+// A draw list of clip-space draws (colour attribute first) as a scene file, for writing a
+// failing batch to JSON (REFRASTER_DUMP_SCENE) and rerunning it with the CLI.
+inline harness::SceneFile scene_file_of(const harness::SceneFile& base,
+                                        const refraster::DrawList& l) {
+    harness::SceneFile f = base;
+    f.draws.clear();
+    for (const auto& d : l.draws) {
+        harness::SceneDraw sd;
+        sd.primitive = d.primitive;
+        sd.space = harness::VertexSpace::Clip;
+        sd.state = d.state;
+        sd.indices = d.indices;
+        const std::size_t stride = d.vertices.stride();
+        for (std::size_t v = 0; v < d.vertices.size(); ++v) {
+            harness::SceneVertex sv;
+            for (std::size_t k = 0; k < 4; ++k) sv.position[k] = d.vertices.data[v * stride + k];
+            sv.position_size = 4;
+            for (std::size_t k = 0; k < 4 && stride >= 8; ++k)
+                sv.color[k] = d.vertices.data[v * stride + 4 + k];
+            sd.vertices.push_back(sv);
+        }
+        f.draws.push_back(sd);
+    }
+    return f;
+}
+
 struct Renderers {
     std::unique_ptr<harness::Backend> ref;
     std::unique_ptr<harness::Backend> osmesa;
