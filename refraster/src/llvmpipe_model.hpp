@@ -136,9 +136,6 @@ class LlvmpipeModel {
     bool nine_vertex_quirk_drops(const VertexStage& stage,
                                  const std::vector<AssembledTriangle>& tris,
                                  const std::vector<bool>& segment_clipped) const;
-    std::vector<bool> pipeline_setup_ftz(VertexStage& stage,
-                                         const std::vector<AssembledTriangle>& tris,
-                                         const std::vector<bool>& segment_clipped) const;
     template <class Observer>
     PlaneNeeds plane_needs() const;
     // Starts the next API primitive: hands a full list on first.

@@ -84,6 +84,22 @@ inline std::vector<bool> clipped_segments(const VertexStage& stage, const Draw& 
     return clipped;
 }
 
+// Whether the driver sets up each output triangle of the draw pipeline, in order, with
+// denormals flushed (llvmpipe's setup; softpipe's setup and shading, both of which run when
+// the vbuf stage hands a batch on). The pipeline's last stage (draw_pipe_vbuf.c, vbuf_tri and
+// check_space) collects triangles and hands them to setup when the next one might not fit (vertices
+// + 3 > 128: lp_setup_vbuf.c's and sp_prim_vbuf.c's 4096-byte buffers over 32-byte vertices of
+// position and colour;
+// or indices + 3 > 1024), when a segment that skips the pipeline is emitted (draw_pt_emit.c
+// flushes first), and otherwise after draw_vbo has returned. draw_vbo (draw_pt.c) sets
+// FTZ/DAZ for its own duration only, so a draw's last batch is set up without them. A
+// vertex counts once per batch: the segment's own vertices are shared between its
+// triangles, the clipper's new ones between the triangles of one polygon. Empty when no
+// triangle needs telling apart (no pipeline segment, or no flushing at all).
+std::vector<bool> pipeline_batches_flushed(const DrawContext& ctx, VertexStage& stage,
+                                           const std::vector<AssembledTriangle>& tris,
+                                           const std::vector<bool>& segment_clipped);
+
 // Receives each full list of set-up primitives, and the last one, in API order.
 template <class List>
 using ListSink = std::function<void(const List&)>;

@@ -6,6 +6,7 @@
 
 #include "fragment.hpp"
 #include "softpipe_tiles.hpp"
+#include "vector_kernels.hpp"
 #include "vertex_stage.hpp"
 
 namespace refraster::detail {
@@ -61,8 +62,9 @@ std::uint32_t softpipe_depth_value(float z, DepthFormat format) {
     return 0;
 }
 
-ScanlineKernel::ScanlineKernel(const Draw& draw, const Target& target, SoftpipeTileCache& tiles)
-    : draw_(draw), tiles_(tiles) {
+ScanlineKernel::ScanlineKernel(const Draw& draw, const Target& target, SoftpipeTileCache& tiles,
+                               bool flush_denormals)
+    : draw_(draw), tiles_(tiles), flush_(flush_denormals && cpu_flush_modes_available()) {
     rgba8_ = target.color == ColorFormat::Rgba8;
     depth_ = draw.state.depth_test.has_value() && target.depth != DepthFormat::None;
     if (depth_) {
@@ -139,6 +141,7 @@ void ScanlineKernel::merge(const std::array<float, 4>& c, float* dst) const {
 void ScanlineKernel::shade(const ScanlineList& list, const ScanlinePrimitive& p,
                            std::span<const QuadPacket> quads, Framebuffer& fb) const {
     if (quads.empty()) return;
+    const ScopedDenormalMode plain(flush_ && !p.flush, false);
     const ScanlinePlane& zp = list.planes[p.planes + kScanlineZPlane];
     // The early depth test over the batch: the surviving pixels of each quad.
     std::array<std::uint16_t, 8> live{};

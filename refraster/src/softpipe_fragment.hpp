@@ -57,6 +57,8 @@ struct ScanlinePrimitive {
     // Depth clamped to the depth range before it is stored: primitives drawn under a
     // rasterizer state with depth clipping off (the draw module's point sprites).
     bool clamp_depth = false;
+    // Shaded under the flush modes (inside draw_vbo) or not (the draw pipeline's last batch).
+    bool flush = true;
     std::uint32_t owner = 0;
 };
 
@@ -90,12 +92,15 @@ class SoftpipeTileCache;
 // The per-pixel stage of one draw under the scanline model; colours go through `tiles`.
 class ScanlineKernel {
   public:
-    ScanlineKernel(const Draw& draw, const Target& target, SoftpipeTileCache& tiles);
+    // `flush_denormals`: shade with the CPU's flush-to-zero and denormals-are-zero modes on, as
+    // softpipe shades inside draw_vbo (draw_pt.c sets them for its duration).
+    ScanlineKernel(const Draw& draw, const Target& target, SoftpipeTileCache& tiles,
+                   bool flush_denormals);
 
     // One batch of quads (SoftpipeModel::traverse hands them over a batch a call).
     void shade(const ScanlineList& list, const ScanlinePrimitive& p,
                std::span<const QuadPacket> quads, Framebuffer& fb) const;
-    bool hardware_denormals() const { return false; }
+    bool hardware_denormals() const { return flush_; }
     // The decisions at pixel (x, y) of `p` (which covers it), with the framebuffer before it
     // (depth as the generic path computes it: the trace does not know the z16 fast path's
     // batch).
@@ -112,6 +117,7 @@ class ScanlineKernel {
     const Draw& draw_;
     SoftpipeTileCache& tiles_;
     bool rgba8_ = true;
+    bool flush_ = false;
     // sp_quad_depth_test.c depth_test_quads_fallback: the depth range's ends as the viewport
     // stores them, near = translate - scale, far = (float)((double)near + (double)scale * 2).
     float depth_min_ = 0.0f;

@@ -10,6 +10,7 @@
 #include "observer.hpp"
 #include "rules.hpp"
 #include "trace_observer.hpp"
+#include "vector_kernels.hpp"
 
 namespace refraster::detail {
 
@@ -77,6 +78,10 @@ void SoftpipeModel::setup(VertexStage& stage, Observer& obs, const ListSink<List
     sink_ = &sink;
     list_.clear();
     list_.attribute_floats = stage.attribute_floats();
+    // softpipe sets primitives up inside draw_vbo, under the flush-to-zero and
+    // denormals-are-zero modes draw_pt.c sets for its duration (the vertex stage emulates
+    // them on its own; with the modes set it computes the same).
+    const ScopedDenormalsAreZero mode(ctx_.profile.gl.flush_denormals);
     const Draw& d = ctx_.draw;
     if (d.primitive == PrimitiveType::Points) {
         points(stage, obs);
@@ -110,21 +115,29 @@ void SoftpipeModel::triangles(VertexStage& stage, Observer& obs) {
     const Draw& d = ctx_.draw;
     const bool first = ctx_.params.provoking_first;
     const auto tris = draw_triangles(ctx_);
-    const std::vector<bool> segment_clipped = clipped_segments(stage, d, tris);
+    std::vector<bool> segment_clipped = clipped_segments(stage, d, tris);
     // Polygon offset puts every triangle through the pipeline.
     const bool offset = d.state.polygon_offset.has_value();
+    if (offset) segment_clipped.assign(segment_clipped.size(), true);
+    // The pipeline's last batch reaches softpipe after draw_vbo has returned, without the
+    // flush modes (pipeline_batches_flushed).
+    const std::vector<bool> flushed = pipeline_batches_flushed(ctx_, stage, tris, segment_clipped);
+    std::size_t pipeline_output = 0;
     std::vector<StageTriangle> staged;
     for (std::size_t p = 0; p < tris.size(); ++p) {
         next_primitive(p, obs);
         const auto& at = tris[p];
         const std::array<std::uint32_t, 3> idx{d.element(at.element[0]), d.element(at.element[1]),
                                                d.element(at.element[2])};
-        const bool in_pipeline = segment_clipped[at.segment] || offset;
+        const bool in_pipeline = segment_clipped[at.segment];
         obs.begin_primitive("triangle", ctx_.index, p, idx, stage, in_pipeline);
         staged.clear();
         stage.clip_triangle(idx, first, staged, obs.clip_polygons());
         obs.clipped(staged.empty());
         for (auto& t : staged) {
+            const bool flush = !in_pipeline || flushed.empty() || flushed[pipeline_output];
+            pipeline_output += in_pipeline;
+            const ScopedDenormalMode plain(!flush && ctx_.profile.gl.flush_denormals, false);
             if (in_pipeline && ctx_.profile.quirks.draw_pipeline_cull &&
                 !passes_draw_cull(t, d.state.cull, ctx_.params.front_ccw)) {
                 continue;
@@ -134,7 +147,9 @@ void SoftpipeModel::triangles(VertexStage& stage, Observer& obs) {
                                   *d.state.polygon_offset, ctx_.target.depth,
                                   ctx_.profile.gl.flush_denormals);
             }
+            const std::size_t before = list_.primitives.size();
             triangle(stage, {&t.v[0], &t.v[1], &t.v[2]}, t.clipped, false, obs);
+            if (list_.primitives.size() > before) list_.primitives.back().flush = flush;
         }
         obs.end_primitive(KeepRecord::CoveredOrNear);
     }

@@ -84,7 +84,9 @@ class SoftpipeModel {
         }
     }
 
-    ScanlineKernel kernel() const { return {ctx_.draw, ctx_.target, *ctx_.tiles}; }
+    ScanlineKernel kernel() const {
+        return {ctx_.draw, ctx_.target, *ctx_.tiles, ctx_.profile.gl.flush_denormals};
+    }
 
   private:
     template <class Observer>

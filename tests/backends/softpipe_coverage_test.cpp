@@ -1,8 +1,9 @@
 // softpipe's triangle coverage and colour planes (refraster/src/scanline_setup.cpp) against
 // OSMesa softpipe, pixel for pixel: the random coverage generator's triangles that need no
 // clipping, each alone in a 64x64 cell with its own viewport and scissor, cull mode and front face.
-// The window positions are the draw module's (the reference's vertex stage, fused as on llvmpipe:
-// both drivers use the same draw module). Seeds: two fixed, one from REFRASTER_TEST_SEED.
+// The window positions are the draw module's C viewport transform (the reference's vertex stage,
+// unfused: softpipe creates its draw module without LLVM). Seeds: two fixed, one from
+// REFRASTER_TEST_SEED.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -34,7 +35,8 @@ struct ModelledCell {
 
 ModelledCell model_cell(const refraster::Draw& d) {
     ModelledCell m;
-    const refraster::detail::VertexStage stage(d, {refraster::host_has_fma(), true, false, false});
+    // softpipe's draw module is the C one: the viewport transform is unfused.
+    const refraster::detail::VertexStage stage(d, {false, true, false, false});
     if (stage.clipmask(0) != 0 || stage.clipmask(1) != 0 || stage.clipmask(2) != 0) return m;
     m.unclipped = true;
     std::array<std::array<float, 2>, 3> w{};
