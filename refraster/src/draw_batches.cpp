@@ -139,5 +139,4 @@ std::vector<bool> pipeline_batches_flushed(const DrawContext& ctx, VertexStage& 
     return out;
 }
 
-
 }  // namespace refraster::detail

@@ -177,10 +177,12 @@ using SourceColor =
     std::conditional_t<C == ColorFormat::Rgba8, std::array<std::uint8_t, 4>, std::array<float, 4>>;
 
 template <ColorFormat C>
-[[gnu::always_inline]] inline SourceColor<C> source_color(const std::array<float, 4>& c) {
+[[gnu::always_inline]] inline SourceColor<C> source_color(const FragmentOptions& o,
+                                                          const std::array<float, 4>& c) {
     if constexpr (C == ColorFormat::Rgba8) {
         SourceColor<C> s{};
-        for (std::size_t k = 0; k < 4; ++k) s[k] = color_to_unorm8(c[k]);
+        for (std::size_t k = 0; k < 4; ++k)
+            s[k] = o.color_truncate ? color_to_unorm8_truncated(c[k]) : color_to_unorm8(c[k]);
         return s;
     } else {
         return c;
@@ -229,7 +231,7 @@ template <ColorFormat C, BlendPreset B>
 template <ColorFormat C>
 void write_color_as(const Draw& draw, Framebuffer& fb, std::size_t i, const std::array<float, 4>& c,
                     const Fp& fp) {
-    const auto s = source_color<C>(c);
+    const auto s = source_color<C>(FragmentOptions{}, c);
     switch (draw.state.blend) {
         case BlendPreset::None:
             store_color<C, BlendPreset::None>(fb, i, s, fp);
@@ -263,6 +265,7 @@ struct Kernel {
                                                             const KernelState& k, const Fp& fp,
                                                             float& z) {
         z = clamp_depth(fp.add(plane_at(planes[kZPlane], px, py, k, fp), z_offset));
+        if (k.options.depth_truncate) return truncate_depth(z, D);
         return quantise_depth(z, D);
     }
 
@@ -379,7 +382,7 @@ struct Kernel {
         const float centre = ms ? 0.5f : 0.0f;
         SourceColor<C> flat_source{};
         if constexpr (S == ShadeModel::Flat)
-            flat_source = source_color<C>(color(planes, flat, 0, 0, k, fp));
+            flat_source = source_color<C>(k.options, color(planes, flat, 0, 0, k, fp));
         for (const QuadPacket& q : quads) {
             unsigned mask = q.mask;
             if (!ms) mask = (mask & kSample0Pixels) * 0x1111u;  // every sample of the pixel
@@ -394,11 +397,12 @@ struct Kernel {
                 const float py = static_cast<float>(y);
                 SourceColor<C> source{};
                 if (k.texture != nullptr) {
-                    source = source_color<C>(textured[p]);
+                    source = source_color<C>(k.options, textured[p]);
                 } else if constexpr (S == ShadeModel::Flat) {
                     source = flat_source;
                 } else {
-                    source = source_color<C>(color(planes, flat, px + centre, py + centre, k, fp));
+                    source = source_color<C>(k.options,
+                                             color(planes, flat, px + centre, py + centre, k, fp));
                 }
                 if constexpr (D != DepthFormat::None) {
                     if (!ms) {
@@ -499,7 +503,7 @@ struct Kernel {
               flat(list.flat.data() + prim.flat),
               owners(!fb.owner.empty()) {
             if constexpr (S == ShadeModel::Flat)
-                flat_source = source_color<C>(color(planes, flat, 0, 0, k, fp));
+                flat_source = source_color<C>(k.options, color(planes, flat, 0, 0, k, fp));
         }
     };
 
@@ -523,7 +527,8 @@ struct Kernel {
         if constexpr (S == ShadeModel::Flat) {
             store_color<C, B>(fb, i, in.flat_source, fp);
         } else {
-            store_color<C, B>(fb, i, source_color<C>(color(in.planes, in.flat, px, py, k, fp)), fp);
+            store_color<C, B>(
+                fb, i, source_color<C>(k.options, color(in.planes, in.flat, px, py, k, fp)), fp);
         }
         if (in.owners) fb.owner[i] = prim.owner;
     }
@@ -542,7 +547,7 @@ struct Kernel {
                 return;
             if (k.depth_write) fb.depth[i] = value;
         }
-        store_color<C, B>(fb, i, source_color<C>(c), fp);
+        store_color<C, B>(fb, i, source_color<C>(k.options, c), fp);
         if (in.owners) fb.owner[i] = prim.owner;
     }
 
@@ -629,7 +634,7 @@ struct Kernel {
                 t.destination[c] = one.color32f[c];
             }
         }
-        if (t.depth_pass) store_color<C, B>(one, 0, source_color<C>(t.shader_color), fp);
+        if (t.depth_pass) store_color<C, B>(one, 0, source_color<C>(k.options, t.shader_color), fp);
         for (std::size_t c = 0; c < 4; ++c) {
             t.written[c] = C == ColorFormat::Rgba8 ? one.color8[c] : one.color32f[c];
         }

@@ -64,6 +64,10 @@ struct FragmentOptions {
     // corner) and evaluated at the pixel centre for colour, at each sample for depth.
     bool multisample = false;
     KernelPath kernels = KernelPath::Model;  // resolved (resolve_kernel_path)
+    // The profile's depth_rounding and color_rounding are truncation (the Model path only: the
+    // renderer chooses it for such profiles).
+    bool depth_truncate = false;
+    bool color_truncate = false;
 };
 
 // Writes one primitive's planes into a SetupList: window z and 1/w first, then its
@@ -237,6 +241,13 @@ std::uint8_t clear_to_unorm8(float c);
     if (!(c > 0.0f)) return 0;
     if (c >= 1.0f) return 255;
     return static_cast<std::uint8_t>(round_to_nearest_even(c * 255.0f));
+}
+
+// The same with truncation instead of RNE (a profile's color_rounding=truncate).
+[[gnu::always_inline]] inline std::uint8_t color_to_unorm8_truncated(float c) {
+    if (!(c > 0.0f)) return 0;
+    if (c >= 1.0f) return 255;
+    return static_cast<std::uint8_t>(c * 255.0f);
 }
 
 // llvmpipe's 8-bit product (lp_build_mul_norm): (x*y + ((x*y) >> 8) + 128) >> 8.

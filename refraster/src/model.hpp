@@ -45,6 +45,8 @@ struct DrawContext {
     // The scanline model's colour tile cache, which lives for the whole render
     // (softpipe_tiles.hpp); null under the other models.
     SoftpipeTileCache* tiles = nullptr;
+    // The model that draws it (draw_model).
+    CoverageModel model = CoverageModel::Snapped;
 
     VertexStageOptions vertex_options() const {
         return {fma, profile.gl.flush_denormals, profile.gl.clipping == Clipping::GuardBand,
@@ -58,9 +60,34 @@ struct DrawContext {
                cpu_flush_modes_available();
     }
     FragmentOptions fragment_options() const {
-        return {fma, profile.gl.flush_denormals, params.multisample, kernels};
+        return {fma,
+                profile.gl.flush_denormals,
+                params.multisample,
+                kernels,
+                profile.gl.depth_rounding == Rounding::Truncate,
+                profile.gl.color_rounding == Rounding::Truncate};
     }
 };
+
+// The model that draws `d` under `profile`: the profile's, except that lines (and polygon mode
+// line) follow the line rule and points (and polygon mode point) the point rule, each of which
+// belongs to one model's family (parallelogram and square: snapped; Bresenham and two
+// triangles: scanline). The exact oracle draws only filled triangles.
+inline CoverageModel draw_model(const Profile& profile, const Draw& d) {
+    if (profile.model == CoverageModel::Exact) return CoverageModel::Exact;
+    const bool triangles = d.primitive >= PrimitiveType::Triangles;
+    const bool lines = (!triangles && d.primitive != PrimitiveType::Points) ||
+                       (triangles && d.state.polygon_mode == PolygonMode::Line);
+    if (lines) {
+        return profile.gl.line_rule == LineRule::Bresenham ? CoverageModel::Scanline
+                                                           : CoverageModel::Snapped;
+    }
+    if (d.rasterizes_points()) {
+        return profile.gl.point_rule == PointRule::TwoTriangles ? CoverageModel::Scanline
+                                                                : CoverageModel::Snapped;
+    }
+    return profile.model;
+}
 
 // The draw's triangles in the driver's order with their vertex segments (assembly.hpp), for
 // the segment sizes of the profile and of the draw's indexing.

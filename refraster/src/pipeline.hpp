@@ -157,7 +157,7 @@ std::uint64_t draw(const DrawContext& ctx, Observer& obs, RenderStage stop, Fram
 // The model, chosen once per draw from the profile.
 template <class Observer>
 std::uint64_t run_draw(const DrawContext& ctx, Observer& obs, RenderStage stop, Framebuffer& fb) {
-    switch (ctx.profile.model) {
+    switch (ctx.model) {
         case CoverageModel::Exact:
             return draw<ExactModel>(ctx, obs, stop, fb);
         case CoverageModel::Scanline:

@@ -31,6 +31,9 @@ Profile softpipe_22_3_profile() {
     // softpipe's draw module is the C one (sp_context.c: draw_create_no_llvm): the viewport
     // transform is x * (1/w) * scale + translate, unfused (draw_cliptest_tmp.h).
     p.gl.viewport_fma = FmaMode::Off;
+    p.gl.depth_rounding = Rounding::Truncate;  // sp_quad_depth_test.c convert_quad_depth
+    p.gl.line_rule = LineRule::Bresenham;
+    p.gl.point_rule = PointRule::TwoTriangles;
     p.quirks.nine_vertex_quirk = false;
     p.quirks.wrapping_arithmetic = false;
     return p;
@@ -74,7 +77,21 @@ std::string to_string(SnapRounding r) {
     return "?";
 }
 
+std::string to_string(Rounding r) {
+    return r == Rounding::Nearest ? "nearest" : "truncate";
+}
+std::string to_string(LineRule r) {
+    return r == LineRule::Parallelogram ? "parallelogram" : "bresenham";
+}
+std::string to_string(PointRule r) {
+    return r == PointRule::Square ? "square" : "two-triangles";
+}
+
 namespace {
+
+std::string to_string(ClearPrecision c) {
+    return c == ClearPrecision::Double ? "double" : "float";
+}
 
 std::string to_string(CoverageModel c) {
     switch (c) {
@@ -154,6 +171,11 @@ std::vector<std::pair<std::string, std::string>> profile_parameters(const Profil
         {"clipping", to_string(p.gl.clipping)},
         {"viewport_fma", to_string(p.gl.viewport_fma)},
         {"flush_denormals", bool_text(p.gl.flush_denormals)},
+        {"depth_rounding", to_string(p.gl.depth_rounding)},
+        {"color_rounding", to_string(p.gl.color_rounding)},
+        {"depth_clear", to_string(p.gl.depth_clear)},
+        {"line_rule", to_string(p.gl.line_rule)},
+        {"point_rule", to_string(p.gl.point_rule)},
         {"draw_pipeline_cull", bool_text(p.quirks.draw_pipeline_cull)},
         {"draw_segment_vertices", std::to_string(p.quirks.draw_segment_vertices)},
         {"nine_vertex_quirk", bool_text(p.quirks.nine_vertex_quirk)},
@@ -195,6 +217,20 @@ void set_profile_parameter(Profile& p, const std::string& key, const std::string
             key, value, {{"auto", FmaMode::Auto}, {"on", FmaMode::On}, {"off", FmaMode::Off}});
     } else if (key == "flush_denormals") {
         p.gl.flush_denormals = parse_bool(key, value);
+    } else if (key == "depth_rounding" || key == "color_rounding") {
+        (key == "depth_rounding" ? p.gl.depth_rounding : p.gl.color_rounding) = pick<Rounding>(
+            key, value, {{"nearest", Rounding::Nearest}, {"truncate", Rounding::Truncate}});
+    } else if (key == "depth_clear") {
+        p.gl.depth_clear = pick<ClearPrecision>(
+            key, value, {{"double", ClearPrecision::Double}, {"float", ClearPrecision::Float}});
+    } else if (key == "line_rule") {
+        p.gl.line_rule = pick<LineRule>(
+            key, value,
+            {{"parallelogram", LineRule::Parallelogram}, {"bresenham", LineRule::Bresenham}});
+    } else if (key == "point_rule") {
+        p.gl.point_rule = pick<PointRule>(
+            key, value,
+            {{"square", PointRule::Square}, {"two-triangles", PointRule::TwoTriangles}});
     } else if (key == "draw_pipeline_cull") {
         p.quirks.draw_pipeline_cull = parse_bool(key, value);
     } else if (key == "draw_segment_vertices") {

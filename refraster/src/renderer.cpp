@@ -53,13 +53,14 @@ namespace {
 // glClearDepth stores RNE(double(z) * (2^bits - 1)), computed in double: measured for z24
 // (docs/precision.md, "Depth"), the same packing for z16 (util_pack_z in
 // gallium/auxiliary/util/u_pack_color.h). z32f stores the float itself.
-std::uint32_t clear_depth_value(DepthFormat f, float z) {
+std::uint32_t clear_depth_value(DepthFormat f, float z, ClearPrecision precision) {
+    if (precision == ClearPrecision::Float) return detail::quantise_depth(z, f);
     return detail::quantise_depth(static_cast<double>(z), f);
 }
 
 // Clears the whole target (scissor off, every mask on): unorm8 colours through
 // float_to_ubyte as util_pack_color does for R8G8B8A8_UNORM, floats as given.
-RenderOutcome clear(const DrawList& list, Framebuffer& out) {
+RenderOutcome clear(const DrawList& list, Framebuffer& out, ClearPrecision precision) {
     const auto& c = list.clear.color;
     if (list.target.color == ColorFormat::Rgba8) {
         std::array<std::uint8_t, 4> bytes{};
@@ -74,7 +75,7 @@ RenderOutcome clear(const DrawList& list, Framebuffer& out) {
         }
     }
     std::fill(out.depth.begin(), out.depth.end(),
-              clear_depth_value(list.target.depth, list.clear.depth));
+              clear_depth_value(list.target.depth, list.clear.depth, precision));
     return {};
 }
 
@@ -84,10 +85,10 @@ bool is_triangle(PrimitiveType p) {
 }
 
 std::string unsupported(const Draw& d, const Target& target, const Profile& profile) {
-    if (profile.model == CoverageModel::Scanline) {
+    if (detail::draw_model(profile, d) == CoverageModel::Scanline) {
         // softpipe has no multisampling (GL_MAX_SAMPLES is 0) and its own float sampler.
-        if (d.state.texture)
-            return "the scanline (softpipe) profile draws untextured primitives only";
+        if (target.samples != 1) return "the scanline (softpipe) rules have no multisampling";
+        if (d.state.texture) return "the scanline (softpipe) rules draw untextured primitives only";
         return {};
     }
     if (profile.model != CoverageModel::Exact) return {};
@@ -118,7 +119,8 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
     out = Framebuffer(list.target.width, list.target.height, list.target.color, list.target.depth,
                       samples);
     if (options.record_owners) out.owner.assign(out.pixel_count() * samples, 0);
-    if (auto c = clear(list, out); c.status != RenderStatus::Ok) return c;
+    if (auto c = clear(list, out, options.profile.gl.depth_clear); c.status != RenderStatus::Ok)
+        return c;
     PixelTrace* trace = options.trace;
     if (trace != nullptr) {
         trace->profile = options.profile.name;
@@ -134,8 +136,11 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
     const FmaMode fma_mode = options.profile.gl.viewport_fma;
     const bool fma = fma_mode == FmaMode::On || (fma_mode == FmaMode::Auto && host_has_fma());
     // A trace records what the model computes; every path computes the same.
+    // Truncating conversions exist on the Model path only.
+    const bool model_only = options.profile.gl.depth_rounding == Rounding::Truncate ||
+                            options.profile.gl.color_rounding == Rounding::Truncate;
     const KernelPath kernels =
-        trace != nullptr ? KernelPath::Model : resolve_kernel_path(options.kernels);
+        trace != nullptr || model_only ? KernelPath::Model : resolve_kernel_path(options.kernels);
     // Threads only for the paths that shade row blocks; a traced render stays on one.
     unsigned threads =
         options.threads == 0 ? std::max(1u, std::thread::hardware_concurrency()) : options.threads;
@@ -156,8 +161,9 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
     // softpipe's colours stay float in its tile cache until written back (softpipe_tiles.hpp).
     // glGenerateMipmap's blit, which the GL backends run after the clear, flushes it.
     std::optional<detail::SoftpipeTileCache> tiles;
+    const bool truncate_colors = options.profile.gl.color_rounding == Rounding::Truncate;
     if (options.profile.model == CoverageModel::Scanline) {
-        tiles.emplace(out, list.clear.color);
+        tiles.emplace(out, list.clear.color, truncate_colors);
         for (const auto& t : list.textures) {
             if (t.generate_mipmaps) {
                 tiles->flush();
@@ -179,6 +185,15 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
             unit = detail::make_texture_unit(*d.state.texture,
                                              *texture_levels[d.state.texture->texture]);
         }
+        // A draw of the other model's family (the profile's line or point rule): a snapped
+        // draw in a scanline render finds the tile cache written back and leaves it empty; a
+        // scanline draw in a snapped render gets a cache of its own over the surface.
+        const CoverageModel model = detail::draw_model(options.profile, d);
+        std::optional<detail::SoftpipeTileCache> own_tiles;
+        if (model != CoverageModel::Scanline && tiles) tiles->flush();
+        if (model == CoverageModel::Scanline && !tiles)
+            own_tiles.emplace(out, std::nullopt, truncate_colors);
+        detail::SoftpipeTileCache* draw_tiles = tiles ? &*tiles : own_tiles ? &*own_tiles : nullptr;
         const detail::DrawContext ctx{i,
                                       d,
                                       list.target,
@@ -189,7 +204,8 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
                                       kernels,
                                       workers ? &*workers : nullptr,
                                       unit ? &*unit : nullptr,
-                                      tiles ? &*tiles : nullptr};
+                                      draw_tiles,
+                                      model};
         if (trace != nullptr) {
             detail::TraceObserver obs(*trace, ctx.params.multisample);
             outcome.fragments += detail::run_draw(ctx, obs, options.stop_after, out);
@@ -197,6 +213,7 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
             detail::NoObserver obs;
             outcome.fragments += detail::run_draw(ctx, obs, options.stop_after, out);
         }
+        if (own_tiles) own_tiles->flush();
     }
     if (tiles) tiles->flush();
     if (trace != nullptr && trace->x >= 0 && trace->y >= 0 &&

@@ -66,6 +66,14 @@ template <std::floating_point Real>
     return 0;
 }
 
+// The same with truncation instead of rounding (a profile's depth_rounding=truncate): z16 and
+// z24 (uint)(fl(z * (2^n - 1))) of a z in [0, 1]; z32f and no depth as above.
+inline std::uint32_t truncate_depth(float z, DepthFormat f) {
+    if (f == DepthFormat::Z16 || f == DepthFormat::Z24)
+        return static_cast<std::uint32_t>(z * static_cast<float>(depth_unorm_max(f)));
+    return quantise_depth(z, f);
+}
+
 // The minimum resolvable difference r of a fixed-point depth format, 1 / (2^n - 1) (OpenGL 4.6,
 // 14.6.5; util_get_depth_format_mrd); 0 for z32f and no depth.
 constexpr double depth_mrd(DepthFormat f) {

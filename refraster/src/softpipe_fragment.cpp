@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 
 #include "fragment.hpp"
 #include "softpipe_tiles.hpp"
@@ -48,12 +49,15 @@ unsigned depth_outcome(std::uint32_t frag, std::uint32_t stored, bool is_float) 
 
 }  // namespace
 
-std::uint32_t softpipe_depth_value(float z, DepthFormat format) {
+std::uint32_t softpipe_depth_value(float z, DepthFormat format, bool nearest) {
+    const auto convert = [nearest](float v) {
+        return static_cast<std::uint32_t>(truncate_to_int64(nearest ? std::nearbyint(v) : v));
+    };
     switch (format) {
         case DepthFormat::Z16:
-            return static_cast<std::uint32_t>(truncate_to_int64(z * 65535.0f));
+            return convert(z * 65535.0f);
         case DepthFormat::Z24:
-            return static_cast<std::uint32_t>(truncate_to_int64(z * 16777215.0f));
+            return convert(z * 16777215.0f);
         case DepthFormat::Z32f:
             return std::bit_cast<std::uint32_t>(z);
         case DepthFormat::None:
@@ -63,8 +67,11 @@ std::uint32_t softpipe_depth_value(float z, DepthFormat format) {
 }
 
 ScanlineKernel::ScanlineKernel(const Draw& draw, const Target& target, SoftpipeTileCache& tiles,
-                               bool flush_denormals)
-    : draw_(draw), tiles_(tiles), flush_(flush_denormals && cpu_flush_modes_available()) {
+                               bool flush_denormals, bool depth_nearest)
+    : draw_(draw),
+      tiles_(tiles),
+      flush_(flush_denormals && cpu_flush_modes_available()),
+      depth_nearest_(depth_nearest) {
     rgba8_ = target.color == ColorFormat::Rgba8;
     depth_ = draw.state.depth_test.has_value() && target.depth != DepthFormat::None;
     if (depth_) {
@@ -74,8 +81,8 @@ ScanlineKernel::ScanlineKernel(const Draw& draw, const Target& target, SoftpipeT
         depth_write_ = draw.state.depth_write && f != CompareFunc::Equal;
         // sp_quad_depth_test.c choose_depth_test: the z16 fast paths exist for every function
         // but never and equal, with writes on (no stencil, alpha test or queries here).
-        z16_fast_path_ =
-            target.depth == DepthFormat::Z16 && depth_write_ && f != CompareFunc::Never;
+        z16_fast_path_ = target.depth == DepthFormat::Z16 && depth_write_ &&
+                         f != CompareFunc::Never && !depth_nearest_;
     }
     const ViewportTransform vp = viewport_transform(draw.state);
     const float near = vp.translate[2] - vp.scale[2];
@@ -182,7 +189,7 @@ void ScanlineKernel::shade(const ScanlineList& list, const ScanlinePrimitive& p,
                     // depth_test_quads_fallback's clamp, for primitives drawn with depth
                     // clipping off (the point sprites).
                     if (p.clamp_depth) zk = std::min(std::max(zk, depth_min_), depth_max_);
-                    value = softpipe_depth_value(zk, fb.depth_format);
+                    value = softpipe_depth_value(zk, fb.depth_format, depth_nearest_);
                     stored_value = fb.depth_format == DepthFormat::Z16   ? value & 0xffffu
                                    : fb.depth_format == DepthFormat::Z24 ? value & 0xffffffu
                                                                          : value;
@@ -233,7 +240,7 @@ FragmentTrace ScanlineKernel::trace(const ScanlineList& list, const ScanlinePrim
         if (p.clamp_depth) z = std::min(std::max(z, depth_min_), depth_max_);
         t.z = z;
         t.depth_tested = true;
-        t.depth_value = softpipe_depth_value(z, fb.depth_format);
+        t.depth_value = softpipe_depth_value(z, fb.depth_format, depth_nearest_);
         t.depth_stored = fb.depth[i];
         t.depth_pass = (depth_pass_ & depth_outcome(t.depth_value, t.depth_stored,
                                                     fb.depth_format == DepthFormat::Z32f)) != 0;

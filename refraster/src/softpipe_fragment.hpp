@@ -94,8 +94,10 @@ class ScanlineKernel {
   public:
     // `flush_denormals`: shade with the CPU's flush-to-zero and denormals-are-zero modes on, as
     // softpipe shades inside draw_vbo (draw_pt.c sets them for its duration).
+    // `depth_nearest`: a profile's depth_rounding=nearest instead of softpipe's truncation
+    // (RNE(fl(z * (2^n - 1))), converted as the truncation is; no z16 fast path).
     ScanlineKernel(const Draw& draw, const Target& target, SoftpipeTileCache& tiles,
-                   bool flush_denormals);
+                   bool flush_denormals, bool depth_nearest = false);
 
     // One batch of quads (SoftpipeModel::traverse hands them over a batch a call).
     void shade(const ScanlineList& list, const ScanlinePrimitive& p,
@@ -118,6 +120,7 @@ class ScanlineKernel {
     SoftpipeTileCache& tiles_;
     bool rgba8_ = true;
     bool flush_ = false;
+    bool depth_nearest_ = false;
     // sp_quad_depth_test.c depth_test_quads_fallback: the depth range's ends as the viewport
     // stores them, near = translate - scale, far = (float)((double)near + (double)scale * 2).
     float depth_min_ = 0.0f;
@@ -132,6 +135,6 @@ class ScanlineKernel {
 // (convert_quad_depth): z16 and z24 (unsigned)(z * (2^n - 1)) as x86-64 converts it
 // (cvttss2si to 64 bits, the low 32 kept: truncation towards zero, negative values wrapping,
 // NaN and values beyond 2^63 giving 0), unclamped; z32f the float's bits.
-std::uint32_t softpipe_depth_value(float z, DepthFormat format);
+std::uint32_t softpipe_depth_value(float z, DepthFormat format, bool nearest = false);
 
 }  // namespace refraster::detail

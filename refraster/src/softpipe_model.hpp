@@ -85,7 +85,8 @@ class SoftpipeModel {
     }
 
     ScanlineKernel kernel() const {
-        return {ctx_.draw, ctx_.target, *ctx_.tiles, ctx_.profile.gl.flush_denormals};
+        return {ctx_.draw, ctx_.target, *ctx_.tiles, ctx_.profile.gl.flush_denormals,
+                ctx_.profile.gl.depth_rounding == Rounding::Nearest};
     }
 
   private:

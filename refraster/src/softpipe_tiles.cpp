@@ -12,14 +12,20 @@ constexpr std::size_t kTileFloats =
     std::size_t{SoftpipeTileCache::kTileSize} * SoftpipeTileCache::kTileSize * 4;
 }
 
-SoftpipeTileCache::SoftpipeTileCache(Framebuffer& fb, const std::array<float, 4>& clear)
-    : fb_(fb), clear_(clear) {
+SoftpipeTileCache::SoftpipeTileCache(Framebuffer& fb,
+                                     const std::optional<std::array<float, 4>>& clear,
+                                     bool truncate)
+    : fb_(fb), clear_(clear.value_or(std::array<float, 4>{})), truncate_(truncate) {
     tiles_x_ = static_cast<int>((fb.width + kTileSize - 1) / kTileSize);
     const int tiles_y = static_cast<int>((fb.height + kTileSize - 1) / kTileSize);
     flagged_clear_.assign(static_cast<std::size_t>(tiles_x_) * static_cast<std::size_t>(tiles_y),
-                          1);
+                          clear ? 1 : 0);
     slot_tile_.fill(-1);
     data_.resize(kSlots * kTileFloats);
+}
+
+std::uint8_t SoftpipeTileCache::to_unorm8(float c) const {
+    return truncate_ ? color_to_unorm8_truncated(c) : color_to_unorm8(c);
 }
 
 void SoftpipeTileCache::write_back(int slot) {
@@ -38,7 +44,7 @@ void SoftpipeTileCache::write_back(int slot) {
                 // util_format pack: float_to_ubyte for R8G8B8A8_UNORM (the clamp and
                 // RNE(fl(c * 255)), color_to_unorm8), the float itself for R32G32B32A32_FLOAT.
                 if (fb_.color_format == ColorFormat::Rgba8) {
-                    fb_.color8[i + k] = color_to_unorm8(c[k]);
+                    fb_.color8[i + k] = to_unorm8(c[k]);
                 } else {
                     fb_.color32f[i + k] = c[k];
                 }
@@ -126,7 +132,7 @@ void SoftpipeTileCache::flush() {
                     4 * fb_.index(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y));
                 for (std::size_t k = 0; k < 4; ++k) {
                     if (fb_.color_format == ColorFormat::Rgba8) {
-                        fb_.color8[i + k] = color_to_unorm8(clear_[k]);
+                        fb_.color8[i + k] = to_unorm8(clear_[k]);
                     } else {
                         fb_.color32f[i + k] = clear_[k];
                     }

@@ -20,6 +20,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "refraster/framebuffer.hpp"
@@ -32,8 +33,10 @@ class SoftpipeTileCache {
     static constexpr int kSlots = 50;     // NUM_ENTRIES
 
     // After a clear of `fb` to `clear` (fb's bytes or floats are not read until a tile is
-    // loaded from the surface).
-    SoftpipeTileCache(Framebuffer& fb, const std::array<float, 4>& clear);
+    // loaded from the surface), or over fb as it is (no clear: every tile loads from it).
+    // `truncate`: write rgba8 back by truncation (a profile's color_rounding=truncate).
+    SoftpipeTileCache(Framebuffer& fb, const std::optional<std::array<float, 4>>& clear,
+                      bool truncate = false);
 
     // The blend stage touches the tile holding pixel (x, y).
     void fetch(int x, int y);
@@ -48,10 +51,12 @@ class SoftpipeTileCache {
     int tile_of(int x, int y) const { return (y / kTileSize) * tiles_x_ + x / kTileSize; }
     int slot_of(int tile) const { return (tile % tiles_x_ + 5 * (tile / tiles_x_)) % kSlots; }
     void write_back(int slot);
+    std::uint8_t to_unorm8(float c) const;
     void load(int slot, int tile);
 
     Framebuffer& fb_;
-    std::array<float, 4> clear_;
+    std::array<float, 4> clear_{};
+    bool truncate_ = false;
     int tiles_x_ = 1;
     std::vector<std::uint8_t> flagged_clear_;  // a tile
     std::array<int, kSlots> slot_tile_{};      // -1: empty

@@ -48,6 +48,27 @@ enum class Clipping : std::uint8_t {
     GuardBand,   // |x|, |y| <= 2w, the viewport then applied as a scissor (draw's guard band)
 };
 
+// How a value becomes an integer where the specification leaves it free (OpenGL 4.6, 2.3.5:
+// "rounded to the nearest", which implementations read as round-to-nearest or truncation).
+enum class Rounding : std::uint8_t { Nearest, Truncate };
+
+// How glClearDepth's value is quantised for z16 and z24: RNE(z * (2^n - 1)) computed in double
+// (util_pack_z, both Mesa drivers) or in float.
+enum class ClearPrecision : std::uint8_t { Double, Float };
+
+// Which pixels a line lights (OpenGL 4.6, 14.5.1 leaves the exact set free within the
+// diamond-exit tolerance): llvmpipe's snapped parallelogram with its diamond-exit end tests
+// (lp_setup_line.c, integer-rounded widths), or softpipe's Bresenham walk of the truncated
+// end points with wide lines as the draw module's two triangles (sp_setup.c,
+// draw_pipe_wide_line.c).
+enum class LineRule : std::uint8_t { Parallelogram, Bresenham };
+
+// Which pixels a point lights (14.4 leaves non-antialiased point coverage to the square's
+// centre test): llvmpipe's snapped square tested like a triangle (lp_setup_point.c), or the
+// draw module's two sprite triangles with their 1/8-pixel bias, drawn by softpipe's scanline
+// rules (draw_pipe_wide_point.c).
+enum class PointRule : std::uint8_t { Square, TwoTriangles };
+
 enum class FmaMode : std::uint8_t {
     Auto,  // fuse where the reproduced driver fuses iff this CPU has FMA (as gallivm decides)
     On,
@@ -71,6 +92,16 @@ struct GlRules {
     // Flush denormal results and inputs to zero in the vertex pipeline (Mesa sets FTZ/DAZ
     // around draw and rasterization).
     bool flush_denormals = true;
+
+    // Fragment depth into z16 and z24 (after the model's clamp, if any) and fragment colour into
+    // rgba8 (after the clamp): RNE(fl(v * (2^n - 1))) or its truncation.
+    Rounding depth_rounding = Rounding::Nearest;
+    Rounding color_rounding = Rounding::Nearest;
+    ClearPrecision depth_clear = ClearPrecision::Double;
+    // The line and point rules; a rule of the other model's family is drawn by that model
+    // (its setup, planes and fragment stage) for those draws.
+    LineRule line_rule = LineRule::Parallelogram;
+    PointRule point_rule = PointRule::Square;
 
     friend bool operator==(const GlRules&, const GlRules&) = default;
 };
@@ -123,5 +154,8 @@ void set_profile_parameter(Profile& p, const std::string& key, const std::string
 
 std::string to_string(TieRule r);
 std::string to_string(SnapRounding r);
+std::string to_string(Rounding r);
+std::string to_string(LineRule r);
+std::string to_string(PointRule r);
 
 }  // namespace refraster
