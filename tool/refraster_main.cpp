@@ -18,6 +18,7 @@
 #include "harness/explain.hpp"
 #include "harness/extreme_scenes.hpp"
 #include "harness/files.hpp"
+#include "harness/fingerprint.hpp"
 #include "harness/image_hash.hpp"
 #include "harness/image_io.hpp"
 #include "harness/profile_io.hpp"
@@ -651,6 +652,50 @@ int run_generate_many(std::uint64_t triangles, std::uint64_t seed, const std::st
     return kExitOk;
 }
 
+// fingerprint: infer a backend's rules from the probe scenes (harness/fingerprint.hpp), print
+// them with their evidence, write the profile (-o) and, with --json, every finding.
+struct FingerprintArgs {
+    BackendArgs against{"osmesa"};
+    std::string output;
+    std::string json;
+};
+
+int cmd_fingerprint(const FingerprintArgs& a) {
+    bool bad_profile = false;
+    auto backend = backend_or_report(a.against, "fingerprint", bad_profile);
+    if (!backend) return bad_profile ? kExitBadInput : kExitBackendFailure;
+    harness::FingerprintResult r;
+    try {
+        r = harness::fingerprint(
+            *backend, [](const std::string& s) { std::cerr << "fingerprint: " << s << "\n"; });
+    } catch (const std::exception& e) {
+        std::cerr << "fingerprint: " << e.what() << "\n";
+        return kExitBackendFailure;
+    }
+    std::cout << harness::fingerprint_text(r);
+    const auto write = [](const std::string& path, const std::string& text) {
+        const std::string tmp = path + ".tmp";
+        {
+            std::ofstream o(tmp, std::ios::binary);
+            o << text << "\n";
+            if (!o) {
+                std::cerr << path << ": cannot write\n";
+                std::error_code ec;
+                std::filesystem::remove(tmp, ec);
+                return false;
+            }
+        }
+        std::filesystem::rename(tmp, path);
+        return true;
+    };
+    if (!write(a.output, harness::profile_to_json(r.profile))) return kExitBadInput;
+    if (!a.json.empty() && !write(a.json, harness::fingerprint_json(r))) return kExitBadInput;
+    std::cerr << a.output << ": profile " << r.profile.name << "\n";
+    // Undecided rules are a finding, not a failure of the tool: the profile is written, and the
+    // exit code says that it is incomplete.
+    return r.complete() ? kExitOk : kExitMismatch;
+}
+
 int main(int argc, char** argv) {
     CLI::App app{"refraster: a bit-exact reference rasterizer and its comparison harness"};
     app.require_subcommand(1);
@@ -813,6 +858,19 @@ int main(int argc, char** argv) {
     bcmd->add_option("--json", bench.json, "Write the results as JSON here");
     add_profile_options(bcmd, bench.profile);
 
+    FingerprintArgs fp;
+    auto* fcmd = app.add_subcommand(
+        "fingerprint",
+        "Infer a backend's rules from probe scenes and write a profile the reference loads");
+    fcmd->add_option("--against", fp.against.backend,
+                     "Backend to fingerprint (ref: the reference under --profile)")
+        ->check(CLI::IsMember({"ref", "osmesa", "egl"}))
+        ->capture_default_str();
+    add_driver_options(fcmd, fp.against);
+    add_profile_options(fcmd, fp.against.profile);
+    fcmd->add_option("-o,--output", fp.output, "The inferred profile (JSON)")->required();
+    fcmd->add_option("--json", fp.json, "Every finding with its evidence (JSON)");
+
     ProfileArgs show;
     auto* pcmd =
         app.add_subcommand("profile", "Print a reference profile as JSON (a profile file)");
@@ -877,6 +935,7 @@ int main(int argc, char** argv) {
     if (xcmd->parsed()) return run_explain(explain);
     if (dcmd->parsed()) return run_reduce(reduce);
     if (bcmd->parsed()) return run_bench(bench);
+    if (fcmd->parsed()) return cmd_fingerprint(fp);
     if (pcmd->parsed()) {
         try {
             std::cout << harness::profile_to_json(show.load()) << "\n";

@@ -1,0 +1,62 @@
+// fingerprint.hpp: infer the rules of a GL implementation from what it draws.
+//
+// Implements: a fixed set of probe scenes (triangles on fine subpixel grids and through pixel
+// centres; width-1 lines; points of fractional sizes; primitives bleeding past a viewport;
+// perspective-correct colours into rgba32f; depth values and clears; colours between two
+// bytes), rendered once through the backend under study and, for every candidate value of the
+// rules each probe is sensitive to, through the reference. A rule is decided when exactly one
+// value reproduces every probe pixel given the rules decided before it; the finding carries
+// the evidence (the probe and a pixel where a rival value gives another result than the
+// backend's). A rule no candidate reproduces, or that several reproduce, is undecided: it is
+// reported so, and the profile keeps its family's default for it, never a guess.
+//
+// Rules, in the order they are decided (profile keys, docs/precision.md):
+//   coverage, subpixel_bits, snap_rounding, pixel_center_offset, tie_rule  (jointly)
+//   line_rule; line width rounding (a finding from the same probe, implied by the line rule)
+//   point_rule; clipping; viewport_fma; depth_rounding; depth_clear; color_rounding.
+//
+// Deliberately does not: infer the driver quirks (flush_denormals, draw_pipeline_cull,
+// draw_segment_vertices, nine_vertex_quirk, wrapping_arithmetic: the family's defaults are
+// kept and listed as not probed), blending, textures or multisampling, or rules the reference
+// cannot draw (a diamond-exit line rule other than llvmpipe's is reported undecided).
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "harness/backend.hpp"
+#include "refraster/profile.hpp"
+
+namespace harness {
+
+struct RuleFinding {
+    std::string key;  // a profile parameter, or "line_width_rounding" (a finding only)
+    std::string value;
+    bool decided = false;
+    bool probed = true;  // false: not probed, the family's default kept
+    std::vector<std::string> candidates;  // the values tried
+    std::vector<std::string> matching;    // the values that reproduce every probe pixel
+    std::string evidence;                 // one line: probe, pixel, values
+};
+
+struct FingerprintResult {
+    std::string backend;
+    std::vector<RuleFinding> rules;
+    refraster::Profile profile;  // loadable; undecided rules keep the family's defaults
+    bool complete() const;       // every probed rule decided
+};
+
+using FingerprintProgress = std::function<void(const std::string&)>;
+
+// Runs every probe through `target` and the reference. Throws std::runtime_error when the
+// backend cannot render a probe at all (a crash or an internal error); a probe the backend
+// does not support leaves its rules undecided.
+FingerprintResult fingerprint(Backend& target, const FingerprintProgress& progress = {});
+
+// One line per rule: key, value (or "undecided"), evidence.
+std::string fingerprint_text(const FingerprintResult& r);
+// The findings as JSON: {"backend", "complete", "profile": {...}, "rules": [...]}.
+std::string fingerprint_json(const FingerprintResult& r);
+
+}  // namespace harness

@@ -1,0 +1,704 @@
+// fingerprint.cpp: probe scenes and the candidate search (fingerprint.hpp).
+#include "harness/fingerprint.hpp"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <optional>
+#include <random>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+#include "harness/profile_io.hpp"
+#include "refraster/renderer.hpp"
+
+namespace harness {
+
+namespace {
+
+using refraster::Draw;
+using refraster::Framebuffer;
+using refraster::Profile;
+
+// ---------------------------------------------------------------------------------------
+// Probe scenes. Every position is a window coordinate on a dyadic grid, given in clip space
+// with w = 1 under a viewport covering a power-of-two target, so that the viewport transform
+// is exact whichever way it is computed (fused or not), unless the probe wants otherwise.
+
+struct Probe {
+    std::string name;
+    Scene scene;
+    // Which pixels count: coverage (lit or not against the clear colour), everything (colour
+    // bits and depth), or depth alone.
+    enum class Compare { Coverage, Exact, Depth } compare = Compare::Coverage;
+};
+
+Scene make_scene(const std::string& name, std::uint32_t w, std::uint32_t h,
+                 refraster::ColorFormat color = refraster::ColorFormat::Rgba8,
+                 refraster::DepthFormat depth = refraster::DepthFormat::None) {
+    Scene s;
+    s.path = "fingerprint/" + name;
+    s.file.name = name;
+    s.file.target = {w, h, color, depth, 1};
+    s.file.clear.color = {0.0f, 0.0f, 0.0f, 0.0f};
+    s.file.clear.depth = 1.0f;
+    s.draw_list.target = s.file.target;
+    s.draw_list.clear = s.file.clear;
+    return s;
+}
+
+// A draw of window-space vertices (x, y, z) with colours, in a target of size (w, h) whose
+// whole area is the viewport; w_clip scales each clip position (perspective) when given.
+Draw window_draw(refraster::PrimitiveType p, const std::vector<std::array<float, 3>>& pos,
+                 const std::vector<std::array<float, 4>>& colors, std::uint32_t w,
+                 std::uint32_t h, const std::vector<float>& w_clip = {}) {
+    Draw d;
+    d.primitive = p;
+    d.state.viewport = {0, 0, static_cast<std::int32_t>(w), static_cast<std::int32_t>(h)};
+    d.vertices.attributes = {{"color", 4}};
+    const float hw = 0.5f * static_cast<float>(w);
+    const float hh = 0.5f * static_cast<float>(h);
+    for (std::size_t i = 0; i < pos.size(); ++i) {
+        const float cw = w_clip.empty() ? 1.0f : w_clip[i];
+        const float x = (pos[i][0] - hw) / hw;
+        const float y = (pos[i][1] - hh) / hh;
+        const float z = pos[i][2] * 2.0f - 1.0f;
+        d.vertices.data.insert(d.vertices.data.end(), {x * cw, y * cw, z * cw, cw});
+        const auto& c = colors[std::min(i, colors.size() - 1)];
+        d.vertices.data.insert(d.vertices.data.end(), c.begin(), c.end());
+    }
+    return d;
+}
+
+constexpr std::array<float, 4> kWhite{1.0f, 1.0f, 1.0f, 1.0f};
+
+// A position on the 1/1024 grid in [lo, hi).
+float grid(std::mt19937& rng, float lo, float hi, float step = 1.0f / 1024.0f) {
+    std::uniform_real_distribution<float> u(lo, hi);
+    return std::floor(u(rng) / step) * step;
+}
+
+// Triangles in 16x16 cells: random vertices on the 1/1024 grid (subpixel precision and
+// rounding), vertices exactly half a subpixel step apart for every step from 1/2 to 1/256
+// (the snapping's rounding), and edges through pixel centres in every direction (the tie
+// rule).
+Probe triangle_probe() {
+    Probe p{"triangles", make_scene("triangles", 256, 256), Probe::Compare::Coverage};
+    std::mt19937 rng(11);
+    std::vector<std::array<float, 3>> v;
+    for (int cell = 0; cell < 256; ++cell) {
+        const float cx = static_cast<float>((cell % 16) * 16);
+        const float cy = static_cast<float>((cell / 16) * 16);
+        const int kind = cell % 4;
+        std::array<std::array<float, 2>, 3> t{};
+        if (kind == 0 || kind == 1) {
+            for (auto& q : t) q = {cx + grid(rng, 1.0f, 15.0f), cy + grid(rng, 1.0f, 15.0f)};
+        } else if (kind == 2) {
+            // Half steps: k/2^b + 1/2^(b+1) for b = 1..8, around pixel centres.
+            const int b = 1 + (cell / 4) % 8;
+            const float half = std::ldexp(1.0f, -(b + 1));
+            for (auto& q : t) {
+                q = {cx + std::floor(grid(rng, 1.0f, 15.0f)) + 0.5f +
+                         half * static_cast<float>(std::uniform_int_distribution<int>(-3, 3)(rng)),
+                     cy + std::floor(grid(rng, 1.0f, 15.0f)) + 0.5f +
+                         half * static_cast<float>(std::uniform_int_distribution<int>(-3, 3)(rng))};
+            }
+        } else {
+            // Edges through pixel centres: a right triangle with its legs on centre lines and a
+            // diagonal through centres, in one of four orientations.
+            const float x0 = cx + 2.5f, y0 = cy + 2.5f, s = 10.0f;
+            const int o = (cell / 4) % 4;
+            const float sx = (o & 1) ? -1.0f : 1.0f;
+            const float sy = (o & 2) ? -1.0f : 1.0f;
+            const float bx = (o & 1) ? x0 + s : x0;
+            const float by = (o & 2) ? y0 + s : y0;
+            t = {{{bx, by}, {bx + sx * s, by}, {bx, by + sy * s}}};
+        }
+        for (const auto& q : t) v.push_back({q[0], q[1], 0.5f});
+    }
+    p.scene.draw_list.draws.push_back(
+        window_draw(refraster::PrimitiveType::Triangles, v, {kWhite}, 256, 256));
+    return p;
+}
+
+// Width-1 lines in 32x32 cells, every octant, ends on the 1/256 grid and on integers.
+Probe line_probe() {
+    Probe p{"lines", make_scene("lines", 256, 256), Probe::Compare::Coverage};
+    std::mt19937 rng(12);
+    std::vector<std::array<float, 3>> v;
+    for (int cell = 0; cell < 64; ++cell) {
+        const float cx = static_cast<float>((cell % 8) * 32);
+        const float cy = static_cast<float>((cell / 8) * 32);
+        const float step = cell % 3 == 0 ? 1.0f : 1.0f / 256.0f;
+        v.push_back({cx + grid(rng, 3.0f, 29.0f, step), cy + grid(rng, 3.0f, 29.0f, step), 0.5f});
+        v.push_back({cx + grid(rng, 3.0f, 29.0f, step), cy + grid(rng, 3.0f, 29.0f, step), 0.5f});
+    }
+    p.scene.draw_list.draws.push_back(
+        window_draw(refraster::PrimitiveType::Lines, v, {kWhite}, 256, 256));
+    return p;
+}
+
+// Horizontal lines of widths 1.5 to 4.5 in half steps at rows with centre k + 0.5, and the
+// rows each lights (the line width rounding).
+Probe line_width_probe() {
+    Probe p{"line_widths", make_scene("line_widths", 64, 64), Probe::Compare::Coverage};
+    for (int i = 0; i < 7; ++i) {
+        const float y = 4.5f + 8.0f * static_cast<float>(i);
+        Draw d = window_draw(refraster::PrimitiveType::Lines, {{8.0f, y, 0.5f}, {56.0f, y, 0.5f}},
+                             {kWhite}, 64, 64);
+        d.state.line_width = 1.5f + 0.5f * static_cast<float>(i);
+        p.scene.draw_list.draws.push_back(d);
+    }
+    return p;
+}
+
+// Points of sizes 1 to 5.5 in quarter and half steps at random positions on the 1/256 grid
+// and on pixel centres and corners, one a 16x16 cell.
+Probe point_probe() {
+    Probe p{"points", make_scene("points", 256, 256), Probe::Compare::Coverage};
+    std::mt19937 rng(13);
+    for (int cell = 0; cell < 256; ++cell) {
+        const float cx = static_cast<float>((cell % 16) * 16);
+        const float cy = static_cast<float>((cell / 16) * 16);
+        float x = cx + grid(rng, 5.0f, 11.0f, 1.0f / 256.0f);
+        float y = cy + grid(rng, 5.0f, 11.0f, 1.0f / 256.0f);
+        if (cell % 4 == 1) x = std::floor(x) + 0.5f, y = std::floor(y) + 0.5f;
+        if (cell % 4 == 2) x = std::floor(x), y = std::floor(y);
+        Draw d = window_draw(refraster::PrimitiveType::Points, {{x, y, 0.5f}}, {kWhite}, 256, 256);
+        d.state.point_size = 1.0f + 0.25f * static_cast<float>(cell % 19);
+        p.scene.draw_list.draws.push_back(d);
+    }
+    return p;
+}
+
+// A viewport inside the target: triangles crossing its sides, points and wide lines whose
+// squares reach past them (the clipper leaves them whole, a guard band's viewport scissor cuts
+// them).
+Probe clipping_probe() {
+    Probe p{"clipping", make_scene("clipping", 64, 64), Probe::Compare::Coverage};
+    const auto in_viewport = [](Draw d) {
+        d.state.viewport = {16, 16, 32, 32};
+        return d;
+    };
+    // Positions in the viewport's own window space (0..32 before the offset of 16).
+    const auto at = [](float x, float y) { return std::array<float, 3>{x + 16.0f, y + 16.0f, 0.5f}; };
+    auto make = [&](refraster::PrimitiveType t, std::vector<std::array<float, 3>> v) {
+        // window_draw maps with the whole target; recompute for the 32x32 viewport at 16.
+        Draw d = window_draw(t, {}, {kWhite}, 64, 64);
+        d.vertices.data.clear();
+        for (const auto& q : v) {
+            const float x = (q[0] - 32.0f) / 16.0f;
+            const float y = (q[1] - 32.0f) / 16.0f;
+            d.vertices.data.insert(d.vertices.data.end(), {x, y, 0.0f, 1.0f});
+            d.vertices.data.insert(d.vertices.data.end(), kWhite.begin(), kWhite.end());
+        }
+        return in_viewport(d);
+    };
+    p.scene.draw_list.draws.push_back(make(refraster::PrimitiveType::Triangles,
+                                           {at(-9.3f, 3.1f), at(20.7f, -6.4f), at(11.2f, 40.9f)}));
+    Draw pts = make(refraster::PrimitiveType::Points,
+                    {at(0.75f, 10.5f), at(31.25f, 20.5f), at(15.5f, 0.75f), at(12.5f, 31.25f)});
+    pts.state.point_size = 6.0f;
+    p.scene.draw_list.draws.push_back(pts);
+    Draw lines = make(refraster::PrimitiveType::Lines, {at(4.0f, 1.0f), at(28.0f, 1.0f),
+                                                        at(31.0f, 6.0f), at(31.0f, 26.0f)});
+    lines.state.line_width = 5.0f;
+    p.scene.draw_list.draws.push_back(lines);
+    return p;
+}
+
+// Perspective-correct colours into rgba32f under a viewport whose scale and offset are not
+// powers of two, so that a fused viewport transform and plane evaluation leave other bits.
+Probe fusion_probe() {
+    Probe p{"fusion",
+            make_scene("fusion", 128, 128, refraster::ColorFormat::Rgba32f),
+            Probe::Compare::Exact};
+    std::mt19937 rng(14);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    for (int i = 0; i < 24; ++i) {
+        Draw d;
+        d.primitive = refraster::PrimitiveType::Triangles;
+        d.state.viewport = {3, 5, 119, 117};
+        d.vertices.attributes = {{"color", 4}};
+        for (int k = 0; k < 3; ++k) {
+            const float w = 0.5f + 1.5f * u(rng);
+            const float x = (u(rng) * 1.8f - 0.9f) * w;
+            const float y = (u(rng) * 1.8f - 0.9f) * w;
+            d.vertices.data.insert(d.vertices.data.end(),
+                                   {x, y, 0.0f, w, u(rng), u(rng), u(rng), u(rng)});
+        }
+        p.scene.draw_list.draws.push_back(d);
+    }
+    return p;
+}
+
+// Depth of perspective triangles into z24, written always (the depth quantisation).
+Probe depth_probe() {
+    Probe p{"depth",
+            make_scene("depth", 128, 128, refraster::ColorFormat::Rgba8,
+                       refraster::DepthFormat::Z24),
+            Probe::Compare::Depth};
+    std::mt19937 rng(15);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    for (int i = 0; i < 16; ++i) {
+        std::vector<std::array<float, 3>> v;
+        std::vector<float> w;
+        for (int k = 0; k < 3; ++k) {
+            v.push_back({u(rng) * 128.0f, u(rng) * 128.0f, 0.05f + 0.9f * u(rng)});
+            w.push_back(0.5f + 1.5f * u(rng));
+        }
+        Draw d = window_draw(refraster::PrimitiveType::Triangles, v, {kWhite}, 128, 128, w);
+        d.state.depth_test = refraster::CompareFunc::Always;
+        p.scene.draw_list.draws.push_back(d);
+    }
+    return p;
+}
+
+// Clears of z16 and z24 targets to values whose quantisation in double and in float differ.
+std::vector<Probe> clear_probes() {
+    std::vector<Probe> out;
+    for (auto f : {refraster::DepthFormat::Z24, refraster::DepthFormat::Z16}) {
+        const double max = f == refraster::DepthFormat::Z24 ? 16777215.0 : 65535.0;
+        int found = 0;
+        for (int i = 1; i < 200000 && found < 4; ++i) {
+            const float z = static_cast<float>(i) / 200000.0f;
+            const auto d = static_cast<std::uint32_t>(std::nearbyint(static_cast<double>(z) * max));
+            const auto fl = static_cast<std::uint32_t>(std::nearbyint(z * static_cast<float>(max)));
+            if (d == fl) continue;
+            const std::string name = "clear_" + std::string(refraster::to_string(f)) + "_" +
+                                     std::to_string(found++);
+            Probe p{name, make_scene(name, 4, 4, refraster::ColorFormat::Rgba8, f),
+                    Probe::Compare::Depth};
+            p.scene.file.clear.depth = z;
+            p.scene.draw_list.clear.depth = z;
+            out.push_back(std::move(p));
+        }
+    }
+    return out;
+}
+
+// Flat colours between two bytes: (k + 0.7) / 255 rounds up, truncates down.
+Probe color_probe() {
+    Probe p{"colors", make_scene("colors", 64, 64), Probe::Compare::Exact};
+    for (int i = 0; i < 16; ++i) {
+        const float x = static_cast<float>((i % 4) * 16);
+        const float y = static_cast<float>((i / 4) * 16);
+        std::array<float, 4> c{};
+        for (int k = 0; k < 4; ++k)
+            c[static_cast<std::size_t>(k)] = (static_cast<float>(i * 13 + k * 47) + 0.7f) / 255.0f;
+        Draw d = window_draw(refraster::PrimitiveType::Triangles,
+                             {{x + 1.0f, y + 1.0f, 0.5f}, {x + 15.0f, y + 1.0f, 0.5f},
+                              {x + 1.0f, y + 15.0f, 0.5f}},
+                             {c}, 64, 64);
+        d.state.shade = refraster::ShadeModel::Flat;
+        p.scene.draw_list.draws.push_back(d);
+    }
+    return p;
+}
+
+// ---------------------------------------------------------------------------------------
+// Comparing a candidate's render with the backend's.
+
+struct Difference {
+    std::uint64_t pixels = 0;
+    int x = -1, y = -1;  // the first differing pixel
+};
+
+bool lit(const Framebuffer& fb, std::size_t i, const refraster::ClearValues& clear) {
+    for (std::size_t k = 0; k < 4; ++k) {
+        if (fb.color_format == refraster::ColorFormat::Rgba8) {
+            if (fb.color8[4 * i + k] != static_cast<std::uint8_t>(clear.color[k] * 255.0f))
+                return true;
+        } else if (std::bit_cast<std::uint32_t>(fb.color32f[4 * i + k]) !=
+                   std::bit_cast<std::uint32_t>(clear.color[k])) {
+            return true;
+        }
+    }
+    return false;
+}
+
+Difference difference(const Probe& p, const Framebuffer& a, const Framebuffer& b) {
+    Difference d;
+    if (a.width != b.width || a.height != b.height) {
+        d.pixels = 1;
+        return d;
+    }
+    const auto& clear = p.scene.draw_list.clear;
+    for (std::uint32_t y = 0; y < a.height; ++y) {
+        for (std::uint32_t x = 0; x < a.width; ++x) {
+            const std::size_t i = a.index(x, y);
+            bool differs = false;
+            switch (p.compare) {
+                case Probe::Compare::Coverage:
+                    differs = lit(a, i, clear) != lit(b, i, clear);
+                    break;
+                case Probe::Compare::Depth:
+                    differs = a.depth[i] != b.depth[i];
+                    break;
+                case Probe::Compare::Exact:
+                    for (std::size_t k = 0; k < 4 && !differs; ++k) {
+                        differs = a.color_format == refraster::ColorFormat::Rgba8
+                                      ? a.color8[4 * i + k] != b.color8[4 * i + k]
+                                      : std::bit_cast<std::uint32_t>(a.color32f[4 * i + k]) !=
+                                            std::bit_cast<std::uint32_t>(b.color32f[4 * i + k]);
+                    }
+                    differs = differs || (!a.depth.empty() && a.depth[i] != b.depth[i]);
+                    break;
+            }
+            if (differs) {
+                if (d.pixels++ == 0) {
+                    d.x = static_cast<int>(x);
+                    d.y = static_cast<int>(y);
+                }
+            }
+        }
+    }
+    return d;
+}
+
+// What a render shows at a pixel, for evidence.
+std::string pixel_text(const Probe& p, const Framebuffer& fb, int x, int y) {
+    if (x < 0) return "?";
+    const std::size_t i = fb.index(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y));
+    char buf[96];
+    if (p.compare == Probe::Compare::Depth) {
+        std::snprintf(buf, sizeof buf, "depth %u", fb.depth[i]);
+    } else if (p.compare == Probe::Compare::Coverage) {
+        return lit(fb, i, p.scene.draw_list.clear) ? "lit" : "unlit";
+    } else if (fb.color_format == refraster::ColorFormat::Rgba8) {
+        std::snprintf(buf, sizeof buf, "%u,%u,%u,%u", fb.color8[4 * i], fb.color8[4 * i + 1],
+                      fb.color8[4 * i + 2], fb.color8[4 * i + 3]);
+    } else {
+        std::snprintf(buf, sizeof buf, "%.9g,%.9g,%.9g,%.9g",
+                      static_cast<double>(fb.color32f[4 * i]),
+                      static_cast<double>(fb.color32f[4 * i + 1]),
+                      static_cast<double>(fb.color32f[4 * i + 2]),
+                      static_cast<double>(fb.color32f[4 * i + 3]));
+    }
+    return buf;
+}
+
+// ---------------------------------------------------------------------------------------
+// The search.
+
+using Assignment = std::map<std::string, std::string>;
+
+class Search {
+  public:
+    Search(Backend& target, const FingerprintProgress& progress)
+        : target_(target), progress_(progress) {}
+
+    // The backend's render of a probe; nullopt when it does not support it.
+    std::optional<Framebuffer> backend(const Probe& p) {
+        say("probe " + p.name + " through " + target_.name());
+        RenderResult r = target_.render(p.scene);
+        if (r.status == RenderStatus::NotSupported) return std::nullopt;
+        if (r.status != RenderStatus::Ok) {
+            throw std::runtime_error(target_.name() + " failed on probe " + p.name + ": " +
+                                     std::string(to_string(r.status)) + " " + r.message);
+        }
+        return std::move(r.image);
+    }
+
+    // The reference under `profile`; nullopt when it cannot draw the probe so.
+    static std::optional<Framebuffer> reference(const Probe& p, const Profile& profile) {
+        refraster::RenderOptions o;
+        o.profile = profile;
+        o.threads = 1;
+        Framebuffer fb;
+        if (refraster::render(p.scene.draw_list, o, fb).status != refraster::RenderStatus::Ok)
+            return std::nullopt;
+        return fb;
+    }
+
+    void say(const std::string& s) const {
+        if (progress_) progress_(s);
+    }
+
+  private:
+    Backend& target_;
+    const FingerprintProgress& progress_;
+};
+
+Profile with(Profile p, const Assignment& a) {
+    for (const auto& [k, v] : a) refraster::set_profile_parameter(p, k, v);
+    return p;
+}
+
+std::string assignment_text(const Assignment& a) {
+    std::string s;
+    for (const auto& [k, v] : a) s += (s.empty() ? "" : " ") + k + "=" + v;
+    return s;
+}
+
+// One stage: every combination in `candidates` applied to `base` and rendered through the
+// reference for each probe; the combinations that reproduce every probe pixel decide the keys
+// they agree on. Findings for `keys` are appended; the decided values go into `decided`.
+struct StageResult {
+    std::vector<Assignment> matching;
+};
+
+StageResult run_stage(Search& search, const std::vector<Probe>& probes, const Profile& base,
+                      const std::vector<Assignment>& candidates,
+                      const std::vector<std::string>& keys, std::vector<RuleFinding>& findings,
+                      Assignment& decided) {
+    StageResult out;
+    std::vector<std::optional<Framebuffer>> want;
+    bool any = false;
+    for (const auto& p : probes) {
+        want.push_back(search.backend(p));
+        any = any || want.back().has_value();
+    }
+    // Per candidate: total differing pixels, and per probe the renders (for evidence).
+    std::vector<std::uint64_t> total(candidates.size(), 0);
+    std::vector<bool> drawable(candidates.size(), true);
+    for (std::size_t c = 0; c < candidates.size(); ++c) {
+        const Profile prof = with(base, candidates[c]);
+        for (std::size_t i = 0; i < probes.size(); ++i) {
+            if (!want[i]) continue;
+            const auto got = Search::reference(probes[i], prof);
+            if (!got) {
+                drawable[c] = false;
+                break;
+            }
+            total[c] += difference(probes[i], *got, *want[i]).pixels;
+        }
+    }
+    for (std::size_t c = 0; c < candidates.size(); ++c) {
+        if (any && drawable[c] && total[c] == 0) out.matching.push_back(candidates[c]);
+    }
+    for (const auto& key : keys) {
+        RuleFinding f;
+        f.key = key;
+        for (const auto& c : candidates) {
+            const auto it = c.find(key);
+            if (it != c.end() &&
+                std::find(f.candidates.begin(), f.candidates.end(), it->second) == f.candidates.end())
+                f.candidates.push_back(it->second);
+        }
+        for (const auto& m : out.matching) {
+            const auto it = m.find(key);
+            const std::string v = it == m.end() ? "n/a" : it->second;
+            if (std::find(f.matching.begin(), f.matching.end(), v) == f.matching.end())
+                f.matching.push_back(v);
+        }
+        if (!any) {
+            f.value = "undecided";
+            f.evidence = "the backend draws none of the probes (" + probes.front().name + ")";
+        } else if (f.matching.size() == 1 && f.matching[0] != "n/a") {
+            f.value = f.matching[0];
+            f.decided = true;
+            decided[key] = f.value;
+        } else if (f.matching.size() == 1) {
+            f.value = "n/a";
+            f.decided = true;
+            f.evidence = "does not apply to the matching model";
+        } else if (f.matching.empty()) {
+            f.value = "undecided";
+            std::size_t best = 0;
+            for (std::size_t c = 1; c < candidates.size(); ++c)
+                if (drawable[c] && (!drawable[best] || total[c] < total[best])) best = c;
+            f.evidence = "no candidate reproduces the probes " + probes.front().name +
+                         (probes.size() > 1 ? " and others" : "") + "; the closest (" +
+                         assignment_text(candidates[best]) + ") differs in " +
+                         std::to_string(total[best]) + " pixels";
+        } else {
+            f.value = "undecided";
+            std::string vs;
+            for (const auto& v : f.matching) vs += (vs.empty() ? "" : ", ") + v;
+            f.evidence = "the values " + vs + " all reproduce every probe pixel";
+        }
+        findings.push_back(f);
+    }
+    // Evidence for each decided key: a rival value (the match with only that key changed)
+    // and a probe pixel where it differs from the backend.
+    if (out.matching.size() == 1) {
+        const Assignment& chosen = out.matching[0];
+        for (auto& f : findings) {
+            if (!f.decided || f.value == "n/a" || !f.evidence.empty()) continue;
+            if (std::find(keys.begin(), keys.end(), f.key) == keys.end()) continue;
+            for (const auto& alt : f.candidates) {
+                if (alt == f.value) continue;
+                Assignment rival = chosen;
+                rival[f.key] = alt;
+                for (std::size_t i = 0; i < probes.size() && f.evidence.empty(); ++i) {
+                    if (!want[i]) continue;
+                    const auto got = Search::reference(probes[i], with(base, rival));
+                    if (!got) continue;
+                    const Difference d = difference(probes[i], *got, *want[i]);
+                    if (d.pixels == 0) continue;
+                    f.evidence = "probe " + probes[i].name + " pixel (" + std::to_string(d.x) +
+                                 ", " + std::to_string(d.y) + "): the backend gives " +
+                                 pixel_text(probes[i], *want[i], d.x, d.y) + " as " + f.key +
+                                 "=" + f.value + " does; " + f.key + "=" + alt + " gives " +
+                                 pixel_text(probes[i], *got, d.x, d.y) + " (" +
+                                 std::to_string(d.pixels) + " pixels differ)";
+                }
+                if (!f.evidence.empty()) break;
+            }
+            if (f.evidence.empty())
+                f.evidence = "the only candidate that reproduces every probe pixel";
+        }
+    }
+    return out;
+}
+
+// The built-in profile of a coverage family.
+Profile family_base(const std::string& coverage) {
+    if (coverage == "scanline") return refraster::softpipe_22_3_profile();
+    if (coverage == "exact") return refraster::gl_exact_profile();
+    return refraster::llvmpipe_22_3_profile();
+}
+
+// The rows a horizontal line of the width probe lights, as "w=1.5: 2 rows" items, and what
+// they say about the width rounding.
+RuleFinding line_width_finding(const Probe& p, const std::optional<Framebuffer>& fb) {
+    RuleFinding f;
+    f.key = "line_width_rounding";
+    f.candidates = {"half-away", "unrounded"};
+    if (!fb) {
+        f.value = "undecided";
+        f.evidence = "the backend does not draw the probe line_widths";
+        return f;
+    }
+    std::string rows_text;
+    bool half_away = true;
+    for (std::size_t i = 0; i < p.scene.draw_list.draws.size(); ++i) {
+        const float width = p.scene.draw_list.draws[i].state.line_width;
+        const int y0 = 4 + 8 * static_cast<int>(i);
+        int rows = 0;
+        for (int y = y0 - 4; y <= y0 + 4; ++y) {
+            if (y < 0 || y >= 64) continue;
+            if (lit(*fb, fb->index(32, static_cast<std::uint32_t>(y)), p.scene.draw_list.clear))
+                ++rows;
+        }
+        rows_text += (rows_text.empty() ? "" : ", ") + std::string("width ") +
+                     std::to_string(width).substr(0, 3) + ": " + std::to_string(rows) + " rows";
+        if (rows != static_cast<int>(std::round(width))) half_away = false;
+    }
+    f.decided = true;
+    f.value = half_away ? "half-away" : "unrounded";
+    f.matching = {f.value};
+    f.evidence = "probe line_widths column 32: " + rows_text +
+                 (half_away ? " (round(width) rows each)" : " (not round(width) rows)");
+    return f;
+}
+
+}  // namespace
+
+bool FingerprintResult::complete() const {
+    return std::all_of(rules.begin(), rules.end(),
+                       [](const RuleFinding& f) { return !f.probed || f.decided; });
+}
+
+FingerprintResult fingerprint(Backend& target, const FingerprintProgress& progress) {
+    Search search(target, progress);
+    FingerprintResult r;
+    r.backend = target.name();
+    Assignment decided;
+
+    // 1. Coverage: the model and, for the snapped one, its four parameters, jointly.
+    std::vector<Assignment> coverage;
+    for (int bits = 1; bits <= 8; ++bits)
+        for (const char* rounding : {"nearest-even", "half-away", "truncate"})
+            for (const char* offset : {"0.5", "0"})
+                for (const char* tie : {"left-bottom", "left-top", "right-bottom", "right-top"})
+                    coverage.push_back({{"coverage", "snapped"},
+                                        {"subpixel_bits", std::to_string(bits)},
+                                        {"snap_rounding", rounding},
+                                        {"pixel_center_offset", offset},
+                                        {"tie_rule", tie}});
+    coverage.push_back({{"coverage", "scanline"}});
+    for (const char* tie : {"left-bottom", "left-top", "right-bottom", "right-top"})
+        coverage.push_back({{"coverage", "exact"}, {"tie_rule", tie}});
+    search.say("coverage: " + std::to_string(coverage.size()) + " candidates");
+    run_stage(search, {triangle_probe()}, refraster::llvmpipe_22_3_profile(), coverage,
+              {"coverage", "subpixel_bits", "snap_rounding", "pixel_center_offset", "tie_rule"},
+              r.rules, decided);
+    const std::string family = decided.count("coverage") ? decided["coverage"] : "snapped";
+    Profile base = family_base(family);
+    for (const auto& [k, v] : decided) refraster::set_profile_parameter(base, k, v);
+    const auto stage = [&](const std::vector<Probe>& probes, const std::string& key,
+                           const std::vector<std::string>& values) {
+        std::vector<Assignment> c;
+        for (const auto& v : values) c.push_back({{key, v}});
+        run_stage(search, probes, base, c, {key}, r.rules, decided);
+        if (decided.count(key)) refraster::set_profile_parameter(base, key, decided[key]);
+    };
+
+    // 2. Lines and points, then the clipper (whose probe has both).
+    const Probe widths = line_width_probe();
+    stage({line_probe()}, "line_rule", {"parallelogram", "bresenham"});
+    r.rules.push_back(line_width_finding(widths, search.backend(widths)));
+    stage({point_probe()}, "point_rule", {"square", "two-triangles"});
+    stage({clipping_probe()}, "clipping", {"view-volume", "guard-band"});
+    // 3. Arithmetic: fusion, depth, clears, colours.
+    stage({fusion_probe()}, "viewport_fma", {"on", "off"});
+    stage({depth_probe()}, "depth_rounding", {"nearest", "truncate"});
+    stage(clear_probes(), "depth_clear", {"double", "float"});
+    stage({color_probe()}, "color_rounding", {"nearest", "truncate"});
+
+    // viewport_fma: the family's "auto" where the observation is what auto gives on this CPU.
+    for (auto& f : r.rules) {
+        if (f.key == "viewport_fma" && f.decided &&
+            family_base(family).gl.viewport_fma == refraster::FmaMode::Auto &&
+            (f.value == "on") == refraster::host_has_fma()) {
+            f.evidence += " (what auto gives on this CPU)";
+            f.value = "auto";
+            refraster::set_profile_parameter(base, "viewport_fma", "auto");
+        }
+    }
+    for (const char* key : {"flush_denormals", "draw_pipeline_cull", "draw_segment_vertices",
+                            "nine_vertex_quirk", "wrapping_arithmetic"}) {
+        RuleFinding f;
+        f.key = key;
+        f.probed = false;
+        for (const auto& [k, v] : refraster::profile_parameters(base))
+            if (k == key) f.value = v;
+        f.evidence = "not probed: the " + family + " family's default";
+        r.rules.push_back(f);
+    }
+    // The name: the family's built-in, followed by the rules that differ from it
+    // ("llvmpipe-22.3+tie_rule=right-top").
+    base.name = family_base(family).name;
+    name_by_rules(base);
+    r.profile = base;
+    return r;
+}
+
+std::string fingerprint_text(const FingerprintResult& r) {
+    std::string s;
+    for (const auto& f : r.rules) {
+        std::string line = f.key + " = " + f.value;
+        if (line.size() < 34) line.resize(34, ' ');
+        s += line + "  " + f.evidence + "\n";
+    }
+    s += "profile: " + r.profile.name + (r.complete() ? "" : " (some rules undecided)") + "\n";
+    return s;
+}
+
+std::string fingerprint_json(const FingerprintResult& r) {
+    nlohmann::ordered_json j;
+    j["backend"] = r.backend;
+    j["complete"] = r.complete();
+    nlohmann::ordered_json prof;
+    for (const auto& [k, v] : refraster::profile_parameters(r.profile)) prof[k] = v;
+    j["profile"] = prof;
+    j["rules"] = nlohmann::json::array();
+    for (const auto& f : r.rules) {
+        j["rules"].push_back({{"key", f.key},
+                              {"value", f.value},
+                              {"decided", f.decided},
+                              {"probed", f.probed},
+                              {"candidates", f.candidates},
+                              {"matching", f.matching},
+                              {"evidence", f.evidence}});
+    }
+    return j.dump(2);
+}
+
+}  // namespace harness

@@ -1,0 +1,151 @@
+// refraster fingerprint (harness/fingerprint.hpp) against backends whose rules are known: the
+// reference under every single-rule mutation of both driver profiles is fingerprinted back to
+// exactly that profile, and rules a backend's pixels cannot decide are reported undecided.
+// (Recovering llvmpipe-22.3 and softpipe-22.3 from OSMesa: tests/backends/softpipe_coverage_test.)
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "harness/backend.hpp"
+#include "harness/fingerprint.hpp"
+#include "harness/profile_io.hpp"
+#include "refraster/profile.hpp"
+#include "refraster/renderer.hpp"
+
+namespace {
+
+std::unique_ptr<harness::Backend> reference(const refraster::Profile& p) {
+    harness::BackendOptions o;
+    o.kind = harness::BackendKind::Ref;
+    o.profile = p;
+    o.threads = 1;
+    return harness::make_backend(o);
+}
+
+const harness::RuleFinding* finding(const harness::FingerprintResult& r, const std::string& key) {
+    for (const auto& f : r.rules)
+        if (f.key == key) return &f;
+    return nullptr;
+}
+
+struct Mutation {
+    const char* base;
+    const char* rule;  // key=value
+};
+
+class FingerprintMutation : public ::testing::TestWithParam<Mutation> {};
+
+// Each rule flipped in turn: the fingerprint names every rule of the mutated profile, all
+// decided, and each decided rule carries evidence.
+TEST_P(FingerprintMutation, RecoversTheMutatedProfile) {
+    refraster::Profile want = refraster::builtin_profile(GetParam().base);
+    harness::apply_profile_overrides(want, {GetParam().rule});
+    harness::name_by_rules(want);
+    const auto backend = reference(want);
+    const auto r = harness::fingerprint(*backend);
+    EXPECT_TRUE(r.complete()) << harness::fingerprint_text(r);
+    EXPECT_EQ(harness::profile_rules(r.profile), harness::profile_rules(want))
+        << harness::fingerprint_text(r);
+    EXPECT_EQ(r.profile.name, want.name);
+    for (const auto& f : r.rules) {
+        if (f.decided) {
+            EXPECT_FALSE(f.evidence.empty()) << f.key;
+        }
+    }
+}
+
+// On a CPU with FMA, "auto" fuses; the flip is the other value.
+const char* other_fma() {
+    return refraster::host_has_fma() ? "viewport_fma=off" : "viewport_fma=on";
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Llvmpipe, FingerprintMutation,
+    ::testing::Values(Mutation{"llvmpipe-22.3", "subpixel_bits=4"},
+                      Mutation{"llvmpipe-22.3", "subpixel_bits=6"},
+                      Mutation{"llvmpipe-22.3", "snap_rounding=half-away"},
+                      Mutation{"llvmpipe-22.3", "snap_rounding=truncate"},
+                      Mutation{"llvmpipe-22.3", "pixel_center_offset=0"},
+                      Mutation{"llvmpipe-22.3", "tie_rule=left-top"},
+                      Mutation{"llvmpipe-22.3", "tie_rule=right-bottom"},
+                      Mutation{"llvmpipe-22.3", "tie_rule=right-top"},
+                      Mutation{"llvmpipe-22.3", "clipping=guard-band"},
+                      Mutation{"llvmpipe-22.3", other_fma()},
+                      Mutation{"llvmpipe-22.3", "depth_rounding=truncate"},
+                      Mutation{"llvmpipe-22.3", "depth_clear=float"},
+                      Mutation{"llvmpipe-22.3", "color_rounding=truncate"},
+                      Mutation{"llvmpipe-22.3", "line_rule=bresenham"},
+                      Mutation{"llvmpipe-22.3", "point_rule=two-triangles"}));
+
+INSTANTIATE_TEST_SUITE_P(
+    Softpipe, FingerprintMutation,
+    ::testing::Values(Mutation{"softpipe-22.3", "viewport_fma=on"},
+                      Mutation{"softpipe-22.3", "clipping=guard-band"},
+                      Mutation{"softpipe-22.3", "depth_rounding=nearest"},
+                      Mutation{"softpipe-22.3", "depth_clear=float"},
+                      Mutation{"softpipe-22.3", "color_rounding=truncate"},
+                      Mutation{"softpipe-22.3", "line_rule=parallelogram"},
+                      Mutation{"softpipe-22.3", "point_rule=square"}));
+
+TEST(Fingerprint, BuiltInProfilesComeBackUnchanged) {
+    for (const char* name : {"llvmpipe-22.3", "softpipe-22.3"}) {
+        const auto backend = reference(refraster::builtin_profile(name));
+        const auto r = harness::fingerprint(*backend);
+        EXPECT_TRUE(r.complete()) << harness::fingerprint_text(r);
+        EXPECT_EQ(r.profile, refraster::builtin_profile(name)) << harness::fingerprint_text(r);
+    }
+}
+
+// A backend whose lines follow no rule the reference has (the reference's lines moved one
+// pixel up) and which cannot draw rgba32f: the line rule and the fusion are undecided, with
+// the reason, and every other rule is still decided.
+class Unmodelled : public harness::Backend {
+  public:
+    Unmodelled() : inner_(reference(refraster::llvmpipe_22_3_profile())) {}
+    harness::BackendKind kind() const override { return harness::BackendKind::Ref; }
+    std::string name() const override { return "unmodelled"; }
+    harness::RenderResult render(const harness::Scene& s) override {
+        if (s.draw_list.target.color == refraster::ColorFormat::Rgba32f) {
+            harness::RenderResult r;
+            r.status = harness::RenderStatus::NotSupported;
+            r.message = "no float targets";
+            return r;
+        }
+        auto r = inner_->render(s);
+        if (s.file.name == "lines") {
+            auto& img = r.image;
+            for (std::uint32_t y = img.height - 1; y > 0; --y)
+                for (std::uint32_t x = 0; x < img.width; ++x)
+                    for (std::size_t k = 0; k < 4; ++k)
+                        img.color8[4 * img.index(x, y) + k] = img.color8[4 * img.index(x, y - 1) + k];
+        }
+        return r;
+    }
+
+  private:
+    std::unique_ptr<harness::Backend> inner_;
+};
+
+TEST(Fingerprint, UndecidableRulesAreReportedNotGuessed) {
+    Unmodelled backend;
+    const auto r = harness::fingerprint(backend);
+    EXPECT_FALSE(r.complete());
+    const auto* line = finding(r, "line_rule");
+    ASSERT_NE(line, nullptr);
+    EXPECT_FALSE(line->decided);
+    EXPECT_EQ(line->value, "undecided");
+    EXPECT_NE(line->evidence.find("no candidate reproduces"), std::string::npos) << line->evidence;
+    const auto* fma = finding(r, "viewport_fma");
+    ASSERT_NE(fma, nullptr);
+    EXPECT_FALSE(fma->decided);
+    EXPECT_NE(fma->evidence.find("draws none of the probes"), std::string::npos) << fma->evidence;
+    for (const char* key : {"coverage", "tie_rule", "point_rule", "depth_rounding"}) {
+        const auto* f = finding(r, key);
+        ASSERT_NE(f, nullptr) << key;
+        EXPECT_TRUE(f->decided) << key << ": " << f->evidence;
+    }
+}
+
+}  // namespace
