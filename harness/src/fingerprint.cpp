@@ -7,11 +7,10 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <random>
 #include <stdexcept>
-
-#include <nlohmann/json.hpp>
 
 #include "harness/profile_io.hpp"
 #include "refraster/renderer.hpp"
@@ -54,8 +53,8 @@ Scene make_scene(const std::string& name, std::uint32_t w, std::uint32_t h,
 // A draw of window-space vertices (x, y, z) with colours, in a target of size (w, h) whose
 // whole area is the viewport; w_clip scales each clip position (perspective) when given.
 Draw window_draw(refraster::PrimitiveType p, const std::vector<std::array<float, 3>>& pos,
-                 const std::vector<std::array<float, 4>>& colors, std::uint32_t w,
-                 std::uint32_t h, const std::vector<float>& w_clip = {}) {
+                 const std::vector<std::array<float, 4>>& colors, std::uint32_t w, std::uint32_t h,
+                 const std::vector<float>& w_clip = {}) {
     Draw d;
     d.primitive = p;
     d.state.viewport = {0, 0, static_cast<std::int32_t>(w), static_cast<std::int32_t>(h)};
@@ -185,7 +184,9 @@ Probe clipping_probe() {
         return d;
     };
     // Positions in the viewport's own window space (0..32 before the offset of 16).
-    const auto at = [](float x, float y) { return std::array<float, 3>{x + 16.0f, y + 16.0f, 0.5f}; };
+    const auto at = [](float x, float y) {
+        return std::array<float, 3>{x + 16.0f, y + 16.0f, 0.5f};
+    };
     auto make = [&](refraster::PrimitiveType t, std::vector<std::array<float, 3>> v) {
         // window_draw maps with the whole target; recompute for the 32x32 viewport at 16.
         Draw d = window_draw(t, {}, {kWhite}, 64, 64);
@@ -204,8 +205,8 @@ Probe clipping_probe() {
                     {at(0.75f, 10.5f), at(31.25f, 20.5f), at(15.5f, 0.75f), at(12.5f, 31.25f)});
     pts.state.point_size = 6.0f;
     p.scene.draw_list.draws.push_back(pts);
-    Draw lines = make(refraster::PrimitiveType::Lines, {at(4.0f, 1.0f), at(28.0f, 1.0f),
-                                                        at(31.0f, 6.0f), at(31.0f, 26.0f)});
+    Draw lines = make(refraster::PrimitiveType::Lines,
+                      {at(4.0f, 1.0f), at(28.0f, 1.0f), at(31.0f, 6.0f), at(31.0f, 26.0f)});
     lines.state.line_width = 5.0f;
     p.scene.draw_list.draws.push_back(lines);
     return p;
@@ -214,8 +215,7 @@ Probe clipping_probe() {
 // Perspective-correct colours into rgba32f under a viewport whose scale and offset are not
 // powers of two, so that a fused viewport transform and plane evaluation leave other bits.
 Probe fusion_probe() {
-    Probe p{"fusion",
-            make_scene("fusion", 128, 128, refraster::ColorFormat::Rgba32f),
+    Probe p{"fusion", make_scene("fusion", 128, 128, refraster::ColorFormat::Rgba32f),
             Probe::Compare::Exact};
     std::mt19937 rng(14);
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
@@ -238,10 +238,10 @@ Probe fusion_probe() {
 
 // Depth of perspective triangles into z24, written always (the depth quantisation).
 Probe depth_probe() {
-    Probe p{"depth",
-            make_scene("depth", 128, 128, refraster::ColorFormat::Rgba8,
-                       refraster::DepthFormat::Z24),
-            Probe::Compare::Depth};
+    Probe p{
+        "depth",
+        make_scene("depth", 128, 128, refraster::ColorFormat::Rgba8, refraster::DepthFormat::Z24),
+        Probe::Compare::Depth};
     std::mt19937 rng(15);
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
     for (int i = 0; i < 16; ++i) {
@@ -269,8 +269,8 @@ std::vector<Probe> clear_probes() {
             const auto d = static_cast<std::uint32_t>(std::nearbyint(static_cast<double>(z) * max));
             const auto fl = static_cast<std::uint32_t>(std::nearbyint(z * static_cast<float>(max)));
             if (d == fl) continue;
-            const std::string name = "clear_" + std::string(refraster::to_string(f)) + "_" +
-                                     std::to_string(found++);
+            const std::string name =
+                "clear_" + std::string(refraster::to_string(f)) + "_" + std::to_string(found++);
             Probe p{name, make_scene(name, 4, 4, refraster::ColorFormat::Rgba8, f),
                     Probe::Compare::Depth};
             p.scene.file.clear.depth = z;
@@ -290,10 +290,10 @@ Probe color_probe() {
         std::array<float, 4> c{};
         for (int k = 0; k < 4; ++k)
             c[static_cast<std::size_t>(k)] = (static_cast<float>(i * 13 + k * 47) + 0.7f) / 255.0f;
-        Draw d = window_draw(refraster::PrimitiveType::Triangles,
-                             {{x + 1.0f, y + 1.0f, 0.5f}, {x + 15.0f, y + 1.0f, 0.5f},
-                              {x + 1.0f, y + 15.0f, 0.5f}},
-                             {c}, 64, 64);
+        Draw d = window_draw(
+            refraster::PrimitiveType::Triangles,
+            {{x + 1.0f, y + 1.0f, 0.5f}, {x + 15.0f, y + 1.0f, 0.5f}, {x + 1.0f, y + 15.0f, 0.5f}},
+            {c}, 64, 64);
         d.state.shade = refraster::ShadeModel::Flat;
         p.scene.draw_list.draws.push_back(d);
     }
@@ -476,8 +476,8 @@ StageResult run_stage(Search& search, const std::vector<Probe>& probes, const Pr
         f.key = key;
         for (const auto& c : candidates) {
             const auto it = c.find(key);
-            if (it != c.end() &&
-                std::find(f.candidates.begin(), f.candidates.end(), it->second) == f.candidates.end())
+            if (it != c.end() && std::find(f.candidates.begin(), f.candidates.end(), it->second) ==
+                                     f.candidates.end())
                 f.candidates.push_back(it->second);
         }
         for (const auto& m : out.matching) {
@@ -533,8 +533,8 @@ StageResult run_stage(Search& search, const std::vector<Probe>& probes, const Pr
                     if (d.pixels == 0) continue;
                     f.evidence = "probe " + probes[i].name + " pixel (" + std::to_string(d.x) +
                                  ", " + std::to_string(d.y) + "): the backend gives " +
-                                 pixel_text(probes[i], *want[i], d.x, d.y) + " as " + f.key +
-                                 "=" + f.value + " does; " + f.key + "=" + alt + " gives " +
+                                 pixel_text(probes[i], *want[i], d.x, d.y) + " as " + f.key + "=" +
+                                 f.value + " does; " + f.key + "=" + alt + " gives " +
                                  pixel_text(probes[i], *got, d.x, d.y) + " (" +
                                  std::to_string(d.pixels) + " pixels differ)";
                 }

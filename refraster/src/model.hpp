@@ -30,6 +30,7 @@
 namespace refraster::detail {
 
 class SoftpipeTileCache;
+class SoftpipeSampler;
 
 struct DrawContext {
     std::size_t index = 0;  // of the draw in its DrawList
@@ -47,6 +48,8 @@ struct DrawContext {
     SoftpipeTileCache* tiles = nullptr;
     // The model that draws it (draw_model).
     CoverageModel model = CoverageModel::Snapped;
+    // The scanline model's sampler of the draw's texture (softpipe_sampler.hpp), if any.
+    const SoftpipeSampler* sampler = nullptr;
 
     VertexStageOptions vertex_options() const {
         return {fma, profile.gl.flush_denormals, profile.gl.clipping == Clipping::GuardBand,

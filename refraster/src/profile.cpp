@@ -61,6 +61,10 @@ std::string to_string(TieRule r) {
             return "right-bottom";
         case TieRule::RightTop:
             return "right-top";
+        case TieRule::None:
+            return "none";
+        case TieRule::All:
+            return "all";
     }
     return "?";
 }
@@ -207,7 +211,9 @@ void set_profile_parameter(Profile& p, const std::string& key, const std::string
                                       {{"left-bottom", TieRule::LeftBottom},
                                        {"left-top", TieRule::LeftTop},
                                        {"right-bottom", TieRule::RightBottom},
-                                       {"right-top", TieRule::RightTop}});
+                                       {"right-top", TieRule::RightTop},
+                                       {"none", TieRule::None},
+                                       {"all", TieRule::All}});
     } else if (key == "clipping") {
         p.gl.clipping = pick<Clipping>(
             key, value,

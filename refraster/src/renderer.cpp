@@ -14,6 +14,7 @@
 #include "pipeline.hpp"
 #include "rules.hpp"
 #include "setup.hpp"
+#include "softpipe_sampler.hpp"
 #include "softpipe_tiles.hpp"
 #include "texture.hpp"
 #include "trace_observer.hpp"
@@ -86,9 +87,8 @@ bool is_triangle(PrimitiveType p) {
 
 std::string unsupported(const Draw& d, const Target& target, const Profile& profile) {
     if (detail::draw_model(profile, d) == CoverageModel::Scanline) {
-        // softpipe has no multisampling (GL_MAX_SAMPLES is 0) and its own float sampler.
+        // softpipe has no multisampling (GL_MAX_SAMPLES is 0).
         if (target.samples != 1) return "the scanline (softpipe) rules have no multisampling";
-        if (d.state.texture) return "the scanline (softpipe) rules draw untextured primitives only";
         return {};
     }
     if (profile.model != CoverageModel::Exact) return {};
@@ -171,6 +171,7 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
             }
         }
     }
+    std::vector<std::vector<TextureImage>> softpipe_levels(list.textures.size());
     RenderOutcome outcome;
     for (std::size_t i = 0; i < list.draws.size(); ++i) {
         const Draw& d = list.draws[i];
@@ -194,6 +195,19 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
         if (model == CoverageModel::Scanline && !tiles)
             own_tiles.emplace(out, std::nullopt, truncate_colors);
         detail::SoftpipeTileCache* draw_tiles = tiles ? &*tiles : own_tiles ? &*own_tiles : nullptr;
+        // softpipe's sampler of the draw's texture; generated levels are made once a texture.
+        std::optional<detail::SoftpipeSampler> sampler;
+        if (model == CoverageModel::Scanline && d.state.texture) {
+            const std::uint32_t t = d.state.texture->texture;
+            if (list.textures[t].generate_mipmaps && softpipe_levels[t].empty()) {
+                sampler.emplace(*d.state.texture, list.textures[t].levels, true);
+                softpipe_levels[t] = sampler->levels();
+            } else if (list.textures[t].generate_mipmaps) {
+                sampler.emplace(*d.state.texture, softpipe_levels[t], false);
+            } else {
+                sampler.emplace(*d.state.texture, list.textures[t].levels, false);
+            }
+        }
         const detail::DrawContext ctx{i,
                                       d,
                                       list.target,
@@ -205,7 +219,8 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
                                       workers ? &*workers : nullptr,
                                       unit ? &*unit : nullptr,
                                       draw_tiles,
-                                      model};
+                                      model,
+                                      sampler ? &*sampler : nullptr};
         if (trace != nullptr) {
             detail::TraceObserver obs(*trace, ctx.params.multisample);
             outcome.fragments += detail::run_draw(ctx, obs, options.stop_after, out);

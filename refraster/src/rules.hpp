@@ -121,16 +121,20 @@ constexpr bool is_culled(CullMode cull, bool front_facing) {
 // do_triangle_ccw). Left: a non-horizontal edge with the interior to its right; bottom: a
 // horizontal edge with the interior above.
 constexpr bool owns_left_edges(TieRule r) {
-    return r == TieRule::LeftBottom || r == TieRule::LeftTop;
+    return r == TieRule::LeftBottom || r == TieRule::LeftTop || r == TieRule::All;
 }
 constexpr bool owns_right_edges(TieRule r) {
-    return r == TieRule::RightBottom || r == TieRule::RightTop;
+    return r == TieRule::RightBottom || r == TieRule::RightTop || r == TieRule::All;
 }
 constexpr bool owns_bottom_edges(TieRule r) {
-    return r == TieRule::LeftBottom || r == TieRule::RightBottom;
+    return r == TieRule::LeftBottom || r == TieRule::RightBottom || r == TieRule::All;
 }
 constexpr bool owns_top_edges(TieRule r) {
-    return r == TieRule::LeftTop || r == TieRule::RightTop;
+    return r == TieRule::LeftTop || r == TieRule::RightTop || r == TieRule::All;
+}
+// Whether the rule keeps GL's requirement of exactly one owner for a centre on a shared edge.
+constexpr bool is_consistent(TieRule r) {
+    return r != TieRule::None && r != TieRule::All;
 }
 
 }  // namespace refraster::detail

@@ -51,6 +51,8 @@ SetupParams setup_params(const Profile& profile, const DrawState& state, const T
 // The interior is where E grows: dE/dx = -a, dE/dy = b. A left edge has the interior to its
 // right (dE/dx > 0); a horizontal bottom edge has it above (dE/dy > 0).
 bool owns_ties(std::int32_t a, std::int32_t b, TieRule rule) {
+    if (rule == TieRule::None) return false;
+    if (rule == TieRule::All) return true;
     if (a != 0) return (-a > 0) == owns_left_edges(rule);
     return (b > 0) == owns_bottom_edges(rule);
 }

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "fragment.hpp"
+#include "softpipe_sampler.hpp"
 #include "softpipe_tiles.hpp"
 #include "vector_kernels.hpp"
 #include "vertex_stage.hpp"
@@ -67,11 +68,13 @@ std::uint32_t softpipe_depth_value(float z, DepthFormat format, bool nearest) {
 }
 
 ScanlineKernel::ScanlineKernel(const Draw& draw, const Target& target, SoftpipeTileCache& tiles,
-                               bool flush_denormals, bool depth_nearest)
+                               bool flush_denormals, bool depth_nearest,
+                               const SoftpipeSampler* sampler)
     : draw_(draw),
       tiles_(tiles),
       flush_(flush_denormals && cpu_flush_modes_available()),
-      depth_nearest_(depth_nearest) {
+      depth_nearest_(depth_nearest),
+      sampler_(sampler) {
     rgba8_ = target.color == ColorFormat::Rgba8;
     depth_ = draw.state.depth_test.has_value() && target.depth != DepthFormat::None;
     if (depth_) {
@@ -92,15 +95,15 @@ ScanlineKernel::ScanlineKernel(const Draw& draw, const Target& target, SoftpipeT
     depth_max_ = std::max(near, far);
 }
 
-std::array<float, 4> ScanlineKernel::color(const ScanlineList& list, const ScanlinePrimitive& p,
-                                           int x0, int y0, unsigned k) const {
-    // The colour: attributes 0..3 of the vertex (the "color" attribute).
+std::array<float, 4> ScanlineKernel::attributes(const ScanlineList& list,
+                                                const ScanlinePrimitive& p, std::size_t first,
+                                                int x0, int y0, unsigned k) const {
     const ScanlinePlane* planes = list.planes.data() + p.planes;
     std::array<float, 4> c{};
     const float w =
         p.interp == ScanlineInterp::Perspective ? at(planes[kScanlineWPlane], x0, y0, k) : 1.0f;
     for (std::size_t ch = 0; ch < 4; ++ch) {
-        const ScanlinePlane& a = planes[kScanlineFirstAttribute + ch];
+        const ScanlinePlane& a = planes[kScanlineFirstAttribute + first + ch];
         switch (p.interp) {
             case ScanlineInterp::Constant:
                 c[ch] = a.a0;
@@ -111,6 +114,39 @@ std::array<float, 4> ScanlineKernel::color(const ScanlineList& list, const Scanl
             case ScanlineInterp::Perspective:
                 c[ch] = at(a, x0, y0, k) / w;
                 break;
+        }
+    }
+    return c;
+}
+
+std::array<std::array<float, 4>, 4> ScanlineKernel::quad_colors(const ScanlineList& list,
+                                                                const ScanlinePrimitive& p, int x0,
+                                                                int y0) const {
+    std::array<std::array<float, 4>, 4> c{};
+    for (unsigned k = 0; k < 4; ++k) c[k] = attributes(list, p, 0, x0, y0, k);
+    if (sampler_ == nullptr) return c;
+    // The texture coordinates of all four pixels: textureProj's s/q and t/q (TXP divides), or
+    // the sprite coordinate, always perspective-correct (tgsi_exec.c eval_perspective_coef).
+    std::array<float, 4> s{}, t{};
+    const ScanlinePlane* planes = list.planes.data() + p.planes;
+    for (unsigned k = 0; k < 4; ++k) {
+        if (p.point_coords) {
+            const std::size_t pc = kScanlineFirstAttribute + list.attribute_floats;
+            const float w = at(planes[kScanlineWPlane], x0, y0, k);
+            s[k] = at(planes[pc], x0, y0, k) / w;
+            t[k] = at(planes[pc + 1], x0, y0, k) / w;
+        } else {
+            const auto tc = attributes(list, p, 4, x0, y0, k);
+            s[k] = tc[0] / tc[3];
+            t[k] = tc[1] / tc[3];
+        }
+    }
+    std::array<std::array<float, 4>, 4> texel{};
+    sampler_->sample_quad(s, t, texel);
+    for (unsigned k = 0; k < 4; ++k) {
+        for (std::size_t ch = 0; ch < 4; ++ch) {
+            c[k][ch] = draw_.state.texture->env == TextureEnv::Replace ? texel[k][ch]
+                                                                       : c[k][ch] * texel[k][ch];
         }
     }
     return c;
@@ -211,11 +247,13 @@ void ScanlineKernel::shade(const ScanlineList& list, const ScanlinePrimitive& p,
     tiles_.fetch(quads[0].x, quads[0].y);
     for (std::size_t q = 0; q < quads.size(); ++q) {
         const QuadPacket& quad = quads[q];
+        if (alive[q] == 0) continue;
+        const auto colors = quad_colors(list, p, quad.x, quad.y);
         for (unsigned k = 0; k < 4; ++k) {
             if ((alive[q] & (1u << k)) == 0) continue;
             const int x = quad.x + static_cast<int>(k & 1u);
             const int y = quad.y + static_cast<int>(k >> 1);
-            merge(color(list, p, quad.x, quad.y, k), tiles_.pixel(x, y));
+            merge(colors[k], tiles_.pixel(x, y));
             if (!fb.owner.empty())
                 fb.owner[fb.index(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y))] =
                     p.owner;
@@ -245,7 +283,8 @@ FragmentTrace ScanlineKernel::trace(const ScanlineList& list, const ScanlinePrim
         t.depth_pass = (depth_pass_ & depth_outcome(t.depth_value, t.depth_stored,
                                                     fb.depth_format == DepthFormat::Z32f)) != 0;
     }
-    t.shader_color = color(list, p, x0, y0, k);
+    t.shader_color = quad_colors(list, p, x0, y0)[k];
+    t.textured = sampler_ != nullptr;
     t.destination = tiles_.peek(x, y);
     std::array<float, 4> written = t.destination;
     if (t.depth_pass) merge(t.shader_color, written.data());

@@ -59,6 +59,9 @@ struct ScanlinePrimitive {
     bool clamp_depth = false;
     // Shaded under the flush modes (inside draw_vbo) or not (the draw pipeline's last batch).
     bool flush = true;
+    // Two planes after the attributes hold the sprite coordinate (gl_PointCoord), always
+    // perspective-correct.
+    bool point_coords = false;
     std::uint32_t owner = 0;
 };
 
@@ -88,6 +91,7 @@ inline constexpr std::uint32_t kScanlineWPlane = 1;
 inline constexpr std::uint32_t kScanlineFirstAttribute = 2;
 
 class SoftpipeTileCache;
+class SoftpipeSampler;
 
 // The per-pixel stage of one draw under the scanline model; colours go through `tiles`.
 class ScanlineKernel {
@@ -96,8 +100,12 @@ class ScanlineKernel {
     // softpipe shades inside draw_vbo (draw_pt.c sets them for its duration).
     // `depth_nearest`: a profile's depth_rounding=nearest instead of softpipe's truncation
     // (RNE(fl(z * (2^n - 1))), converted as the truncation is; no z16 fast path).
+    // `sampler`: the draw's texture (a textured draw): the colour is the texel (replace) or the
+    // interpolated colour times it (modulate), sampled a quad at a time at s/q and t/q (TXP) or
+    // at the sprite coordinate.
     ScanlineKernel(const Draw& draw, const Target& target, SoftpipeTileCache& tiles,
-                   bool flush_denormals, bool depth_nearest = false);
+                   bool flush_denormals, bool depth_nearest = false,
+                   const SoftpipeSampler* sampler = nullptr);
 
     // One batch of quads (SoftpipeModel::traverse hands them over a batch a call).
     void shade(const ScanlineList& list, const ScanlinePrimitive& p,
@@ -110,9 +118,14 @@ class ScanlineKernel {
                         unsigned sample, const Framebuffer& fb) const;
 
   private:
-    // The colour of pixel k of the quad at (x0, y0).
-    std::array<float, 4> color(const ScanlineList& list, const ScanlinePrimitive& p, int x0, int y0,
-                               unsigned k) const;
+    // Attribute floats [first, first + 4) of pixel k of the quad at (x0, y0), interpolated as
+    // the primitive says.
+    std::array<float, 4> attributes(const ScanlineList& list, const ScanlinePrimitive& p,
+                                    std::size_t first, int x0, int y0, unsigned k) const;
+    // The shader's colour of the four pixels of the quad at (x0, y0), helper pixels included.
+    std::array<std::array<float, 4>, 4> quad_colors(const ScanlineList& list,
+                                                    const ScanlinePrimitive& p, int x0,
+                                                    int y0) const;
     // The output merge of colour `c` into the tile cache's float pixel `dst`.
     void merge(const std::array<float, 4>& c, float* dst) const;
 
@@ -121,6 +134,7 @@ class ScanlineKernel {
     bool rgba8_ = true;
     bool flush_ = false;
     bool depth_nearest_ = false;
+    const SoftpipeSampler* sampler_ = nullptr;
     // sp_quad_depth_test.c depth_test_quads_fallback: the depth range's ends as the viewport
     // stores them, near = translate - scale, far = (float)((double)near + (double)scale * 2).
     float depth_min_ = 0.0f;

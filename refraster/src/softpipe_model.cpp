@@ -162,7 +162,8 @@ void SoftpipeModel::triangles(VertexStage& stage, Observer& obs) {
 // depth to the depth range and never takes the z16 fast path).
 template <class Observer>
 void SoftpipeModel::triangle(const VertexStage& stage, const std::array<const StageVertex*, 3>& v,
-                             bool clipped, bool sprite, Observer& obs) {
+                             bool clipped, bool sprite, Observer& obs,
+                             const std::array<std::array<float, 2>, 3>* point_coords) {
     const Draw& d = ctx_.draw;
     const std::array<std::array<float, 2>, 3> w{{{v[0]->window[0], v[0]->window[1]},
                                                  {v[1]->window[0], v[1]->window[1]},
@@ -202,6 +203,14 @@ void SoftpipeModel::triangle(const VertexStage& stage, const std::array<const St
             case ScanlineInterp::Perspective:
                 list_.planes.push_back(scanline_persp_plane(t, a, oow));
                 break;
+        }
+    }
+    if (point_coords != nullptr) {
+        // The wide-point stage's sprite coordinate slot, interpolated with perspective.
+        prim.point_coords = true;
+        for (std::size_t c = 0; c < 2; ++c) {
+            list_.planes.push_back(scanline_persp_plane(
+                t, {(*point_coords)[0][c], (*point_coords)[1][c], (*point_coords)[2][c]}, oow));
         }
     }
     obs.scanline_drawn(window, clipped, list_.rows_of(prim), list_.primitives.size() - 1);
@@ -421,8 +430,23 @@ void SoftpipeModel::point(const VertexStage& stage, const StageVertex& v, Observ
     const StageVertex v1 = corner(left, top);
     const StageVertex v2 = corner(right, bottom);
     const StageVertex v3 = corner(right, top);
-    triangle(stage, {&v0, &v2, &v3}, false, true, obs);
-    triangle(stage, {&v0, &v3, &v1}, false, true, obs);
+    if (!ctx_.draw.samples_point_coords()) {
+        triangle(stage, {&v0, &v2, &v3}, false, true, obs);
+        triangle(stage, {&v0, &v3, &v1}, false, true, obs);
+        return;
+    }
+    // draw_pipe_wide_point.c set_texcoords: (0, 0) .. (1, 1) over the corners; in an FBO GL's
+    // upper-left origin is gallium's lower-left one (st_atom_rasterizer.c), t = 1 - y.
+    const bool upper_left =
+        ctx_.draw.state.texture->point_coord_origin == PointCoordOrigin::UpperLeft;
+    const auto pc = [&](float x, float y) {
+        return std::array<float, 2>{x, upper_left ? 1.0f - y : y};
+    };
+    const std::array<float, 2> c0 = pc(0, 0), c1 = pc(0, 1), c2 = pc(1, 0), c3 = pc(1, 1);
+    const std::array<std::array<float, 2>, 3> a{c0, c2, c3};
+    const std::array<std::array<float, 2>, 3> b{c0, c3, c1};
+    triangle(stage, {&v0, &v2, &v3}, false, true, obs, &a);
+    triangle(stage, {&v0, &v3, &v1}, false, true, obs, &b);
 }
 
 // Points: clipped by their centre (draw_pipe_clip.c clip_point).

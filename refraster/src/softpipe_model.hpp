@@ -85,8 +85,12 @@ class SoftpipeModel {
     }
 
     ScanlineKernel kernel() const {
-        return {ctx_.draw, ctx_.target, *ctx_.tiles, ctx_.profile.gl.flush_denormals,
-                ctx_.profile.gl.depth_rounding == Rounding::Nearest};
+        return {ctx_.draw,
+                ctx_.target,
+                *ctx_.tiles,
+                ctx_.profile.gl.flush_denormals,
+                ctx_.profile.gl.depth_rounding == Rounding::Nearest,
+                ctx_.sampler};
     }
 
   private:
@@ -100,7 +104,8 @@ class SoftpipeModel {
     void unfilled(VertexStage& stage, Observer& obs);
     template <class Observer>
     void triangle(const VertexStage& stage, const std::array<const StageVertex*, 3>& v,
-                  bool clipped, bool sprite, Observer& obs);
+                  bool clipped, bool sprite, Observer& obs,
+                  const std::array<std::array<float, 2>, 3>* point_coords = nullptr);
     template <class Observer>
     void segment(const VertexStage& stage, const StageVertex& v1, const StageVertex& v2,
                  Observer& obs);

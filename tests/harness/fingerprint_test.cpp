@@ -2,6 +2,8 @@
 // reference under every single-rule mutation of both driver profiles is fingerprinted back to
 // exactly that profile, and rules a backend's pixels cannot decide are reported undecided.
 // (Recovering llvmpipe-22.3 and softpipe-22.3 from OSMesa: tests/backends/softpipe_coverage_test.)
+#include "harness/fingerprint.hpp"
+
 #include <gtest/gtest.h>
 
 #include <memory>
@@ -9,7 +11,6 @@
 #include <vector>
 
 #include "harness/backend.hpp"
-#include "harness/fingerprint.hpp"
 #include "harness/profile_io.hpp"
 #include "refraster/profile.hpp"
 #include "refraster/renderer.hpp"
@@ -61,33 +62,31 @@ const char* other_fma() {
     return refraster::host_has_fma() ? "viewport_fma=off" : "viewport_fma=on";
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Llvmpipe, FingerprintMutation,
-    ::testing::Values(Mutation{"llvmpipe-22.3", "subpixel_bits=4"},
-                      Mutation{"llvmpipe-22.3", "subpixel_bits=6"},
-                      Mutation{"llvmpipe-22.3", "snap_rounding=half-away"},
-                      Mutation{"llvmpipe-22.3", "snap_rounding=truncate"},
-                      Mutation{"llvmpipe-22.3", "pixel_center_offset=0"},
-                      Mutation{"llvmpipe-22.3", "tie_rule=left-top"},
-                      Mutation{"llvmpipe-22.3", "tie_rule=right-bottom"},
-                      Mutation{"llvmpipe-22.3", "tie_rule=right-top"},
-                      Mutation{"llvmpipe-22.3", "clipping=guard-band"},
-                      Mutation{"llvmpipe-22.3", other_fma()},
-                      Mutation{"llvmpipe-22.3", "depth_rounding=truncate"},
-                      Mutation{"llvmpipe-22.3", "depth_clear=float"},
-                      Mutation{"llvmpipe-22.3", "color_rounding=truncate"},
-                      Mutation{"llvmpipe-22.3", "line_rule=bresenham"},
-                      Mutation{"llvmpipe-22.3", "point_rule=two-triangles"}));
+INSTANTIATE_TEST_SUITE_P(Llvmpipe, FingerprintMutation,
+                         ::testing::Values(Mutation{"llvmpipe-22.3", "subpixel_bits=4"},
+                                           Mutation{"llvmpipe-22.3", "subpixel_bits=6"},
+                                           Mutation{"llvmpipe-22.3", "snap_rounding=half-away"},
+                                           Mutation{"llvmpipe-22.3", "snap_rounding=truncate"},
+                                           Mutation{"llvmpipe-22.3", "pixel_center_offset=0"},
+                                           Mutation{"llvmpipe-22.3", "tie_rule=left-top"},
+                                           Mutation{"llvmpipe-22.3", "tie_rule=right-bottom"},
+                                           Mutation{"llvmpipe-22.3", "tie_rule=right-top"},
+                                           Mutation{"llvmpipe-22.3", "clipping=guard-band"},
+                                           Mutation{"llvmpipe-22.3", other_fma()},
+                                           Mutation{"llvmpipe-22.3", "depth_rounding=truncate"},
+                                           Mutation{"llvmpipe-22.3", "depth_clear=float"},
+                                           Mutation{"llvmpipe-22.3", "color_rounding=truncate"},
+                                           Mutation{"llvmpipe-22.3", "line_rule=bresenham"},
+                                           Mutation{"llvmpipe-22.3", "point_rule=two-triangles"}));
 
-INSTANTIATE_TEST_SUITE_P(
-    Softpipe, FingerprintMutation,
-    ::testing::Values(Mutation{"softpipe-22.3", "viewport_fma=on"},
-                      Mutation{"softpipe-22.3", "clipping=guard-band"},
-                      Mutation{"softpipe-22.3", "depth_rounding=nearest"},
-                      Mutation{"softpipe-22.3", "depth_clear=float"},
-                      Mutation{"softpipe-22.3", "color_rounding=truncate"},
-                      Mutation{"softpipe-22.3", "line_rule=parallelogram"},
-                      Mutation{"softpipe-22.3", "point_rule=square"}));
+INSTANTIATE_TEST_SUITE_P(Softpipe, FingerprintMutation,
+                         ::testing::Values(Mutation{"softpipe-22.3", "viewport_fma=on"},
+                                           Mutation{"softpipe-22.3", "clipping=guard-band"},
+                                           Mutation{"softpipe-22.3", "depth_rounding=nearest"},
+                                           Mutation{"softpipe-22.3", "depth_clear=float"},
+                                           Mutation{"softpipe-22.3", "color_rounding=truncate"},
+                                           Mutation{"softpipe-22.3", "line_rule=parallelogram"},
+                                           Mutation{"softpipe-22.3", "point_rule=square"}));
 
 TEST(Fingerprint, BuiltInProfilesComeBackUnchanged) {
     for (const char* name : {"llvmpipe-22.3", "softpipe-22.3"}) {
@@ -119,7 +118,8 @@ class Unmodelled : public harness::Backend {
             for (std::uint32_t y = img.height - 1; y > 0; --y)
                 for (std::uint32_t x = 0; x < img.width; ++x)
                     for (std::size_t k = 0; k < 4; ++k)
-                        img.color8[4 * img.index(x, y) + k] = img.color8[4 * img.index(x, y - 1) + k];
+                        img.color8[4 * img.index(x, y) + k] =
+                            img.color8[4 * img.index(x, y - 1) + k];
         }
         return r;
     }

@@ -34,7 +34,7 @@ struct RuleFinding {
     std::string key;  // a profile parameter, or "line_width_rounding" (a finding only)
     std::string value;
     bool decided = false;
-    bool probed = true;  // false: not probed, the family's default kept
+    bool probed = true;                   // false: not probed, the family's default kept
     std::vector<std::string> candidates;  // the values tried
     std::vector<std::string> matching;    // the values that reproduce every probe pixel
     std::string evidence;                 // one line: probe, pixel, values

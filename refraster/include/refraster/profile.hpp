@@ -40,7 +40,10 @@ enum class CoverageModel : std::uint8_t {
 // Which edges own a pixel centre lying exactly on them, in GL window terms (y up).
 // The first word names the owned non-horizontal edges (left: the interior is to the edge's
 // right), the second the owned horizontal edges (bottom: the interior is above).
-enum class TieRule : std::uint8_t { LeftBottom, LeftTop, RightBottom, RightTop };
+// Two more rules break GL's requirement that a centre on an edge shared by two polygons belongs
+// to exactly one of them (14.6.1), and exist to show and test what that looks like: None (no edge
+// owns its centres: holes along shared edges) and All (every edge does: double hits).
+enum class TieRule : std::uint8_t { LeftBottom, LeftTop, RightBottom, RightTop, None, All };
 
 // Which x/y clip test decides that a triangle goes to the clipper.
 enum class Clipping : std::uint8_t {
