@@ -19,6 +19,7 @@
 #include "harness/extreme_scenes.hpp"
 #include "harness/files.hpp"
 #include "harness/fingerprint.hpp"
+#include "harness/gl_verdict.hpp"
 #include "harness/image_hash.hpp"
 #include "harness/image_io.hpp"
 #include "harness/profile_io.hpp"
@@ -306,6 +307,7 @@ struct ConformanceArgs {
     ProfileArgs profile;
     unsigned threads = 0;
     std::string output;
+    std::string verdict = "exact";
 };
 
 std::vector<std::string> split_globs(const std::string& s) {
@@ -332,6 +334,7 @@ int run_conformance(const ConformanceArgs& a) {
     o.shard_index = a.shard_index;
     o.shard_count = a.shard_count;
     o.resume = a.resume;
+    o.gl_verdict = a.verdict == "gl";
     const char* ci = std::getenv("CI");
     o.progress = ::isatty(STDOUT_FILENO) != 0 && !(ci != nullptr && std::string(ci) == "true");
     o.output = a.output;
@@ -425,6 +428,12 @@ int run_explain(ExplainArgs a) {
     try {
         const auto e = harness::explain_pixel(*scene, profile, x, y, backend.get(), a.sample);
         std::cout << (a.json ? harness::explanation_json(e) + "\n" : harness::explanation_text(e));
+        // Whether GL allows the backend's pixel (gl_verdict.hpp), for a differing pixel.
+        if (!a.json && !e.agree && e.backend && e.backend->status == harness::RenderStatus::Ok) {
+            const auto v = harness::gl_verdict(*scene, profile, e.reference_image, e.backend->image,
+                                               std::array<int, 2>{x, y});
+            std::cout << "GL: " << v.at_pixel << "\n";
+        }
         if (!a.svg.empty()) harness::write_file_atomically(a.svg, harness::explanation_svg(e));
         return e.agree ? kExitOk : kExitMismatch;
     } catch (const std::exception& ex) {
@@ -772,6 +781,13 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     add_driver_options(run_cmd, conf.against);
     add_profile_options(run_cmd, conf.profile);
+    run_cmd
+        ->add_option("--verdict", conf.verdict,
+                     "exact: any difference from the profile fails; gl: differences GL allows "
+                     "(sub-pixel precision, tie rule, clipping, line and point rules, "
+                     "interpolation precision) pass and violations fail, the rule named")
+        ->check(CLI::IsMember({"exact", "gl"}))
+        ->capture_default_str();
     add_threads_option(run_cmd, conf.threads);
     std::string hash_scenes;
     ProfileArgs hash_profile;

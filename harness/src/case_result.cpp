@@ -295,6 +295,7 @@ std::string to_json_line(const CaseResult& r) {
         }
         j["comparison"] = k;
     }
+    if (!r.gl_verdict.empty()) j["gl_verdict"] = r.gl_verdict;
     if (r.explained_pixel) {
         j["explanation"] = {{"pixel", *r.explained_pixel},
                             {"difference", r.explanation_difference},

@@ -59,6 +59,9 @@ struct CaseResult {
     // written beside the report by the conformance runner, not part of the JSON line.
     std::string explanation_text;
     std::string explanation_svg;
+    // With GL verdicts (gl_verdict.hpp): the verdict's summary of a differing image; a case
+    // whose differences are all legal variations passes with it as its message.
+    std::string gl_verdict;
 };
 
 // Renders `scene` through both backends and compares actual against reference: the image, and

@@ -66,6 +66,9 @@ struct RunOptions {
     harness::BackendOptions reference;  // ref by default
     harness::BackendOptions against;
     std::filesystem::path output;
+    // --verdict gl: a case whose every differing pixel is a legal variation of GL's rules
+    // passes; one with a violation fails naming it (harness/gl_verdict.hpp).
+    bool gl_verdict = false;
 };
 
 struct RunSummary {

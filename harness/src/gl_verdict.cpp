@@ -1,0 +1,243 @@
+// gl_verdict.cpp: legal variations and violations of GL's rasterisation rules (gl_verdict.hpp).
+#include "harness/gl_verdict.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <limits>
+#include <map>
+
+#include "harness/profile_io.hpp"
+#include "refraster/renderer.hpp"
+
+namespace harness {
+
+namespace {
+
+using refraster::Framebuffer;
+using refraster::Profile;
+
+struct Variation {
+    std::string freedom;  // the rule GL leaves free, or the requirement broken
+    std::string setting;  // what differs from the profile
+    Profile profile;
+    bool legal = true;
+};
+
+std::vector<Variation> variations(const Profile& p) {
+    std::vector<Variation> out;
+    const auto add = [&](const std::string& freedom, const std::string& key,
+                         const std::string& value, bool legal = true, const Profile* from = nullptr) {
+        Profile v = from != nullptr ? *from : p;
+        for (const auto& [k, cur] : refraster::profile_parameters(v))
+            if (k == key && cur == value) return;
+        refraster::set_profile_parameter(v, key, value);
+        out.push_back({freedom, key + "=" + value, v, legal});
+    };
+    const bool snapped = p.model == refraster::CoverageModel::Snapped;
+    if (snapped) {
+        for (int bits = 4; bits <= 8; ++bits)
+            add("sub-pixel precision", "subpixel_bits", std::to_string(bits));
+        for (const char* r : {"nearest-even", "half-away", "truncate"})
+            add("sub-pixel precision", "snap_rounding", r);
+    }
+    if (p.model != refraster::CoverageModel::Scanline) {
+        for (const char* t : {"left-bottom", "left-top", "right-bottom", "right-top"})
+            add("tie rule", "tie_rule", t);
+    }
+    for (const char* c : {"view-volume", "guard-band"}) add("clipping or guard band", "clipping", c);
+    for (const char* l : {"parallelogram", "bresenham"})
+        add("line rasterisation within the diamond-exit tolerance", "line_rule", l);
+    for (const char* r : {"square", "two-triangles"}) add("point rasterisation", "point_rule", r);
+    for (const char* f : {"on", "off"}) add("interpolation precision", "viewport_fma", f);
+    for (const char* r : {"nearest", "truncate"}) {
+        add("depth conversion precision", "depth_rounding", r);
+        add("colour conversion precision", "color_rounding", r);
+    }
+    for (const char* c : {"double", "float"}) add("depth conversion precision", "depth_clear", c);
+    for (const auto& name : {"llvmpipe-22.3", "softpipe-22.3"}) {
+        const Profile b = refraster::builtin_profile(name);
+        if (profile_rules(b) != profile_rules(p))
+            out.push_back({"another conforming implementation's rules", name, b, true});
+    }
+    // The single-owner requirement broken both ways, on a snapped rule set.
+    const Profile snapped_base = snapped ? p : refraster::llvmpipe_22_3_profile();
+    add("hole on a shared edge (no owner for a centre on it)", "tie_rule", "none", false,
+        &snapped_base);
+    add("double hit on a shared edge (two owners for a centre on it)", "tie_rule", "all", false,
+        &snapped_base);
+    return out;
+}
+
+bool same_pixel(const Framebuffer& a, const Framebuffer& b, std::size_t i) {
+    for (std::size_t k = 0; k < 4; ++k) {
+        if (a.color_format == refraster::ColorFormat::Rgba8) {
+            if (a.color8[4 * i + k] != b.color8[4 * i + k]) return false;
+        } else if (std::bit_cast<std::uint32_t>(a.color32f[4 * i + k]) !=
+                   std::bit_cast<std::uint32_t>(b.color32f[4 * i + k])) {
+            return false;
+        }
+    }
+    return a.depth.empty() || a.depth[i] == b.depth[i];
+}
+
+// The depth value as a number to order (z32f by its float value).
+double depth_number(const Framebuffer& fb, std::size_t i) {
+    if (fb.depth_format == refraster::DepthFormat::Z32f)
+        return static_cast<double>(std::bit_cast<float>(fb.depth[i]));
+    return static_cast<double>(fb.depth[i]);
+}
+
+std::optional<Framebuffer> render(const Scene& scene, const Profile& p) {
+    refraster::RenderOptions o;
+    o.profile = p;
+    Framebuffer fb;
+    if (refraster::render(scene.draw_list, o, fb).status != refraster::RenderStatus::Ok)
+        return std::nullopt;
+    return fb;
+}
+
+}  // namespace
+
+std::string GlVerdict::summary() const {
+    std::string legal_text, bad_text;
+    for (const auto& f : findings) {
+        std::string& t = f.legal ? legal_text : bad_text;
+        t += (t.empty() ? "" : ", ") + f.rule + " " + std::to_string(f.pixels) + " px";
+        if (!f.legal && f.x >= 0)
+            t += " first at (" + std::to_string(f.x) + ", " + std::to_string(f.y) + ")";
+    }
+    std::string s = "GL verdict: " + std::to_string(legal) + " of " + std::to_string(differing) +
+                    " differing pixels legal";
+    if (!legal_text.empty()) s += " (" + legal_text + ")";
+    if (violations + unexplained > 0) {
+        s += "; " + std::to_string(violations) + " violate GL, " + std::to_string(unexplained) +
+             " unexplained";
+        if (!bad_text.empty()) s += " (" + bad_text + ")";
+    }
+    return s;
+}
+
+GlVerdict gl_verdict(const Scene& scene, const Profile& profile, const Framebuffer& reference,
+                     const Framebuffer& backend, std::optional<std::array<int, 2>> at) {
+    GlVerdict v;
+    v.at_pixel = "same as the reference";
+    const auto at_index = [&]() -> std::optional<std::size_t> {
+        if (!at || (*at)[0] < 0 || (*at)[1] < 0 ||
+            static_cast<std::uint32_t>((*at)[0]) >= reference.width ||
+            static_cast<std::uint32_t>((*at)[1]) >= reference.height)
+            return std::nullopt;
+        return static_cast<std::size_t>((*at)[1]) * reference.width +
+               static_cast<std::size_t>((*at)[0]);
+    }();
+    if (reference.width != backend.width || reference.height != backend.height ||
+        reference.color_format != backend.color_format)
+        return v;
+    std::vector<std::size_t> pixels;
+    for (std::size_t i = 0; i < reference.pixel_count(); ++i)
+        if (!same_pixel(reference, backend, i)) pixels.push_back(i);
+    v.differing = pixels.size();
+    if (pixels.empty()) return v;
+
+    // The cleared target: what "untouched" looks like.
+    Scene cleared = scene;
+    cleared.draw_list.draws.clear();
+    const auto clear = render(cleared, profile);
+
+    const auto vars = variations(profile);
+    const std::size_t n = pixels.size();
+    std::vector<int> legal_match(n, -1), illegal_match(n, -1);
+    std::vector<char> all_legal_draw(n, 1), any_legal_draw(n, 0);
+    std::vector<double> zmin(n, std::numeric_limits<double>::infinity());
+    std::vector<double> zmax(n, -std::numeric_limits<double>::infinity());
+    const auto drawn = [&](const Framebuffer& fb, std::size_t i) {
+        return !clear || !same_pixel(fb, *clear, i);
+    };
+    for (std::size_t k = 0; k < n; ++k) {
+        // The reference itself is a legal rendering.
+        const std::size_t i = pixels[k];
+        const bool d = drawn(reference, i);
+        all_legal_draw[k] = d;
+        any_legal_draw[k] = d;
+        if (!reference.depth.empty() && d) zmin[k] = zmax[k] = depth_number(reference, i);
+    }
+    for (std::size_t vi = 0; vi < vars.size(); ++vi) {
+        const auto fb = render(scene, vars[vi].profile);
+        if (!fb) continue;
+        for (std::size_t k = 0; k < n; ++k) {
+            const std::size_t i = pixels[k];
+            const bool same = same_pixel(*fb, backend, i);
+            if (vars[vi].legal) {
+                if (same && legal_match[k] < 0) legal_match[k] = static_cast<int>(vi);
+                const bool d = drawn(*fb, i);
+                all_legal_draw[k] = static_cast<char>(all_legal_draw[k] && d);
+                any_legal_draw[k] = static_cast<char>(any_legal_draw[k] || d);
+                if (!fb->depth.empty() && d) {
+                    zmin[k] = std::min(zmin[k], depth_number(*fb, i));
+                    zmax[k] = std::max(zmax[k], depth_number(*fb, i));
+                }
+            } else if (same && illegal_match[k] < 0) {
+                illegal_match[k] = static_cast<int>(vi);
+            }
+        }
+    }
+    std::map<std::string, std::size_t> index;
+    const auto count = [&](const std::string& rule, bool legal, std::size_t i,
+                           const std::string& detail) {
+        auto it = index.find(rule);
+        if (it == index.end()) {
+            it = index.emplace(rule, v.findings.size()).first;
+            GlFinding f;
+            f.rule = rule;
+            f.legal = legal;
+            f.x = static_cast<int>(i % reference.width);
+            f.y = static_cast<int>(i / reference.width);
+            f.detail = detail;
+            v.findings.push_back(f);
+        }
+        ++v.findings[it->second].pixels;
+    };
+    for (std::size_t k = 0; k < n; ++k) {
+        const std::size_t i = pixels[k];
+        if (legal_match[k] >= 0) {
+            const auto& var = vars[static_cast<std::size_t>(legal_match[k])];
+            ++v.legal;
+            count(var.freedom, true, i, var.setting + " reproduces the backend");
+            if (at_index == i)
+                v.at_pixel = "legal: " + var.freedom + " (" + var.setting + " reproduces the backend)";
+            continue;
+        }
+        const bool backend_drawn = drawn(backend, i);
+        std::string rule;
+        std::string detail;
+        if (illegal_match[k] >= 0) {
+            const auto& var = vars[static_cast<std::size_t>(illegal_match[k])];
+            rule = var.freedom;
+            detail = var.setting + " reproduces the backend, no legal rule does";
+        } else if (!backend_drawn && all_legal_draw[k]) {
+            rule = "hole (every legal coverage draws the pixel)";
+            detail = "the backend leaves it untouched";
+        } else if (backend_drawn && !any_legal_draw[k]) {
+            rule = "a pixel outside every legal coverage";
+            detail = "no legal rule draws it";
+        } else if (backend_drawn && !backend.depth.empty() && zmin[k] <= zmax[k] &&
+                   (depth_number(backend, i) < zmin[k] - 2.0 ||
+                    depth_number(backend, i) > zmax[k] + 2.0)) {
+            rule = "non-monotonic depth (outside every legal depth at the pixel)";
+            detail = "depth " + std::to_string(depth_number(backend, i)) + " outside [" +
+                     std::to_string(zmin[k]) + ", " + std::to_string(zmax[k]) + "]";
+        }
+        if (!rule.empty()) {
+            ++v.violations;
+            count(rule, false, i, detail);
+            if (at_index == i) v.at_pixel = "violation: " + rule + " (" + detail + ")";
+        } else {
+            ++v.unexplained;
+            count("unexplained (no legal rule reproduces it)", false, i,
+                  "neither a legal variation nor a proven violation");
+            if (at_index == i) v.at_pixel = "unexplained: no legal rule reproduces it";
+        }
+    }
+    return v;
+}
+
+}  // namespace harness

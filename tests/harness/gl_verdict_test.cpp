@@ -1,0 +1,113 @@
+// GL verdicts (harness/gl_verdict.hpp) on backends whose rules are known: the reference under a
+// legal tie rule differs only legally; under the rules that break the single-owner requirement
+// (tie_rule=none, tie_rule=all) the holes and double hits on shared edges are violations; a
+// pixel lit far from every primitive is outside every legal coverage.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "harness/gl_verdict.hpp"
+#include "harness/profile_io.hpp"
+#include "harness/scene.hpp"
+#include "refraster/renderer.hpp"
+
+namespace {
+
+refraster::Framebuffer render(const harness::Scene& s, const refraster::Profile& p) {
+    refraster::RenderOptions o;
+    o.profile = p;
+    refraster::Framebuffer fb;
+    EXPECT_EQ(refraster::render(s.draw_list, o, fb).status, refraster::RenderStatus::Ok);
+    return fb;
+}
+
+refraster::Profile llvmpipe_with(const std::string& rule) {
+    auto p = refraster::llvmpipe_22_3_profile();
+    harness::apply_profile_overrides(p, {rule});
+    return p;
+}
+
+harness::Scene suite_scene(const std::string& relative) {
+    return harness::load_scene(std::filesystem::path(REFRASTER_SOURCE_DIR) /
+                               "conformance/scenes" / relative);
+}
+
+bool has_finding(const harness::GlVerdict& v, const std::string& words, bool legal) {
+    for (const auto& f : v.findings)
+        if (f.legal == legal && f.rule.find(words) != std::string::npos && f.pixels > 0) return true;
+    return false;
+}
+
+// Triangle strips whose shared edges run through pixel centres.
+const char* kSharedEdges = "triangles/coverage/strip_shared_edges.json";
+
+TEST(GlVerdict, AnotherConsistentTieRuleIsLegal) {
+    const auto s = suite_scene(kSharedEdges);
+    const auto ref = render(s, refraster::llvmpipe_22_3_profile());
+    const auto other = render(s, llvmpipe_with("tie_rule=right-top"));
+    const auto v = harness::gl_verdict(s, refraster::llvmpipe_22_3_profile(), ref, other);
+    EXPECT_GT(v.differing, 0u);
+    EXPECT_TRUE(v.passes()) << v.summary();
+    EXPECT_TRUE(has_finding(v, "tie rule", true)) << v.summary();
+}
+
+TEST(GlVerdict, CentresOnSharedEdgesWithoutOwnerAreHoles) {
+    const auto s = suite_scene(kSharedEdges);
+    const auto ref = render(s, refraster::llvmpipe_22_3_profile());
+    const auto holes = render(s, llvmpipe_with("tie_rule=none"));
+    const auto v = harness::gl_verdict(s, refraster::llvmpipe_22_3_profile(), ref, holes);
+    EXPECT_FALSE(v.passes()) << v.summary();
+    EXPECT_GT(v.violations, 0u);
+    EXPECT_TRUE(has_finding(v, "hole on a shared edge", false)) << v.summary();
+}
+
+// Two triangles sharing a diagonal through pixel centres, added into the target: a centre
+// drawn by both shows twice the colour.
+harness::Scene blended_pair() {
+    harness::Scene s;
+    s.file.name = "blended_pair";
+    s.file.target = {16, 16, refraster::ColorFormat::Rgba8, refraster::DepthFormat::None, 1};
+    s.draw_list.target = s.file.target;
+    refraster::Draw d;
+    d.primitive = refraster::PrimitiveType::Triangles;
+    d.state.viewport = {0, 0, 16, 16};
+    d.state.blend = refraster::BlendPreset::Add;
+    d.vertices.attributes = {{"color", 4}};
+    // Window corners (2.5, 2.5), (12.5, 2.5), (12.5, 12.5), (2.5, 12.5): the diagonal
+    // (2.5, 2.5)-(12.5, 12.5) passes through the centres (k + 0.5, k + 0.5).
+    const auto v = [&](float x, float y) {
+        d.vertices.data.insert(d.vertices.data.end(),
+                               {x / 8.0f - 1.0f, y / 8.0f - 1.0f, 0.0f, 1.0f, 0.25f, 0.25f, 0.25f,
+                                0.25f});
+    };
+    v(2.5f, 2.5f), v(12.5f, 2.5f), v(12.5f, 12.5f);
+    v(2.5f, 2.5f), v(12.5f, 12.5f), v(2.5f, 12.5f);
+    s.draw_list.draws.push_back(d);
+    return s;
+}
+
+TEST(GlVerdict, CentresOnSharedEdgesWithTwoOwnersAreDoubleHits) {
+    const auto s = blended_pair();
+    const auto ref = render(s, refraster::llvmpipe_22_3_profile());
+    const auto doubled = render(s, llvmpipe_with("tie_rule=all"));
+    const auto v = harness::gl_verdict(s, refraster::llvmpipe_22_3_profile(), ref, doubled);
+    EXPECT_FALSE(v.passes()) << v.summary();
+    EXPECT_TRUE(has_finding(v, "double hit on a shared edge", false)) << v.summary();
+}
+
+TEST(GlVerdict, APixelFarFromEveryPrimitiveIsOutsideEveryLegalCoverage) {
+    const auto s = blended_pair();
+    const auto ref = render(s, refraster::llvmpipe_22_3_profile());
+    auto stray = ref;
+    const std::size_t i = stray.index(15, 0);
+    for (std::size_t k = 0; k < 4; ++k) stray.color8[4 * i + k] = 200;
+    const auto v =
+        harness::gl_verdict(s, refraster::llvmpipe_22_3_profile(), ref, stray, std::array{15, 0});
+    EXPECT_EQ(v.differing, 1u);
+    EXPECT_EQ(v.violations, 1u);
+    EXPECT_TRUE(has_finding(v, "outside every legal coverage", false)) << v.summary();
+    EXPECT_NE(v.at_pixel.find("violation"), std::string::npos) << v.at_pixel;
+}
+
+}  // namespace
