@@ -26,7 +26,8 @@ struct Variation {
 std::vector<Variation> variations(const Profile& p) {
     std::vector<Variation> out;
     const auto add = [&](const std::string& freedom, const std::string& key,
-                         const std::string& value, bool legal = true, const Profile* from = nullptr) {
+                         const std::string& value, bool legal = true,
+                         const Profile* from = nullptr) {
         Profile v = from != nullptr ? *from : p;
         for (const auto& [k, cur] : refraster::profile_parameters(v))
             if (k == key && cur == value) return;
@@ -44,7 +45,8 @@ std::vector<Variation> variations(const Profile& p) {
         for (const char* t : {"left-bottom", "left-top", "right-bottom", "right-top"})
             add("tie rule", "tie_rule", t);
     }
-    for (const char* c : {"view-volume", "guard-band"}) add("clipping or guard band", "clipping", c);
+    for (const char* c : {"view-volume", "guard-band"})
+        add("clipping or guard band", "clipping", c);
     for (const char* l : {"parallelogram", "bresenham"})
         add("line rasterisation within the diamond-exit tolerance", "line_rule", l);
     for (const char* r : {"square", "two-triangles"}) add("point rasterisation", "point_rule", r);
@@ -203,7 +205,8 @@ GlVerdict gl_verdict(const Scene& scene, const Profile& profile, const Framebuff
             ++v.legal;
             count(var.freedom, true, i, var.setting + " reproduces the backend");
             if (at_index == i)
-                v.at_pixel = "legal: " + var.freedom + " (" + var.setting + " reproduces the backend)";
+                v.at_pixel =
+                    "legal: " + var.freedom + " (" + var.setting + " reproduces the backend)";
             continue;
         }
         const bool backend_drawn = drawn(backend, i);

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <memory>
 #include <string>
 #include <vector>
@@ -57,6 +58,14 @@ TEST_P(FingerprintMutation, RecoversTheMutatedProfile) {
     }
 }
 
+// A test name of the rule: "tie_rule_right_top".
+std::string mutation_name(const ::testing::TestParamInfo<Mutation>& info) {
+    std::string s = info.param.rule;
+    for (char& c : s)
+        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+    return s;
+}
+
 // On a CPU with FMA, "auto" fuses; the flip is the other value.
 const char* other_fma() {
     return refraster::host_has_fma() ? "viewport_fma=off" : "viewport_fma=on";
@@ -77,7 +86,8 @@ INSTANTIATE_TEST_SUITE_P(Llvmpipe, FingerprintMutation,
                                            Mutation{"llvmpipe-22.3", "depth_clear=float"},
                                            Mutation{"llvmpipe-22.3", "color_rounding=truncate"},
                                            Mutation{"llvmpipe-22.3", "line_rule=bresenham"},
-                                           Mutation{"llvmpipe-22.3", "point_rule=two-triangles"}));
+                                           Mutation{"llvmpipe-22.3", "point_rule=two-triangles"}),
+                         mutation_name);
 
 INSTANTIATE_TEST_SUITE_P(Softpipe, FingerprintMutation,
                          ::testing::Values(Mutation{"softpipe-22.3", "viewport_fma=on"},
@@ -86,7 +96,8 @@ INSTANTIATE_TEST_SUITE_P(Softpipe, FingerprintMutation,
                                            Mutation{"softpipe-22.3", "depth_clear=float"},
                                            Mutation{"softpipe-22.3", "color_rounding=truncate"},
                                            Mutation{"softpipe-22.3", "line_rule=parallelogram"},
-                                           Mutation{"softpipe-22.3", "point_rule=square"}));
+                                           Mutation{"softpipe-22.3", "point_rule=square"}),
+                         mutation_name);
 
 TEST(Fingerprint, BuiltInProfilesComeBackUnchanged) {
     for (const char* name : {"llvmpipe-22.3", "softpipe-22.3"}) {

@@ -2,12 +2,13 @@
 // legal tie rule differs only legally; under the rules that break the single-owner requirement
 // (tie_rule=none, tie_rule=all) the holes and double hits on shared edges are violations; a
 // pixel lit far from every primitive is outside every legal coverage.
+#include "harness/gl_verdict.hpp"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <string>
 
-#include "harness/gl_verdict.hpp"
 #include "harness/profile_io.hpp"
 #include "harness/scene.hpp"
 #include "refraster/renderer.hpp"
@@ -29,13 +30,14 @@ refraster::Profile llvmpipe_with(const std::string& rule) {
 }
 
 harness::Scene suite_scene(const std::string& relative) {
-    return harness::load_scene(std::filesystem::path(REFRASTER_SOURCE_DIR) /
-                               "conformance/scenes" / relative);
+    return harness::load_scene(std::filesystem::path(REFRASTER_SOURCE_DIR) / "conformance/scenes" /
+                               relative);
 }
 
 bool has_finding(const harness::GlVerdict& v, const std::string& words, bool legal) {
     for (const auto& f : v.findings)
-        if (f.legal == legal && f.rule.find(words) != std::string::npos && f.pixels > 0) return true;
+        if (f.legal == legal && f.rule.find(words) != std::string::npos && f.pixels > 0)
+            return true;
     return false;
 }
 
@@ -77,9 +79,8 @@ harness::Scene blended_pair() {
     // Window corners (2.5, 2.5), (12.5, 2.5), (12.5, 12.5), (2.5, 12.5): the diagonal
     // (2.5, 2.5)-(12.5, 12.5) passes through the centres (k + 0.5, k + 0.5).
     const auto v = [&](float x, float y) {
-        d.vertices.data.insert(d.vertices.data.end(),
-                               {x / 8.0f - 1.0f, y / 8.0f - 1.0f, 0.0f, 1.0f, 0.25f, 0.25f, 0.25f,
-                                0.25f});
+        d.vertices.data.insert(d.vertices.data.end(), {x / 8.0f - 1.0f, y / 8.0f - 1.0f, 0.0f, 1.0f,
+                                                       0.25f, 0.25f, 0.25f, 0.25f});
     };
     v(2.5f, 2.5f), v(12.5f, 2.5f), v(12.5f, 12.5f);
     v(2.5f, 2.5f), v(12.5f, 12.5f), v(2.5f, 12.5f);

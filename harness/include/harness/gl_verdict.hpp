@@ -61,8 +61,7 @@ struct GlVerdict {
 // Judges every pixel where `backend` differs from `reference` (the scene rendered under
 // `profile`). Both images must have the scene's target size.
 GlVerdict gl_verdict(const Scene& scene, const refraster::Profile& profile,
-                     const refraster::Framebuffer& reference,
-                     const refraster::Framebuffer& backend,
+                     const refraster::Framebuffer& reference, const refraster::Framebuffer& backend,
                      std::optional<std::array<int, 2>> at = std::nullopt);
 
 }  // namespace harness

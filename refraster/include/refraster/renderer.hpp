@@ -7,11 +7,13 @@
 // setup, tie rule and traversal; attribute planes and per-pixel evaluation (smooth,
 // noperspective, flat, with FMA where the driver fuses); z16, z24 and z32f depth with every
 // compare function and polygon offset; the two blend presets; rgba8 and rgba32f targets. The
-// gl-exact profile decides triangle coverage exactly instead. Optionally a per-pixel trace
+// gl-exact profile decides triangle coverage exactly instead; the softpipe-22.3 profile draws as
+// Mesa 22.3 softpipe does (softpipe_model.hpp). Optionally a per-pixel trace
 // (trace.hpp) and the owner of every pixel.
 //
 // Deliberately does not (yet), answering RenderStatus::NotSupported instead of a guess:
-// multisampled targets, and anything but filled triangles under the exact profile.
+// anything but filled triangles under the exact profile, and multisampled targets for the
+// scanline (softpipe) rules, which have none.
 #pragma once
 
 #include <cstdint>
