@@ -7,6 +7,8 @@
 //    `refraster compare` does (images, every sample of a 4x target, the scene's expectation,
 //    the pixel classes); compare_images (compare.hpp) for two framebuffers of your own;
 //  - explain_pixel and explanation_text / _json / _svg (explain.hpp);
+//  - gl_verdict (gl_verdict.hpp): differences judged against GL's freedoms;
+//  - fingerprint (fingerprint.hpp): a backend's rules inferred from probe scenes;
 //  - write_color_image (image_io.hpp);
 //  - scenes written in code: SceneFile (scene.hpp), scene_to_json (reduce.hpp), camera
 //    matrices (authoring.hpp).
@@ -26,6 +28,8 @@
 #include "harness/case_result.hpp"
 #include "harness/compare.hpp"
 #include "harness/explain.hpp"
+#include "harness/fingerprint.hpp"
+#include "harness/gl_verdict.hpp"
 #include "harness/image_io.hpp"
 #include "harness/profile_io.hpp"
 #include "harness/reduce.hpp"
