@@ -588,6 +588,52 @@ RuleFinding line_width_finding(const Probe& p, const std::optional<Framebuffer>&
     return f;
 }
 
+// The order in which the attribute planes are set up: the coverage family's (llvmpipe's
+// orientation swap and calc_coef4, lp_state_setup.c; softpipe's vertices sorted by y,
+// tri_linear_coeff, sp_setup.c), decided with the coverage; the fusion probe's colours, which
+// the other family's setup moves, are its evidence.
+RuleFinding setup_order_finding(Search& search, const Probe& fusion, const Profile& base,
+                                const std::string& family) {
+    RuleFinding f;
+    f.key = "attribute_setup_order";
+    f.candidates = {"snapped", "scanline"};
+    if (family != "snapped" && family != "scanline") {
+        f.value = "n/a";
+        f.decided = true;
+        f.evidence = "the exact model has no setup order";
+        return f;
+    }
+    const auto want = search.backend(fusion);
+    const auto mine = Search::reference(fusion, base);
+    Profile other = family_base(family == "snapped" ? "scanline" : "snapped");
+    other.gl.viewport_fma = base.gl.viewport_fma;
+    const auto theirs = Search::reference(fusion, other);
+    if (!want || !mine || !theirs) {
+        f.value = "undecided";
+        f.evidence = "the backend does not draw the probe fusion";
+        return f;
+    }
+    const Difference d_mine = difference(fusion, *mine, *want);
+    const Difference d_theirs = difference(fusion, *theirs, *want);
+    if (d_mine.pixels != 0 || d_theirs.pixels == 0) {
+        f.value = "undecided";
+        f.evidence = "probe fusion: " + std::to_string(d_mine.pixels) +
+                     " pixels differ under the " + family + " setup, " +
+                     std::to_string(d_theirs.pixels) + " under the other";
+        return f;
+    }
+    f.value = family;
+    f.decided = true;
+    f.matching = {family};
+    f.evidence = "probe fusion pixel (" + std::to_string(d_theirs.x) + ", " +
+                 std::to_string(d_theirs.y) + "): the backend gives " +
+                 pixel_text(fusion, *want, d_theirs.x, d_theirs.y) + " as the " + family +
+                 " setup does; the other gives " +
+                 pixel_text(fusion, *theirs, d_theirs.x, d_theirs.y) + " (" +
+                 std::to_string(d_theirs.pixels) + " pixels differ)";
+    return f;
+}
+
 }  // namespace
 
 bool FingerprintResult::complete() const {
@@ -637,7 +683,9 @@ FingerprintResult fingerprint(Backend& target, const FingerprintProgress& progre
     stage({point_probe()}, "point_rule", {"square", "two-triangles"});
     stage({clipping_probe()}, "clipping", {"view-volume", "guard-band"});
     // 3. Arithmetic: fusion, depth, clears, colours.
-    stage({fusion_probe()}, "viewport_fma", {"on", "off"});
+    const Probe fusion = fusion_probe();
+    stage({fusion}, "viewport_fma", {"on", "off"});
+    r.rules.push_back(setup_order_finding(search, fusion, base, family));
     stage({depth_probe()}, "depth_rounding", {"nearest", "truncate"});
     stage(clear_probes(), "depth_clear", {"double", "float"});
     stage({color_probe()}, "color_rounding", {"nearest", "truncate"});

@@ -3,6 +3,8 @@
 // docs/precision.md "softpipe": raw clear floats until written back, write-back on eviction of
 // a direct-mapped slot and at the flush, reload as byte * (1/255); the generic path's unclamped
 // truncation with cvttss2si's wrap.
+#include "softpipe_fragment.hpp"
+
 #include <gtest/gtest.h>
 
 #include <bit>
@@ -10,7 +12,6 @@
 #include <limits>
 
 #include "refraster/framebuffer.hpp"
-#include "softpipe_fragment.hpp"
 #include "softpipe_tiles.hpp"
 
 namespace {
@@ -18,8 +19,8 @@ namespace {
 using refraster::ColorFormat;
 using refraster::DepthFormat;
 using refraster::Framebuffer;
-using refraster::detail::SoftpipeTileCache;
 using refraster::detail::softpipe_depth_value;
+using refraster::detail::SoftpipeTileCache;
 
 TEST(SoftpipeTiles, ClearColourStaysRawUntilWrittenBack) {
     Framebuffer fb(64, 64, ColorFormat::Rgba8, DepthFormat::None);
@@ -65,7 +66,8 @@ TEST(SoftpipeTiles, FloatTargetsKeepTheirBits) {
     EXPECT_EQ(fb.color32f[i + 0], -2.5f);
     EXPECT_EQ(fb.color32f[i + 1], 1e30f);
     EXPECT_TRUE(std::isnan(fb.color32f[i + 2]));
-    EXPECT_EQ(std::bit_cast<std::uint32_t>(fb.color32f[i + 3]), std::bit_cast<std::uint32_t>(1e-40f));
+    EXPECT_EQ(std::bit_cast<std::uint32_t>(fb.color32f[i + 3]),
+              std::bit_cast<std::uint32_t>(1e-40f));
 }
 
 TEST(SoftpipeDepth, GenericPathTruncatesWithoutClampAndWraps) {

@@ -13,7 +13,8 @@
 // Rules, in the order they are decided (profile keys, docs/precision.md):
 //   coverage, subpixel_bits, snap_rounding, pixel_center_offset, tie_rule  (jointly)
 //   line_rule; line width rounding (a finding from the same probe, implied by the line rule)
-//   point_rule; clipping; viewport_fma; depth_rounding; depth_clear; color_rounding.
+//   point_rule; clipping; viewport_fma, and the attribute setup order (a finding: the coverage
+//   family's, which the fusion probe confirms); depth_rounding; depth_clear; color_rounding.
 //
 // Deliberately does not: infer the driver quirks (flush_denormals, draw_pipeline_cull,
 // draw_segment_vertices, nine_vertex_quirk, wrapping_arithmetic: the family's defaults are
@@ -31,7 +32,8 @@
 namespace harness {
 
 struct RuleFinding {
-    std::string key;  // a profile parameter, or "line_width_rounding" (a finding only)
+    // A profile parameter, or a finding only: "line_width_rounding", "attribute_setup_order".
+    std::string key;
     std::string value;
     bool decided = false;
     bool probed = true;                   // false: not probed, the family's default kept
