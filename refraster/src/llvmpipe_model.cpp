@@ -283,14 +283,12 @@ void LlvmpipeModel::points(VertexStage& stage, Observer& obs) {
 // Polygon modes line and point: always the draw pipeline (llvmpipe hands unfilled
 // polygons to it, lp_state_rasterizer.c): clip, the float cull stage, the draw module's
 // polygon offset (draw_pipe_offset.c; llvmpipe's own is off then), the flat-shade copy
-// (draw_pipe_flatshade.c), then draw_pipe_unfilled.c's edges (v2,v0), (v0,v1), (v1,v2) or
-// points v0, v1, v2, each only where the polygon's edge flag and the starting vertex's
-// edge flag are set, so that clip-plane edges and fan diagonals are not drawn.
+// (draw_pipe_flatshade.c), then draw_pipe_unfilled.c's edges or points (unfilled_stages,
+// model.hpp).
 template <class Observer>
 void LlvmpipeModel::unfilled(VertexStage& stage, Observer& obs) {
     const Draw& d = ctx_.draw;
-    const SetupParams& params = ctx_.params;
-    const bool first = params.provoking_first;
+    const bool first = ctx_.params.provoking_first;
     const auto tris = draw_triangles(ctx_);
     const char* kind =
         d.state.polygon_mode == PolygonMode::Line ? "polygon edges" : "polygon vertices";
@@ -303,31 +301,11 @@ void LlvmpipeModel::unfilled(VertexStage& stage, Observer& obs) {
         obs.begin_primitive(kind, ctx_.index, p, idx, stage);
         staged.clear();
         stage.clip_triangle(idx, first, staged, nullptr);
-        for (auto t : staged) {
-            if (!passes_draw_cull(t, d.state.cull, params.front_ccw)) continue;
-            if (d.state.polygon_offset) {
-                apply_draw_offset(t, draw_determinant(t, ctx_.profile.gl.flush_denormals),
-                                  *d.state.polygon_offset, ctx_.target.depth,
-                                  ctx_.profile.gl.flush_denormals);
-            }
-            if (d.state.shade == ShadeModel::Flat) {
-                const StageVertex prov = t.v[first ? 0 : 2];
-                for (std::size_t k = 0; k < 3; ++k) {
-                    if (k != (first ? 0u : 2u)) t.v[k] = stage.duplicate_with_flat(t.v[k], prov);
-                }
-            }
-            const auto edge = [&](unsigned bit, std::size_t from) {
-                return (t.edge_flags & bit) != 0 && t.v[from].edgeflag;
-            };
-            if (d.state.polygon_mode == PolygonMode::Line) {
-                if (edge(4, 2)) segment(stage, t.v[2], t.v[0], obs);
-                if (edge(1, 0)) segment(stage, t.v[0], t.v[1], obs);
-                if (edge(2, 1)) segment(stage, t.v[1], t.v[2], obs);
-            } else {
-                if (edge(1, 0)) point(stage, t.v[0], obs);
-                if (edge(2, 1)) point(stage, t.v[1], obs);
-                if (edge(4, 2)) point(stage, t.v[2], obs);
-            }
+        for (auto& t : staged) {
+            unfilled_stages(
+                ctx_, stage, t,
+                [&](const StageVertex& a, const StageVertex& b) { segment(stage, a, b, obs); },
+                [&](const StageVertex& v) { point(stage, v, obs); });
         }
         obs.end_primitive(KeepRecord::CoveredOrNear);
     }

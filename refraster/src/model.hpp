@@ -130,6 +130,43 @@ std::vector<bool> pipeline_batches_flushed(const DrawContext& ctx, VertexStage& 
                                            const std::vector<AssembledTriangle>& tris,
                                            const std::vector<bool>& segment_clipped);
 
+// The draw pipeline's stages after the clipper for polygon modes line and point, shared by
+// both models (the same draw module): the float cull stage (draw_pipe_cull.c), the draw
+// module's polygon offset (draw_pipe_offset.c), the flat-shade copy (draw_pipe_flatshade.c),
+// then draw_pipe_unfilled.c's edges (v2,v0), (v0,v1), (v1,v2) or points v0, v1, v2, each only
+// where the polygon's edge flag and the starting vertex's edge flag are set, so that clip-plane
+// edges and fan diagonals are not drawn. `line(a, b)` and `point(v)` draw them.
+template <class Line, class Point>
+void unfilled_stages(const DrawContext& ctx, VertexStage& stage, StageTriangle& t, Line&& line,
+                     Point&& point) {
+    const Draw& d = ctx.draw;
+    const bool first = ctx.params.provoking_first;
+    if (!passes_draw_cull(t, d.state.cull, ctx.params.front_ccw)) return;
+    if (d.state.polygon_offset) {
+        apply_draw_offset(t, draw_determinant(t, ctx.profile.gl.flush_denormals),
+                          *d.state.polygon_offset, ctx.target.depth,
+                          ctx.profile.gl.flush_denormals);
+    }
+    if (d.state.shade == ShadeModel::Flat) {
+        const StageVertex prov = t.v[first ? 0 : 2];
+        for (std::size_t k = 0; k < 3; ++k) {
+            if (k != (first ? 0u : 2u)) t.v[k] = stage.duplicate_with_flat(t.v[k], prov);
+        }
+    }
+    const auto edge = [&](unsigned bit, std::size_t from) {
+        return (t.edge_flags & bit) != 0 && t.v[from].edgeflag;
+    };
+    if (d.state.polygon_mode == PolygonMode::Line) {
+        if (edge(4, 2)) line(t.v[2], t.v[0]);
+        if (edge(1, 0)) line(t.v[0], t.v[1]);
+        if (edge(2, 1)) line(t.v[1], t.v[2]);
+    } else {
+        if (edge(1, 0)) point(t.v[0]);
+        if (edge(2, 1)) point(t.v[1]);
+        if (edge(4, 2)) point(t.v[2]);
+    }
+}
+
 // Receives each full list of set-up primitives, and the last one, in API order.
 template <class List>
 using ListSink = std::function<void(const List&)>;

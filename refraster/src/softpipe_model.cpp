@@ -249,12 +249,12 @@ void SoftpipeModel::segment(const VertexStage& stage, const StageVertex& v0, con
     const float width = std::clamp(d.state.line_width, 1.0f, 255.0f);
     if (width != 1.0f && std::round(width) > 1.0f) return wide_segment(stage, v0, v1, width, obs);
     const std::array<std::array<float, 4>, 2> window{v0.window, v1.window};
-    int x0 = truncate_to_int(v0.window[0]);
-    int y0 = truncate_to_int(v0.window[1]);
+    const int x0 = truncate_to_int(v0.window[0]);
+    const int y0 = truncate_to_int(v0.window[1]);
     const int x1 = truncate_to_int(v1.window[0]);
     const int y1 = truncate_to_int(v1.window[1]);
-    int dx = x1 - x0;
-    int dy = y1 - y0;
+    const int dx = x1 - x0;
+    const int dy = y1 - y0;
     if (dx == 0 && dy == 0) {
         obs.scanline_rejected(window, v0.generated || v1.generated, "zero length");
         return;
@@ -267,38 +267,24 @@ void SoftpipeModel::segment(const VertexStage& stage, const StageVertex& v0, con
         obs.scanline_rejected(window, v0.generated || v1.generated, "zero area");
         return;
     }
-    const int xstep = dx < 0 ? -1 : 1;
-    const int ystep = dy < 0 ? -1 : 1;
-    dx = std::abs(dx);
-    dy = std::abs(dy);
+    // One walk for both major axes: m the major axis (x iff |dx| > |dy|), n the minor one.
+    const std::array<int, 2> step{dx < 0 ? -1 : 1, dy < 0 ? -1 : 1};
+    const std::array<int, 2> len{std::abs(dx), std::abs(dy)};
+    const std::size_t m = len[0] > len[1] ? 0 : 1;
+    const std::size_t n = 1 - m;
+    const int inc = len[n] + len[n];
+    int error = inc - len[m];
+    const int dec = error - len[m];
+    std::array<int, 2> at{x0, y0};
     std::vector<std::array<int, 2>> px;
-    if (dx > dy) {
-        const int inc = dy + dy;
-        int error = inc - dx;
-        const int dec = error - dx;
-        for (int i = 0; i < dx; ++i) {
-            px.push_back({x0, y0});
-            x0 += xstep;
-            if (error < 0) {
-                error += inc;
-            } else {
-                error += dec;
-                y0 += ystep;
-            }
-        }
-    } else {
-        const int inc = dx + dx;
-        int error = inc - dy;
-        const int dec = error - dy;
-        for (int i = 0; i < dy; ++i) {
-            px.push_back({x0, y0});
-            y0 += ystep;
-            if (error < 0) {
-                error += inc;
-            } else {
-                error += dec;
-                x0 += xstep;
-            }
+    for (int i = 0; i < len[m]; ++i) {
+        px.push_back(at);
+        at[m] += step[m];
+        if (error < 0) {
+            error += inc;
+        } else {
+            error += dec;
+            at[n] += step[n];
         }
     }
     // plot(): pixels gathered into the quad they fall in, a quad handed on (clipped to the
@@ -469,8 +455,7 @@ void SoftpipeModel::points(VertexStage& stage, Observer& obs) {
 template <class Observer>
 void SoftpipeModel::unfilled(VertexStage& stage, Observer& obs) {
     const Draw& d = ctx_.draw;
-    const SetupParams& params = ctx_.params;
-    const bool first = params.provoking_first;
+    const bool first = ctx_.params.provoking_first;
     const auto tris = draw_triangles(ctx_);
     const char* kind =
         d.state.polygon_mode == PolygonMode::Line ? "polygon edges" : "polygon vertices";
@@ -483,31 +468,11 @@ void SoftpipeModel::unfilled(VertexStage& stage, Observer& obs) {
         obs.begin_primitive(kind, ctx_.index, p, idx, stage);
         staged.clear();
         stage.clip_triangle(idx, first, staged, nullptr);
-        for (auto t : staged) {
-            if (!passes_draw_cull(t, d.state.cull, params.front_ccw)) continue;
-            if (d.state.polygon_offset) {
-                apply_draw_offset(t, draw_determinant(t, ctx_.profile.gl.flush_denormals),
-                                  *d.state.polygon_offset, ctx_.target.depth,
-                                  ctx_.profile.gl.flush_denormals);
-            }
-            if (d.state.shade == ShadeModel::Flat) {
-                const StageVertex prov = t.v[first ? 0 : 2];
-                for (std::size_t k = 0; k < 3; ++k) {
-                    if (k != (first ? 0u : 2u)) t.v[k] = stage.duplicate_with_flat(t.v[k], prov);
-                }
-            }
-            const auto edge = [&](unsigned bit, std::size_t from) {
-                return (t.edge_flags & bit) != 0 && t.v[from].edgeflag;
-            };
-            if (d.state.polygon_mode == PolygonMode::Line) {
-                if (edge(4, 2)) segment(stage, t.v[2], t.v[0], obs);
-                if (edge(1, 0)) segment(stage, t.v[0], t.v[1], obs);
-                if (edge(2, 1)) segment(stage, t.v[1], t.v[2], obs);
-            } else {
-                if (edge(1, 0)) point(stage, t.v[0], obs);
-                if (edge(2, 1)) point(stage, t.v[1], obs);
-                if (edge(4, 2)) point(stage, t.v[2], obs);
-            }
+        for (auto& t : staged) {
+            unfilled_stages(
+                ctx_, stage, t,
+                [&](const StageVertex& a, const StageVertex& b) { segment(stage, a, b, obs); },
+                [&](const StageVertex& v) { point(stage, v, obs); });
         }
         obs.end_primitive(KeepRecord::CoveredOrNear);
     }
