@@ -1,0 +1,92 @@
+// trace.hpp: what the textbook algorithms produce, and the step-by-step record of how.
+//
+// Implements: Raster, a width x height image of coverage weights in GL window coordinates
+// (pixel (x, y) covers [x, x+1] x [y, y+1], row 0 at the bottom); Trace, a list of Steps, one
+// per decision a lecture would show, each with a one-line title, the named values at that
+// point, the pixels it decides and the geometry it points at. Every algorithm of
+// refraster::textbook takes an optional Trace* and appends to it; a null Trace* costs nothing
+// but the test.
+//
+// Deliberately does not: render, colour or lay out anything. A viewer reads the Steps; the
+// roles of Segments and the keys of state are plain strings so that the viewer needs no
+// knowledge of the algorithm that wrote them.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace refraster::textbook {
+
+// A point in window coordinates (pixels, origin bottom-left).
+struct Point2 {
+    double x = 0.0;
+    double y = 0.0;
+    friend bool operator==(const Point2&, const Point2&) = default;
+};
+
+// One pixel a step decides. weight 1 is lit, a weight in (0, 1) is antialiased coverage, 0 is
+// a pixel the step considered and rejected (shown, not drawn).
+struct PixelMark {
+    int x = 0;
+    int y = 0;
+    double weight = 1.0;
+};
+
+// Geometry a step shows, in window coordinates. role names what it is: "edge", "line",
+// "diagonal", "ear", "trapezoid", "span", "scanline", "clip", "circle", ...
+struct Segment {
+    double x0 = 0.0;
+    double y0 = 0.0;
+    double x1 = 0.0;
+    double y1 = 0.0;
+    std::string role;
+};
+
+struct Step {
+    std::string title;                                       // "x = 3: d = -2 < 0, keep y = 1"
+    std::vector<std::pair<std::string, std::string>> state;  // {"d", "-2"}, {"AEL", "[...]"}
+    std::vector<PixelMark> pixels;
+    std::vector<Segment> overlay;
+};
+
+struct Trace {
+    std::string algorithm;       // "Bresenham line", set by the algorithm that fills the trace
+    std::vector<Segment> input;  // the input geometry, drawn under every step
+    std::vector<Step> steps;
+};
+
+class Raster {
+  public:
+    Raster() = default;
+    Raster(int width, int height);
+
+    int width() const { return width_; }
+    int height() const { return height_; }
+    bool contains(int x, int y) const { return x >= 0 && y >= 0 && x < width_ && y < height_; }
+    // The weight of pixel (x, y); 0 outside the raster.
+    double at(int x, int y) const;
+    // Sets, or adds to, the weight of (x, y); pixels outside the raster are dropped.
+    void set(int x, int y, double weight);
+    void add(int x, int y, double weight);
+    // Row-major weights, row 0 at the bottom.
+    const std::vector<double>& weights() const { return weight_; }
+    // The number of pixels with a weight other than 0.
+    int count_nonzero() const;
+    friend bool operator==(const Raster&, const Raster&) = default;
+
+  private:
+    int width_ = 0;
+    int height_ = 0;
+    std::vector<double> weight_;
+};
+
+// Helpers for the algorithms that write traces: the shortest decimal that reads back as v
+// ("0.25", "-3", "1e+20"), and a step appended to a trace if there is one.
+std::string format_number(double v);
+std::string format_number(long long v);
+std::string format_pixel(int x, int y);  // "(3, 4)"
+Step& add_step(Trace& trace, std::string title);
+
+}  // namespace refraster::textbook
