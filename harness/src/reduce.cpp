@@ -122,6 +122,7 @@ ojson state_json(const refraster::DrawState& s, const refraster::Target& t,
     if (s.blend != d.blend) j["blend"] = s.blend == BlendPreset::Alpha ? "alpha" : "add";
     if (!s.multisample) j["multisample"] = false;
     if (s.texture) j["texture"] = texture_state_json(*s.texture, texture_name);
+    if (s.fill_rule) j["fill_rule"] = std::string(to_string(*s.fill_rule));
     return j;
 }
 
@@ -133,6 +134,13 @@ std::vector<std::vector<SceneVertex>> primitives_of(const SceneDraw& d) {
     const auto v = [&](std::size_t i) { return d.vertices[d.indices ? (*d.indices)[i] : i]; };
     const bool first = d.state.provoking_vertex == refraster::ProvokingVertex::First;
     std::vector<std::vector<SceneVertex>> out;
+    if (d.primitive == refraster::PrimitiveType::Polygon) {
+        // One polygon: its triangles drawn apart would lose its outline (polygon modes) and its
+        // region (fill rules), so it stays whole.
+        auto& prim = out.emplace_back();
+        for (std::size_t i = 0; i < n; ++i) prim.push_back(v(i));
+        return out;
+    }
     for (const auto& elements : refraster::assemble_primitives(d.primitive, n, first)) {
         auto& prim = out.emplace_back();
         for (const auto e : elements) prim.push_back(v(e));
@@ -149,6 +157,8 @@ refraster::PrimitiveType list_type(refraster::PrimitiveType p) {
         case PrimitiveType::LineStrip:
         case PrimitiveType::LineLoop:
             return PrimitiveType::Lines;
+        case PrimitiveType::Polygon:
+            return PrimitiveType::Polygon;
         default:
             return PrimitiveType::Triangles;
     }

@@ -611,6 +611,7 @@ class Node {
     dom::element value() const { return v_; }
     bool is_null() const { return v_.type() == dom::element_type::NULL_VALUE; }
     bool is_object() const { return v_.type() == dom::element_type::OBJECT; }
+    bool is_string() const { return v_.type() == dom::element_type::STRING; }
 
     std::string path() const {
         std::vector<const Node*> chain;
@@ -634,6 +635,9 @@ class Node {
 
     // An object whose keys are all in `allowed` (at most 64 names), each once.
     void require_object(std::initializer_list<std::string_view> allowed) const {
+        require_object(std::span<const std::string_view>(allowed.begin(), allowed.size()));
+    }
+    void require_object(std::span<const std::string_view> allowed) const {
         if (!is_object()) fail("expected an object, got " + describe(v_));
         accept_container();
         std::uint64_t seen = 0;
@@ -841,6 +845,10 @@ struct TextureScope {
     const std::map<std::string, refraster::Texture>* defined = nullptr;
 };
 
+// The extension "polygons": the primitive "polygon" (GL_POLYGON) and the draw state key
+// "fill_rule" (docs/scene-format.md).
+constexpr std::string_view kPolygonsExtension = "polygons";
+
 refraster::Rect read_rect(const Node& n, std::int64_t origin_lo, std::int64_t origin_hi,
                           std::int64_t size_lo, std::int64_t size_hi) {
     n.array_size(4, 4, "[x, y, width, height]");
@@ -934,7 +942,8 @@ refraster::TextureState read_texture_state(const Node& n,
 
 // A draw's "state". `texture_name` receives the name of the texture it samples, if any.
 refraster::DrawState read_state(const Node& n, const refraster::Target& target,
-                                const TextureScope& textures, std::string& texture_name) {
+                                const TextureScope& textures, bool polygons,
+                                std::string& texture_name) {
     using namespace refraster;
     DrawState s;
     s.viewport = {0, 0, static_cast<std::int32_t>(target.width),
@@ -942,16 +951,17 @@ refraster::DrawState read_state(const Node& n, const refraster::Target& target,
     if (!textures.allowed && n.is_object()) {
         if (auto v = n.get("texture")) refuse_extension_key(*v, "texture", kTexturesExtension);
     }
-    if (textures.allowed) {
-        n.require_object({"viewport", "depth_range", "scissor", "cull", "front_face", "depth_test",
-                          "depth_write", "shade", "provoking_vertex", "polygon_mode",
-                          "polygon_offset", "line_width", "point_size", "blend", "multisample",
-                          "texture"});
-    } else {
-        n.require_object({"viewport", "depth_range", "scissor", "cull", "front_face", "depth_test",
-                          "depth_write", "shade", "provoking_vertex", "polygon_mode",
-                          "polygon_offset", "line_width", "point_size", "blend", "multisample"});
+    if (!polygons && n.is_object()) {
+        if (auto v = n.get("fill_rule")) refuse_extension_key(*v, "fill_rule", kPolygonsExtension);
     }
+    std::vector<std::string_view> keys{"viewport",     "depth_range",    "scissor",
+                                       "cull",         "front_face",     "depth_test",
+                                       "depth_write",  "shade",          "provoking_vertex",
+                                       "polygon_mode", "polygon_offset", "line_width",
+                                       "point_size",   "blend",          "multisample"};
+    if (textures.allowed) keys.push_back("texture");
+    if (polygons) keys.push_back("fill_rule");
+    n.require_object(keys);
     if (auto v = n.get("viewport")) {
         s.viewport = read_rect(*v, kViewportOriginMin, kViewportOriginMax, 1, kMaxTargetSide);
     }
@@ -1014,6 +1024,12 @@ refraster::DrawState read_state(const Node& n, const refraster::Target& target,
     if (textures.allowed) {
         if (auto v = n.get("texture"); v && !v->is_null()) {
             s.texture = read_texture_state(*v, *textures.defined, texture_name);
+        }
+    }
+    if (polygons) {
+        if (auto v = n.get("fill_rule"); v && !v->is_null()) {
+            s.fill_rule = v->choice<FillRule>(
+                {{"evenodd", FillRule::EvenOdd}, {"nonzero", FillRule::NonZero}});
         }
     }
     return s;
@@ -1399,7 +1415,7 @@ bool read_vertex_fast(dom::element e, VertexSpace space, SceneVertex& sv, std::u
 }
 
 SceneDraw read_draw(const Node& n, const refraster::Target& target, WorkSoFar& work,
-                    bool vertex_arrays_allowed, const TextureScope& textures) {
+                    bool vertex_arrays_allowed, const TextureScope& textures, bool polygons) {
     using namespace refraster;
     SceneDraw d;
     if (!vertex_arrays_allowed && n.is_object()) {
@@ -1413,14 +1429,32 @@ SceneDraw read_draw(const Node& n, const refraster::Target& target, WorkSoFar& w
     } else {
         n.require_object({"primitive", "space", "matrix", "vertices", "indices", "state"});
     }
-    d.primitive = n.at("primitive")
-                      .choice<PrimitiveType>({{"points", PrimitiveType::Points},
-                                              {"lines", PrimitiveType::Lines},
-                                              {"line_strip", PrimitiveType::LineStrip},
-                                              {"line_loop", PrimitiveType::LineLoop},
-                                              {"triangles", PrimitiveType::Triangles},
-                                              {"triangle_strip", PrimitiveType::TriangleStrip},
-                                              {"triangle_fan", PrimitiveType::TriangleFan}});
+    const Node primitive = n.at("primitive");
+    if (!polygons && primitive.is_string() && primitive.string_view() == "polygon") {
+        primitive.fail(
+            "the primitive \"polygon\" belongs to the extension \"polygons\"; list it in "
+            "\"requires\" to use it");
+    }
+    if (polygons) {
+        d.primitive =
+            primitive.choice<PrimitiveType>({{"points", PrimitiveType::Points},
+                                             {"lines", PrimitiveType::Lines},
+                                             {"line_strip", PrimitiveType::LineStrip},
+                                             {"line_loop", PrimitiveType::LineLoop},
+                                             {"triangles", PrimitiveType::Triangles},
+                                             {"triangle_strip", PrimitiveType::TriangleStrip},
+                                             {"triangle_fan", PrimitiveType::TriangleFan},
+                                             {"polygon", PrimitiveType::Polygon}});
+    } else {
+        d.primitive =
+            primitive.choice<PrimitiveType>({{"points", PrimitiveType::Points},
+                                             {"lines", PrimitiveType::Lines},
+                                             {"line_strip", PrimitiveType::LineStrip},
+                                             {"line_loop", PrimitiveType::LineLoop},
+                                             {"triangles", PrimitiveType::Triangles},
+                                             {"triangle_strip", PrimitiveType::TriangleStrip},
+                                             {"triangle_fan", PrimitiveType::TriangleFan}});
+    }
     if (auto v = n.get("space")) {
         d.space =
             v->choice<VertexSpace>({{"window", VertexSpace::Window}, {"clip", VertexSpace::Clip}});
@@ -1489,7 +1523,25 @@ SceneDraw read_draw(const Node& n, const refraster::Target& target, WorkSoFar& w
     WorkSoFar::add(n, work.primitives, refraster::primitive_count(d.primitive, elements),
                    work.limits.max_primitives, "primitives");
     if (auto v = n.get("state")) {
-        d.state = read_state(*v, target, textures, d.texture);
+        d.state = read_state(*v, target, textures, polygons, d.texture);
+        if (d.state.fill_rule) {
+            // A fill rule lights the region of one polygon whatever its orientation: it needs
+            // the primitive "polygon", polygon mode fill and no culling (docs/scene-format.md,
+            // "Fill rules").
+            const Node rule = v->at("fill_rule");
+            if (d.primitive != PrimitiveType::Polygon) {
+                rule.fail("a fill rule applies to the primitive \"polygon\" only, not to \"" +
+                          std::string(refraster::to_string(d.primitive)) + "\"");
+            }
+            if (d.state.polygon_mode != PolygonMode::Fill) {
+                rule.fail("a fill rule fills the polygon; it needs \"polygon_mode\": \"fill\"");
+            }
+            if (d.state.cull != CullMode::None) {
+                rule.fail(
+                    "a fill rule fills the polygon whatever its orientation; it needs "
+                    "\"cull\": \"none\"");
+            }
+        }
     } else {
         d.state.viewport = {0, 0, static_cast<std::int32_t>(target.width),
                             static_cast<std::int32_t>(target.height)};
@@ -1503,8 +1555,10 @@ SceneDraw read_draw(const Node& n, const refraster::Target& target, WorkSoFar& w
 // attribute, and indices as base64 (docs/scene-format.md); the loader turns them into the same
 // vertices as the plain form, so every renderer draws them. "textures": textures by name,
 // texture coordinates and each draw's texture unit state, which the draw list carries.
+// "polygons": the primitive "polygon" and the draw state key "fill_rule".
 bool is_implemented_extension(std::string_view name) {
-    return name == "multisample" || name == kVertexArraysExtension || name == kTexturesExtension;
+    return name == "multisample" || name == kVertexArraysExtension || name == kTexturesExtension ||
+           name == kPolygonsExtension;
 }
 
 // The texel bytes of the textures read so far, against SceneLimits::max_texel_bytes.
@@ -1827,6 +1881,9 @@ SceneFile read_scene(const Node& root, const SceneLimits& limits) {
             read_textures(*v, std::filesystem::path(root.context().file).parent_path(), limits);
     }
     const TextureScope textures{textures_allowed, &s.textures};
+    const bool polygons_allowed =
+        std::find(s.requires_extensions.begin(), s.requires_extensions.end(), kPolygonsExtension) !=
+        s.requires_extensions.end();
 
     const Node draws = root.at("draws");
     const std::size_t nd =
@@ -1838,7 +1895,8 @@ SceneFile read_scene(const Node& root, const SceneLimits& limits) {
     WorkSoFar work{limits};
     s.draws.reserve(nd);
     draws.for_each([&](const Node& d) {
-        s.draws.push_back(read_draw(d, s.target, work, vertex_arrays_allowed, textures));
+        s.draws.push_back(
+            read_draw(d, s.target, work, vertex_arrays_allowed, textures, polygons_allowed));
     });
     return s;
 }

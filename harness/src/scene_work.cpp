@@ -152,7 +152,10 @@ SceneWork estimate_work(const refraster::Draw& d, const refraster::Target& t) {
             for (std::size_t i = 0; i + 2 < n; ++i) f += e.triangle(el(i), el(i + 1), el(i + 2));
             break;
         case PrimitiveType::TriangleFan:
+        case PrimitiveType::Polygon:
             for (std::size_t i = 1; i + 1 < n; ++i) f += e.triangle(el(0), el(i), el(i + 1));
+            // A fill rule draws the polygon's triangles twice: into the stencil, then over it.
+            if (d.state.fill_rule) f *= 2;
             break;
     }
     // Every sample of a 4x pixel is tested, and shaded through depth and blending.

@@ -188,6 +188,8 @@ void put_state(Encoder& e, const refraster::DrawState& s) {
         e.boolean(t.coord_replace);
         e.enumeration(t.point_coord_origin);
     }
+    e.boolean(s.fill_rule.has_value());
+    if (s.fill_rule) e.enumeration(*s.fill_rule);
 }
 
 refraster::DrawState get_state(Decoder& d) {
@@ -227,6 +229,7 @@ refraster::DrawState get_state(Decoder& d) {
         t.point_coord_origin = d.enumeration(PointCoordOrigin::LowerLeft);
         s.texture = t;
     }
+    if (d.boolean()) s.fill_rule = d.enumeration(FillRule::NonZero);
     return s;
 }
 
@@ -364,7 +367,7 @@ refraster::DrawList decode_draw_list(std::span<const std::uint8_t> payload) {
     list.draws.reserve(draws);
     for (std::size_t i = 0; i < draws; ++i) {
         Draw draw;
-        draw.primitive = d.enumeration(PrimitiveType::TriangleFan);
+        draw.primitive = d.enumeration(PrimitiveType::Polygon);
         draw.state = get_state(d);
         const std::size_t attributes = d.count(12);
         for (std::size_t a = 0; a < attributes; ++a) {

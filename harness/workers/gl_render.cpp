@@ -106,7 +106,9 @@ GLenum color_internal_format(ColorFormat f) {
 
 // A target without depth still gets z24: see the spec, a depth-less colour buffer can change
 // llvmpipe's clipping path.
-GLenum depth_internal_format(DepthFormat f) {
+GLenum depth_internal_format(DepthFormat f, bool stencil) {
+    if (stencil && f == DepthFormat::Z32f) return GL_DEPTH32F_STENCIL8;
+    if (stencil && f != DepthFormat::Z16) return GL_DEPTH24_STENCIL8;
     switch (f) {
         case DepthFormat::Z16:
             return GL_DEPTH_COMPONENT16;
@@ -136,6 +138,8 @@ GLenum primitive_mode(refraster::PrimitiveType p) {
             return GL_TRIANGLE_STRIP;
         case PrimitiveType::TriangleFan:
             return GL_TRIANGLE_FAN;
+        case PrimitiveType::Polygon:
+            return GL_POLYGON;
     }
     return GL_TRIANGLES;
 }
@@ -373,26 +377,39 @@ std::string debian_package_version(std::string_view package) {
 
 struct TargetObjects {
     refraster::Target key;
+    // The depth buffer has stencil bits too: the draw list has a draw with a fill rule.
+    bool stencil = false;
     bool valid = false;
     // Single-sample renderbuffers: rendered into and read (1x), or the blit's colour (4x).
     GLuint fbo = 0;
     GLuint color_rb = 0;
     GLuint depth_rb = 0;
+    GLuint stencil_rb = 0;  // a stencil of its own beside z16, which has no combined format
     // 4x only: multisample textures, so that every sample can be fetched.
     GLuint ms_fbo = 0;
     GLuint ms_color_tex = 0;
     GLuint ms_depth_tex = 0;
+    GLuint ms_stencil_rb = 0;
 
     void release() {
         const GLuint fbos[] = {fbo, ms_fbo};
-        const GLuint rbs[] = {color_rb, depth_rb};
+        const GLuint rbs[] = {color_rb, depth_rb, stencil_rb, ms_stencil_rb};
         const GLuint texs[] = {ms_color_tex, ms_depth_tex};
         glDeleteFramebuffers(2, fbos);
-        glDeleteRenderbuffers(2, rbs);
+        glDeleteRenderbuffers(4, rbs);
         glDeleteTextures(2, texs);
         *this = TargetObjects{};
     }
 };
+
+// Whether a draw list needs a stencil buffer: a polygon drawn with a fill rule counts its
+// coverage there (docs/scene-format.md, "How a GL backend draws a fill rule").
+bool needs_stencil(const refraster::DrawList& list) {
+    for (const auto& d : list.draws) {
+        if (d.state.fill_rule) return true;
+    }
+    return false;
+}
 
 // After an allocation: GL_OUT_OF_MEMORY is Unsupported (the scene asks for more than this
 // driver can hold), any other error a GlFailure.
@@ -819,7 +836,7 @@ struct Renderer::Impl {
     void attach_owners(const refraster::Target& t);
     void detach_owners();
 
-    void prepare_target(const refraster::Target& t);
+    void prepare_target(const refraster::Target& t, bool stencil);
     void set_fixed_state();
     void clear(const refraster::DrawList& list);
     void draw(const refraster::Target& t, const refraster::Draw& d);
@@ -827,7 +844,7 @@ struct Renderer::Impl {
     refraster::Framebuffer read_single(const refraster::Target& t);
 };
 
-void Renderer::Impl::prepare_target(const refraster::Target& t) {
+void Renderer::Impl::prepare_target(const refraster::Target& t, bool stencil) {
     if (t.samples != 1 && t.samples != 4) {
         throw Unsupported("samples " + std::to_string(t.samples) + " (only 1 and 4 exist)");
     }
@@ -849,13 +866,18 @@ void Renderer::Impl::prepare_target(const refraster::Target& t) {
         throw Unsupported("target " + std::to_string(t.width) + "x" + std::to_string(t.height) +
                           " (GL_MAX_RENDERBUFFER_SIZE " + std::to_string(max_renderbuffer) + ")");
     }
-    if (target.valid && target.key == t) return;
+    if (target.valid && target.key == t && target.stencil == stencil) return;
     target.release();
 
     const auto w = static_cast<GLsizei>(t.width);
     const auto h = static_cast<GLsizei>(t.height);
     const GLenum cf = color_internal_format(t.color);
-    const GLenum df = depth_internal_format(t.depth);
+    const GLenum df = depth_internal_format(t.depth, stencil);
+    // Where the depth buffer attaches: a combined format holds the stencil too; z16 gets a
+    // stencil renderbuffer of its own.
+    const bool combined = stencil && t.depth != DepthFormat::Z16;
+    const GLenum depth_attachment = combined ? GL_DEPTH_STENCIL_ATTACHMENT : GL_DEPTH_ATTACHMENT;
+    const bool separate_stencil = stencil && !combined;
 
     // The count actually granted, which may differ from the count asked for.
     auto check_samples = [](GLsizei samples) {
@@ -878,7 +900,14 @@ void Renderer::Impl::prepare_target(const refraster::Target& t) {
             glGenRenderbuffers(1, &depth);
             glBindRenderbuffer(GL_RENDERBUFFER, depth);
             glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples, df, w, h);
-            glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
+            glFramebufferRenderbuffer(GL_FRAMEBUFFER, depth_attachment, GL_RENDERBUFFER, depth);
+            if (separate_stencil) {
+                glGenRenderbuffers(1, &target.stencil_rb);
+                glBindRenderbuffer(GL_RENDERBUFFER, target.stencil_rb);
+                glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples, GL_STENCIL_INDEX8, w, h);
+                glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_STENCIL_ATTACHMENT, GL_RENDERBUFFER,
+                                          target.stencil_rb);
+            }
         }
         glBindRenderbuffer(GL_RENDERBUFFER, 0);
         const GLenum e = glGetError();
@@ -889,7 +918,9 @@ void Renderer::Impl::prepare_target(const refraster::Target& t) {
         }
         const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
         if (status != GL_FRAMEBUFFER_COMPLETE) {
-            throw Unsupported("framebuffer incomplete (status " + hex(status) + ")");
+            throw Unsupported(std::string("framebuffer") +
+                              (separate_stencil ? " of z16 depth and a separate stencil" : "") +
+                              " incomplete (status " + hex(status) + ")");
         }
         check_samples(samples);
     };
@@ -906,9 +937,17 @@ void Renderer::Impl::prepare_target(const refraster::Target& t) {
                                target.ms_color_tex, 0);
         glBindTexture(GL_TEXTURE_2D_MULTISAMPLE, target.ms_depth_tex);
         glTexImage2DMultisample(GL_TEXTURE_2D_MULTISAMPLE, 4, df, w, h, GL_TRUE);
-        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D_MULTISAMPLE,
+        glFramebufferTexture2D(GL_FRAMEBUFFER, depth_attachment, GL_TEXTURE_2D_MULTISAMPLE,
                                target.ms_depth_tex, 0);
         glBindTexture(GL_TEXTURE_2D_MULTISAMPLE, 0);
+        if (separate_stencil) {
+            glGenRenderbuffers(1, &target.ms_stencil_rb);
+            glBindRenderbuffer(GL_RENDERBUFFER, target.ms_stencil_rb);
+            glRenderbufferStorageMultisample(GL_RENDERBUFFER, 4, GL_STENCIL_INDEX8, w, h);
+            glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_STENCIL_ATTACHMENT, GL_RENDERBUFFER,
+                                      target.ms_stencil_rb);
+            glBindRenderbuffer(GL_RENDERBUFFER, 0);
+        }
         check_allocation("creating the multisample framebuffer");
         const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
         if (status != GL_FRAMEBUFFER_COMPLETE) {
@@ -919,6 +958,7 @@ void Renderer::Impl::prepare_target(const refraster::Target& t) {
 
     try {
         target.key = t;
+        target.stencil = stencil;
         if (t.samples == 4) {
             // Rendering always has depth; the blit resolves colour only (the image's depth
             // is sample 0's, read with the samples).
@@ -977,9 +1017,57 @@ void Renderer::Impl::clear(const refraster::DrawList& list) {
     glDepthMask(GL_TRUE);
     glClearColor(c.color[0], c.color[1], c.color[2], c.color[3]);
     glClearDepth(static_cast<double>(c.depth));
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glStencilMask(0xff);
+    glClearStencil(0);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT |
+            (target.stencil ? GL_STENCIL_BUFFER_BIT : 0u));
     check_gl("clear");
 }
+
+namespace {
+
+// A polygon with a fill rule, by the stencil method (docs/scene-format.md, "How a GL backend
+// draws a fill rule"): the polygon's triangles first count their coverage in the stencil
+// buffer with colour, depth and culling off (INVERT for even-odd; INCR_WRAP on front faces and
+// DECR_WRAP on back faces for non-zero), then draw again where the stencil is not zero, each
+// fragment zeroing it, so that the first triangle to reach a pixel draws it and no other.
+template <class Submit>
+void draw_fill_rule(const refraster::Target& t, const refraster::Draw& d, Submit&& submit) {
+    const auto& s = d.state;
+    // Every pixel starts at zero (a fill draw leaves it so, but a draw must not depend on
+    // that): the whole buffer, as a clear ignores nothing but the scissor.
+    glDisable(GL_SCISSOR_TEST);
+    glStencilMask(0xff);
+    glClearStencil(0);
+    glClear(GL_STENCIL_BUFFER_BIT);
+    set_enabled(GL_SCISSOR_TEST, s.scissor.has_value());
+
+    glEnable(GL_STENCIL_TEST);
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    glDisable(GL_DEPTH_TEST);
+    glDepthMask(GL_FALSE);
+    glStencilFunc(GL_ALWAYS, 0, 0xff);
+    if (*s.fill_rule == refraster::FillRule::EvenOdd) {
+        glStencilOp(GL_KEEP, GL_KEEP, GL_INVERT);
+    } else {
+        glStencilOpSeparate(GL_FRONT, GL_KEEP, GL_KEEP, GL_INCR_WRAP);
+        glStencilOpSeparate(GL_BACK, GL_KEEP, GL_KEEP, GL_DECR_WRAP);
+    }
+    submit();
+    check_gl("counting a fill rule's coverage");
+
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    if (t.depth != DepthFormat::None) {
+        set_enabled(GL_DEPTH_TEST, s.depth_test.has_value());
+        glDepthMask(s.depth_write ? GL_TRUE : GL_FALSE);
+    }
+    glStencilFunc(GL_NOTEQUAL, 0, 0xff);
+    glStencilOp(GL_KEEP, GL_ZERO, GL_ZERO);
+    submit();
+    glDisable(GL_STENCIL_TEST);
+}
+
+}  // namespace
 
 void Renderer::Impl::draw(const refraster::Target& t, const refraster::Draw& d) {
     const auto& s = d.state;
@@ -1127,9 +1215,18 @@ void Renderer::Impl::draw(const refraster::Target& t, const refraster::Draw& d) 
         glBufferData(GL_ELEMENT_ARRAY_BUFFER,
                      static_cast<GLsizeiptr>(d.indices->size() * sizeof(std::uint32_t)),
                      d.indices->data(), GL_STREAM_DRAW);
-        glDrawElements(mode, static_cast<GLsizei>(count), GL_UNSIGNED_INT, nullptr);
+    }
+    const auto submit = [&] {
+        if (d.indices) {
+            glDrawElements(mode, static_cast<GLsizei>(count), GL_UNSIGNED_INT, nullptr);
+        } else {
+            glDrawArrays(mode, 0, static_cast<GLsizei>(count));
+        }
+    };
+    if (s.fill_rule) {
+        draw_fill_rule(t, d, submit);
     } else {
-        glDrawArrays(mode, 0, static_cast<GLsizei>(count));
+        submit();
     }
     check_gl("drawing");
 }
@@ -1472,7 +1569,7 @@ harness::RenderResult Renderer::render(const refraster::DrawList& list, bool own
     r.provenance = impl_->provenance;
     try {
         drain_gl_errors();
-        impl_->prepare_target(list.target);
+        impl_->prepare_target(list.target, needs_stencil(list));
         impl_->set_fixed_state();
         impl_->clear(list);
         impl_->owners = owners;

@@ -59,6 +59,30 @@ std::vector<AssembledTriangle> assemble_triangles(PrimitiveType p, std::size_t c
             }
             break;
         }
+        case PrimitiveType::Polygon: {
+            // Split like a fan (draw_split_tmp.h: POLYGON shares the fan's case), each segment
+            // a fan around element 0. draw_decompose_tmp.h gives the first triangle of the
+            // polygon's first segment the edge from v0, each triangle the outline edge between
+            // its two newest vertices, and the last triangle of the last segment the edge back
+            // to v0; DRAW_SPLIT_BEFORE and DRAW_SPLIT_AFTER withhold the first and last of
+            // those where a segment boundary falls.
+            const std::size_t per = segment_size - 2;
+            const std::size_t n = count >= 3 ? count - 2 : 0;
+            const std::uint8_t first_edge = provoking_first ? kEdgeFlag0 : kEdgeFlag2;
+            const std::uint8_t next_edge = provoking_first ? kEdgeFlag1 : kEdgeFlag0;
+            const std::uint8_t finish_edge = provoking_first ? kEdgeFlag2 : kEdgeFlag1;
+            for (std::size_t k = 0; k < n; ++k) {
+                const auto e = provoking_first
+                                   ? std::array<std::uint32_t, 3>{0, u(k + 1), u(k + 2)}
+                                   : std::array<std::uint32_t, 3>{u(k + 1), u(k + 2), 0};
+                std::uint8_t flags = next_edge;
+                // A segment starts at triangle k when k is a multiple of `per` (split draws).
+                if (k == 0) flags = static_cast<std::uint8_t>(flags | first_edge);
+                if (k + 1 == n) flags = static_cast<std::uint8_t>(flags | finish_edge);
+                out.push_back({e, split ? u(k / per) : 0u, flags});
+            }
+            break;
+        }
         default:
             break;
     }
@@ -98,6 +122,7 @@ std::vector<std::vector<std::uint32_t>> assemble_primitives(PrimitiveType p, std
         case PrimitiveType::Triangles:
         case PrimitiveType::TriangleStrip:
         case PrimitiveType::TriangleFan:
+        case PrimitiveType::Polygon:
             // Segments change nothing about the vertices: one segment covering the draw.
             for (const auto& t : assemble_triangles(p, count, provoking_first, 1 << 30)) {
                 out.push_back({t.element[0], t.element[1], t.element[2]});

@@ -18,8 +18,14 @@ std::string_view to_string(PrimitiveType p) {
             return "triangle_strip";
         case PrimitiveType::TriangleFan:
             return "triangle_fan";
+        case PrimitiveType::Polygon:
+            return "polygon";
     }
     return "?";
+}
+
+std::string_view to_string(FillRule r) {
+    return r == FillRule::EvenOdd ? "evenodd" : "nonzero";
 }
 
 std::string_view to_string(ColorFormat f) {

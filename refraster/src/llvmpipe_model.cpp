@@ -13,8 +13,7 @@ namespace refraster::detail {
 namespace {
 
 bool is_triangle(PrimitiveType p) {
-    return p == PrimitiveType::Triangles || p == PrimitiveType::TriangleStrip ||
-           p == PrimitiveType::TriangleFan;
+    return p >= PrimitiveType::Triangles;
 }
 
 void copy_coverage(const TriangleSetup& t, SetupPrimitive& p, SetupList& list) {
@@ -300,7 +299,7 @@ void LlvmpipeModel::unfilled(VertexStage& stage, Observer& obs) {
                                                d.element(at.element[2])};
         obs.begin_primitive(kind, ctx_.index, p, idx, stage);
         staged.clear();
-        stage.clip_triangle(idx, first, staged, nullptr);
+        stage.clip_triangle(idx, first, staged, nullptr, at.edge_flags);
         for (auto& t : staged) {
             unfilled_stages(
                 ctx_, stage, t,

@@ -20,6 +20,7 @@
 
 #include "band_workers.hpp"
 #include "fragment.hpp"
+#include "polygon_fill.hpp"
 #include "refraster/assembly.hpp"
 #include "refraster/draw.hpp"
 #include "refraster/profile.hpp"
@@ -50,6 +51,10 @@ struct DrawContext {
     CoverageModel model = CoverageModel::Snapped;
     // The scanline model's sampler of the draw's texture (softpipe_sampler.hpp), if any.
     const SoftpipeSampler* sampler = nullptr;
+    // A polygon drawn with a fill rule: the pixels the rule puts inside it (polygon_fill.hpp),
+    // each cleared as the first of the polygon's triangles to reach it draws it, as the
+    // stencil method's cover pass does (polygon_draw.hpp).
+    FillMask* fill = nullptr;
 
     VertexStageOptions vertex_options() const {
         return {fma, profile.gl.flush_denormals, profile.gl.clipping == Clipping::GuardBand,

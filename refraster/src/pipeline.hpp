@@ -100,6 +100,28 @@ void shade_by_band(const DrawContext& ctx, const typename Model::List& list, con
     }
 }
 
+// The cover pass of a fill rule (polygon_draw.hpp): of each packet the pixels the mask still
+// holds, each cleared as it is taken, so that the first triangle to reach a pixel draws it.
+// Single-sample packets only (a fill rule on a 4x target is refused).
+inline std::span<const QuadPacket> claim_fill_pixels(FillMask& mask,
+                                                     std::span<const QuadPacket> quads,
+                                                     std::vector<QuadPacket>& out) {
+    out.clear();
+    for (const QuadPacket& q : quads) {
+        std::uint16_t m = 0;
+        for (unsigned p = 0; p < 4; ++p) {
+            if ((q.mask & (1u << p)) == 0) continue;
+            const int x = q.x + static_cast<int>(p & 1u);
+            const int y = q.y + static_cast<int>(p >> 1);
+            if (!mask.test(x, y)) continue;
+            mask.reset(x, y);
+            m = static_cast<std::uint16_t>(m | (1u << p));
+        }
+        if (m != 0) out.push_back({q.x, q.y, m});
+    }
+    return out;
+}
+
 // One draw through every stage of `Model`; returns the pixels traversal found covered when
 // the render stops after traversal.
 template <class Model, class Observer>
@@ -108,12 +130,16 @@ std::uint64_t draw(const DrawContext& ctx, Observer& obs, RenderStage stop, Fram
     if (stop == RenderStage::Load) return 0;
     Model model(ctx);
     const auto kernel = model.kernel();
+    // A fill rule's cover pass claims pixels in API order, a quad packet at a time.
+    [[maybe_unused]] bool row_blocks = false;
     if constexpr (Model::kRowBlocks) {
+        row_blocks = ctx.fill == nullptr && kernel.shades_rows();
         // One thread shades each list of 256 primitives in the cache that set it up; with
         // shading threads the lists are longer than that cache and other cores shade them.
-        if (kernel.shades_rows() && stop == RenderStage::Fragment && ctx.workers == nullptr)
+        if (row_blocks && stop == RenderStage::Fragment && ctx.workers == nullptr)
             model.prefetch_into(&fb);
     }
+    std::vector<QuadPacket> claimed;
     // Row masks of small boxes by the vector builder of the kernel's path (the same rows as
     // the scalar one's), chosen once a draw.
     [[maybe_unused]] RowMaskFn masks = nullptr;
@@ -125,7 +151,7 @@ std::uint64_t draw(const DrawContext& ctx, Observer& obs, RenderStage stop, Fram
         const ScopedDenormalsAreZero float_mode(kernel.hardware_denormals() &&
                                                 stop == RenderStage::Fragment);
         if constexpr (Model::kRowBlocks) {
-            if (kernel.shades_rows()) {
+            if (row_blocks) {
                 // The fast paths (never traced: no observer reads these fragments).
                 shade_by_band<Model>(ctx, list, kernel, masks, stop == RenderStage::Fragment, fb,
                                      [&](const auto& prim, const RowBlock& block) {
@@ -143,6 +169,7 @@ std::uint64_t draw(const DrawContext& ctx, Observer& obs, RenderStage stop, Fram
             const auto& prim = list.primitives[i];
             obs.before_fragments(i, list, prim, kernel, fb);
             Model::traverse(list, prim, [&](std::span<const QuadPacket> quads) {
+                if (ctx.fill != nullptr) quads = claim_fill_pixels(*ctx.fill, quads, claimed);
                 if (stop == RenderStage::Raster) {
                     fragments += static_cast<std::uint64_t>(covered_pixels(quads));
                 } else {

@@ -12,6 +12,7 @@
 #include "fragment.hpp"
 #include "observer.hpp"
 #include "pipeline.hpp"
+#include "polygon_draw.hpp"
 #include "rules.hpp"
 #include "setup.hpp"
 #include "softpipe_sampler.hpp"
@@ -35,6 +36,7 @@ std::size_t primitive_count(PrimitiveType p, std::size_t n) {
             return n / 3;
         case PrimitiveType::TriangleStrip:
         case PrimitiveType::TriangleFan:
+        case PrimitiveType::Polygon:
             return n >= 3 ? n - 2 : 0;
     }
     return 0;
@@ -81,11 +83,11 @@ RenderOutcome clear(const DrawList& list, Framebuffer& out, ClearPrecision preci
 }
 
 bool is_triangle(PrimitiveType p) {
-    return p == PrimitiveType::Triangles || p == PrimitiveType::TriangleStrip ||
-           p == PrimitiveType::TriangleFan;
+    return p >= PrimitiveType::Triangles;
 }
 
 std::string unsupported(const Draw& d, const Target& target, const Profile& profile) {
+    if (auto why = detail::fill_rule_unsupported(d, target, profile); !why.empty()) return why;
     if (detail::draw_model(profile, d) == CoverageModel::Scanline) {
         // softpipe has no multisampling (GL_MAX_SAMPLES is 0).
         if (target.samples != 1) return "the scanline (softpipe) rules have no multisampling";
@@ -208,19 +210,30 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
                 sampler.emplace(*d.state.texture, list.textures[t].levels, false);
             }
         }
-        const detail::DrawContext ctx{i,
-                                      d,
-                                      list.target,
-                                      options.profile,
-                                      detail::setup_params(options.profile, d.state, list.target),
-                                      fma,
-                                      !out.owner.empty(),
-                                      kernels,
-                                      workers ? &*workers : nullptr,
-                                      unit ? &*unit : nullptr,
-                                      draw_tiles,
-                                      model,
-                                      sampler ? &*sampler : nullptr};
+        detail::DrawContext ctx{i,
+                                d,
+                                list.target,
+                                options.profile,
+                                detail::setup_params(options.profile, d.state, list.target),
+                                fma,
+                                !out.owner.empty(),
+                                kernels,
+                                workers ? &*workers : nullptr,
+                                unit ? &*unit : nullptr,
+                                draw_tiles,
+                                model,
+                                sampler ? &*sampler : nullptr};
+        // A fill rule: the stencil pass's pixels, taken by the cover pass (polygon_draw.hpp).
+        std::optional<detail::FillMask> fill;
+        if (d.state.fill_rule) {
+            fill = detail::fill_rule_mask(ctx);
+            if (!fill) {
+                return {RenderStatus::NotSupported,
+                        "a fill rule's vertex outside the snapped range (draws[" +
+                            std::to_string(i) + "])"};
+            }
+            ctx.fill = &*fill;
+        }
         if (trace != nullptr) {
             detail::TraceObserver obs(*trace, ctx.params.multisample);
             outcome.fragments += detail::run_draw(ctx, obs, options.stop_after, out);

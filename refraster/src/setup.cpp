@@ -125,6 +125,14 @@ bool uses_32bit_rasterizer(const PixelRect& raw) {
 
 }  // namespace
 
+std::optional<std::array<std::int32_t, 2>> snap_position(float x, float y, const SetupParams& p) {
+    bool beyond = false;
+    const std::int32_t sx = convert_coordinate(x, p, beyond);
+    const std::int32_t sy = convert_coordinate(y, p, beyond);
+    if (beyond) return std::nullopt;
+    return std::array<std::int32_t, 2>{sx, sy};
+}
+
 void attach_llvmpipe_walk(const SetupParams& p, TriangleSetup& t) {
     const PixelRect raw = raw_box(p, t);
     lp::Triangle& w = t.walk;

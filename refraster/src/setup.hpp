@@ -153,6 +153,11 @@ void attach_llvmpipe_walk(const SetupParams& p, TriangleSetup& t);
 SetupOutcome setup_triangle(const std::array<std::array<float, 2>, 3>& window, const SetupParams& p,
                             TriangleSetup& out);
 
+// One window position snapped as setup_triangle snaps a vertex (calc_fixed_position): the
+// pixel centre of (px, py) is (px << bits, py << bits). nullopt for a position outside the
+// budget above (setup then takes llvmpipe's own walk).
+std::optional<std::array<std::int32_t, 2>> snap_position(float x, float y, const SetupParams& p);
+
 // Multisampling's scissor leak. llvmpipe's scissor planes get +127 under multisampling
 // (lp_setup.c, lp_setup_add_scissor_planes), which moves the left and bottom planes half a
 // pixel outwards: the column left of the draw region keeps the samples whose x offset is

@@ -17,8 +17,7 @@ namespace refraster::detail {
 namespace {
 
 bool is_triangle(PrimitiveType p) {
-    return p == PrimitiveType::Triangles || p == PrimitiveType::TriangleStrip ||
-           p == PrimitiveType::TriangleFan;
+    return p >= PrimitiveType::Triangles;
 }
 
 ScanlineInterp interp_of(ShadeModel s) {
@@ -467,7 +466,7 @@ void SoftpipeModel::unfilled(VertexStage& stage, Observer& obs) {
                                                d.element(at.element[2])};
         obs.begin_primitive(kind, ctx_.index, p, idx, stage);
         staged.clear();
-        stage.clip_triangle(idx, first, staged, nullptr);
+        stage.clip_triangle(idx, first, staged, nullptr, at.edge_flags);
         for (auto& t : staged) {
             unfilled_stages(
                 ctx_, stage, t,

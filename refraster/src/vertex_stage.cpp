@@ -217,13 +217,14 @@ StageVertex VertexStage::duplicate_with_flat(const StageVertex& v, const StageVe
 
 void VertexStage::clip_triangle(const std::array<std::uint32_t, 3>& idx, bool provoking_first,
                                 std::vector<StageTriangle>& out,
-                                std::vector<std::vector<StageVertex>>* polygon_trace) {
+                                std::vector<std::vector<StageVertex>>* polygon_trace,
+                                std::uint8_t edge_flags) {
     const StageVertex v0 = vertex(idx[0]);
     const StageVertex v1 = vertex(idx[1]);
     const StageVertex v2 = vertex(idx[2]);
     std::uint32_t mask = v0.clipmask | v1.clipmask | v2.clipmask;
     if (mask == 0) {
-        out.push_back({{v0, v1, v2}, false, false});
+        out.push_back({{v0, v1, v2}, false, false, edge_flags});
         return;
     }
     if ((v0.clipmask & v1.clipmask & v2.clipmask) != 0) return;  // clip_tri: all outside one plane
@@ -232,7 +233,9 @@ void VertexStage::clip_triangle(const std::array<std::uint32_t, 3>& idx, bool pr
     std::vector<StageVertex> in_list{v0, v1, v2};
     std::vector<StageVertex> out_list;
     // Edge flags parallel to the vertex lists: edge k runs from vertex k to vertex k + 1.
-    std::vector<bool> in_edges{true, true, true};
+    // do_clip_tri starts them from the header's DRAW_PIPE_EDGE_FLAG bits, which assembly set.
+    std::vector<bool> in_edges{(edge_flags & kEdgeFlag0) != 0, (edge_flags & kEdgeFlag1) != 0,
+                               (edge_flags & kEdgeFlag2) != 0};
     std::vector<bool> out_edges;
     const auto distance = [&](const StageVertex& v, int plane) {
         // draw_pipe_clip.c dot4: a[0]*b[0] + a[1]*b[1] + a[2]*b[2] + a[3]*b[3], left to right.

@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "float_ops.hpp"
+#include "refraster/assembly.hpp"
 #include "refraster/draw.hpp"
 #include "refraster/profile.hpp"
 
@@ -99,11 +100,13 @@ class VertexStage {
     }
 
     // Clips one assembled triangle (vertex indices in setup order, provoking vertex last or
-    // first by `provoking_first`) and appends the triangles it becomes to `out`. A triangle
-    // with no clip bit set is appended unchanged; one entirely outside a plane appends nothing.
+    // first by `provoking_first`, polygon edges `edge_flags` as assembly gives them) and appends
+    // the triangles it becomes to `out`. A triangle with no clip bit set is appended unchanged; one
+    // entirely outside a plane appends nothing.
     void clip_triangle(const std::array<std::uint32_t, 3>& indices, bool provoking_first,
                        std::vector<StageTriangle>& out,
-                       std::vector<std::vector<StageVertex>>* polygon_trace);
+                       std::vector<std::vector<StageVertex>>* polygon_trace,
+                       std::uint8_t edge_flags = kEdgeFlagsAll);
 
     // draw_pipe_clip.c clip_line / do_clip_line: the segment (a, b) in setup order, cut back
     // by the largest t from each end over the set planes; nullopt when nothing is left. New

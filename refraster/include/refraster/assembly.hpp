@@ -9,6 +9,8 @@
 //   strip, first vertex  even k: (k, k+1, k+2)   odd k: (k, k+2, k+1)
 //   fan,   last  vertex  (0, k+1, k+2)
 //   fan,   first vertex  (k+1, k+2, 0)
+//   polygon, last  vertex  (k+1, k+2, 0)     (lp_setup_vbuf.c: GL_POLYGON's flat vertex is
+//   polygon, first vertex  (0, k+1, k+2)      its first, so it goes last or first)
 //   lines (i, i+1); strips and loops (i, i+1), a loop closed by (n-1, 0); points (i)
 // so that the provoking vertex is always the last (or first) of a primitive. Also the vertex
 // segments the draw module splits a triangle draw into (draw_pt_vsplit.c, draw_split_tmp.h).
@@ -25,9 +27,19 @@
 
 namespace refraster {
 
+// Edge flags of an assembled triangle (DRAW_PIPE_EDGE_FLAG_0..2): which of its edges v0-v1,
+// v1-v2, v2-v0 are edges of the primitive the application drew, and so drawn by polygon modes
+// line and point. Every edge of a triangle, strip or fan triangle is; of a polygon's fan only
+// its outline (draw_decompose_tmp.h, the POLYGON case, with its DRAW_SPLIT flags).
+inline constexpr std::uint8_t kEdgeFlag0 = 1;
+inline constexpr std::uint8_t kEdgeFlag1 = 2;
+inline constexpr std::uint8_t kEdgeFlag2 = 4;
+inline constexpr std::uint8_t kEdgeFlagsAll = 7;
+
 struct AssembledTriangle {
     std::array<std::uint32_t, 3> element;  // positions in the draw's element stream
     std::uint32_t segment = 0;             // the draw module's vertex segment
+    std::uint8_t edge_flags = kEdgeFlagsAll;
 };
 
 // The triangles of a triangle draw of `count` elements; `segment_vertices` is the draw

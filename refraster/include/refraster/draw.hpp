@@ -32,6 +32,10 @@ enum class PrimitiveType : std::uint8_t {
     Triangles,
     TriangleStrip,
     TriangleFan,
+    // GL_POLYGON (compatibility profile; scene format extension "polygons"): the draw's
+    // vertices are one polygon, split into triangles as Mesa's draw module and llvmpipe split
+    // it (assembly.hpp), flat-shaded from its first vertex.
+    Polygon,
 };
 
 enum class ColorFormat : std::uint8_t { Rgba8, Rgba32f };
@@ -55,6 +59,11 @@ enum class PolygonMode : std::uint8_t { Fill, Line, Point };
 // Blend presets; factors are the same for colour and alpha (scene format v1).
 //   Alpha: src * SRC_ALPHA + dst * ONE_MINUS_SRC_ALPHA.   Add: src * ONE + dst * ONE.
 enum class BlendPreset : std::uint8_t { None, Alpha, Add };
+// How a polygon draw with a fill rule decides which pixels it lights (extension "polygons";
+// docs/scene-format.md): the even-odd rule (an odd number of crossings of the polygon's
+// boundary) or the non-zero rule (a winding number that is not zero modulo 256, the stencil
+// buffer's 8 bits), each tested at the pixel centre.
+enum class FillRule : std::uint8_t { EvenOdd, NonZero };
 
 // Texture sampling state (scene format extension "textures"; docs/scene-format.md). The names
 // are GL's: GL_NEAREST ... GL_LINEAR_MIPMAP_LINEAR, GL_REPEAT ... GL_CLAMP_TO_BORDER.
@@ -155,6 +164,10 @@ struct DrawState {
     // the interpolated colour times it (modulate), the texel sampled at the vertex attribute
     // "texcoord" (s, t, r, q) projected as (s/q, t/q) (docs/scene-format.md).
     std::optional<TextureState> texture;
+    // A polygon's fill rule (extension "polygons"): nullopt draws GL_POLYGON's own triangles;
+    // a rule lights the pixels the rule puts inside the polygon, each drawn once, by the first
+    // of the polygon's triangles that covers it (docs/scene-format.md, "Fill rules").
+    std::optional<FillRule> fill_rule;
     friend bool operator==(const DrawState&, const DrawState&) = default;
 };
 
@@ -249,6 +262,7 @@ struct DrawList {
 };
 
 std::string_view to_string(PrimitiveType p);
+std::string_view to_string(FillRule r);
 std::string_view to_string(ColorFormat f);
 std::string_view to_string(DepthFormat f);
 
