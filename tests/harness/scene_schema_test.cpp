@@ -1,6 +1,7 @@
 // The published schema and the shipped scenes agree with the loader.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
 
@@ -215,6 +216,42 @@ TEST(SceneSchema, TexturesMatchTheLoader) {
     EXPECT_FALSE(loads_texture({{"name", "t"}}, hi + 1, true));
     EXPECT_FALSE(loads_texture({{"name", "t"}}, 1, false));
     EXPECT_TRUE(loads_texture(nullptr, 1, true));
+}
+
+// The extension "polygons" as the schema publishes it: the primitive "polygon" and every fill
+// rule load when "requires" lists the extension and are refused, naming it, when it does not.
+TEST(SceneSchema, PolygonsMatchTheLoader) {
+    const json s = schema();
+    const json draw = s["properties"]["draws"]["items"]["properties"];
+    const json primitives = draw["primitive"]["enum"];
+    EXPECT_NE(std::find(primitives.begin(), primitives.end(), "polygon"), primitives.end());
+    const json rules = draw["state"]["properties"]["fill_rule"]["oneOf"][1]["enum"];
+    const auto polygon_scene = [](const json& rule, bool listed) {
+        json scene = {{"format", "refraster-scene/1"},
+                      {"target", {{"width", 4}, {"height", 4}}},
+                      {"draws", json::array({{{"primitive", "polygon"},
+                                              {"vertices", json::array()},
+                                              {"state", {{"fill_rule", rule}}}}})}};
+        if (listed) scene["requires"] = json::array({"polygons"});
+        return scene.dump();
+    };
+    int checked = 0;
+    for (const auto& rule : rules) {
+        EXPECT_NO_THROW((void)harness::load_scene_text(polygon_scene(rule, true), "p.json"))
+            << rule;
+        ++checked;
+    }
+    EXPECT_EQ(checked, 2);
+    EXPECT_NO_THROW((void)harness::load_scene_text(polygon_scene(nullptr, true), "p.json"));
+    EXPECT_THROW((void)harness::load_scene_text(polygon_scene("winding", true), "p.json"),
+                 harness::SceneError);
+    try {
+        (void)harness::load_scene_text(polygon_scene(nullptr, false), "p.json");
+        ADD_FAILURE() << "a polygon without the extension loaded";
+    } catch (const harness::SceneError& e) {
+        EXPECT_EQ(e.json_path(), "draws[0].primitive");
+        EXPECT_NE(std::string(e.what()).find("\"polygons\""), std::string::npos) << e.what();
+    }
 }
 
 // Every shipped scene loads, describes itself, and is named by its dotted path.
