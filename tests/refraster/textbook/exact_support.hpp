@@ -334,3 +334,59 @@ inline std::vector<IPoint> random_simple_polygon(std::mt19937& rng, int n, int e
 }
 
 }  // namespace textbook_test
+
+namespace textbook_test {
+
+// Hand-built simple polygons (counter-clockwise; the tests also run them reversed): collinear
+// vertices on every edge, a comb of deep teeth, a staircase of horizontal edges at shared
+// heights, a spiral.
+inline std::vector<std::vector<IPoint>> hand_polygons() {
+    std::vector<std::vector<IPoint>> out;
+    out.push_back({{0, 0}, {2, 0}, {4, 0}, {4, 2}, {4, 4}, {2, 4}, {0, 4}, {0, 2}});
+    out.push_back({{0, 0}, {2, 0}, {4, 0}, {6, 0}, {8, 0}, {6, 3}, {4, 6}, {2, 3}, {1, 1}});
+    std::vector<IPoint> comb{{0, 0}, {14, 0}, {14, 10}};
+    for (int t = 6; t >= 0; --t) {
+        comb.push_back({2 * t + 1, 10});
+        comb.push_back({2 * t + 1, 1});
+        comb.push_back({2 * t, 10});
+    }
+    out.push_back(comb);
+    out.push_back({{0, 0},
+                   {6, 0},
+                   {6, 1},
+                   {5, 1},
+                   {5, 2},
+                   {4, 2},
+                   {4, 3},
+                   {3, 3},
+                   {3, 4},
+                   {2, 4},
+                   {2, 5},
+                   {1, 5},
+                   {1, 6},
+                   {0, 6}});
+    out.push_back({{0, 0},
+                   {8, 0},
+                   {8, 8},
+                   {2, 8},
+                   {2, 4},
+                   {5, 4},
+                   {5, 6},
+                   {4, 6},
+                   {4, 5},
+                   {3, 5},
+                   {3, 7},
+                   {7, 7},
+                   {7, 1},
+                   {0, 1}});
+    out.push_back({{0, 0}, {3, 0}, {3, 3}, {6, 3}, {6, 0}, {9, 0}, {9, 6}, {6, 6}, {3, 6}, {0, 6}});
+    out.push_back({{0, 0}, {4, 2}, {8, 0}, {8, 8}, {4, 6}, {0, 8}});
+    return out;
+}
+
+inline std::vector<IPoint> reversed(std::vector<IPoint> p) {
+    std::reverse(p.begin(), p.end());
+    return p;
+}
+
+}  // namespace textbook_test

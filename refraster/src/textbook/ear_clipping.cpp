@@ -1,0 +1,141 @@
+#include "refraster/textbook/ear_clipping.hpp"
+
+#include <cstdint>
+#include <string>
+
+#include "snap.hpp"
+
+namespace refraster::textbook {
+
+namespace {
+
+using detail::SnappedPoint;
+
+std::string index_list(const std::vector<int>& v) {
+    std::string s = "[";
+    for (std::size_t i = 0; i < v.size(); ++i) {
+        if (i > 0) s += ", ";
+        s += "v" + std::to_string(v[i]);
+    }
+    return s + "]";
+}
+
+}  // namespace
+
+EarClipResult ear_clip(const std::vector<Point2>& polygon, Trace* trace) {
+    EarClipResult out;
+    const std::size_t n = polygon.size();
+    if (trace != nullptr) {
+        trace->algorithm = "ear clipping";
+        for (std::size_t i = 0; i < n; ++i) {
+            const Point2 a = polygon[i];
+            const Point2 b = polygon[(i + 1) % n];
+            trace->input.push_back({a.x, a.y, b.x, b.y, "edge"});
+        }
+    }
+    if (n < 3) return out;
+    std::vector<SnappedPoint> p(n);
+    for (std::size_t i = 0; i < n; ++i)
+        p[i] = {detail::snap(polygon[i].x), detail::snap(polygon[i].y)};
+    // The orientation: twice the shoelace area, below n * 2^46.
+    std::int64_t twice_area = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        const SnappedPoint a = p[i];
+        const SnappedPoint b = p[(i + 1) % n];
+        twice_area += a.x * b.y - b.x * a.y;
+    }
+    if (twice_area == 0) return out;
+    const std::int64_t sense = twice_area > 0 ? 1 : -1;
+    const auto turn = [&](int a, int b, int c) {
+        return sense * detail::orient(p[static_cast<std::size_t>(a)],
+                                      p[static_cast<std::size_t>(b)],
+                                      p[static_cast<std::size_t>(c)]);
+    };
+    std::vector<int> remaining(n);
+    for (std::size_t i = 0; i < n; ++i) remaining[i] = static_cast<int>(i);
+    // Why v is not an ear, or nullptr when it is.
+    const auto blocker = [&](std::size_t k, int& blocking_vertex) -> const char* {
+        const std::size_t m = remaining.size();
+        const int u = remaining[(k + m - 1) % m];
+        const int v = remaining[k];
+        const int w = remaining[(k + 1) % m];
+        const std::int64_t t = turn(u, v, w);
+        if (t < 0) return "reflex";
+        if (t == 0) return "collinear with its neighbours";
+        for (const int q : remaining) {
+            if (q == u || q == v || q == w) continue;
+            if (turn(u, v, q) >= 0 && turn(v, w, q) >= 0 && turn(w, u, q) >= 0) {
+                blocking_vertex = q;
+                return "another vertex lies in its triangle";
+            }
+        }
+        return nullptr;
+    };
+    std::size_t cursor = 0;
+    while (remaining.size() > 3) {
+        const std::size_t m = remaining.size();
+        bool cut = false;
+        std::vector<std::string> rejected;
+        for (std::size_t step = 0; step < m; ++step) {
+            const std::size_t k = (cursor + step) % m;
+            int blocking_vertex = -1;
+            const char* why = blocker(k, blocking_vertex);
+            if (why != nullptr) {
+                if (trace != nullptr) {
+                    rejected.push_back("v" + std::to_string(remaining[k]) + ": " + why +
+                                       (blocking_vertex >= 0
+                                            ? " (v" + std::to_string(blocking_vertex) + ")"
+                                            : std::string()));
+                }
+                continue;
+            }
+            const int u = remaining[(k + m - 1) % m];
+            const int v = remaining[k];
+            const int w = remaining[(k + 1) % m];
+            out.triangles.push_back({u, v, w});
+            if (trace != nullptr) {
+                Step& s = add_step(*trace, "ear at v" + std::to_string(v) + ": cut triangle (v" +
+                                               std::to_string(u) + ", v" + std::to_string(v) +
+                                               ", v" + std::to_string(w) + ")");
+                s.state.push_back({"remaining", index_list(remaining)});
+                std::string skipped;
+                for (const std::string& r : rejected) skipped += (skipped.empty() ? "" : "; ") + r;
+                s.state.push_back({"not ears before it", skipped});
+                const Point2 pu = polygon[static_cast<std::size_t>(u)];
+                const Point2 pv = polygon[static_cast<std::size_t>(v)];
+                const Point2 pw = polygon[static_cast<std::size_t>(w)];
+                s.overlay.push_back({pu.x, pu.y, pv.x, pv.y, "ear"});
+                s.overlay.push_back({pv.x, pv.y, pw.x, pw.y, "ear"});
+                s.overlay.push_back({pw.x, pw.y, pu.x, pu.y, "diagonal"});
+            }
+            remaining.erase(remaining.begin() + static_cast<std::ptrdiff_t>(k));
+            cursor = k % remaining.size();
+            cut = true;
+            break;
+        }
+        if (!cut) {
+            if (trace != nullptr) {
+                Step& s = add_step(*trace, "no ear: the polygon is not simple");
+                s.state.push_back({"remaining", index_list(remaining)});
+            }
+            return out;
+        }
+    }
+    if (turn(remaining[0], remaining[1], remaining[2]) <= 0) return out;
+    out.triangles.push_back({remaining[0], remaining[1], remaining[2]});
+    if (trace != nullptr) {
+        Step& s = add_step(*trace, "the last triangle (v" + std::to_string(remaining[0]) + ", v" +
+                                       std::to_string(remaining[1]) + ", v" +
+                                       std::to_string(remaining[2]) + ")");
+        s.state.push_back({"remaining", index_list(remaining)});
+        for (std::size_t i = 0; i < 3; ++i) {
+            const Point2 a = polygon[static_cast<std::size_t>(remaining[i])];
+            const Point2 b = polygon[static_cast<std::size_t>(remaining[(i + 1) % 3])];
+            s.overlay.push_back({a.x, a.y, b.x, b.y, "ear"});
+        }
+    }
+    out.complete = true;
+    return out;
+}
+
+}  // namespace refraster::textbook
