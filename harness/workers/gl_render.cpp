@@ -302,11 +302,12 @@ ProgramSources program_sources(refraster::ShadeModel shade, bool owners,
                    (coords ? q + " in vec4 v_texcoord;\n" : "") + "out vec4 frag_color;\n" +
                    (owners ? "out uint frag_owner;\n"
                              "uniform uint draw_index;\n"
+                             "uniform uint one_primitive;\n"
                            : "") +
                    (textured ? "uniform sampler2D tex;\n" : "") + "void main() {\n" + sample +
                    color_out +
-                   (owners ? "    frag_owner = (draw_index << 24) | (uint(gl_PrimitiveID + 1) & "
-                             "0xffffffu);\n"
+                   (owners ? "    frag_owner = (draw_index << 24) | (one_primitive != 0u ? 1u : "
+                             "(uint(gl_PrimitiveID + 1) & 0xffffffu));\n"
                            : "") +
                    "}\n";
     return src;
@@ -1158,7 +1159,15 @@ void Renderer::Impl::draw(const refraster::Target& t, const refraster::Draw& d) 
             : GL_UPPER_LEFT);
     const GLuint prog = program(s.shade, env, point_sprite);
     glUseProgram(prog);
-    if (owners) glUniform1ui(glGetUniformLocation(prog, "draw_index"), current_draw);
+    if (owners) {
+        glUniform1ui(glGetUniformLocation(prog, "draw_index"), current_draw);
+        // A polygon is one primitive, number 0. llvmpipe's gl_PrimitiveID is not defined for
+        // GL_POLYGON's triangles (measured: values such as 50 and 64 that change from render to
+        // render), so the shader writes 0 itself; it still reads gl_PrimitiveID, so that the
+        // pass rasterizes as the owner pass of any other draw.
+        glUniform1ui(glGetUniformLocation(prog, "one_primitive"),
+                     d.primitive == refraster::PrimitiveType::Polygon ? 1u : 0u);
+    }
 
     const auto& va = d.vertices;
     const std::uint32_t stride_floats = va.stride();

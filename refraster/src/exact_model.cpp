@@ -53,7 +53,7 @@ void ExactModel::setup(VertexStage& stage, Observer& obs, const ListSink<List>& 
                                        stage.vertex(idx[2])},
             stage, d, ctx_.target, first);
         prim.coverage = std::move(ex);
-        prim.owner = owner_id(ctx_.index, p);
+        prim.owner = owner_id(ctx_.index, primitive_id(ctx_.draw, p));
         obs.exact_setup(*prim.coverage);
         obs.end_primitive(KeepRecord::CoveredOrNear);
     }

@@ -94,7 +94,7 @@ void LlvmpipeModel::setup(VertexStage& stage, Observer& obs, const ListSink<List
 
 template <class Observer>
 void LlvmpipeModel::next_primitive(std::size_t p, Observer& obs) {
-    owner_ = owner_id(ctx_.index, p);
+    owner_ = owner_id(ctx_.index, primitive_id(ctx_.draw, p));
     if (list_.full()) {
         (*sink_)(list_);
         obs.list_done();

@@ -97,6 +97,14 @@ inline CoverageModel draw_model(const Profile& profile, const Draw& d) {
     return profile.model;
 }
 
+// gl_PrimitiveID of a draw's primitive `p` (its triangle, line or point in assembly order),
+// which the owner pass records: GL counts a polygon as one primitive whatever triangles it is
+// split into, and llvmpipe gives all of them 0 (measured: the owner test over the polygon
+// scenes).
+inline std::size_t primitive_id(const Draw& d, std::size_t p) {
+    return d.primitive == PrimitiveType::Polygon ? 0 : p;
+}
+
 // The draw's triangles in the driver's order with their vertex segments (assembly.hpp), for
 // the segment sizes of the profile and of the draw's indexing.
 inline std::vector<AssembledTriangle> draw_triangles(const DrawContext& ctx) {

@@ -98,7 +98,7 @@ void SoftpipeModel::setup(VertexStage& stage, Observer& obs, const ListSink<List
 
 template <class Observer>
 void SoftpipeModel::next_primitive(std::size_t p, Observer& obs) {
-    owner_ = owner_id(ctx_.index, p);
+    owner_ = owner_id(ctx_.index, primitive_id(ctx_.draw, p));
     if (list_.full()) {
         (*sink_)(list_);
         obs.list_done();
