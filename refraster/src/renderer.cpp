@@ -102,6 +102,47 @@ std::string unsupported(const Draw& d, const Target& target, const Profile& prof
     return {};
 }
 
+// What a fill rule decided at the traced pixel (polygon_draw.hpp): the winding number at the
+// nudged centre on the first of the draw's traced primitives, and on each of its triangles
+// that covers the pixel whether the cover pass let it draw there (only the first may, and
+// only inside the rule's region).
+void note_fill_rule(const detail::DrawContext& ctx, PixelTrace& trace, std::size_t first,
+                    bool inside) {
+    if (first >= trace.primitives.size()) return;
+    const FillRule rule = *ctx.draw.state.fill_rule;
+    const auto contours = detail::fill_contours(ctx);
+    std::string note = "fill rule " + std::string(to_string(rule)) + ": ";
+    if (contours) {
+        const std::int64_t w =
+            detail::winding_at(*contours, ctx.params.tie_rule, ctx.params.bits, trace.x, trace.y);
+        const auto [sx, sy] = detail::nudge_of(ctx.params.tie_rule);
+        note += "winding number " + std::to_string(w) + " at the centre nudged by (" +
+                (sx > 0 ? "+e" : "-e") + ", " + (sy > 0 ? "+e^2" : "-e^2") + ") over " +
+                (contours->size() == 1
+                     ? std::string("the polygon's outline")
+                     : std::to_string(contours->size()) + " clipped triangles' outlines") +
+                ": ";
+    }
+    note += inside ? "inside, drawn by the first of the polygon's triangles to cover it"
+                   : "outside (or beyond the scissor): not drawn";
+    trace.primitives[first].note =
+        trace.primitives[first].note.empty() ? note : trace.primitives[first].note + "; " + note;
+    bool taken = !inside;
+    for (std::size_t k = first; k < trace.primitives.size(); ++k) {
+        for (auto& st : trace.primitives[k].setups) {
+            if (!st.covered) continue;
+            if (!taken) {
+                taken = true;
+                continue;
+            }
+            st.has_fragment = false;
+            st.coverage_note = inside ? "the fill rule's cover pass: an earlier triangle of the "
+                                        "polygon took this pixel, so this one does not draw it"
+                                      : "the fill rule leaves this pixel out: not drawn";
+        }
+    }
+}
+
 }  // namespace
 
 std::vector<TextureImage> texture_levels(const Texture& texture) {
@@ -235,8 +276,11 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
             ctx.fill = &*fill;
         }
         if (trace != nullptr) {
+            const std::size_t traced_before = trace->primitives.size();
+            const bool inside = fill && fill->test(trace->x, trace->y);
             detail::TraceObserver obs(*trace, ctx.params.multisample);
             outcome.fragments += detail::run_draw(ctx, obs, options.stop_after, out);
+            if (fill) note_fill_rule(ctx, *trace, traced_before, inside);
         } else {
             detail::NoObserver obs;
             outcome.fragments += detail::run_draw(ctx, obs, options.stop_after, out);
