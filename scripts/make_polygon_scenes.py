@@ -87,7 +87,9 @@ def main():
     hexagon = regular(16, 16, 13, 6, 10)
     octagon = regular(16, 16, 14, 8, 5)
     pentagram = star(16, 16, 14.5)
-    arrow = [[3, 16], [14, 29], [14, 21], [29, 21], [29, 11], [14, 11], [14, 3]]
+    # An arrow pointing left, listed from the top of its shaft's end: the fan from v0 is not
+    # the arrow (its triangles reach over the shaft into the notches above and below it).
+    arrow = [[29, 21], [29, 11], [14, 11], [14, 3], [3, 16], [14, 29], [14, 21]]
     # Vertices on pixel centres: edges (horizontal, vertical and diagonal) through centres.
     centres = [[4.5, 4.5], [27.5, 4.5], [27.5, 27.5], [16.5, 16.5], [4.5, 27.5]]
     centre_star = [[4.5, 8.5], [27.5, 8.5], [8.5, 28.5], [16.5, 2.5], [24.5, 28.5]]
@@ -109,9 +111,9 @@ def main():
         [draw(octagon, {"shade": "smooth"})]))
     scenes.append(scene(
         "concave_arrow_fan",
-        "A concave arrow drawn as GL_POLYGON: the union of its fan triangles from v0, later "
-        "triangles over earlier ones, so the notch beside v0 is filled where a fill rule would "
-        "leave it empty.",
+        "A concave arrow drawn as GL_POLYGON: the union of its fan triangles from v0 (the end of "
+        "its shaft), later triangles over earlier ones, which reach over the notch between the "
+        "shaft and the head where a fill rule leaves it empty.",
         [draw(arrow, {"shade": "smooth"})]))
     scenes.append(scene(
         "pentagram_fan",

@@ -104,9 +104,10 @@ TEST(SceneSchema, StateBooleansAndRangesMatchTheLoader) {
 
 TEST(SceneSchema, PrimitivesMatchTheLoader) {
     const json prims = schema()["properties"]["draws"]["items"]["properties"]["primitive"]["enum"];
-    ASSERT_EQ(prims.size(), 7u);
+    ASSERT_EQ(prims.size(), 8u);  // format v1's seven and the extension polygons' "polygon"
     for (const auto& p : prims) {
         json s = {{"format", "refraster-scene/1"},
+                  {"requires", json::array({"polygons"})},
                   {"target", {{"width", 4}, {"height", 4}}},
                   {"draws", json::array({{{"primitive", p}, {"vertices", json::array()}}})}};
         const auto scene = harness::load_scene_text(s.dump(), "m.json");
