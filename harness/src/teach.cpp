@@ -829,7 +829,7 @@ TeachResult teach(const Scene& scene, std::string_view algorithm,
     r.algorithm_rgba.resize(4 * n);
     r.gl_rgba.resize(4 * n);
     r.gl_lit.resize(n);
-    int only_algorithm = 0, only_gl = 0, partial = 0;
+    int only_algorithm = 0, only_gl = 0, partial = 0, other = 0;
     for (int y = 0; y < h; ++y) {
         for (int x = 0; x < w; ++x) {
             const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
@@ -852,6 +852,8 @@ TeachResult teach(const Scene& scene, std::string_view algorithm,
             if (!differs) continue;
             if (a > 0.0 && a < 1.0) {
                 ++partial;
+            } else if (a > 0.0 && lit) {
+                ++other;
             } else if (a > 0.0) {
                 ++only_algorithm;
             } else {
@@ -868,6 +870,7 @@ TeachResult teach(const Scene& scene, std::string_view algorithm,
         << " differ: " << only_algorithm << " lit by " << r.title << " only, " << only_gl
         << " by GL only";
     if (partial > 0) sum << ", " << partial << " with partial weights";
+    if (other > 0) sum << ", " << other << " lit by both, another primitive seen";
     r.summary = sum.str();
     return r;
 }

@@ -1,0 +1,144 @@
+// `refraster teach` end to end: every algorithm on the teaching scenes of examples/teach/, the
+// reasons it names for pixels whose cause is known by construction, and its refusals.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "harness/image_io.hpp"
+#include "test_util.hpp"
+
+namespace {
+
+using json = nlohmann::json;
+const std::filesystem::path kSource = REFRASTER_SOURCE_DIR;
+
+struct Taught {
+    testutil::CliResult cli;
+    json data;
+};
+
+Taught teach(const std::filesystem::path& scene, const std::string& algorithm,
+             const std::filesystem::path& out) {
+    Taught t;
+    t.cli = testutil::run_cli(
+        {"teach", scene.string(), "--algorithm", algorithm, "--output", out.string()});
+    if (t.cli.exit_code == 0) t.data = json::parse(testutil::read_text(out / "teach.json"));
+    return t;
+}
+
+const json* difference_at(const json& data, int x, int y) {
+    for (const auto& d : data["differences"]) {
+        if (d["x"] == x && d["y"] == y) return &d;
+    }
+    return nullptr;
+}
+
+// Every algorithm runs on a scene it can take and writes the page, the data and three images
+// of the target's size times the zoom; every difference has a reason and every run has steps.
+TEST(Teach, EveryAlgorithmWritesItsPage) {
+    const std::vector<std::pair<std::string, std::string>> runs{
+        {"dda", "lines_fan"},
+        {"bresenham", "lines_fan"},
+        {"midpoint", "lines_fan"},
+        {"wu", "lines_fan"},
+        {"circle", "points_circles"},
+        {"scanline-evenodd", "star_evenodd"},
+        {"scanline-nonzero", "star_evenodd"},
+        {"flood4", "arrow_polygon"},
+        {"flood8", "arrow_polygon"},
+        {"ear-clipping", "arrow_polygon"},
+        {"trapezoids", "arrow_polygon"},
+        {"painter", "pinwheel_depth"},
+        {"homogeneous", "behind_eye"}};
+    testutil::TempDir dir;
+    for (const auto& [algorithm, scene] : runs) {
+        SCOPED_TRACE(algorithm + " on " + scene);
+        const auto out = dir.path() / algorithm;
+        const auto t = teach(kSource / "examples/teach" / (scene + ".json"), algorithm, out);
+        ASSERT_EQ(t.cli.exit_code, 0) << t.cli.err;
+        EXPECT_EQ(t.data["algorithm"], algorithm);
+        EXPECT_GT(t.data["steps"].size(), 0u);
+        const int w = t.data["width"];
+        const int h = t.data["height"];
+        EXPECT_EQ(t.data["algorithm_rgba"].size(), static_cast<std::size_t>(4 * w * h));
+        for (const auto& d : t.data["differences"])
+            EXPECT_FALSE(d["reason"].get<std::string>().empty());
+        const auto page = testutil::read_text(out / "index.html");
+        EXPECT_NE(page.find("id=\"teach-data\""), std::string::npos);
+        for (const char* png : {"algorithm.png", "gl.png", "differences.png"}) {
+            const auto img = harness::read_color_image(out / png);
+            EXPECT_EQ(img.width, static_cast<std::uint32_t>(8 * w)) << png;
+            EXPECT_EQ(img.height, static_cast<std::uint32_t>(8 * h)) << png;
+        }
+    }
+}
+
+// Known causes. A line ending on the centre of pixel (22, 16): Bresenham lights that pixel and
+// GL's half-open end does not. The arrow's fan reaches outside it: every pixel GL lights and the
+// scanline fill does not is a fan pixel. The even-odd star's middle is lit by non-zero only.
+// The pinwheel's cycle is named by the painter.
+TEST(Teach, NamesTheKnownCauses) {
+    testutil::TempDir dir;
+    const auto lines =
+        teach(kSource / "examples/teach/lines_fan.json", "bresenham", dir.path() / "b");
+    ASSERT_EQ(lines.cli.exit_code, 0) << lines.cli.err;
+    const json* end = difference_at(lines.data, 22, 16);
+    ASSERT_NE(end, nullptr);
+    EXPECT_EQ((*end)["gl"], false);
+    EXPECT_NE((*end)["reason"].get<std::string>().find("last pixel"), std::string::npos)
+        << (*end)["reason"];
+
+    const auto arrow =
+        teach(kSource / "examples/teach/arrow_polygon.json", "scanline-evenodd", dir.path() / "s");
+    ASSERT_EQ(arrow.cli.exit_code, 0) << arrow.cli.err;
+    ASSERT_GT(arrow.data["differences"].size(), 20u);
+    for (const auto& d : arrow.data["differences"]) {
+        EXPECT_EQ(d["gl"], true);
+        EXPECT_NE(d["reason"].get<std::string>().find("fan"), std::string::npos) << d["reason"];
+    }
+
+    const auto star =
+        teach(kSource / "examples/teach/star_evenodd.json", "scanline-nonzero", dir.path() / "n");
+    ASSERT_EQ(star.cli.exit_code, 0) << star.cli.err;
+    const json* middle = difference_at(star.data, 16, 14);
+    ASSERT_NE(middle, nullptr);
+    EXPECT_EQ((*middle)["gl"], false);
+    EXPECT_NE((*middle)["reason"].get<std::string>().find("the rules differ: winding number"),
+              std::string::npos)
+        << (*middle)["reason"];
+
+    const auto painter =
+        teach(kSource / "examples/teach/pinwheel_depth.json", "painter", dir.path() / "p");
+    ASSERT_EQ(painter.cli.exit_code, 0) << painter.cli.err;
+    bool cycle = false;
+    for (const auto& d : painter.data["differences"])
+        cycle =
+            cycle || d["reason"].get<std::string>().find("painter's order") != std::string::npos;
+    EXPECT_TRUE(cycle);
+}
+
+// A scene without what the algorithm draws, an unknown algorithm and a 4x target are usage
+// errors (exit 2, one line naming the scene), and nothing is written.
+TEST(Teach, RefusesWhatItCannotTeach) {
+    testutil::TempDir dir;
+    const auto out = dir.path() / "none";
+    auto r = testutil::run_cli({"teach", (kSource / "examples/teach/points_circles.json").string(),
+                                "--algorithm", "bresenham", "--output", out.string()});
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("points_circles.json: the scene has no line draws"), std::string::npos)
+        << r.err;
+    EXPECT_EQ(testutil::count_lines(r.err), 1u);
+    EXPECT_FALSE(std::filesystem::exists(out / "index.html"));
+    r = testutil::run_cli({"teach", (kSource / "examples/teach/lines_fan.json").string(),
+                           "--algorithm", "no-such", "--output", out.string()});
+    EXPECT_EQ(r.exit_code, 2);
+    const auto msaa = dir.write("m.json", R"({"format": "refraster-scene/1",
+      "target": {"width": 4, "height": 4, "samples": 4},
+      "draws": [{"primitive": "lines", "vertices": [{"position": [0, 0]}, {"position": [4, 1]}]}]})");
+    r = testutil::run_cli({"teach", msaa.string(), "--algorithm", "dda", "--output", out.string()});
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("single-sample"), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(out / "index.html"));
+}
+
+}  // namespace
