@@ -677,23 +677,23 @@ int run_teach(TeachArgs a) {
         zoomed(w, r.height, a.zoom, [&](int x, int y) { return at(r.algorithm_rgba, x, y); });
     const auto gl_png =
         zoomed(w, r.height, a.zoom, [&](int x, int y) { return at(r.gl_rgba, x, y); });
-    // The difference mask: magenta lit by the algorithm only, red by GL only, yellow a partial
-    // weight, orange lit by both but another primitive seen, grey lit by both, dark unlit.
+    // The difference mask, in the page's colours: orange lit by the algorithm only, blue by
+    // GL only, yellow a partial weight or another primitive seen, dark grey equal (lighter where
+    // both light the pixel).
     const auto mask_png = zoomed(w, r.height, a.zoom, [&](int x, int y) {
         const std::size_t i = static_cast<std::size_t>(y * w + x);
         switch (diff[i]) {
             case 1:
-                return std::array<std::uint8_t, 4>{255, 0, 255, 255};
+                return std::array<std::uint8_t, 4>{255, 109, 0, 255};
             case 2:
-                return std::array<std::uint8_t, 4>{255, 40, 40, 255};
+                return std::array<std::uint8_t, 4>{41, 121, 255, 255};
             case 3:
-                return std::array<std::uint8_t, 4>{255, 220, 0, 255};
             case 4:
-                return std::array<std::uint8_t, 4>{255, 150, 0, 255};
+                return std::array<std::uint8_t, 4>{255, 214, 0, 255};
             default:
                 break;
         }
-        return r.gl_lit[i] ? std::array<std::uint8_t, 4>{120, 120, 120, 255}
+        return r.gl_lit[i] ? std::array<std::uint8_t, 4>{90, 90, 90, 255}
                            : std::array<std::uint8_t, 4>{40, 40, 40, 255};
     });
     try {
