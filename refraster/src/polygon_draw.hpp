@@ -8,12 +8,14 @@
 //    volume), the filler runs over the contours of the triangles the clipper makes instead,
 //    which is what the stencil pass counts; where nothing is clipped, their edges inside the
 //    polygon cancel and the two agree exactly;
+//  - under the scanline (softpipe) rules, whose float coverage is no nudge, the mask is the
+//    stencil pass's own count of softpipe's coverage of the (clipped) triangles instead;
 //  - the draw region (framebuffer and scissor) bounds the mask;
 //  - the cover pass is the polygon's own triangles drawn again through the model, each pixel
 //    of the mask taken by the first of them to reach it (DrawContext::fill, pipeline.hpp).
 //
-// Deliberately does not: fill rules on 4x targets, under the scanline (softpipe) or exact
-// models, or with the tie rules None and All (render() answers NotSupported for those).
+// Deliberately does not: fill rules on 4x targets, under the exact model, or with the tie rules
+// None and All under the snapped one (render() answers NotSupported for those).
 #pragma once
 
 #include <optional>

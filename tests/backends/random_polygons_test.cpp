@@ -8,6 +8,7 @@
 // even-odd or non-zero fill rule, flat or smooth, in one of the vertex regimes of
 // mesa-22.3-rules-2.md 4.2 (the 1/256 grid, pixel centres, the half-pixel grid, any float)
 // plus one whose vertices leave the cell, so that the clipper cuts the polygon's triangles.
+// The same polygons also go through softpipe's rules against OSMesa softpipe.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -20,6 +21,7 @@
 #include "harness/compare.hpp"
 #include "harness/scene.hpp"
 #include "random_scenes.hpp"
+#include "refraster/profile.hpp"
 
 namespace {
 
@@ -161,9 +163,10 @@ std::string describe(const CellPolygon& p) {
 
 // Renders `batches` batches of one seed; returns the cells whose pixels differ.
 int mismatched_cells(std::uint64_t seed, int batches, const refraster::Profile& profile,
-                     PolygonCounts& counts, std::uint64_t* lit = nullptr) {
+                     PolygonCounts& counts, std::uint64_t* lit = nullptr,
+                     harness::Driver driver = harness::Driver::Llvmpipe) {
     PolygonGenerator gen(seed);
-    auto [ref, osmesa] = testscenes::make_renderers(profile);
+    auto [ref, osmesa] = testscenes::make_renderers(profile, driver);
     int mismatched = 0;
     for (int batch = 0; batch < batches; ++batch) {
         const auto cells = gen.next_batch(counts);
@@ -183,7 +186,7 @@ int mismatched_cells(std::uint64_t seed, int batches, const refraster::Profile& 
         for (std::size_t i = 0; i < cells.size(); ++i) {
             const auto diff = testscenes::cell_differences(a.image, b.image, i);
             if (diff == 0) continue;
-            if (++mismatched <= 5 && profile.name == refraster::Profile{}.name) {
+            if (++mismatched <= 5 && profile.name != "flipped") {
                 std::string polys;
                 for (const auto& p : cells[i]) polys += "\n  " + describe(p);
                 ADD_FAILURE() << "seed " << seed << " batch " << batch << " cell " << i << ": "
@@ -216,7 +219,26 @@ TEST_P(RandomPolygons, FiveHundredPolygonsMatchLlvmpipe) {
     for (int r = 0; r < 3; ++r) EXPECT_GE(counts.rules[static_cast<std::size_t>(r)], 100);
 }
 
-// The comparison can fail: with the tie rule flipped, the fill rules' centres on edges differ.
+// The same polygons under softpipe's rules against OSMesa softpipe: GL_POLYGON's triangles in
+// its float scanline setup, and the fill rules' stencil count of its own coverage.
+TEST_P(RandomPolygons, FiveHundredPolygonsMatchSoftpipe) {
+    const std::uint64_t seed = GetParam();
+    PolygonCounts counts;
+    int batches = 0;
+    int mismatched = 0;
+    while (counts.polygons < 500) {
+        const int m = mismatched_cells(seed + 1000003u * static_cast<std::uint64_t>(batches), 1,
+                                       refraster::softpipe_22_3_profile(), counts, nullptr,
+                                       harness::Driver::Softpipe);
+        ASSERT_GE(m, 0);
+        mismatched += m;
+        ++batches;
+    }
+    EXPECT_EQ(mismatched, 0);
+}
+
+// The comparison can fail: with the tie rule flipped, the fill rules' centres on edges differ;
+// and llvmpipe's rules drawn against softpipe differ.
 TEST(RandomPolygonsSensitivity, FlippedTieRuleIsDetected) {
     refraster::Profile flipped = refraster::Profile{};
     flipped.gl.tie_rule = refraster::TieRule::RightTop;
@@ -226,6 +248,10 @@ TEST(RandomPolygonsSensitivity, FlippedTieRuleIsDetected) {
     const int m = mismatched_cells(5, 4, flipped, counts, &lit);
     EXPECT_GT(m, 8);
     EXPECT_GT(lit, 4u * 16u * 200u);  // the polygons draw plenty
+    // llvmpipe's rules are not softpipe's: the softpipe test would see it.
+    refraster::Profile llvmpipe = refraster::llvmpipe_22_3_profile();
+    llvmpipe.name = "flipped";  // no failure report: the mismatches are expected
+    EXPECT_GT(mismatched_cells(5, 4, llvmpipe, counts, nullptr, harness::Driver::Softpipe), 8);
 }
 
 INSTANTIATE_TEST_SUITE_P(Seeds, RandomPolygons, ::testing::Values(1u, 2u, testscenes::ci_seed()));
