@@ -30,6 +30,7 @@ ear-clipping arrow_polygon
 trapezoids arrow_polygon
 painter pinwheel_depth
 homogeneous behind_eye
+half-space shared_edges
 LIST
 shot() {  # URL OUT.png WIDTH,HEIGHT
   timeout 120 chromium --headless --no-sandbox --disable-gpu --no-first-run --hide-scrollbars \

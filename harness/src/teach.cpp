@@ -5,10 +5,12 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <sstream>
 
 #include "refraster/assembly.hpp"
+#include "refraster/profile.hpp"
 #include "refraster/textbook/circle.hpp"
 #include "refraster/textbook/ear_clipping.hpp"
 #include "refraster/textbook/flood_fill.hpp"
@@ -18,6 +20,7 @@
 #include "refraster/textbook/scanline_fill.hpp"
 #include "refraster/textbook/trapezoids.hpp"
 #include "refraster/textbook/wu_line.hpp"
+#include "setup.hpp"
 
 namespace harness {
 
@@ -42,6 +45,8 @@ const std::vector<TeachAlgorithmInfo>& teach_algorithms() {
         {"painter", "the painter's algorithm", "triangle draws with window depth"},
         {"homogeneous", "homogeneous (Olano-Greer) rasterization",
          "triangle draws in clip space, w <= 0 included"},
+        {"half-space", "edge functions with GL's tie rule (Pineda), as llvmpipe sets them up",
+         "the triangles of triangle draws, unclipped"},
     };
     return all;
 }
@@ -773,6 +778,134 @@ Run run_homogeneous(const Scene& s, int w, int h) {
     return run;
 }
 
+// GL's own rule as a lecture shows it: each triangle snapped to 1/256 pixel, its three edge
+// functions E(x, y) = c - a*x + b*y with the tie rule's +1 on the edges it owns (setup.hpp, the
+// reference's own setup), and each pixel of its box tested at its centre: covered iff all
+// three are positive. A step a pixel: the three values, and which edge a centre lies on and
+// whether the rule gives it the pixel.
+Run run_half_space(const Scene& s, int w, int h) {
+    const auto tris = scene_triangles(s);
+    if (tris.empty()) throw TeachError("the scene has no triangle draw to rasterize");
+    Run run;
+    run.raster = tb::Raster(w, h);
+    const refraster::Profile profile = refraster::llvmpipe_22_3_profile();
+    std::vector<bool> clipped_any(tris.size(), false);
+    for (std::size_t k = 0; k < tris.size(); ++k) {
+        const auto& st = tris[k];
+        const auto& draw = s.draw_list.draws[st.draw];
+        const auto params =
+            refraster::detail::setup_params(profile, draw.state, s.draw_list.target);
+        std::array<std::array<std::int32_t, 2>, 3> v{};
+        bool ok = true;
+        for (std::size_t i = 0; i < 3; ++i) {
+            const auto c = st.clip[i];
+            clipped_any[k] = clipped_any[k] || c[3] <= 0.0f || std::abs(c[0]) > c[3] ||
+                             std::abs(c[1]) > c[3] || std::abs(c[2]) > c[3];
+            const auto p =
+                refraster::detail::snap_position(static_cast<float>(st.t.position[i].x),
+                                                 static_cast<float>(st.t.position[i].y), params);
+            if (!p) {
+                ok = false;
+                break;
+            }
+            v[i] = *p;
+        }
+        const std::string prefix =
+            tris.size() > 1 ? "triangle " + std::to_string(k) + ": " : std::string();
+        for (std::size_t i = 0; i < 3; ++i) {
+            const auto& a = st.t.position[i];
+            const auto& b = st.t.position[(i + 1) % 3];
+            run.input.push_back({a.x, a.y, b.x, b.y, "edge"});
+        }
+        if (!ok || clipped_any[k]) {
+            tb::Step step;
+            step.title = prefix +
+                         "a vertex outside the view volume: GL clips this triangle "
+                         "first, which this lecture version does not";
+            run.steps.push_back(step);
+            continue;
+        }
+        const std::int64_t area =
+            (std::int64_t{v[0][0]} - v[1][0]) * (std::int64_t{v[2][1]} - v[0][1]) -
+            (std::int64_t{v[2][0]} - v[0][0]) * (std::int64_t{v[0][1]} - v[1][1]);
+        tb::Step head;
+        head.title = prefix + "snapped to 1/256 pixel (pixel centre at 0): (" +
+                     std::to_string(v[0][0]) + ", " + std::to_string(v[0][1]) + ") (" +
+                     std::to_string(v[1][0]) + ", " + std::to_string(v[1][1]) + ") (" +
+                     std::to_string(v[2][0]) + ", " + std::to_string(v[2][1]) + "), area " +
+                     std::to_string(area);
+        if (area == 0) {
+            head.title += ": zero area, nothing drawn";
+            run.steps.push_back(head);
+            continue;
+        }
+        if (area < 0) std::swap(v[0], v[1]);  // setup's orientation: counter-clockwise
+        std::array<refraster::detail::EdgeFunction, 3> e;
+        for (std::size_t i = 0; i < 3; ++i) {
+            const auto& p = v[i];
+            const auto& q = v[(i + 1) % 3];
+            e[i] = refraster::detail::make_edge(p[0], p[1], q[0], q[1], params.tie_rule);
+            head.state.push_back({"E" + std::to_string(i),
+                                  "c " + std::to_string(e[i].c) + " - " + std::to_string(e[i].a) +
+                                      " x + " + std::to_string(e[i].b) + " y" +
+                                      (e[i].owns_ties ? " (owns its ties: +1 in c)" : "")});
+        }
+        run.steps.push_back(head);
+        int x0 = std::numeric_limits<int>::max(), x1 = std::numeric_limits<int>::min();
+        int y0 = x0, y1 = x1;
+        for (const auto& p : v) {
+            x0 = std::min(x0, p[0] >> 8);
+            x1 = std::max(x1, (p[0] >> 8) + 1);
+            y0 = std::min(y0, p[1] >> 8);
+            y1 = std::max(y1, (p[1] >> 8) + 1);
+        }
+        for (int y = std::max(0, y0); y <= std::min(h - 1, y1); ++y) {
+            for (int x = std::max(0, x0); x <= std::min(w - 1, x1); ++x) {
+                tb::Step step;
+                bool in = true;
+                std::string ties;
+                for (std::size_t i = 0; i < 3; ++i) {
+                    const std::int64_t value = e[i].at(x, y, params.bits);
+                    const std::int64_t bare = value - (e[i].owns_ties ? 1 : 0);
+                    in = in && value > 0;
+                    step.state.push_back({"E" + std::to_string(i), std::to_string(value)});
+                    if (bare == 0) {
+                        ties += " centre on edge " + std::to_string(i) + ", which " +
+                                (e[i].owns_ties ? "owns" : "does not own") + " it;";
+                    }
+                }
+                step.title = prefix + "pixel " + pixel_text(x, y) + ": " +
+                             (in ? "all three positive: covered" : "not covered") +
+                             (ties.empty() ? "" : " (" + ties.substr(1, ties.size() - 2) + ")");
+                step.pixels.push_back({x, y, in ? 1.0 : 0.0});
+                if (in) run.raster.set(x, y, 1.0);
+                run.steps.push_back(std::move(step));
+            }
+        }
+    }
+    run.notes.push_back(
+        "This is GL's rule itself, written as a lecture writes it: the edge functions of the "
+        "snapped triangle, positive inside, evaluated at every pixel centre of its box, with the "
+        "tie rule's +1 on the edges that own the centres on them (left edges, and bottom edges "
+        "for horizontal ones). It agrees with GL on every triangle that needs no clipping.");
+    run.reason = [clipped_any](int x, int y, double a, bool gl) -> std::string {
+        (void)x;
+        (void)y;
+        const bool clipped =
+            std::find(clipped_any.begin(), clipped_any.end(), true) != clipped_any.end();
+        if (clipped) {
+            return std::string(
+                       "a triangle of the scene has a vertex outside the view volume: GL "
+                       "clips it first (new vertices on the clip planes), which the "
+                       "lecture version skips; ") +
+                   (gl ? "GL lights it." : "the lecture version lights it.");
+        }
+        return std::string("GL's draw order, culling, depth test or scissor decides it: ") +
+               (a > 0.0 ? "the edge functions cover the centre" : "GL lights it") + ".";
+    };
+    return run;
+}
+
 std::array<std::uint8_t, 4> gl_rgba_at(const refraster::Framebuffer& fb, std::size_t i) {
     if (fb.color_format == refraster::ColorFormat::Rgba8) {
         return {fb.color8[4 * i], fb.color8[4 * i + 1], fb.color8[4 * i + 2], fb.color8[4 * i + 3]};
@@ -814,6 +947,8 @@ TeachResult teach(const Scene& scene, std::string_view algorithm,
         run = run_flood(scene, algorithm == "flood8", w, h);
     } else if (algorithm == "ear-clipping" || algorithm == "trapezoids") {
         run = run_triangulation(scene, algorithm == "ear-clipping", w, h);
+    } else if (algorithm == "half-space") {
+        run = run_half_space(scene, w, h);
     } else if (algorithm == "painter") {
         run = run_painter(scene, gl, w, h);
     } else {

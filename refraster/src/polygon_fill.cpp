@@ -145,7 +145,9 @@ FillMask scanline_fill(std::span<const Contour> contours, FillRule rule, TieRule
                        int bits, const PixelRect& region, std::vector<FillScanline>* trace) {
     FillMask mask(region);
     if (region.empty()) return mask;
-    const auto [sx, sy] = nudge_of(rule_of_ties);
+    const std::array<int, 2> nudge = nudge_of(rule_of_ties);
+    const int sx = nudge[0];
+    const int sy = nudge[1];
 
     // The edge table: each edge that crosses a row of the region, by the first such row.
     const auto rows = static_cast<std::size_t>(region.y1 - region.y0 + 1);
@@ -226,7 +228,9 @@ FillMask scanline_fill(std::span<const Contour> contours, FillRule rule, TieRule
 
 std::int64_t winding_at(std::span<const Contour> contours, TieRule rule_of_ties, int bits, int px,
                         int py) {
-    const auto [sx, sy] = nudge_of(rule_of_ties);
+    const std::array<int, 2> nudge = nudge_of(rule_of_ties);
+    const int sx = nudge[0];
+    const int sy = nudge[1];
     std::int64_t winding = 0;
     for_each_edge(contours, [&](std::size_t c, std::size_t k, SnappedPoint a, SnappedPoint b) {
         FillEdge e;

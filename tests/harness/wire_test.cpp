@@ -305,6 +305,24 @@ TEST(Wire, CorruptTexturesAreErrors) {
         encode_with_textures({Texture{{TextureImage{0, 0, {}}}, false}}).bytes));
 }
 
+// A polygon's fill rule goes through the wire, and a fill rule the format does not have is an
+// error.
+TEST(Wire, FillRuleRoundTripsAndACorruptOneIsAnError) {
+    DrawList list;
+    list.draws.resize(1);
+    list.draws[0].primitive = refraster::PrimitiveType::Polygon;
+    list.draws[0].state.fill_rule = refraster::FillRule::NonZero;
+    const auto good = harness::wire::encode_draw_list(list);
+    EXPECT_EQ(harness::wire::decode_draw_list(good), list);
+    // The state's last byte, before the draw's attribute count (8), vertex block and index
+    // flag (8 + 1), and the texture count (8).
+    const std::size_t rule_at = good.size() - 8 - 9 - 8 - 1;
+    ASSERT_EQ(good[rule_at], static_cast<std::uint8_t>(refraster::FillRule::NonZero));
+    auto bytes = good;
+    bytes[rule_at] = 2;
+    EXPECT_THROW(harness::wire::decode_draw_list(bytes), WireError);
+}
+
 TEST(Wire, CorruptTextureStateIsAnError) {
     DrawList list;
     list.draws.resize(1);
@@ -315,8 +333,9 @@ TEST(Wire, CorruptTextureStateIsAnError) {
     // From the end: the texture count (8) and the empty texture (1 + 8); before them the
     // draw's empty vertex block and index flag (8 + 1) and its attribute count (8) follow
     // the state, which ends with the texture state: index (4), four enums (1 each), the
-    // border colour (16), the env (1), coord_replace (1) and the point coord origin (1).
-    const std::size_t origin_at = good.size() - 8 - 9 - 9 - 8 - 1;
+    // border colour (16), the env (1), coord_replace (1) and the point coord origin (1), then
+    // the fill rule's flag (1, no rule).
+    const std::size_t origin_at = good.size() - 8 - 9 - 9 - 8 - 1 - 1;
     const std::size_t env_at = origin_at - 2;
     const std::size_t min_filter_at = env_at - 16 - 4;
     ASSERT_EQ(good[env_at], 0);

@@ -49,7 +49,8 @@ TEST(Teach, EveryAlgorithmWritesItsPage) {
         {"ear-clipping", "arrow_polygon"},
         {"trapezoids", "arrow_polygon"},
         {"painter", "pinwheel_depth"},
-        {"homogeneous", "behind_eye"}};
+        {"homogeneous", "behind_eye"},
+        {"half-space", "shared_edges"}};
     testutil::TempDir dir;
     for (const auto& [algorithm, scene] : runs) {
         SCOPED_TRACE(algorithm + " on " + scene);
@@ -107,6 +108,21 @@ TEST(Teach, NamesTheKnownCauses) {
               std::string::npos)
         << (*middle)["reason"];
 
+    // GL's own rule written out agrees with GL on unclipped triangles, and its steps name the
+    // centres on edges and the edge that owns each.
+    const auto half =
+        teach(kSource / "examples/teach/shared_edges.json", "half-space", dir.path() / "h");
+    ASSERT_EQ(half.cli.exit_code, 0) << half.cli.err;
+    EXPECT_EQ(half.data["differences"].size(), 0u);
+    int owned = 0, not_owned = 0;
+    for (const auto& st : half.data["steps"]) {
+        const auto title = st["title"].get<std::string>();
+        owned += title.find("which owns it") != std::string::npos;
+        not_owned += title.find("which does not own it") != std::string::npos;
+    }
+    EXPECT_GT(owned, 10);
+    EXPECT_GT(not_owned, 10);
+
     const auto painter =
         teach(kSource / "examples/teach/pinwheel_depth.json", "painter", dir.path() / "p");
     ASSERT_EQ(painter.cli.exit_code, 0) << painter.cli.err;
@@ -115,6 +131,27 @@ TEST(Teach, NamesTheKnownCauses) {
         cycle =
             cycle || d["reason"].get<std::string>().find("painter's order") != std::string::npos;
     EXPECT_TRUE(cycle);
+}
+
+// GL's rules from OSMesa llvmpipe (--against gl) rather than the reference: the same pixels,
+// so the same differences, and the page names the driver.
+TEST(Teach, AgainstGlUsesTheGlBackend) {
+    if (!std::filesystem::exists(std::filesystem::path(REFRASTER_BIN_DIR) /
+                                 "refraster-worker-osmesa"))
+        GTEST_SKIP() << "built without the OSMesa worker";
+    testutil::TempDir dir;
+    const auto scene = kSource / "examples/teach/star_evenodd.json";
+    const auto ref = teach(scene, "scanline-nonzero", dir.path() / "ref");
+    ASSERT_EQ(ref.cli.exit_code, 0) << ref.cli.err;
+    const auto r = testutil::run_cli({"teach", scene.string(), "--algorithm", "scanline-nonzero",
+                                      "--against", "gl", "--output", (dir.path() / "gl").string()});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto gl = json::parse(testutil::read_text(dir.path() / "gl" / "teach.json"));
+    EXPECT_NE(gl["gl_source"].get<std::string>().find("osmesa"), std::string::npos)
+        << gl["gl_source"];
+    EXPECT_EQ(gl["gl_rgba"], ref.data["gl_rgba"]);
+    EXPECT_EQ(gl["differences"], ref.data["differences"]);
+    EXPECT_GT(gl["differences"].size(), 20u);
 }
 
 // A scene without what the algorithm draws, an unknown algorithm and a 4x target are usage
