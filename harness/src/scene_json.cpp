@@ -784,6 +784,11 @@ class Node {
     std::string string() const { return std::string(string_view()); }
     template <class E>
     E choice(std::initializer_list<std::pair<std::string_view, E>> options) const {
+        return choice(
+            std::span<const std::pair<std::string_view, E>>(options.begin(), options.size()));
+    }
+    template <class E>
+    E choice(std::span<const std::pair<std::string_view, E>> options) const {
         std::string_view s;
         if (v_.get_string().get(s) != simdjson::SUCCESS) {
             std::string list;
@@ -1435,26 +1440,19 @@ SceneDraw read_draw(const Node& n, const refraster::Target& target, WorkSoFar& w
             "the primitive \"polygon\" belongs to the extension \"polygons\"; list it in "
             "\"requires\" to use it");
     }
-    if (polygons) {
-        d.primitive =
-            primitive.choice<PrimitiveType>({{"points", PrimitiveType::Points},
-                                             {"lines", PrimitiveType::Lines},
-                                             {"line_strip", PrimitiveType::LineStrip},
-                                             {"line_loop", PrimitiveType::LineLoop},
-                                             {"triangles", PrimitiveType::Triangles},
-                                             {"triangle_strip", PrimitiveType::TriangleStrip},
-                                             {"triangle_fan", PrimitiveType::TriangleFan},
-                                             {"polygon", PrimitiveType::Polygon}});
-    } else {
-        d.primitive =
-            primitive.choice<PrimitiveType>({{"points", PrimitiveType::Points},
-                                             {"lines", PrimitiveType::Lines},
-                                             {"line_strip", PrimitiveType::LineStrip},
-                                             {"line_loop", PrimitiveType::LineLoop},
-                                             {"triangles", PrimitiveType::Triangles},
-                                             {"triangle_strip", PrimitiveType::TriangleStrip},
-                                             {"triangle_fan", PrimitiveType::TriangleFan}});
-    }
+    // Format v1's primitives, and the extension's "polygon" last: offered only with it.
+    static constexpr std::array<std::pair<std::string_view, PrimitiveType>, 8> kPrimitives{{
+        {"points", PrimitiveType::Points},
+        {"lines", PrimitiveType::Lines},
+        {"line_strip", PrimitiveType::LineStrip},
+        {"line_loop", PrimitiveType::LineLoop},
+        {"triangles", PrimitiveType::Triangles},
+        {"triangle_strip", PrimitiveType::TriangleStrip},
+        {"triangle_fan", PrimitiveType::TriangleFan},
+        {"polygon", PrimitiveType::Polygon},
+    }};
+    d.primitive = primitive.choice(std::span<const std::pair<std::string_view, PrimitiveType>>(
+        kPrimitives.data(), polygons ? kPrimitives.size() : kPrimitives.size() - 1));
     if (auto v = n.get("space")) {
         d.space =
             v->choice<VertexSpace>({{"window", VertexSpace::Window}, {"clip", VertexSpace::Clip}});

@@ -107,23 +107,42 @@ std::vector<SceneSegment> scene_segments(const Scene& s) {
 }
 
 // The outlines of polygon, fan and triangle draws: a polygon or fan is one outline (a fan's
-// vertices in order make the polygon it is usually meant to be), each triangle of a list one.
-std::vector<tb::Contour> scene_outlines(const Scene& s, bool polygons_only = false) {
-    std::vector<tb::Contour> out;
+// vertices in order make the polygon it is usually meant to be), each triangle of a list one;
+// with the fill rule GL draws each with, for the polygon algorithms' reasons.
+struct GlPolygons {
+    std::vector<tb::Contour> outlines;
+    std::vector<std::optional<refraster::FillRule>> rules;  // per outline
+    std::vector<bool> polygon;                              // from a polygon draw
+};
+
+GlPolygons gl_polygons(const Scene& s) {
+    GlPolygons g;
     for (std::size_t d = 0; d < s.draw_list.draws.size(); ++d) {
-        const auto p = s.draw_list.draws[d].primitive;
+        const auto& draw = s.draw_list.draws[d];
         const auto pts = window_points(s, d);
-        if (p == PrimitiveType::Polygon) {
-            if (pts.size() >= 3) out.push_back(pts);
-        } else if (polygons_only) {
-            continue;
-        } else if (p == PrimitiveType::TriangleFan) {
-            if (pts.size() >= 3) out.push_back(pts);
-        } else if (p == PrimitiveType::Triangles) {
-            for (std::size_t i = 0; i + 2 < pts.size(); i += 3)
-                out.push_back({pts[i], pts[i + 1], pts[i + 2]});
+        if (draw.primitive == PrimitiveType::Polygon ||
+            draw.primitive == PrimitiveType::TriangleFan) {
+            if (pts.size() < 3) continue;
+            g.outlines.push_back(pts);
+            g.rules.push_back(draw.state.fill_rule);
+            g.polygon.push_back(draw.primitive == PrimitiveType::Polygon);
+        } else if (draw.primitive == PrimitiveType::Triangles) {
+            for (std::size_t i = 0; i + 2 < pts.size(); i += 3) {
+                g.outlines.push_back({pts[i], pts[i + 1], pts[i + 2]});
+                g.rules.push_back(std::nullopt);
+                g.polygon.push_back(false);
+            }
         }
     }
+    return g;
+}
+
+std::vector<tb::Contour> scene_outlines(const Scene& s, bool polygons_only = false) {
+    GlPolygons g = gl_polygons(s);
+    if (!polygons_only) return std::move(g.outlines);
+    std::vector<tb::Contour> out;
+    for (std::size_t k = 0; k < g.outlines.size(); ++k)
+        if (g.polygon[k]) out.push_back(std::move(g.outlines[k]));
     return out;
 }
 
@@ -368,32 +387,6 @@ Run run_circle(const Scene& s, int w, int h) {
     return run;
 }
 
-// What GL does with the polygons of the scene, for the polygon algorithms' reasons.
-struct GlPolygons {
-    std::vector<tb::Contour> outlines;
-    std::vector<std::optional<refraster::FillRule>> rules;  // per outline
-};
-
-GlPolygons gl_polygons(const Scene& s) {
-    GlPolygons g;
-    for (std::size_t d = 0; d < s.draw_list.draws.size(); ++d) {
-        const auto& draw = s.draw_list.draws[d];
-        const auto pts = window_points(s, d);
-        if (draw.primitive == PrimitiveType::Polygon ||
-            draw.primitive == PrimitiveType::TriangleFan) {
-            if (pts.size() < 3) continue;
-            g.outlines.push_back(pts);
-            g.rules.push_back(draw.state.fill_rule);
-        } else if (draw.primitive == PrimitiveType::Triangles) {
-            for (std::size_t i = 0; i + 2 < pts.size(); i += 3) {
-                g.outlines.push_back({pts[i], pts[i + 1], pts[i + 2]});
-                g.rules.push_back(std::nullopt);
-            }
-        }
-    }
-    return g;
-}
-
 // Why a polygon algorithm (which fills the outlines' region by `rule`) and GL part at (x, y).
 std::string polygon_reason(const GlPolygons& g, const std::string& algorithm_rule, int x, int y,
                            double a, bool gl) {
@@ -559,11 +552,7 @@ Run run_flood(const Scene& s, bool eight, int w, int h) {
             const auto r = tb::bresenham_line(c[k], c[(k + 1) % c.size()], w, h);
             merge_max(boundary, r.raster);
         }
-        for (std::size_t k = 0; k < c.size(); ++k) {
-            const auto& a = c[k];
-            const auto& b = c[(k + 1) % c.size()];
-            run.input.push_back({a.x, a.y, b.x, b.y, "edge"});
-        }
+        tb::add_outline(run.input, c);
     }
     run.raster = boundary;
     for (std::size_t k = 0; k < outlines.size(); ++k) {

@@ -51,8 +51,8 @@ namespace {
 
 // The scanline (softpipe) rules: softpipe's own coverage of each of the polygon's triangles, as
 // the clipper cuts them, counted as the stencil pass counts it (+1 for a front face, -1 for a
-// back face). softpipe's float rules are no nudge of the centre (mesa-22.3-rules-2.md 4.5), so
-// no filler over the outline reproduces them; the count is the definition.
+// back face). softpipe's float rules are no nudge of the centre (docs/precision.md, "Polygons and
+// fill rules"), so no filler over the outline reproduces them; the count is the definition.
 FillMask counted_fill_mask(const DrawContext& ctx) {
     const Draw& d = ctx.draw;
     const PixelRect& region = ctx.params.draw_region;

@@ -7,9 +7,9 @@
 //    tie rule's direction (LeftBottom: (+e, +e^2), the region just right, or for a horizontal
 //    edge just above, of a centre on an edge decides it); a centre on the polygon's own edge
 //    or vertex is thereby decided without any special case, and no nudged point lies on an
-//    edge. That is what llvmpipe's stencil fills measure (mesa-22.3-rules-2.md 4.2 to 4.4):
-//    the parity, or the winding number, of the fan triangles covering a pixel under llvmpipe's
-//    own tie rule equals the rule's test at the nudged centre;
+//    edge. That is what llvmpipe's stencil fills measure (docs/precision.md, "Polygons and fill
+//    rules"): the parity, or the winding number, of the fan triangles covering a pixel under
+//    llvmpipe's own tie rule equals the rule's test at the nudged centre;
 //  - an edge crosses scanline py (centre Y = py << bits) when exactly one end lies above the
 //    nudged centre line; where it crosses is kept as an exact rational numerator that steps by
 //    dx << bits a scanline (the DDA of a textbook filler, without its rounding), and the

@@ -6,9 +6,9 @@
 // scissor. A cell holds one polygon of 4 to 12 vertices, and in a third of the cells a second
 // one that is depth tested against it, each drawn as GL_POLYGON's own triangles or with the
 // even-odd or non-zero fill rule, flat or smooth, in one of the vertex regimes of
-// mesa-22.3-rules-2.md 4.2 (the 1/256 grid, pixel centres, the half-pixel grid, any float)
-// plus one whose vertices leave the cell, so that the clipper cuts the polygon's triangles.
-// The same polygons also go through softpipe's rules against OSMesa softpipe.
+// the stencil fills were measured in (docs/precision.md: the 1/256 grid, pixel centres, the
+// half-pixel grid, any float) plus one whose vertices leave the cell, so that the clipper cuts the
+// polygon's triangles. The same polygons also go through softpipe's rules against OSMesa softpipe.
 #include <gtest/gtest.h>
 
 #include <array>

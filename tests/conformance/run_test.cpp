@@ -630,13 +630,7 @@ std::string dump_dom(const std::filesystem::path& page, const std::filesystem::p
         "--user-data-dir=" +
         testutil::shell_quote(profile_dir.string()) + " --virtual-time-budget=2000 --dump-dom " +
         testutil::shell_quote("file://" + page.string()) + " 2>/dev/null";
-    std::string out;
-    FILE* p = ::popen(cmd.c_str(), "r");
-    if (p == nullptr) return out;
-    char buf[4096];
-    for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, p)) > 0;) out.append(buf, n);
-    ::pclose(p);
-    return out;
+    return testutil::command_output(cmd);
 }
 
 TEST(HtmlReport, ChromiumShowsSummaryChartImagesAndNumbers) {

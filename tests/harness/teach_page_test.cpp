@@ -223,16 +223,6 @@ TEST(TeachPage, AcceptsAnOrderedDocumentAndAPartialOne) {
 
 // Headless Chromium.
 
-std::string run(const std::string& cmd) {
-    std::string out;
-    FILE* p = ::popen(cmd.c_str(), "r");
-    if (p == nullptr) return out;
-    char buf[4096];
-    for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, p)) > 0;) out.append(buf, n);
-    ::pclose(p);
-    return out;
-}
-
 std::string chromium(const testutil::TempDir& dir) {
     return "timeout 120 chromium --headless --no-sandbox --disable-gpu --no-first-run "
            "--disable-background-networking --disable-component-update --disable-sync "
@@ -247,7 +237,8 @@ std::string url(const std::filesystem::path& page, const std::string& hash) {
 
 std::string dump_dom(const testutil::TempDir& dir, const std::filesystem::path& page,
                      const std::string& hash) {
-    return run(chromium(dir) + "--dump-dom " + url(page, hash) + " 2>/dev/null");
+    return testutil::command_output(chromium(dir) + "--dump-dom " + url(page, hash) +
+                                    " 2>/dev/null");
 }
 
 // The text of the element with id `id` up to its first '<'.

@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -81,6 +82,17 @@ inline CliResult run_cli(const std::vector<std::string>& args) {
     r.out = read_text(io.path() / "out");
     r.err = read_text(io.path() / "err");
     return r;
+}
+
+// What a shell command writes to its standard output ("" when it cannot be started).
+inline std::string command_output(const std::string& cmd) {
+    std::string out;
+    FILE* p = ::popen(cmd.c_str(), "r");
+    if (p == nullptr) return out;
+    char buf[4096];
+    for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, p)) > 0;) out.append(buf, n);
+    ::pclose(p);
+    return out;
 }
 
 inline std::size_t count_lines(const std::string& s) {

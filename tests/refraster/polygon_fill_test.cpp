@@ -133,7 +133,7 @@ TEST(PolygonFill, EqualsDirectSummationAtEveryCentre) {
 // The stencil method's count: llvmpipe's coverage (setup.hpp's edge functions and tie rule) of
 // each triangle (v0, v[i-1], v[i]) of the polygon, added up with the triangle's orientation.
 // The filler over the polygon's own edges must light exactly the pixels whose count passes the
-// rule (mesa-22.3-rules-2.md 4.2 to 4.4), centres on edges and diagonals included.
+// rule (docs/precision.md, "Polygons and fill rules"), centres on edges and diagonals included.
 TEST(PolygonFill, EqualsTheFanTrianglesCoverageCount) {
     std::mt19937_64 rng(2024);
     const PixelRect region{0, 0, 19, 19};

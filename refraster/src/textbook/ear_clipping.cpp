@@ -27,11 +27,7 @@ EarClipResult ear_clip(const std::vector<Point2>& polygon, Trace* trace) {
     const std::size_t n = polygon.size();
     if (trace != nullptr) {
         trace->algorithm = "ear clipping";
-        for (std::size_t i = 0; i < n; ++i) {
-            const Point2 a = polygon[i];
-            const Point2 b = polygon[(i + 1) % n];
-            trace->input.push_back({a.x, a.y, b.x, b.y, "edge"});
-        }
+        add_outline(trace->input, polygon);
     }
     if (n < 3) return out;
     std::vector<SnappedPoint> p(n);

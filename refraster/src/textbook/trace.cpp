@@ -59,4 +59,13 @@ Step& add_step(Trace& trace, std::string title) {
     return trace.steps.back();
 }
 
+void add_outline(std::vector<Segment>& into, const std::vector<Point2>& polygon,
+                 const std::string& role) {
+    for (std::size_t i = 0; i < polygon.size(); ++i) {
+        const Point2 a = polygon[i];
+        const Point2 b = polygon[(i + 1) % polygon.size()];
+        into.push_back({a.x, a.y, b.x, b.y, role});
+    }
+}
+
 }  // namespace refraster::textbook

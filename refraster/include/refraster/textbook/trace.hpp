@@ -88,5 +88,9 @@ std::string format_number(double v);
 std::string format_number(long long v);
 std::string format_pixel(int x, int y);  // "(3, 4)"
 Step& add_step(Trace& trace, std::string title);
+// Appends the closed outline of `polygon` (point k to point k + 1, the last back to the first)
+// to `into` as segments of `role`.
+void add_outline(std::vector<Segment>& into, const std::vector<Point2>& polygon,
+                 const std::string& role = "edge");
 
 }  // namespace refraster::textbook
