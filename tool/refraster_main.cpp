@@ -26,6 +26,7 @@
 #include "harness/reduce.hpp"
 #include "harness/scene.hpp"
 #include "harness/scene_text.hpp"
+#include "harness/study.hpp"
 #include "harness/teach.hpp"
 #include "harness/teach_page.hpp"
 
@@ -597,6 +598,54 @@ int run_bench(const BenchArgs& a) {
 
 }  // namespace
 
+// ---- study ----------------------------------------------------------------------------------
+
+struct StudyArgs {
+    std::string name;
+    std::string output;
+    std::uint64_t seed = 1;
+    bool quick = false;
+    bool quiet = false;
+};
+
+// study NAME --output DIR: runs the study, then writes study.csv, study.svg and summary.md into
+// DIR, each file whole or not at all; prints the conclusions.
+int run_study_command(const StudyArgs& a) {
+    const std::filesystem::path dir(a.output);
+    std::error_code ec;
+    if (std::filesystem::exists(dir, ec) && !std::filesystem::is_directory(dir, ec)) {
+        std::cerr << a.output << ": --output names a file, not a directory\n";
+        return kExitBadInput;
+    }
+    harness::StudyOptions o;
+    o.seed = a.seed;
+    o.quick = a.quick;
+    if (!a.quiet) o.progress = [](const std::string& line) { std::cerr << line << "\n"; };
+    harness::StudyOutput out;
+    try {
+        out = harness::run_study(a.name, o);
+    } catch (const harness::StudyError& e) {
+        std::cerr << "refraster study: " << e.what() << "\n";
+        return kExitBadInput;
+    }
+    std::string command = "refraster study " + a.name + " --output " + a.output;
+    if (a.seed != 1) command += " --seed " + std::to_string(a.seed);
+    if (a.quick) command += " --quick";
+    try {
+        std::filesystem::create_directories(dir);
+        harness::write_file_atomically(dir / "study.csv", out.csv);
+        harness::write_file_atomically(dir / "study.svg", out.svg);
+        harness::write_file_atomically(dir / "summary.md",
+                                       harness::study_summary_markdown(out, command));
+    } catch (const std::exception& e) {
+        std::cerr << a.output << ": " << e.what() << "\n";
+        return kExitBadInput;
+    }
+    for (const std::string& line : out.summary) std::cout << line << "\n";
+    std::cout << "wrote " << (dir / "study.csv").string() << ", study.svg and summary.md\n";
+    return kExitOk;
+}
+
 // ---- teach ----------------------------------------------------------------------------------
 
 struct TeachArgs {
@@ -1070,6 +1119,19 @@ int main(int argc, char** argv) {
     add_driver_options(tcmd, teach.backend);
     add_profile_options(tcmd, teach.backend.profile);
 
+    StudyArgs study;
+    auto* scmd = app.add_subcommand(
+        "study", "Measure error against run time for precision choices, antialiasing and "
+                 "stiff cases, against exact answers (docs/precision-study.md)");
+    scmd->add_option("study", study.name, "precision, antialiasing or stability")
+        ->required()
+        ->check(CLI::IsMember(harness::study_names()));
+    scmd->add_option("--output", study.output, "Directory for study.csv, study.svg, summary.md")
+        ->required();
+    scmd->add_option("--seed", study.seed, "Seed of the workloads")->capture_default_str();
+    scmd->add_flag("--quick", study.quick, "Small sizes (seconds, for CI)");
+    scmd->add_flag("--quiet", study.quiet, "No progress lines on stderr");
+
     auto* check_cmd = app.add_subcommand(
         "check", "Load a scene, say what it holds and how fast it loaded (MB/s)");
     check_cmd->add_option("scene", check_scene, "Scene file")->required();
@@ -1090,6 +1152,7 @@ int main(int argc, char** argv) {
     if (gen_many->parsed()) return run_generate_many(many_count, gen_seed, many_form, gen_output);
     if (check_cmd->parsed()) return run_check(check_scene, check_rounds);
     if (tcmd->parsed()) return run_teach(teach);
+    if (scmd->parsed()) return run_study_command(study);
     if (gen_extreme->parsed())
         return harness::write_extreme_scenes(gen_seed, gen_output, std::cerr);
     if (rcmd->parsed()) return run_render(render);

@@ -121,10 +121,13 @@ std::array<bool, 3> ExactCoverage::owns_ties() const {
 std::array<double, 3> ExactCoverage::weights(int px, int py) const {
     const ExactTriangle& t = *t_;
     const auto p = scaled_centre(t.viewport, px, py);
+    // e_k carries the scale 2^298 (two scaled floats), det 2^447 (three): their quotient is
+    // b_k * 2^-149, which the last step undoes exactly (a power of two).
     const double d = (t.det * p[2]).to_double();
     std::array<double, 3> b{};
     for (std::size_t k = 0; k < 3; ++k)
-        b[k] = (t.A[k] * p[0] + t.B[k] * p[1] + t.C[k] * p[2]).to_double() / d;
+        b[k] = std::ldexp((t.A[k] * p[0] + t.B[k] * p[1] + t.C[k] * p[2]).to_double() / d,
+                          BigInt::kFloatScaleBits);
     return b;
 }
 

@@ -44,8 +44,10 @@ class ExactCoverage {
     // the tie rule owns edge i.
     std::array<int, 3> weight_signs(int px, int py) const;
     std::array<bool, 3> owns_ties() const;
-    // The homogeneous weights b of the pixel centre (sum b_i w_i = 1): the clip-space point on
-    // the triangle is sum b_i v_i, so a perspective-correct attribute is sum b_i a_i.
+    // The homogeneous weights b of the pixel centre (sum b_i w_i = 1): sum b_i v_i is the
+    // centre's clip-space point with w = 1, on the ray through the triangle's point whose
+    // clip-space barycentric weights are b / sum b. So the NDC depth is sum b_i z_i, a
+    // perspective-correct attribute sum b_i a_i / sum b_i, a noperspective one sum b_i w_i a_i.
     std::array<double, 3> weights(int px, int py) const;
 
   private:

@@ -817,9 +817,11 @@ void ExactShader::shade(int x, int y, Framebuffer& fb, std::uint32_t owner) cons
                 c[k] = a[provoking_first_ ? 0 : 2][k];
                 break;
             case ShadeModel::Smooth: {
+                // Perspective-correct: the clip-space barycentric weights are b / sum b
+                // (exact_coverage.hpp, weights).
                 double s = 0.0;
                 for (std::size_t j = 0; j < 3; ++j) s += b[j] * double{a[j][k]};
-                c[k] = static_cast<float>(s);
+                c[k] = static_cast<float>(s / (b[0] + b[1] + b[2]));
                 break;
             }
             case ShadeModel::NoPerspective: {

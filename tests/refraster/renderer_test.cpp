@@ -239,3 +239,46 @@ TEST(Render, TraversalCountsEveryCoveredPixel) {
 }
 
 }  // namespace
+
+// The exact profile interpolates as GL asks: perspective-correct colour (the clip-space
+// barycentric weights), noperspective colour (the window-space ones) and window depth, here
+// on a triangle whose vertices' w are 1, 3 and 9. llvmpipe's rules interpolate the same values
+// in float32, so the two images differ by at most one step of colour and depth.
+TEST(Render, ExactProfileInterpolatesLikeTheSnappedOne) {
+    for (const auto shade : {refraster::ShadeModel::Smooth, refraster::ShadeModel::NoPerspective}) {
+        refraster::DrawList l;
+        l.target = {32, 32, refraster::ColorFormat::Rgba8, refraster::DepthFormat::Z24, 1};
+        refraster::Draw d;
+        d.state.viewport = {0, 0, 32, 32};
+        d.state.depth_test = refraster::CompareFunc::Always;
+        d.state.shade = shade;
+        d.vertices.attributes = {{"color", 4}};
+        const float w[3] = {1.0f, 3.0f, 9.0f};
+        const float ndc[3][3] = {{-0.9f, -0.9f, -0.5f}, {0.9f, -0.8f, 0.2f}, {-0.1f, 0.9f, 0.7f}};
+        const float color[3][4] = {{1, 0, 0, 1}, {0, 1, 0, 1}, {0, 0, 1, 1}};
+        for (int i = 0; i < 3; ++i) {
+            for (int c = 0; c < 3; ++c) d.vertices.data.push_back(ndc[i][c] * w[i]);
+            d.vertices.data.push_back(w[i]);
+            for (float c : color[i]) d.vertices.data.push_back(c);
+        }
+        l.draws.push_back(d);
+        refraster::Framebuffer snapped, exact;
+        ASSERT_EQ(refraster::render(l, snapped).status, refraster::RenderStatus::Ok);
+        refraster::RenderOptions o;
+        o.profile = refraster::gl_exact_profile();
+        ASSERT_EQ(refraster::render(l, o, exact).status, refraster::RenderStatus::Ok);
+        int compared = 0;
+        for (std::size_t i = 0; i < exact.pixel_count(); ++i) {
+            if (exact.color8[4 * i + 3] == 0 || snapped.color8[4 * i + 3] == 0) continue;
+            for (std::size_t c = 0; c < 3; ++c)
+                EXPECT_LE(std::abs(exact.color8[4 * i + c] - snapped.color8[4 * i + c]), 1)
+                    << "pixel " << i << " channel " << c;
+            EXPECT_LE(std::abs(static_cast<long>(exact.depth[i]) -
+                               static_cast<long>(snapped.depth[i])),
+                      2)
+                << "pixel " << i;
+            ++compared;
+        }
+        EXPECT_GT(compared, 200);
+    }
+}

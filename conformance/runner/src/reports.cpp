@@ -855,6 +855,14 @@ void write_reports(const std::filesystem::path& output, std::size_t selected_cas
           << f << "</td><td class=\"num\">" << k << "</td></tr>";
     }
     h << "</table><h2>Error against run time</h2>" << chart(results);
+    // This chart is per case; how the reference's own precision choices (sub-pixel bits, float
+    // or exact setup, fused planes, depth formats, samples per pixel) trade error against run
+    // time, against exact answers, is what `refraster study` measures.
+    // The link is relative to the default report directory, out/conformance/ of the source tree.
+    h << "<p class=\"note\">Each dot is one case of this run. For error against run time of "
+         "the rules themselves, against exact answers, see <a "
+         "href=\"../../docs/precision-study.md\">docs/precision-study.md</a> in the source tree "
+         "(<code>refraster study precision|antialiasing|stability</code>).</p>";
     // The cases: verdict and pixel classes, sortable by any column (click its header) and
     // filterable by text and status; the script keeps working without a server (file://).
     h << "<h2>Cases</h2><p id=\"case-filters\"><label>filter <input id=\"case-filter\" "
