@@ -1120,9 +1120,10 @@ int main(int argc, char** argv) {
     add_profile_options(tcmd, teach.backend.profile);
 
     StudyArgs study;
-    auto* scmd = app.add_subcommand(
-        "study", "Measure error against run time for precision choices, antialiasing and "
-                 "stiff cases, against exact answers (docs/precision-study.md)");
+    auto* scmd =
+        app.add_subcommand("study",
+                           "Measure error against run time for precision choices, antialiasing and "
+                           "stiff cases, against exact answers (docs/precision-study.md)");
     scmd->add_option("study", study.name, "precision, antialiasing or stability")
         ->required()
         ->check(CLI::IsMember(harness::study_names()));

@@ -154,10 +154,9 @@ TEST(StudyPrecision, QuickStudyTable) {
         EXPECT_NE(it, h.end()) << name;
         return static_cast<std::size_t>(it - h.begin());
     };
-    const std::size_t variant = col("variant"), family = col("family"),
-                      mis = col("misclassified"), holes = col("holes"),
-                      dbl = col("double_hits"), ulps = col("attribute_max_ulps"),
-                      seed = col("seed");
+    const std::size_t variant = col("variant"), family = col("family"), mis = col("misclassified"),
+                      holes = col("holes"), dbl = col("double_hits"),
+                      ulps = col("attribute_max_ulps"), seed = col("seed");
     const std::size_t variants = all_variants().size();
     std::size_t study_rows = 0, mesh_rows = 0;
     for (std::size_t i = 1; i < rows.size(); ++i) {
@@ -199,8 +198,9 @@ TEST(StudyStability, QuickStudyTable) {
         const auto& r = rows[i];
         ASSERT_EQ(r.size(), 8u);
         ++per_sweep[r[1]];
-        if (r[4] == "exact" && (r[5] == "misclassified_centres" || r[5] == "z24_steps_down"))
+        if (r[4] == "exact" && (r[5] == "misclassified_centres" || r[5] == "z24_steps_down")) {
             EXPECT_EQ(r[6], "0") << r[1] << " at " << r[3];
+        }
     }
     for (const char* s : {"area", "w-positive", "w-negative", "guard-band", "coordinates",
                           "parallel-edges", "depth-slope"})

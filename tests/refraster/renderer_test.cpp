@@ -273,9 +273,9 @@ TEST(Render, ExactProfileInterpolatesLikeTheSnappedOne) {
             for (std::size_t c = 0; c < 3; ++c)
                 EXPECT_LE(std::abs(exact.color8[4 * i + c] - snapped.color8[4 * i + c]), 1)
                     << "pixel " << i << " channel " << c;
-            EXPECT_LE(std::abs(static_cast<long>(exact.depth[i]) -
-                               static_cast<long>(snapped.depth[i])),
-                      2)
+            EXPECT_LE(
+                std::abs(static_cast<long>(exact.depth[i]) - static_cast<long>(snapped.depth[i])),
+                2)
                 << "pixel " << i;
             ++compared;
         }

@@ -30,7 +30,9 @@ TEST(StudyCli, EachStudyWritesItsOutputs) {
         EXPECT_NE(svg.find("<svg"), std::string::npos);
         EXPECT_NE(svg.find("</svg>"), std::string::npos);
         EXPECT_EQ(svg.find("nan"), std::string::npos);
-        if (name != "stability") EXPECT_NE(svg.find("Pareto front"), std::string::npos);
+        if (name != "stability") {
+            EXPECT_NE(svg.find("Pareto front"), std::string::npos);
+        }
         const std::string md = testutil::read_text(out / "summary.md");
         EXPECT_NE(md.find("refraster study " + name), std::string::npos);
         EXPECT_NE(md.find("--seed 7 --quick"), std::string::npos);

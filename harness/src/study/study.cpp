@@ -24,7 +24,8 @@ StudyOutput run_study(const std::string& name, const StudyOptions& options) {
     } else if (name == "stability") {
         out = run_stability_study(options);
     } else {
-        throw StudyError("unknown study '" + name + "' (known: precision, antialiasing, stability)");
+        throw StudyError("unknown study '" + name +
+                         "' (known: precision, antialiasing, stability)");
     }
     const double seconds = study::seconds_since(t0);
     const std::time_t now = std::time(nullptr);
