@@ -16,7 +16,9 @@
 //   values along one row: steps that go down (a planar depth must not) and the largest error in
 //   z24 steps.
 // Variants: snapped at 4, 8 and 16 bits, float32 and float64 setup (fused planes; float32 also
-// unfused), the exact oracle, and the llvmpipe model (refraster::render under llvmpipe-22.3,
+// unfused), the exact oracle, on the sweeps that clip a float32 rule whose clipper interpolates
+// each crossing edge in polygon order (the textbook form) instead of Mesa's order from the
+// outside vertex, and the llvmpipe model (refraster::render under llvmpipe-22.3,
 // bit-exact with the driver: "where llvmpipe itself" breaks is read from it). For each curve the
 // summary names where the error starts to grow (the first step whose error exceeds twice the
 // first step's, or any error when the first step has none) and how fast (the slope of log error
@@ -41,6 +43,7 @@ namespace {
 using namespace study;
 
 constexpr const char* kLlvmpipe = "llvmpipe model";
+constexpr const char* kInOrderClip = "float32, in-order clip";
 
 struct Step {
     double parameter = 0.0;
@@ -80,10 +83,12 @@ std::string curve_name(const Variant& v) {
 }
 
 // A variant's fragments for a triangle: clipped first where the step clips.
-std::vector<Fragment> variant_fragments(const Variant& v, const ClipTriangle& t, const Step& s) {
+std::vector<Fragment> variant_fragments(const Variant& v, const ClipTriangle& t, const Step& s,
+                                        bool from_outside = true) {
     std::vector<Fragment> all, part;
-    const std::vector<ClipTriangle> pieces =
-        s.clip_band > 0.0 ? clip_triangle(v, t, s.clip_band) : std::vector<ClipTriangle>{t};
+    const std::vector<ClipTriangle> pieces = s.clip_band > 0.0
+                                                 ? clip_triangle(v, t, s.clip_band, from_outside)
+                                                 : std::vector<ClipTriangle>{t};
     for (const ClipTriangle& p : pieces) {
         rasterize(v, p, s.viewport, part);
         all.insert(all.end(), part.begin(), part.end());
@@ -141,11 +146,12 @@ std::uint64_t count_difference(const std::vector<A>& a, const std::vector<B>& b,
 // Attribute error of a variant at the oracle's centres of one (unclipped) triangle: its planes
 // over the clipped pieces, each centre taken from the first piece that covers it.
 double attribute_ulps(const Variant& v, const ClipTriangle& t, const Step& s,
-                      const std::vector<ExactFragment>& exact) {
+                      const std::vector<ExactFragment>& exact, bool from_outside = true) {
     if (v.coverage == CoverageRule::Exact) return 0.0;
     double worst = 0.0;
-    const std::vector<ClipTriangle> pieces =
-        s.clip_band > 0.0 ? clip_triangle(v, t, s.clip_band) : std::vector<ClipTriangle>{t};
+    const std::vector<ClipTriangle> pieces = s.clip_band > 0.0
+                                                 ? clip_triangle(v, t, s.clip_band, from_outside)
+                                                 : std::vector<ClipTriangle>{t};
     std::vector<Fragment> part;
     std::map<std::pair<int, int>, double> value;
     for (const ClipTriangle& p : pieces) {
@@ -399,6 +405,30 @@ StudyOutput run_stability_study(const StudyOptions& options) {
                     add(attr, attr_order,
                         v.coverage == CoverageRule::Snapped ? "snap-8 (float32 fma)" : name,
                         s.parameter, ulps);
+            }
+            if (s.clip_band > 0.0) {
+                // The textbook clipper (each crossing edge interpolated in polygon order) beside
+                // Mesa's order, in float32.
+                const Variant v{CoverageRule::Float32, 0, true, DepthFormat::Z24};
+                std::uint64_t bad = 0;
+                double ulps = 0.0;
+                for (std::size_t i = 0; i < s.triangles.size(); ++i) {
+                    bad += count_difference(
+                        variant_fragments(v, s.triangles[i], s, false), exact[i],
+                        [](const Fragment& f) {
+                            return std::pair{f.y, f.x};
+                        },
+                        ex);
+                    ulps = std::max(ulps, attribute_ulps(v, s.triangles[i], s, exact[i], false));
+                }
+                for (const auto& [metric, value] :
+                     {std::pair{"misclassified_centres", static_cast<double>(bad)},
+                      std::pair{"attribute_max_ulps", ulps}})
+                    csv.add_row({"stability", sw.name, std::to_string(options.seed),
+                                 csv_number(s.parameter), kInOrderClip, metric, csv_number(value),
+                                 std::to_string(s.triangles.size())});
+                add(cov, cov_order, kInOrderClip, s.parameter, static_cast<double>(bad));
+                add(attr, attr_order, kInOrderClip, s.parameter, ulps);
             }
             if (s.viewport.width <= 4096) {
                 std::uint64_t bad = 0;

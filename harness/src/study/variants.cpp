@@ -299,7 +299,7 @@ ExactFragment exact_at(const refraster::detail::ExactCoverage& e, const ClipTria
 }
 
 template <typename T>
-std::vector<ClipTriangle> clip_in(const ClipTriangle& t, double g) {
+std::vector<ClipTriangle> clip_in(const ClipTriangle& t, double g, bool from_outside) {
     struct V {
         std::array<T, 4> p;
         T a;
@@ -322,10 +322,19 @@ std::vector<ClipTriangle> clip_in(const ClipTriangle& t, double g) {
             const T da = dist(a), db = dist(b);
             if (da >= T{0}) next.push_back(a);
             if ((da >= T{0}) != (db >= T{0})) {
-                const T s = da / (da - db);
+                // As Mesa's clipper (draw_pipe_clip.c, do_clip_tri and interp): the new vertex
+                // is interpolated from the outside vertex towards the inside one,
+                // f = d_out / (d_out - d_in), v = v_out + f (v_in - v_out), whichever way the
+                // edge runs, so that both triangles sharing an edge get the same vertex.
+                const bool a_out = from_outside ? da < T{0} : true;
+                const V& out_v = a_out ? a : b;
+                const V& in_v = a_out ? b : a;
+                const T d_out = a_out ? da : db, d_in = a_out ? db : da;
+                const T f = d_out / (d_out - d_in);
                 V m;
-                for (std::size_t c = 0; c < 4; ++c) m.p[c] = a.p[c] + s * (b.p[c] - a.p[c]);
-                m.a = a.a + s * (b.a - a.a);
+                for (std::size_t c = 0; c < 4; ++c)
+                    m.p[c] = out_v.p[c] + f * (in_v.p[c] - out_v.p[c]);
+                m.a = out_v.a + f * (in_v.a - out_v.a);
                 next.push_back(m);
             }
         }
@@ -345,13 +354,14 @@ std::vector<ClipTriangle> clip_in(const ClipTriangle& t, double g) {
 
 }  // namespace
 
-std::vector<ClipTriangle> clip_triangle(const Variant& v, const ClipTriangle& t, double g) {
+std::vector<ClipTriangle> clip_triangle(const Variant& v, const ClipTriangle& t, double g,
+                                        bool from_outside) {
     switch (v.coverage) {
         case CoverageRule::Snapped:
         case CoverageRule::Float32:
-            return clip_in<float>(t, g);
+            return clip_in<float>(t, g, from_outside);
         case CoverageRule::Float64:
-            return clip_in<double>(t, g);
+            return clip_in<double>(t, g, from_outside);
         case CoverageRule::Exact:
             return {t};
     }

@@ -105,11 +105,17 @@ struct ExactFragment {
 std::vector<ExactFragment> exact_fragments(const ClipTriangle& t, const Viewport& vp);
 
 // The triangle clipped against the planes -g w <= x, y <= g w (g = 1: the view volume; g = 2:
-// a guard band), as a fan of triangles, with Sutherland-Hodgman and the intersection
-// t = d0 / (d0 - d1), v = v0 + t (v1 - v0) of Mesa's clipper (draw_pipe_clip.c), in float32
+// a guard band), as a fan of triangles, with Sutherland-Hodgman and the intersection of Mesa's
+// clipper (draw_pipe_clip.c: from the outside vertex, t = d_out / (d_out - d_in)), in float32
 // for the snapped and float32 rules and float64 for the float64 rule. The exact rule needs no
-// clipper (the oracle clips exactly); it gets the triangle back unchanged.
-std::vector<ClipTriangle> clip_triangle(const Variant& v, const ClipTriangle& t, double g);
+// clipper (the oracle clips exactly); it gets the triangle back unchanged. Only the x and y
+// planes: the sweeps that clip keep z = 0, between the near and far planes wherever w > 0, and
+// the x and y planes alone already remove every part with w <= 0.
+// `from_outside` false interpolates each crossing edge in polygon order instead
+// (v = v_a + t (v_b - v_a), t = d_a / (d_a - d_b)): the textbook form, which the stability study
+// shows breaking down as w -> 0 from below.
+std::vector<ClipTriangle> clip_triangle(const Variant& v, const ClipTriangle& t, double g,
+                                        bool from_outside = true);
 
 // One triangle through a variant: covered pixels in row-major order with their values.
 // `out` is cleared first. The Exact rule runs the oracle and stores its values quantised.
