@@ -4,8 +4,8 @@
 // Errors, per variant and family:
 // - misclassified centres: centres the variant covers and the oracle does not, or the reverse,
 //   summed over triangles (each triangle against its own exact coverage);
-// - on the mesh family, holes (viewport centres no triangle covers) and double hits (centres
-//   two or more triangles cover): the oracle has neither, by GL's tie rule;
+// - on the mesh families, holes (centres of the mesh's square no triangle covers) and double
+//   hits (centres two or more triangles cover): the oracle has neither, by GL's tie rule;
 // - attribute error at the centres the oracle covers: in float32 units in the last place of the
 //   exact value (max and mean) and absolute (max);
 // - depth order inversions: pairs of triangles the oracle puts at one centre, drawn in order
@@ -109,13 +109,13 @@ Errors measure(const Variant& v, const Family& f, const ExactFamily& e,
     for (std::size_t i = 0; i < f.triangles.size(); ++i)
         r.misclassified += symmetric_difference(frags[i], e.per_triangle[i]);
     if (f.mesh) {
-        std::vector<std::uint8_t> hits(static_cast<std::size_t>(f.viewport.width) *
-                                       static_cast<std::size_t>(f.viewport.height));
+        const auto n = static_cast<std::size_t>(f.mesh_size);
+        std::vector<std::uint8_t> hits(n * n);
         for (const auto& list : frags)
             for (const Fragment& g : list) {
-                auto& h = hits[static_cast<std::size_t>(g.y) *
-                                   static_cast<std::size_t>(f.viewport.width) +
-                               static_cast<std::size_t>(g.x)];
+                const int x = g.x - f.mesh_x0, y = g.y - f.mesh_x0;
+                if (x < 0 || y < 0 || x >= f.mesh_size || y >= f.mesh_size) continue;
+                auto& h = hits[static_cast<std::size_t>(y) * n + static_cast<std::size_t>(x)];
                 h = static_cast<std::uint8_t>(std::min(h + 1, 2));
             }
         for (std::uint8_t h : hits) {
@@ -348,7 +348,7 @@ StudyOutput run_precision_study(const StudyOptions& options) {
                        {}};
     PlotPanel attributes{"Attributes (z24)",
                          "ns per triangle (study kernel)",
-                         "max attribute error (float32 ulps)",
+                         "mean attribute error (float32 ulps)",
                          true,
                          true,
                          {},
@@ -376,7 +376,10 @@ StudyOutput run_precision_study(const StudyOptions& options) {
         }
         if (v.depth == DepthFormat::Z24)
             attr_s.points.push_back(
-                {x, t.e.max_ulps,
+                {x,
+                 t.e.attribute_samples == 0
+                     ? 0.0
+                     : t.e.sum_ulps / static_cast<double>(t.e.attribute_samples),
                  v.coverage_name() +
                      (v.coverage == CoverageRule::Exact ? "" : (v.fused ? " fma" : " no-fma"))});
         if (default_interp)
@@ -419,6 +422,48 @@ StudyOutput run_precision_study(const StudyOptions& options) {
             out.summary.push_back(line(v.name()));
     for (const auto& i : pareto_front(cov_s.points))
         out.summary.push_back("coverage Pareto front: " + cov_s.points[i].label);
+    for (const auto& i : pareto_front(attr_s.points))
+        out.summary.push_back("attribute Pareto front: " + attr_s.points[i].label);
+    // Fusing: the float32 rule's mean error with and without fma.
+    const auto mean_ulps = [&](const std::string& name) {
+        const Total& t = total[name];
+        return t.e.attribute_samples == 0
+                   ? 0.0
+                   : t.e.sum_ulps / static_cast<double>(t.e.attribute_samples);
+    };
+    for (const char* rule : {"float32", "float64"}) {
+        const std::string f = std::string(rule) + "/fused/z24",
+                          u = std::string(rule) + "/unfused/z24";
+        if (!total.contains(f) || !total.contains(u)) continue;
+        std::ostringstream o;
+        o << rule << " planes: mean attribute error " << csv_number(mean_ulps(f)) << " ulps fused, "
+          << csv_number(mean_ulps(u)) << " unfused (max " << csv_number(total[f].e.max_ulps)
+          << " and " << csv_number(total[u].e.max_ulps) << ")";
+        out.summary.push_back(o.str());
+    }
+    // Depth formats: the exact rule's inversions are the format's own (exact depth, quantised).
+    for (const char* d : {"z16", "z24", "z32f"}) {
+        const std::string name = std::string("exact/exact/") + d;
+        const std::string f32 = std::string("float32/fused/") + d;
+        if (!total.contains(name) || !total.contains(f32)) continue;
+        std::ostringstream o;
+        o << d << ": " << total[name].e.depth_inversions << " of " << total[name].e.depth_pairs
+          << " overlapping pairs inverted with exact depth quantised, "
+          << total[f32].e.depth_inversions << " with float32 planes";
+        out.summary.push_back(o.str());
+    }
+    if (fast_core_triangles > 0) {
+        // The study's snap-8 kernel over the same families, for the ratio.
+        double kernel = 0.0;
+        for (const Row& r : rows)
+            if (r.variant.name() == "snap-8/fused/z24" && fast_core_ms.contains(r.family))
+                kernel += r.errors.seconds;
+        std::ostringstream o;
+        o << "the fast core draws the families it can hold (<= 4096 px) "
+          << csv_number(std::round(kernel / fast_core_total * 10) / 10)
+          << " times as fast as the study's snap-8 kernel";
+        out.summary.push_back(o.str());
+    }
     if (fast_core_triangles > 0)
         out.summary.push_back("fast core (llvmpipe-22.3, one thread): " +
                               csv_number(std::round(fast_core_total * 1e9 /

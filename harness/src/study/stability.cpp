@@ -334,11 +334,18 @@ std::string onset(const std::string& sweep, const PlotSeries& s) {
         o << sweep << ": " << s.name << " error starts to grow at " << csv_number(s.points[i].x)
           << " (error " << csv_number(y) << ", first step " << csv_number(base) << ")";
         if (rest.size() >= 2)
-            o << ", log-log slope " << csv_number(std::round(log_slope(rest) * 100) / 100)
-              << " from there";
+            o << ", from there error ~ parameter^"
+              << csv_number(std::round(log_slope(rest) * 100) / 100);
         return o.str();
     }
-    return sweep + ": " + s.name + " stays at " + csv_number(base) + " over the whole sweep";
+    double lo = base, hi = base;
+    for (const PlotPoint& p : s.points) {
+        lo = std::min(lo, p.y);
+        hi = std::max(hi, p.y);
+    }
+    if (lo == hi) return sweep + ": " + s.name + " stays at " + csv_number(base) + " throughout";
+    return sweep + ": " + s.name + " does not grow (between " + csv_number(lo) + " and " +
+           csv_number(hi) + ", never above twice its first step's " + csv_number(base) + ")";
 }
 
 // Depth along a row under a slope of `slope` per pixel: the stored z24 values of each variant.

@@ -1,6 +1,6 @@
 // workloads.hpp: the seeded triangle families `refraster study precision` measures.
 //
-// Implements: six families of float32 clip-space triangles with one attribute and depth, every
+// Implements: seven families of float32 clip-space triangles with one attribute and depth, every
 // vertex in front of the eye and between the near and far planes (|z| < w), drawn from a seed with
 // a generator whose output is the same on every platform (std::mt19937_64 with its own uniform
 // mapping): "small" (1-4 pixels across), "medium" (10-50 pixels), "sliver" (20-150 pixels long,
@@ -9,7 +9,8 @@
 // pass exactly through pixel centres), "perspective" (medium triangles whose vertices' w spans
 // up to four decades, w ratios up to 10^4), and "large-coordinates" (medium triangles anywhere
 // in a 16384 x 16384 viewport, the largest Mesa's drivers accept, half of them in its far
-// quarter).
+// quarter), and "mesh-far" (the mesh in the far corner of that viewport, where float32 window
+// coordinates keep only 10 fraction bits).
 //
 // Deliberately does not: produce triangles that need clipping (only the mesh's outer ring lies
 // outside the viewport, which the kernels bound by pixels, not by a clipper), or degenerate ones on
@@ -31,7 +32,11 @@ struct Family {
     std::string description;
     Viewport viewport;
     std::vector<ClipTriangle> triangles;
-    bool mesh = false;  // every viewport centre lies in exactly one triangle (watertightness)
+    // A mesh: every centre of the square [mesh_x0, mesh_x0 + mesh_size)^2 lies in exactly one
+    // triangle (watertightness is counted there).
+    bool mesh = false;
+    int mesh_x0 = 0;
+    int mesh_size = 0;
 };
 
 // A platform-independent uniform double in [lo, hi).
