@@ -43,7 +43,7 @@ namespace {
 using namespace study;
 
 constexpr const char* kLlvmpipe = "llvmpipe model";
-constexpr const char* kInOrderClip = "float32, in-order clip";
+constexpr const char* kInOrderClip = "float32 in-order clip";
 
 struct Step {
     double parameter = 0.0;
