@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iomanip>
 #include <map>
 #include <numeric>
 #include <sstream>
@@ -35,6 +36,13 @@ namespace harness {
 namespace {
 
 using namespace study;
+
+// Three significant digits, for the summary's sentences (the CSV keeps every digit).
+std::string short_number(double v) {
+    std::ostringstream o;
+    o << std::setprecision(3) << v;
+    return o.str();
+}
 
 struct Errors {
     std::uint64_t exact_centres = 0;
@@ -412,8 +420,8 @@ StudyOutput run_precision_study(const StudyOptions& options) {
         std::ostringstream o;
         o << name << ": " << t.e.misclassified << " misclassified of " << t.e.exact_centres
           << " centres, " << t.e.holes << " holes, " << t.e.double_hits
-          << " double hits, attribute max " << csv_number(std::round(t.e.max_ulps * 100) / 100)
-          << " ulps, " << t.e.depth_inversions << "/" << t.e.depth_pairs << " depth inversions, "
+          << " double hits, attribute max " << short_number(t.e.max_ulps) << " ulps, "
+          << t.e.depth_inversions << "/" << t.e.depth_pairs << " depth inversions, "
           << csv_number(std::round(ns_per_triangle(name))) << " ns/triangle";
         return o.str();
     };
@@ -436,9 +444,10 @@ StudyOutput run_precision_study(const StudyOptions& options) {
                           u = std::string(rule) + "/unfused/z24";
         if (!total.contains(f) || !total.contains(u)) continue;
         std::ostringstream o;
-        o << rule << " planes: mean attribute error " << csv_number(mean_ulps(f)) << " ulps fused, "
-          << csv_number(mean_ulps(u)) << " unfused (max " << csv_number(total[f].e.max_ulps)
-          << " and " << csv_number(total[u].e.max_ulps) << ")";
+        o << rule << " planes: mean attribute error " << short_number(mean_ulps(f))
+          << " ulps fused, " << short_number(mean_ulps(u)) << " unfused (max "
+          << short_number(total[f].e.max_ulps) << " and " << short_number(total[u].e.max_ulps)
+          << ")";
         out.summary.push_back(o.str());
     }
     // Depth formats: the exact rule's inversions are the format's own (exact depth, quantised).

@@ -25,6 +25,7 @@
 // against log parameter from there on).
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <map>
 #include <numbers>
 #include <sstream>
@@ -41,6 +42,13 @@ namespace harness {
 namespace {
 
 using namespace study;
+
+// Three significant digits, for the summary's sentences (the CSV keeps every digit).
+std::string short_number(double v) {
+    std::ostringstream o;
+    o << std::setprecision(3) << v;
+    return o.str();
+}
 
 constexpr const char* kLlvmpipe = "llvmpipe model";
 constexpr const char* kInOrderClip = "float32 in-order clip";
@@ -331,11 +339,11 @@ std::string onset(const std::string& sweep, const PlotSeries& s) {
         std::vector<PlotPoint> rest(s.points.begin() + static_cast<std::ptrdiff_t>(i),
                                     s.points.end());
         std::ostringstream o;
-        o << sweep << ": " << s.name << " error starts to grow at " << csv_number(s.points[i].x)
-          << " (error " << csv_number(y) << ", first step " << csv_number(base) << ")";
+        o << sweep << ": " << s.name << " error starts to grow at " << short_number(s.points[i].x)
+          << " (error " << short_number(y) << ", first step " << short_number(base) << ")";
         if (rest.size() >= 2)
             o << ", from there error ~ parameter^"
-              << csv_number(std::round(log_slope(rest) * 100) / 100);
+              << short_number(std::round(log_slope(rest) * 100) / 100);
         return o.str();
     }
     double lo = base, hi = base;
@@ -343,9 +351,9 @@ std::string onset(const std::string& sweep, const PlotSeries& s) {
         lo = std::min(lo, p.y);
         hi = std::max(hi, p.y);
     }
-    if (lo == hi) return sweep + ": " + s.name + " stays at " + csv_number(base) + " throughout";
-    return sweep + ": " + s.name + " does not grow (between " + csv_number(lo) + " and " +
-           csv_number(hi) + ", never above twice its first step's " + csv_number(base) + ")";
+    if (lo == hi) return sweep + ": " + s.name + " stays at " + short_number(base) + " throughout";
+    return sweep + ": " + s.name + " does not grow (between " + short_number(lo) + " and " +
+           short_number(hi) + ", never above twice its first step's " + short_number(base) + ")";
 }
 
 // Depth along a row under a slope of `slope` per pixel: the stored z24 values of each variant.
@@ -567,11 +575,13 @@ StudyOutput run_stability_study(const StudyOptions& options) {
             double last_bad = 0.0;
             for (const PlotPoint& p : down[n].points)
                 if (p.y > 0.0) last_bad = std::max(last_bad, p.x);
-            out.summary.push_back("depth-slope: " + n +
-                                  (last_bad > 0.0
-                                       ? " stops being monotonic at slopes of " +
-                                             csv_number(last_bad) + " per pixel and below"
-                                       : " stays monotonic at every slope swept"));
+            out.summary.push_back(
+                "depth-slope: " + n +
+                (last_bad > 0.0 ? " stops being monotonic: its z24 values step down "
+                                  "along a rising row at slopes up to " +
+                                      short_number(last_bad) + " per pixel (" +
+                                      short_number(last_bad * 16777215.0) + " z24 steps per pixel)"
+                                : " stays monotonic at every slope swept"));
         }
         panels.push_back(std::move(pd));
         panels.push_back(std::move(pe));
