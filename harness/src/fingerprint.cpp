@@ -84,9 +84,12 @@ float grid(std::mt19937& rng, float lo, float hi, float step = 1.0f / 1024.0f) {
 // Triangles in 16x16 cells: random vertices on the 1/1024 grid (subpixel precision and
 // rounding), vertices exactly half a subpixel step apart for every step from 1/2 to 1/256
 // (the snapping's rounding), and edges through pixel centres in every direction (the tie
-// rule).
+// rule). Above them, in a second viewport, a strip of near ties: edges passing 2^-14 to 2^-24
+// px from a pixel centre, which exact predicates decide by the true side and float setups by
+// their rounding (what tells softpipe's scanline walk from the exact model, which light the
+// same pixels everywhere else).
 Probe triangle_probe() {
-    Probe p{"triangles", make_scene("triangles", 256, 256), Probe::Compare::Coverage};
+    Probe p{"triangles", make_scene("triangles", 256, 320), Probe::Compare::Coverage};
     std::mt19937 rng(11);
     std::vector<std::array<float, 3>> v;
     for (int cell = 0; cell < 256; ++cell) {
@@ -121,6 +124,21 @@ Probe triangle_probe() {
     }
     p.scene.draw_list.draws.push_back(
         window_draw(refraster::PrimitiveType::Triangles, v, {kWhite}, 256, 256));
+    std::vector<std::array<float, 3>> near;
+    for (int cell = 0; cell < 64; ++cell) {
+        const float cx = static_cast<float>((cell % 16) * 16) + 8.5f;
+        const float cy = static_cast<float>((cell / 16) * 16) + 8.5f;
+        const float slope = grid(rng, 0.05f, 0.95f);
+        const float offset =
+            std::ldexp(cell % 2 == 0 ? 1.0f : -1.0f, -14 - (cell / 2) % 11);  // 2^-14 .. 2^-24
+        const float sign = (cell / 4) % 2 == 0 ? 1.0f : -1.0f;  // interior above or below
+        near.push_back({cx - 6.0f, cy - 6.0f * slope + offset, 0.5f});
+        near.push_back({cx + 6.0f, cy + 6.0f * slope + offset, 0.5f});
+        near.push_back({cx - 2.0f, cy + sign * 5.0f, 0.5f});
+    }
+    Draw strip = window_draw(refraster::PrimitiveType::Triangles, near, {kWhite}, 256, 64);
+    strip.state.viewport.y = 256;
+    p.scene.draw_list.draws.push_back(std::move(strip));
     return p;
 }
 
