@@ -19,6 +19,8 @@ packages=(
   g++ cmake ninja-build pkg-config git clang-format-14
   # libraries (harness and tests)
   nlohmann-json3-dev libsimdjson-dev libcli11-dev libglm-dev libgtest-dev libgmock-dev libbenchmark-dev
+  # the tests read the batch-system examples' YAML (docs/examples/)
+  libyaml-cpp-dev
   # image files; OpenImageIO's exported CMake targets name the tools' binaries, so both
   libopenimageio-dev openimageio-tools
   # Mesa: OSMesa, and EGL surfaceless with the llvmpipe/softpipe DRI driver

@@ -11,6 +11,7 @@
 #include <iostream>
 #include <optional>
 
+#include "conformance/shard.hpp"
 #include "conformance/suite.hpp"
 #include "harness/backend.hpp"
 #include "harness/bench.hpp"
@@ -303,8 +304,8 @@ struct ConformanceArgs {
     std::string caselist;
     std::string baseline;
     std::string scenes;
-    int shard_index = 0;
-    int shard_count = 1;
+    std::optional<int> shard_index;
+    std::optional<int> shard_count;
     bool resume = false;
     BackendArgs against{"osmesa"};
     ProfileArgs profile;
@@ -334,8 +335,16 @@ int run_conformance(const ConformanceArgs& a) {
     o.exclude_globs = split_globs(a.exclude);
     if (!a.caselist.empty()) o.caselist = a.caselist;
     if (!a.baseline.empty()) o.baseline = a.baseline;
-    o.shard_index = a.shard_index;
-    o.shard_count = a.shard_count;
+    try {
+        const conformance::Shard shard = conformance::resolve_shard(
+            a.shard_index, a.shard_count, conformance::process_environment());
+        o.shard_index = shard.index;
+        o.shard_count = shard.count;
+        o.shard_source = shard.source;
+    } catch (const conformance::ShardError& e) {
+        std::cerr << "refraster conformance run: " << e.what() << "\n";
+        return kExitBadInput;
+    }
     o.resume = a.resume;
     o.gl_verdict = a.verdict == "gl";
     const char* ci = std::getenv("CI");
@@ -932,13 +941,14 @@ int main(int argc, char** argv) {
         ->check(CLI::ExistingFile);
     run_cmd
         ->add_option("--shard-index", conf.shard_index,
-                     "This shard (default $GTEST_SHARD_INDEX or 0)")
-        ->envname("GTEST_SHARD_INDEX")
+                     "This shard, 0-based (default: from GTEST_SHARD_INDEX, GitLab's "
+                     "CI_NODE_INDEX, Kubernetes' JOB_COMPLETION_INDEX or Slurm's "
+                     "SLURM_ARRAY_TASK_ID; else 0)")
         ->check(CLI::NonNegativeNumber);
     run_cmd
         ->add_option("--shard-count", conf.shard_count,
-                     "Number of shards (default $GTEST_TOTAL_SHARDS or 1)")
-        ->envname("GTEST_TOTAL_SHARDS")
+                     "Number of shards (default: GTEST_TOTAL_SHARDS, CI_NODE_TOTAL, "
+                     "REFRASTER_SHARD_COUNT, SLURM_ARRAY_TASK_COUNT; else 1)")
         ->check(CLI::PositiveNumber);
     run_cmd->add_flag("--resume", conf.resume,
                       "Continue a run killed part way, keeping its finished cases");

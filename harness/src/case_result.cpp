@@ -225,6 +225,9 @@ std::string to_json_line(const CaseResult& r) {
     if (r.raw_status) j["raw_status"] = to_string(*r.raw_status);
     j["scene"] = r.scene_path;
     if (!r.message.empty()) j["message"] = r.message;
+    if (r.shard)
+        j["shard"] = {
+            {"index", (*r.shard)[0]}, {"count", (*r.shard)[1]}, {"source", r.shard_source}};
     j["expect"] = {{"color_tolerance", r.expect.color_tolerance},
                    {"max_mismatched_pixels", r.expect.max_mismatched_pixels}};
     if (r.reference) j["reference"] = render_json(r.reference_name, *r.reference);

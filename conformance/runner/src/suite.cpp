@@ -427,6 +427,8 @@ RunSummary run_suite(const RunOptions& options, std::ostream& console) {
                             (r.message.empty() ? "" : ": " + r.message);
             }
         }
+        r.shard = std::array<int, 2>{options.shard_index, options.shard_count};
+        r.shard_source = options.shard_source;
         try {
             write_images(r, options.output / "images");
         } catch (const harness::ImageIoError& e) {

@@ -7,6 +7,7 @@
 // Deliberately does not: write images or decide exit codes.
 #pragma once
 
+#include <array>
 #include <optional>
 #include <string>
 
@@ -62,6 +63,10 @@ struct CaseResult {
     // With GL verdicts (gl_verdict.hpp): the verdict's summary of a differing image; a case
     // whose differences are all legal variations passes with it as its message.
     std::string gl_verdict;
+    // The shard of the run that produced it (conformance/shard.hpp): index, count and what
+    // decided them ("gitlab", "flags", ...); empty outside a conformance run.
+    std::optional<std::array<int, 2>> shard;
+    std::string shard_source;
 };
 
 // Renders `scene` through both backends and compares actual against reference: the image, and

@@ -5,8 +5,8 @@
 // Implements: case discovery (a case's name is its scene's path below the root, dotted,
 // without ".json"; two files giving one name are an error), selection by globs, exclusion
 // globs and case lists (dEQP style: one name per line, '#' comments), sharding (case i of the
-// sorted selection runs on shard i % count; defaults from GTEST_SHARD_INDEX and
-// GTEST_TOTAL_SHARDS), baselines in deqp-runner's "name,Status" lines (ExpectedFail,
+// sorted selection runs on shard i % count; the index and count come from shard.hpp, and
+// every record names its shard), baselines in deqp-runner's "name,Status" lines (ExpectedFail,
 // UnexpectedPass, and a re-run of every unexpected result to tell a Flake), resuming a killed
 // run from its results.jsonl (a half-written last line is dropped), a progress line on
 // terminals, and the reports of reports.hpp.
@@ -61,6 +61,7 @@ struct RunOptions {
     std::optional<std::filesystem::path> baseline;
     int shard_index = 0;
     int shard_count = 1;
+    std::string shard_source = "none";  // what decided them (shard.hpp), in every record
     bool resume = false;
     bool progress = false;              // a live progress line (terminals only)
     harness::BackendOptions reference;  // ref by default
