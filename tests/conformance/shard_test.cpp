@@ -43,9 +43,9 @@ TEST(Shard, EachEngine) {
               (Shard{0, 4, "gitlab"}));
     EXPECT_EQ(resolve_shard({}, {}, env({{"CI_NODE_INDEX", "4"}, {"CI_NODE_TOTAL", "4"}})),
               (Shard{3, 4, "gitlab"}));
-    EXPECT_EQ(resolve_shard({}, {},
-                            env({{"JOB_COMPLETION_INDEX", "6"}, {"REFRASTER_SHARD_COUNT", "7"}})),
-              (Shard{6, 7, "kubernetes"}));
+    EXPECT_EQ(
+        resolve_shard({}, {}, env({{"JOB_COMPLETION_INDEX", "6"}, {"REFRASTER_SHARD_COUNT", "7"}})),
+        (Shard{6, 7, "kubernetes"}));
     // Kubernetes: the count from the flag.
     EXPECT_EQ(resolve_shard({}, 8, env({{"JOB_COMPLETION_INDEX", "6"}})),
               (Shard{6, 8, "flags+kubernetes"}));
@@ -102,8 +102,11 @@ TEST(Shard, RefusesWhatItCannotTrust) {
     EXPECT_NE(error_of({}, {}, {{"GTEST_TOTAL_SHARDS", "2"}}).find("give --shard-index"),
               std::string::npos);
     EXPECT_NE(error_of(3, {}, {}).find("needs --shard-count"), std::string::npos);
-    EXPECT_NE(error_of({}, {}, {{"SLURM_ARRAY_TASK_ID", "3"}, {"SLURM_ARRAY_TASK_MIN", "0"},
-                                {"SLURM_ARRAY_TASK_STEP", "2"}, {"SLURM_ARRAY_TASK_COUNT", "4"}})
+    EXPECT_NE(error_of({}, {},
+                       {{"SLURM_ARRAY_TASK_ID", "3"},
+                        {"SLURM_ARRAY_TASK_MIN", "0"},
+                        {"SLURM_ARRAY_TASK_STEP", "2"},
+                        {"SLURM_ARRAY_TASK_COUNT", "4"}})
                   .find("not in the array"),
               std::string::npos);
     EXPECT_NE(error_of({}, {}, {{"SLURM_ARRAY_TASK_ID", "3"}}).find("SLURM_ARRAY_TASK_COUNT"),

@@ -76,7 +76,8 @@ TEST(ShardEngines, GitlabParallelJob) {
     EXPECT_EQ(parallel, 3);
     bool runs = false;
     for (const auto& line : job["script"])
-        runs = runs || line.as<std::string>().find("refraster conformance run") != std::string::npos;
+        runs =
+            runs || line.as<std::string>().find("refraster conformance run") != std::string::npos;
     EXPECT_TRUE(runs);
     expect_partition(
         [&](int i) {
@@ -95,7 +96,8 @@ TEST(ShardEngines, KubernetesIndexedJob) {
     const YAML::Node container = job["spec"]["template"]["spec"]["containers"][0];
     std::string count;
     for (const auto& e : container["env"])
-        if (e["name"].as<std::string>() == "REFRASTER_SHARD_COUNT") count = e["value"].as<std::string>();
+        if (e["name"].as<std::string>() == "REFRASTER_SHARD_COUNT")
+            count = e["value"].as<std::string>();
     // The manifest's count must be its completions, or shards would overlap or go missing.
     EXPECT_EQ(count, std::to_string(completions));
     EXPECT_NE(container["args"][0].as<std::string>().find("refraster conformance run"),
@@ -113,9 +115,8 @@ TEST(ShardEngines, SlurmJobArray) {
     ASSERT_TRUE(std::regex_search(script, m, std::regex(R"(#SBATCH --array=(\d+)-(\d+))")));
     const int lo = std::stoi(m[1]), hi = std::stoi(m[2]);
     EXPECT_NE(script.find("refraster conformance run"), std::string::npos);
-    EXPECT_EQ(std::system(("bash -n " + testutil::shell_quote((kSource /
-                                                                "docs/examples/slurm-array.sh")
-                                                                   .string()))
+    EXPECT_EQ(std::system(("bash -n " + testutil::shell_quote(
+                                            (kSource / "docs/examples/slurm-array.sh").string()))
                               .c_str()),
               0);
     const int n = hi - lo + 1;
@@ -138,8 +139,8 @@ TEST(ShardEngines, SlurmJobArray) {
 
 TEST(ShardEngines, GoogleTestVariables) {
     expect_partition(
-        [](int i) { return "GTEST_SHARD_INDEX=" + std::to_string(i) + " GTEST_TOTAL_SHARDS=3"; },
-        3, "gtest");
+        [](int i) { return "GTEST_SHARD_INDEX=" + std::to_string(i) + " GTEST_TOTAL_SHARDS=3"; }, 3,
+        "gtest");
 }
 
 TEST(ShardEngines, BadVariablesAreRefused) {

@@ -47,12 +47,11 @@ std::optional<EngineShard> from_engines(const EnvLookup& env) {
     if (env("CI_NODE_INDEX")) {
         const long i = *get("CI_NODE_INDEX");
         if (i < 1) throw ShardError("CI_NODE_INDEX=" + std::to_string(i) + " is not 1-based");
-        return EngineShard{i - 1, get("CI_NODE_TOTAL"), "gitlab", "CI_NODE_INDEX",
-                           "CI_NODE_TOTAL"};
+        return EngineShard{i - 1, get("CI_NODE_TOTAL"), "gitlab", "CI_NODE_INDEX", "CI_NODE_TOTAL"};
     }
     if (env("JOB_COMPLETION_INDEX")) {
-        return EngineShard{get("JOB_COMPLETION_INDEX"), get("REFRASTER_SHARD_COUNT"),
-                           "kubernetes", "JOB_COMPLETION_INDEX", "REFRASTER_SHARD_COUNT"};
+        return EngineShard{get("JOB_COMPLETION_INDEX"), get("REFRASTER_SHARD_COUNT"), "kubernetes",
+                           "JOB_COMPLETION_INDEX", "REFRASTER_SHARD_COUNT"};
     }
     if (env("SLURM_ARRAY_TASK_ID")) {
         const long id = *get("SLURM_ARRAY_TASK_ID");
