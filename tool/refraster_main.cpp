@@ -11,6 +11,7 @@
 #include <iostream>
 #include <optional>
 
+#include "conformance/merge.hpp"
 #include "conformance/shard.hpp"
 #include "conformance/suite.hpp"
 #include "harness/backend.hpp"
@@ -607,6 +608,25 @@ int run_bench(const BenchArgs& a) {
 
 }  // namespace
 
+// ---- conformance merge ----------------------------------------------------------------------
+
+// merge SHARD_DIR... --output DIR: exit 0 when every shard is there, 1 when some are missing
+// (the report of the others is written and says so), 2 for shards that cannot be one run.
+int run_merge(const std::vector<std::string>& shards, const std::string& output) {
+    std::vector<std::filesystem::path> dirs(shards.begin(), shards.end());
+    try {
+        const auto summary = conformance::merge_shards(dirs, output, std::cout);
+        std::cout << "report: " << (std::filesystem::path(output) / "index.html").string() << "\n";
+        return summary.missing_shards.empty() ? kExitOk : kExitMismatch;
+    } catch (const conformance::MergeError& e) {
+        std::cerr << "refraster conformance merge: " << e.what() << "\n";
+        return kExitBadInput;
+    } catch (const std::exception& e) {
+        std::cerr << "refraster conformance merge: " << output << ": " << e.what() << "\n";
+        return kExitBadInput;
+    }
+}
+
 // ---- study ----------------------------------------------------------------------------------
 
 struct StudyArgs {
@@ -927,6 +947,12 @@ int main(int argc, char** argv) {
     ConformanceArgs conf;
     auto* conf_cmd = app.add_subcommand("conformance", "The conformance suite");
     conf_cmd->require_subcommand(1);
+    std::vector<std::string> merge_shards;
+    std::string merge_output;
+    auto* merge_cmd = conf_cmd->add_subcommand(
+        "merge", "One run's results and reports from the output directories of its shards");
+    merge_cmd->add_option("shards", merge_shards, "The shards' output directories")->required();
+    merge_cmd->add_option("--output", merge_output, "Directory for the merged run")->required();
     auto* run_cmd = conf_cmd->add_subcommand("run", "Run the scenes against a GL backend");
     run_cmd->add_option("--cases", conf.cases, "Comma-separated globs on case names (smoke.*)");
     run_cmd->add_option("--exclude", conf.exclude, "Comma-separated globs of cases to leave out");
@@ -1169,6 +1195,7 @@ int main(int argc, char** argv) {
     if (rcmd->parsed()) return run_render(render);
     if (ccmd->parsed()) return run_compare(compare);
     if (run_cmd->parsed()) return run_conformance(conf);
+    if (merge_cmd->parsed()) return run_merge(merge_shards, merge_output);
     if (hash_cmd->parsed()) return run_hashes(hash_scenes, hash_profile);
     if (xcmd->parsed()) return run_explain(explain);
     if (dcmd->parsed()) return run_reduce(reduce);
