@@ -307,6 +307,8 @@ struct ConformanceArgs {
     std::string scenes;
     std::optional<int> shard_index;
     std::optional<int> shard_count;
+    std::vector<std::string> skips;
+    std::vector<std::string> flakes;
     bool resume = false;
     BackendArgs against{"osmesa"};
     ProfileArgs profile;
@@ -346,6 +348,8 @@ int run_conformance(const ConformanceArgs& a) {
         std::cerr << "refraster conformance run: " << e.what() << "\n";
         return kExitBadInput;
     }
+    o.skips.assign(a.skips.begin(), a.skips.end());
+    o.flakes.assign(a.flakes.begin(), a.flakes.end());
     o.resume = a.resume;
     o.gl_verdict = a.verdict == "gl";
     const char* ci = std::getenv("CI");
@@ -964,6 +968,16 @@ int main(int argc, char** argv) {
         ->add_option(
             "--baseline", conf.baseline,
             "Expected failures, deqp-runner style name,Status lines (a previous failures.csv)")
+        ->check(CLI::ExistingFile);
+    run_cmd
+        ->add_option("--skips", conf.skips,
+                     "deqp-runner skips file: regular expressions, one a line, of cases to "
+                     "leave out (repeatable)")
+        ->check(CLI::ExistingFile);
+    run_cmd
+        ->add_option("--flakes", conf.flakes,
+                     "deqp-runner flakes file: regular expressions of cases whose failures are "
+                     "Flake (repeatable)")
         ->check(CLI::ExistingFile);
     run_cmd
         ->add_option("--shard-index", conf.shard_index,

@@ -72,6 +72,32 @@ std::vector<std::string> read_lines(const std::filesystem::path& file, const cha
 
 }  // namespace
 
+void NamePatterns::add_file(const std::filesystem::path& file) {
+    std::ifstream in(file);
+    if (!in) throw std::runtime_error(file.string() + ": cannot read");
+    std::size_t n = 0;
+    for (std::string line; std::getline(in, line);) {
+        ++n;
+        if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
+        const auto b = line.find_first_not_of(" \t\r");
+        if (b == std::string::npos) continue;
+        line = line.substr(b, line.find_last_not_of(" \t\r") - b + 1);
+        const std::string where = file.filename().string() + ":" + std::to_string(n);
+        try {
+            patterns_.emplace_back(std::regex(line, std::regex::ECMAScript), where);
+        } catch (const std::regex_error& e) {
+            throw std::runtime_error(file.string() + ":" + std::to_string(n) + ": '" + line +
+                                     "' is not a regular expression (" + e.what() + ")");
+        }
+    }
+}
+
+std::optional<std::string> NamePatterns::match(const std::string& name) const {
+    for (const auto& [re, where] : patterns_)
+        if (std::regex_search(name, re)) return where;
+    return std::nullopt;
+}
+
 std::vector<std::string> read_caselist(const std::filesystem::path& file) {
     return read_lines(file, "case list");
 }
@@ -351,6 +377,9 @@ RunSummary run_suite(const RunOptions& options, std::ostream& console) {
     if (options.caselist) listed = read_caselist(*options.caselist);
     std::map<std::string, std::string> baseline;
     if (options.baseline) baseline = read_baseline(*options.baseline);
+    NamePatterns skips, flakes;
+    for (const auto& f : options.skips) skips.add_file(f);
+    for (const auto& f : options.flakes) flakes.add_file(f);
 
     std::vector<CaseFile> cases;
     std::size_t index = 0;
@@ -360,6 +389,7 @@ RunSummary run_suite(const RunOptions& options, std::ostream& console) {
             continue;
         }
         if (options.caselist && !matches_any(c.name, listed)) continue;
+        if (skips.match(c.name)) continue;
         if (index++ % static_cast<std::size_t>(options.shard_count) !=
             static_cast<std::size_t>(options.shard_index))
             continue;
@@ -425,6 +455,15 @@ RunSummary run_suite(const RunOptions& options, std::ostream& console) {
                 r.message = "unexpected " + first + ", then " +
                             std::string(harness::to_string(again.status)) + " on the re-run" +
                             (r.message.empty() ? "" : ": " + r.message);
+            }
+        }
+        // A known flake's failure is a Flake, as deqp-runner's --flakes makes it.
+        if (harness::counts_as_failure(r.status)) {
+            if (const auto where = flakes.match(c.name)) {
+                r.raw_status = r.raw_status.value_or(r.status);
+                r.status = harness::CaseStatus::Flake;
+                r.message =
+                    "known flake (" + *where + ")" + (r.message.empty() ? "" : ": " + r.message);
             }
         }
         r.shard = std::array<int, 2>{options.shard_index, options.shard_count};

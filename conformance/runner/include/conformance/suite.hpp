@@ -19,6 +19,7 @@
 #include <iosfwd>
 #include <map>
 #include <optional>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -53,12 +54,30 @@ std::map<std::string, std::string> read_baseline(const std::filesystem::path& fi
 // The expectation a baseline's status word stands for, as read_baseline maps it.
 std::optional<std::string> baseline_status(const std::string& word);
 
+// deqp-runner's skips and flakes files: one regular expression a line (searched for anywhere
+// in the case name, as deqp-runner's RegexSet does), '#' comments. Throws std::runtime_error
+// naming the file and line of an expression that does not compile.
+class NamePatterns {
+  public:
+    void add_file(const std::filesystem::path& file);
+    // Where the first matching expression was written ("skips.txt:3"), or nullopt.
+    std::optional<std::string> match(const std::string& name) const;
+    bool empty() const { return patterns_.empty(); }
+
+  private:
+    std::vector<std::pair<std::regex, std::string>> patterns_;
+};
+
 struct RunOptions {
     std::filesystem::path scenes_root;
     std::vector<std::string> case_globs;
     std::vector<std::string> exclude_globs;
     std::optional<std::filesystem::path> caselist;
     std::optional<std::filesystem::path> baseline;
+    // deqp-runner's --skips (cases left out of the selection before sharding) and --flakes
+    // (a failure of a matching case is a Flake, with or without a baseline).
+    std::vector<std::filesystem::path> skips;
+    std::vector<std::filesystem::path> flakes;
     int shard_index = 0;
     int shard_count = 1;
     std::string shard_source = "none";  // what decided them (shard.hpp), in every record
