@@ -76,6 +76,7 @@ struct BackendArgs {
     std::string backend;
     std::string driver = "llvmpipe";
     double timeout = 60.0;
+    std::string mesa_prefix;  // a Mesa build of one's own (GL backends)
     ProfileArgs profile;
     unsigned threads = 0;  // the reference's; 0: one per core
 
@@ -90,6 +91,7 @@ struct BackendArgs {
                                      : harness::BackendKind::Ref;
         o.driver = driver == "softpipe" ? harness::Driver::Softpipe : harness::Driver::Llvmpipe;
         o.timeout_seconds = timeout;
+        o.mesa_prefix = mesa_prefix;
         return o;
     }
 };
@@ -101,6 +103,10 @@ void add_driver_options(CLI::App* cmd, BackendArgs& a) {
     cmd->add_option("--timeout", a.timeout, "Seconds a GL backend may take for one scene")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
+    cmd->add_option("--mesa-prefix", a.mesa_prefix,
+                    "A Mesa build installed under DIR: the GL workers load libOSMesa, libEGL and "
+                    "the DRI drivers from it (default $MESA_PREFIX; else the system's)")
+        ->envname("MESA_PREFIX");
 }
 
 std::optional<harness::Scene> load_or_report(const std::string& path) {
@@ -120,6 +126,10 @@ std::unique_ptr<harness::Backend> backend_or_report(const BackendArgs& a, const 
     try {
         return harness::make_backend(a.options());
     } catch (const refraster::ProfileError& e) {
+        std::cerr << "refraster: " << e.what() << "\n";
+        bad_profile = true;
+        return nullptr;
+    } catch (const harness::MesaPrefixError& e) {
         std::cerr << "refraster: " << e.what() << "\n";
         bad_profile = true;
         return nullptr;

@@ -1,5 +1,7 @@
 #include "harness/backend.hpp"
 
+#include <cstdlib>
+#include <filesystem>
 #include <stdexcept>
 
 #include "backend_ref.hpp"
@@ -62,7 +64,59 @@ Provenance host_provenance() {
     return p;
 }
 
+std::vector<std::string> mesa_prefix_environment(const std::filesystem::path& prefix,
+                                                 const std::string& current_ld_library_path) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (!fs::is_directory(prefix, ec))
+        throw MesaPrefixError("--mesa-prefix " + prefix.string() + ": not a directory");
+    const auto holds_mesa = [&](const fs::path& dir) {
+        if (!fs::is_directory(dir, ec)) return false;
+        for (const auto& e : fs::directory_iterator(dir, ec)) {
+            const std::string n = e.path().filename().string();
+            if (n.starts_with("libOSMesa.so") || n.starts_with("libEGL_mesa.so")) return true;
+        }
+        return false;
+    };
+    fs::path lib;
+    for (const char* sub : {"lib/x86_64-linux-gnu", "lib/aarch64-linux-gnu", "lib64", "lib"}) {
+        if (holds_mesa(prefix / sub)) {
+            lib = fs::absolute(prefix / sub, ec);
+            break;
+        }
+    }
+    if (lib.empty())
+        throw MesaPrefixError("--mesa-prefix " + prefix.string() +
+                              ": no libOSMesa.so* or libEGL_mesa.so* in its lib/<multiarch>, "
+                              "lib64 or lib");
+    std::vector<std::string> env;
+    env.push_back("LD_LIBRARY_PATH=" + lib.string() +
+                  (current_ld_library_path.empty() ? "" : ":" + current_ld_library_path));
+    if (fs::is_directory(lib / "dri", ec))
+        env.push_back("LIBGL_DRIVERS_PATH=" + (lib / "dri").string());
+    const fs::path vendors = fs::absolute(prefix / "share/glvnd/egl_vendor.d", ec);
+    if (fs::is_directory(vendors, ec)) {
+        for (const auto& e : fs::directory_iterator(vendors, ec)) {
+            const std::string n = e.path().filename().string();
+            if (n.find("mesa") != std::string::npos && n.ends_with(".json")) {
+                env.push_back("__EGL_VENDOR_LIBRARY_FILENAMES=" + e.path().string());
+                break;
+            }
+        }
+    }
+    env.push_back("REFRASTER_MESA_PREFIX=" + fs::absolute(prefix, ec).string());
+    return env;
+}
+
 std::unique_ptr<Backend> make_backend(const BackendOptions& options) {
+    if (options.kind != BackendKind::Ref && !options.mesa_prefix.empty()) {
+        BackendOptions o = options;
+        const char* ld = std::getenv("LD_LIBRARY_PATH");
+        for (auto& kv : mesa_prefix_environment(options.mesa_prefix, ld ? ld : ""))
+            o.environment.push_back(std::move(kv));
+        o.mesa_prefix.clear();
+        return make_backend(o);
+    }
     switch (options.kind) {
         case BackendKind::Ref:
             return make_ref_backend(options);

@@ -349,6 +349,35 @@ std::string mesa_environment() {
     return out;
 }
 
+// The Mesa and GL libraries this process has mapped (/proc/self/maps), ';'-separated, in the
+// order first mapped: which build the worker really loaded, whatever the environment asked.
+std::string loaded_gl_libraries() {
+    std::ifstream in("/proc/self/maps");
+    std::vector<std::string> seen;
+    for (std::string line; std::getline(in, line);) {
+        const auto slash = line.find('/');
+        if (slash == std::string::npos) continue;
+        const std::string path = line.substr(slash);
+        const std::string name = path.substr(path.rfind('/') + 1);
+        const bool gl = name.starts_with("libOSMesa") || name.starts_with("libEGL") ||
+                        name.starts_with("libGL") || name.starts_with("libOpenGL") ||
+                        name.starts_with("libglapi") || name.starts_with("libgallium") ||
+                        name.find("_dri.so") != std::string::npos;
+        if (gl && std::find(seen.begin(), seen.end(), path) == seen.end()) seen.push_back(path);
+    }
+    std::string out;
+    for (const auto& p : seen) out += (out.empty() ? "" : ";") + p;
+    return out;
+}
+
+// "22.3.6" from a GL_VERSION such as "4.5 (Core Profile) Mesa 22.3.6"; empty without "Mesa ".
+std::string mesa_version_of(const std::string& gl_version) {
+    const auto at = gl_version.find("Mesa ");
+    if (at == std::string::npos) return {};
+    const std::string rest = gl_version.substr(at + 5);
+    return rest.substr(0, rest.find(' '));
+}
+
 // The installed version of a Debian package, from dpkg's database; empty when not found.
 std::string debian_package_version(std::string_view package) {
     std::ifstream in("/var/lib/dpkg/status");
@@ -1538,6 +1567,13 @@ Renderer::Renderer(std::string_view backend, std::string_view mesa_package)
     p["driver"] = driver && *driver ? driver : "llvmpipe";
     p["env"] = mesa_environment();
     p["mesa_version"] = debian_package_version(mesa_package);
+    p["libraries"] = loaded_gl_libraries();
+    // A Mesa build of one's own (--mesa-prefix): its version is the one GL reports, not the
+    // system package's.
+    if (const char* prefix = std::getenv("REFRASTER_MESA_PREFIX"); prefix && *prefix) {
+        p["mesa_prefix"] = prefix;
+        p["mesa_version"] = mesa_version_of(p["gl_version"]);
+    }
 
     impl_->max_samples = gl_int(GL_MAX_SAMPLES);
     impl_->max_texture_samples =

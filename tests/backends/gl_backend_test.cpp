@@ -15,6 +15,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <optional>
 #include <random>
 #include <string>
@@ -946,3 +947,69 @@ INSTANTIATE_TEST_SUITE_P(Drivers, GlBackend, ::testing::Values(Driver::Llvmpipe,
                          driver_label);
 
 }  // namespace
+
+// A Mesa build of one's own (--mesa-prefix): a copy of the system's libraries placed under a
+// temporary prefix is what the worker loads, and its provenance names the copy, not the
+// system's library, with the version GL reports.
+TEST(GlBackendMesaPrefix, LoadsTheLibrariesUnderThePrefix) {
+    ::setenv("REFRASTER_WORKER_DIR", REFRASTER_TEST_WORKER_DIR, 0);
+    namespace fs = std::filesystem;
+    const auto system_library = [](const std::string& name) -> fs::path {
+        for (const char* d : {"/usr/lib/x86_64-linux-gnu", "/usr/lib/aarch64-linux-gnu",
+                              "/usr/lib64", "/usr/lib"}) {
+            if (fs::exists(fs::path(d) / name)) return fs::canonical(fs::path(d) / name);
+        }
+        return {};
+    };
+    const std::string main_library =
+        kKind == harness::BackendKind::Egl ? "libEGL_mesa.so.0" : "libOSMesa.so.8";
+    const fs::path original = system_library(main_library);
+    if (original.empty()) GTEST_SKIP() << main_library << " not found";
+    char tmpl[] = "/tmp/refraster-mesa-prefix-XXXXXX";
+    ASSERT_NE(::mkdtemp(tmpl), nullptr);
+    const fs::path prefix = tmpl;
+    const fs::path lib = prefix / "lib/x86_64-linux-gnu";
+    fs::create_directories(lib);
+    fs::copy_file(original, lib / main_library);
+    if (kKind == harness::BackendKind::Egl) {
+        const fs::path dri = system_library("dri/swrast_dri.so");
+        ASSERT_FALSE(dri.empty());
+        fs::create_directories(lib / "dri");
+        fs::copy_file(dri, lib / "dri/swrast_dri.so");
+        fs::create_directories(prefix / "share/glvnd/egl_vendor.d");
+        std::ofstream(prefix / "share/glvnd/egl_vendor.d/50_mesa.json")
+            << R"({"file_format_version": "1.0.0", "ICD": {"library_path": "libEGL_mesa.so.0"}})";
+    }
+    const Target t{8, 8, ColorFormat::Rgba8, DepthFormat::None, 1};
+    DrawList list;
+    list.target = t;
+    list.draws.push_back(lower_left_triangle(t, {1, 0, 0, 1}, {0, 1, 0, 1}, {0, 0, 1, 1}));
+    const auto scene = make_scene("mesa_prefix", list);
+    const auto render_with = [&](const fs::path& p) {
+        harness::BackendOptions o;
+        o.kind = kKind;
+        o.mesa_prefix = p;
+        auto backend = harness::make_backend(o);
+        return backend->render(scene);
+    };
+    const auto system = render_with({});
+    ASSERT_EQ(system.status, RenderStatus::Ok) << system.message;
+    const auto own = render_with(prefix);
+    ASSERT_EQ(own.status, RenderStatus::Ok) << own.message;
+    const std::string libs = own.provenance.at("libraries");
+    EXPECT_NE(libs.find((lib / main_library).string()), std::string::npos) << libs;
+    EXPECT_EQ(libs.find(original.string()), std::string::npos) << libs;
+    EXPECT_NE(system.provenance.at("libraries").find(original.string()), std::string::npos)
+        << system.provenance.at("libraries");
+    if (kKind == harness::BackendKind::Egl) {
+        EXPECT_NE(libs.find((lib / "dri/swrast_dri.so").string()), std::string::npos) << libs;
+    }
+    EXPECT_EQ(own.provenance.at("mesa_prefix"), fs::absolute(prefix).string());
+    EXPECT_NE(own.provenance.at("gl_version").find("Mesa " + own.provenance.at("mesa_version")),
+              std::string::npos);
+    // The same pixels: it is the same Mesa.
+    EXPECT_EQ(own.image.color8, system.image.color8);
+    // A prefix without Mesa is bad input.
+    EXPECT_THROW(render_with(prefix / "share"), harness::MesaPrefixError);
+    fs::remove_all(prefix);
+}

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <stdexcept>
 #include <string>
 
 #include "harness/scene.hpp"
@@ -85,7 +86,26 @@ struct BackendOptions {
     // GL backends: the directory holding the worker executables. Empty: REFRASTER_WORKER_DIR,
     // else beside the running program, else ../libexec/refraster from it.
     std::filesystem::path worker_dir;
+    // GL backends: a Mesa build of one's own, installed under this prefix; empty: the
+    // system's. The workers load libOSMesa, libEGL and the DRI drivers from it
+    // (mesa_prefix_environment) and record the libraries they loaded.
+    std::filesystem::path mesa_prefix;
 };
+
+// A --mesa-prefix that holds no Mesa: bad input, not a backend failure.
+class MesaPrefixError : public std::invalid_argument {
+  public:
+    using std::invalid_argument::invalid_argument;
+};
+
+// The worker environment that makes the dynamic loader, Mesa's DRI loader and glvnd take Mesa
+// from `prefix`: LD_LIBRARY_PATH with the prefix's library directory first (lib/<multiarch>,
+// lib64 or lib, the first holding libOSMesa.so* or libEGL_mesa.so*) before `current`,
+// LIBGL_DRIVERS_PATH its dri/ directory, __EGL_VENDOR_LIBRARY_FILENAMES the prefix's Mesa
+// vendor file (share/glvnd/egl_vendor.d), each only when present, and REFRASTER_MESA_PREFIX
+// for the provenance. Throws MesaPrefixError naming the prefix when it holds no Mesa library.
+std::vector<std::string> mesa_prefix_environment(const std::filesystem::path& prefix,
+                                                 const std::string& current_ld_library_path);
 
 // Throws std::runtime_error when the backend was not built into this binary.
 std::unique_ptr<Backend> make_backend(const BackendOptions& options);
