@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <charconv>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -77,6 +78,7 @@ struct BackendArgs {
     std::string driver = "llvmpipe";
     double timeout = 60.0;
     std::string mesa_prefix;  // a Mesa build of one's own (GL backends)
+    std::string egl_device;   // egl: a device index, or "list"
     ProfileArgs profile;
     unsigned threads = 0;  // the reference's; 0: one per core
 
@@ -92,6 +94,15 @@ struct BackendArgs {
         o.driver = driver == "softpipe" ? harness::Driver::Softpipe : harness::Driver::Llvmpipe;
         o.timeout_seconds = timeout;
         o.mesa_prefix = mesa_prefix;
+        if (!egl_device.empty() && egl_device != "list") {
+            int n = -1;
+            const auto [p, ec] =
+                std::from_chars(egl_device.data(), egl_device.data() + egl_device.size(), n);
+            if (ec != std::errc() || p != egl_device.data() + egl_device.size() || n < 0)
+                throw harness::BackendOptionError("--egl-device " + egl_device +
+                                                  ": not a device index or 'list'");
+            o.egl_device = n;
+        }
         return o;
     }
 };
@@ -107,6 +118,9 @@ void add_driver_options(CLI::App* cmd, BackendArgs& a) {
                     "A Mesa build installed under DIR: the GL workers load libOSMesa, libEGL and "
                     "the DRI drivers from it (default $MESA_PREFIX; else the system's)")
         ->envname("MESA_PREFIX");
+    cmd->add_option("--egl-device", a.egl_device,
+                    "egl: render on EGL device N (EGL_EXT_device_enumeration) instead of the "
+                    "surfaceless platform; 'list' prints the devices");
 }
 
 std::optional<harness::Scene> load_or_report(const std::string& path) {
@@ -129,7 +143,7 @@ std::unique_ptr<harness::Backend> backend_or_report(const BackendArgs& a, const 
         std::cerr << "refraster: " << e.what() << "\n";
         bad_profile = true;
         return nullptr;
-    } catch (const harness::MesaPrefixError& e) {
+    } catch (const harness::BackendOptionError& e) {
         std::cerr << "refraster: " << e.what() << "\n";
         bad_profile = true;
         return nullptr;
@@ -1200,6 +1214,34 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1, 1000))
         ->capture_default_str();
 
+    // --egl-device list: the devices, whichever command asked and whatever else it requires
+    // (before parsing, which would insist on a scene or an output first). --mesa-prefix (or
+    // MESA_PREFIX) still applies.
+    for (int i = 1; i < argc; ++i) {
+        const std::string arg = argv[i];
+        if (arg != "--egl-device=list" &&
+            !(arg == "--egl-device" && i + 1 < argc && std::string(argv[i + 1]) == "list"))
+            continue;
+        BackendArgs egl{"egl"};
+        if (const char* prefix = std::getenv("MESA_PREFIX")) egl.mesa_prefix = prefix;
+        for (int j = 1; j + 1 < argc; ++j)
+            if (std::string(argv[j]) == "--mesa-prefix") egl.mesa_prefix = argv[j + 1];
+        try {
+            harness::BackendOptions o = egl.options();
+            if (!o.mesa_prefix.empty()) {
+                const char* ld = std::getenv("LD_LIBRARY_PATH");
+                o.environment = harness::mesa_prefix_environment(o.mesa_prefix, ld ? ld : "");
+            }
+            for (const auto& line : harness::list_egl_devices(o)) std::cout << line << "\n";
+            return kExitOk;
+        } catch (const harness::BackendOptionError& e) {
+            std::cerr << "refraster: " << e.what() << "\n";
+            return kExitBadInput;
+        } catch (const std::exception& e) {
+            std::cerr << "refraster: --egl-device list: " << e.what() << "\n";
+            return kExitBackendFailure;
+        }
+    }
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {

@@ -109,6 +109,17 @@ std::vector<std::string> mesa_prefix_environment(const std::filesystem::path& pr
 }
 
 std::unique_ptr<Backend> make_backend(const BackendOptions& options) {
+    if (options.egl_device) {
+        if (options.kind != BackendKind::Egl)
+            throw BackendOptionError("--egl-device applies to the egl backend only");
+        if (*options.egl_device < 0)
+            throw BackendOptionError("--egl-device " + std::to_string(*options.egl_device) +
+                                     ": not a device index");
+        BackendOptions o = options;
+        o.environment.push_back("REFRASTER_EGL_DEVICE=" + std::to_string(*options.egl_device));
+        o.egl_device.reset();
+        return make_backend(o);
+    }
     if (options.kind != BackendKind::Ref && !options.mesa_prefix.empty()) {
         BackendOptions o = options;
         const char* ld = std::getenv("LD_LIBRARY_PATH");

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <stdexcept>
@@ -513,6 +514,31 @@ bool GlWorkerBackend::debug_hang_worker() {
 
 std::unique_ptr<Backend> make_gl_backend(const BackendOptions& options) {
     return std::make_unique<GlWorkerBackend>(options);
+}
+
+std::vector<std::string> list_egl_devices(const BackendOptions& options) {
+    const std::filesystem::path worker = gl_worker_path(BackendKind::Egl, options.worker_dir);
+    std::string cmd;
+    for (const auto& kv : options.environment) cmd += "'" + kv + "' ";
+    cmd = (cmd.empty() ? "" : "env " + cmd) + "'" + worker.string() + "' --list-devices";
+    FILE* p = ::popen(cmd.c_str(), "r");
+    if (p == nullptr) throw std::runtime_error(worker.string() + ": cannot start");
+    std::string out;
+    char buf[4096];
+    for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, p)) > 0;) out.append(buf, n);
+    const int status = ::pclose(p);
+    if (status != 0)
+        throw std::runtime_error(worker.string() + " --list-devices failed" +
+                                 (out.empty() ? "" : ": " + out));
+    std::vector<std::string> lines;
+    std::size_t at = 0;
+    while (at < out.size()) {
+        const std::size_t end = out.find('\n', at);
+        lines.push_back(out.substr(at, end - at));
+        if (end == std::string::npos) break;
+        at = end + 1;
+    }
+    return lines;
 }
 
 }  // namespace harness

@@ -1608,6 +1608,10 @@ const harness::Provenance& Renderer::provenance() const {
     return impl_->provenance;
 }
 
+void Renderer::add_provenance(const std::string& key, const std::string& value) {
+    impl_->provenance[key] = value;
+}
+
 harness::RenderResult Renderer::render(const refraster::DrawList& list, bool owners) {
     const auto start = std::chrono::steady_clock::now();
     harness::RenderResult r;
@@ -1689,6 +1693,7 @@ int run_worker(std::string_view backend, std::string_view mesa_package,
         }
         std::optional<Renderer> renderer;
         renderer.emplace(backend, mesa_package);
+        for (const auto& [k, v] : context->provenance()) renderer->add_provenance(k, v);
         hello.provenance = renderer->provenance();
         wire::write_frame(out, wire::FrameType::Hello, wire::encode_result(hello));
 

@@ -47,6 +47,7 @@ class Renderer {
     harness::RenderResult render(const refraster::DrawList& list, bool owners = false);
 
     const harness::Provenance& provenance() const;
+    void add_provenance(const std::string& key, const std::string& value);
 
   private:
     struct Impl;
@@ -111,6 +112,9 @@ std::optional<std::uint32_t> depth_from_fetch(refraster::DepthFormat format, std
 class ContextHolder {
   public:
     virtual ~ContextHolder() = default;
+    // What the context knows of where it renders (the EGL device), for every result's
+    // provenance.
+    virtual harness::Provenance provenance() const { return {}; }
 };
 
 // The whole life of a worker process. Moves the protocol off fd 1 (which then points at

@@ -1013,3 +1013,75 @@ TEST(GlBackendMesaPrefix, LoadsTheLibrariesUnderThePrefix) {
     EXPECT_THROW(render_with(prefix / "share"), harness::MesaPrefixError);
     fs::remove_all(prefix);
 }
+
+#if REFRASTER_TEST_EGL
+// EGL devices: the worker lists what EGL_EXT_device_enumeration offers (here Mesa's software
+// device), renders on the chosen one with the surfaceless platform's pixels, records the
+// device in the provenance, and refuses a device that does not exist.
+TEST(GlBackendEglDevice, ListsRendersOnAndRecordsTheDevice) {
+    ::setenv("REFRASTER_WORKER_DIR", REFRASTER_TEST_WORKER_DIR, 0);
+    harness::BackendOptions o;
+    o.kind = harness::BackendKind::Egl;
+    const auto devices = harness::list_egl_devices(o);
+    ASSERT_FALSE(devices.empty());
+    int software = -1;
+    for (std::size_t i = 0; i < devices.size(); ++i) {
+        EXPECT_EQ(devices[i].rfind(std::to_string(i) + ": ", 0), 0u) << devices[i];
+        if (software < 0 && devices[i].find("EGL_MESA_device_software") != std::string::npos)
+            software = static_cast<int>(i);
+    }
+    ASSERT_GE(software, 0) << "no software device";
+    const Target t{8, 8, ColorFormat::Rgba8, DepthFormat::None, 1};
+    DrawList list;
+    list.target = t;
+    list.draws.push_back(lower_left_triangle(t, {1, 0, 0, 1}, {0, 1, 0, 1}, {0, 0, 1, 1}));
+    const auto scene = make_scene("egl_device", list);
+    const auto surfaceless = harness::make_backend(o)->render(scene);
+    ASSERT_EQ(surfaceless.status, RenderStatus::Ok) << surfaceless.message;
+    EXPECT_EQ(surfaceless.provenance.at("egl_platform"), "surfaceless");
+    o.egl_device = software;
+    const auto on_device = harness::make_backend(o)->render(scene);
+    ASSERT_EQ(on_device.status, RenderStatus::Ok) << on_device.message;
+    EXPECT_EQ(on_device.provenance.at("egl_platform"), "device");
+    EXPECT_EQ(on_device.provenance.at("egl_device"), std::to_string(software));
+    EXPECT_NE(on_device.provenance.at("egl_device_extensions").find("EGL_MESA_device_software"),
+              std::string::npos);
+    EXPECT_EQ(on_device.provenance.at("renderer"), surfaceless.provenance.at("renderer"));
+    EXPECT_EQ(on_device.image.color8, surfaceless.image.color8);
+    // A device that does not exist: the worker cannot start, and says why.
+    o.egl_device = static_cast<int>(devices.size()) + 3;
+    const auto missing = harness::make_backend(o)->render(scene);
+    EXPECT_NE(missing.status, RenderStatus::Ok);
+    EXPECT_NE(missing.message.find("does not exist"), std::string::npos) << missing.message;
+    // Not a backend with devices.
+    o.kind = harness::BackendKind::OSMesa;
+    o.egl_device = 0;
+    EXPECT_THROW(harness::make_backend(o), harness::BackendOptionError);
+}
+// The command line: --egl-device list answers before anything else is required, and a device
+// index that is not a number is bad input.
+TEST(GlBackendEglDevice, CommandLine) {
+    const std::string bin = std::string(REFRASTER_TEST_WORKER_DIR) + "/refraster";
+    if (!std::filesystem::exists(bin)) GTEST_SKIP() << "no refraster binary beside the workers";
+    FILE* p =
+        ::popen(("'" + bin + "' conformance run --against egl --egl-device list").c_str(), "r");
+    ASSERT_NE(p, nullptr);
+    std::string out;
+    char buf[1024];
+    for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, p)) > 0;) out.append(buf, n);
+    EXPECT_EQ(::pclose(p), 0);
+    EXPECT_EQ(out.rfind("0: ", 0), 0u) << out;
+    char tmpl[] = "/tmp/refraster-egl-device-XXXXXX";
+    ASSERT_NE(::mkdtemp(tmpl), nullptr);
+    const std::filesystem::path out_dir = std::filesystem::path(tmpl) / "out";
+    EXPECT_EQ(std::system(("'" + bin +
+                           "' conformance run --against egl --cases smoke.triangles --egl-device "
+                           "first --output '" +
+                           out_dir.string() + "' > /dev/null 2>&1")
+                              .c_str()) >>
+                  8,
+              2);
+    EXPECT_FALSE(std::filesystem::exists(out_dir));
+    std::filesystem::remove_all(tmpl);
+}
+#endif

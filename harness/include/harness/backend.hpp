@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -90,13 +91,28 @@ struct BackendOptions {
     // system's. The workers load libOSMesa, libEGL and the DRI drivers from it
     // (mesa_prefix_environment) and record the libraries they loaded.
     std::filesystem::path mesa_prefix;
+    // egl only: render on device N of EGL_EXT_device_enumeration's list (the software device
+    // here, a GPU where there is one) instead of the surfaceless platform; the device's index,
+    // extensions and DRM node go into the provenance.
+    std::optional<int> egl_device;
 };
 
-// A --mesa-prefix that holds no Mesa: bad input, not a backend failure.
-class MesaPrefixError : public std::invalid_argument {
+// Backend options that cannot work (a device on a backend without devices): bad input, not a
+// backend failure.
+class BackendOptionError : public std::invalid_argument {
   public:
     using std::invalid_argument::invalid_argument;
 };
+
+// A --mesa-prefix that holds no Mesa.
+class MesaPrefixError : public BackendOptionError {
+  public:
+    using BackendOptionError::BackendOptionError;
+};
+
+// The EGL devices the egl worker enumerates (EGL_EXT_device_enumeration), one line each:
+// "N: <device extensions>[; <DRM node>]". Throws std::runtime_error when the worker cannot run.
+std::vector<std::string> list_egl_devices(const BackendOptions& options);
 
 // The worker environment that makes the dynamic loader, Mesa's DRI loader and glvnd take Mesa
 // from `prefix`: LD_LIBRARY_PATH with the prefix's library directory first (lib/<multiarch>,
