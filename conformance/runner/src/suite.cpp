@@ -56,35 +56,38 @@ bool matches_any(const std::string& name, const std::vector<std::string>& globs)
 
 namespace {
 
-std::vector<std::string> read_lines(const std::filesystem::path& file, const char* what) {
+// The lines of a list file with their numbers: '#' starts a comment, blank lines are dropped,
+// the rest trimmed.
+std::vector<std::pair<std::size_t, std::string>> read_numbered_lines(
+    const std::filesystem::path& file, const char* what) {
     std::ifstream in(file);
     if (!in) throw std::runtime_error(file.string() + ": cannot read the " + what);
-    std::vector<std::string> out;
+    std::vector<std::pair<std::size_t, std::string>> out;
+    std::size_t n = 0;
     for (std::string line; std::getline(in, line);) {
+        ++n;
         if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
         const auto b = line.find_first_not_of(" \t\r");
         const auto e = line.find_last_not_of(" \t\r");
         if (b == std::string::npos) continue;
-        out.push_back(line.substr(b, e - b + 1));
+        out.emplace_back(n, line.substr(b, e - b + 1));
     }
+    return out;
+}
+
+std::vector<std::string> read_lines(const std::filesystem::path& file, const char* what) {
+    std::vector<std::string> out;
+    for (auto& [n, line] : read_numbered_lines(file, what)) out.push_back(std::move(line));
     return out;
 }
 
 }  // namespace
 
 void NamePatterns::add_file(const std::filesystem::path& file) {
-    std::ifstream in(file);
-    if (!in) throw std::runtime_error(file.string() + ": cannot read");
-    std::size_t n = 0;
-    for (std::string line; std::getline(in, line);) {
-        ++n;
-        if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
-        const auto b = line.find_first_not_of(" \t\r");
-        if (b == std::string::npos) continue;
-        line = line.substr(b, line.find_last_not_of(" \t\r") - b + 1);
-        const std::string where = file.filename().string() + ":" + std::to_string(n);
+    for (const auto& [n, line] : read_numbered_lines(file, "pattern file")) {
         try {
-            patterns_.emplace_back(std::regex(line, std::regex::ECMAScript), where);
+            patterns_.emplace_back(std::regex(line, std::regex::ECMAScript),
+                                   file.filename().string() + ":" + std::to_string(n));
         } catch (const std::regex_error& e) {
             throw std::runtime_error(file.string() + ":" + std::to_string(n) + ": '" + line +
                                      "' is not a regular expression (" + e.what() + ")");

@@ -59,25 +59,11 @@ struct Errors {
     double seconds = 0.0;
 };
 
-// Centres of one triangle that are in one sorted list and not the other.
+// Centres of one triangle that are in one row-major list and not the other.
 template <typename A, typename B>
 std::uint64_t symmetric_difference(const std::vector<A>& a, const std::vector<B>& b) {
-    std::uint64_t n = 0;
-    std::size_t i = 0, j = 0;
     const auto key = [](const auto& f) { return std::pair{f.y, f.x}; };
-    while (i < a.size() || j < b.size()) {
-        if (j == b.size() || (i < a.size() && key(a[i]) < key(b[j]))) {
-            ++n;
-            ++i;
-        } else if (i == a.size() || key(b[j]) < key(a[i])) {
-            ++n;
-            ++j;
-        } else {
-            ++i;
-            ++j;
-        }
-    }
-    return n;
+    return count_difference(a, b, key, key);
 }
 
 struct ExactFamily {

@@ -132,25 +132,6 @@ std::vector<std::pair<int, int>> llvmpipe_coverage(const ClipTriangle& t, const 
     return out;
 }
 
-template <typename A, typename B, typename KA, typename KB>
-std::uint64_t count_difference(const std::vector<A>& a, const std::vector<B>& b, KA ka, KB kb) {
-    std::uint64_t n = 0;
-    std::size_t i = 0, j = 0;
-    while (i < a.size() || j < b.size()) {
-        if (j == b.size() || (i < a.size() && ka(a[i]) < kb(b[j]))) {
-            ++n;
-            ++i;
-        } else if (i == a.size() || kb(b[j]) < ka(a[i])) {
-            ++n;
-            ++j;
-        } else {
-            ++i;
-            ++j;
-        }
-    }
-    return n;
-}
-
 // Attribute error of a variant at the oracle's centres of one (unclipped) triangle: its planes
 // over the clipped pieces, each centre taken from the first piece that covers it.
 double attribute_ulps(const Variant& v, const ClipTriangle& t, const Step& s,
