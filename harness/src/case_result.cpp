@@ -27,8 +27,12 @@ std::string_view to_string(CaseStatus s) {
             return "ExpectedFail";
         case CaseStatus::UnexpectedPass:
             return "UnexpectedPass";
+        case CaseStatus::UnexpectedImprovement:
+            return "UnexpectedImprovement";
         case CaseStatus::Flake:
             return "Flake";
+        case CaseStatus::KnownFlake:
+            return "KnownFlake";
     }
     return "?";
 }
@@ -36,7 +40,8 @@ std::string_view to_string(CaseStatus s) {
 std::optional<CaseStatus> case_status_from_string(std::string_view s) {
     for (auto c : {CaseStatus::Pass, CaseStatus::Fail, CaseStatus::NotSupported, CaseStatus::Crash,
                    CaseStatus::Timeout, CaseStatus::InternalError, CaseStatus::ExpectedFail,
-                   CaseStatus::UnexpectedPass, CaseStatus::Flake}) {
+                   CaseStatus::UnexpectedPass, CaseStatus::UnexpectedImprovement, CaseStatus::Flake,
+                   CaseStatus::KnownFlake}) {
         if (to_string(c) == s) return c;
     }
     return std::nullopt;
@@ -48,6 +53,7 @@ bool counts_as_failure(CaseStatus s) {
         case CaseStatus::NotSupported:
         case CaseStatus::ExpectedFail:
         case CaseStatus::Flake:
+        case CaseStatus::KnownFlake:
             return false;
         default:
             return true;

@@ -31,6 +31,38 @@ std::vector<json> read_jsonl(const std::filesystem::path& p) {
     return v;
 }
 
+// Reads results.csv and failures.csv as deqp-runner reads and writes them
+// (RunnerResults::from_csv, write_results, write_failures): lines "name,Status,duration"
+// sorted bytewise by name without a header, Status one of its RunnerStatus words, the duration
+// as Rust prints an f32 (plain decimal, no exponent, no trailing zeros), and failures.csv the
+// lines whose status is not a success, as "name,Status". Returns the statuses by name.
+std::map<std::string, std::string> read_as_deqp_runner(const std::filesystem::path& dir) {
+    const std::regex line_re(
+        "([^,]+),(Pass|Fail|Crash|Skip|Flake|KnownFlake|Warn|Missing|ExpectedFail|Timeout|"
+        "UnexpectedImprovement\\((Pass|Fail|Crash|Skip|Warn|Timeout)\\)),"
+        "(0|[1-9][0-9]*)(\\.[0-9]*[1-9])?");
+    const std::string results = testutil::read_text(dir / "results.csv");
+    std::map<std::string, std::string> words;
+    std::string expected_failures, previous;
+    std::stringstream in(results);
+    for (std::string line; std::getline(in, line);) {
+        std::smatch m;
+        EXPECT_TRUE(std::regex_match(line, m, line_re)) << "results.csv: " << line;
+        if (m.empty()) continue;
+        EXPECT_LT(previous, m[1].str()) << "results.csv is not sorted by name";
+        previous = m[1];
+        words[m[1]] = m[2];
+        const std::string st = m[2];
+        if (!(st == "Pass" || st == "Skip" || st == "Warn" || st == "Flake" || st == "KnownFlake" ||
+              st == "ExpectedFail")) {
+            expected_failures += m[1].str() + "," + st + "\n";
+        }
+    }
+    EXPECT_TRUE(results.empty() || results.back() == '\n');
+    EXPECT_EQ(testutil::read_text(dir / "failures.csv"), expected_failures);
+    return words;
+}
+
 std::string last_line(const std::string& s) {
     auto t = s;
     while (!t.empty() && t.back() == '\n') t.pop_back();
@@ -264,7 +296,7 @@ TEST(ConformanceRun, BaselineExpectedFailAndUnexpectedPass) {
     EXPECT_EQ(st.at("t.tie"), "ExpectedFail");
     EXPECT_EQ(st.at("t.plain"), "UnexpectedPass");
     EXPECT_EQ(r.exit_code, 1);  // an unexpected pass fails the run: the baseline is stale
-    EXPECT_EQ(testutil::read_text(out / "failures.csv"), "t.plain,UnexpectedPass\n");
+    EXPECT_EQ(testutil::read_text(out / "failures.csv"), "t.plain,UnexpectedImprovement(Pass)\n");
     EXPECT_NE(testutil::read_text(out / "results.csv").find("t.tie,ExpectedFail,"),
               std::string::npos);
     const auto junit = testutil::read_text(out / "junit.xml");
@@ -287,6 +319,7 @@ TEST(ConformanceRun, CsvsSpeakDeqpRunnerAndBaselinesAcceptIt) {
     EXPECT_EQ(statuses(first / "results.jsonl").at("t.msaa"),
               "NotSupported");  // the precise status stays
     EXPECT_EQ(testutil::read_text(first / "failures.csv"), "t.tie,Fail\n");
+    EXPECT_EQ(read_as_deqp_runner(first).size(), 3u);
     // The run's own results.csv, durations and all, is a baseline: now nothing is unexpected.
     const auto second = dir.path() / "second";
     r = testutil::run_cli({"conformance", "run", "--scenes", scenes.string(), "--profile-set",
@@ -304,6 +337,22 @@ TEST(ConformanceRun, CsvsSpeakDeqpRunnerAndBaselinesAcceptIt) {
     EXPECT_EQ(r.exit_code, 0) << r.err << r.out;
     EXPECT_NE(testutil::read_text(third / "results.csv").find("t.tie,ExpectedFail,"),
               std::string::npos);
+    EXPECT_EQ(read_as_deqp_runner(third).at("t.tie"), "ExpectedFail");
+    // A fail where the baseline lists a crash, and a pass where it lists a missing case, are
+    // improvements to record in it, as deqp-runner words them; both fail the run.
+    std::ofstream(dir.path() / "c.csv") << "t.tie,Crash\nt.plain,Missing\n";
+    const auto fourth = dir.path() / "fourth";
+    r = testutil::run_cli({"conformance", "run", "--scenes", scenes.string(), "--profile-set",
+                           "tie_rule=right-top", "--baseline", (dir.path() / "c.csv").string(),
+                           "--output", fourth.string()});
+    EXPECT_EQ(r.exit_code, 1) << r.err << r.out;
+    const auto words = read_as_deqp_runner(fourth);
+    EXPECT_EQ(words.at("t.tie"), "UnexpectedImprovement(Fail)");
+    EXPECT_EQ(words.at("t.plain"), "UnexpectedImprovement(Pass)");
+    EXPECT_EQ(words.at("t.msaa"), "Skip");
+    const auto st4 = statuses(fourth / "results.jsonl");
+    EXPECT_EQ(st4.at("t.tie"), "UnexpectedImprovement");
+    EXPECT_EQ(st4.at("t.plain"), "UnexpectedPass");
     // An unknown word names the file and line.
     std::ofstream(dir.path() / "bad.csv") << "t.tie,Fail\nt.plain,Maybe\n";
     r = testutil::run_cli({"conformance", "run", "--scenes", scenes.string(), "--baseline",

@@ -1,5 +1,5 @@
 // deqp-runner's skips and flakes files in `conformance run`: skipped cases are left out of the
-// selection, failures of known flakes are Flake, and an expression that does not compile is
+// selection, failures of known flakes are KnownFlake, and an expression that does not compile is
 // refused naming its file and line.
 #include <gtest/gtest.h>
 
@@ -51,7 +51,7 @@ TEST(DeqpFiles, SkipsLeaveCasesOut) {
     EXPECT_EQ(some.records.size(), all.records.size() - 3);
 }
 
-TEST(DeqpFiles, FlakesTurnFailuresIntoFlake) {
+TEST(DeqpFiles, FlakesTurnFailuresIntoKnownFlake) {
     testutil::TempDir dir;
     const RunOutput all = run({}, dir.path() / "all");
     std::string failing;
@@ -64,10 +64,15 @@ TEST(DeqpFiles, FlakesTurnFailuresIntoFlake) {
     const auto flakes = dir.write("flakes.txt", flakes_text);
     const RunOutput f = run({"--flakes", flakes.string()}, dir.path() / "flaky");
     EXPECT_EQ(f.code, 0) << f.out;  // nothing counts as failed any more
-    EXPECT_EQ(f.records.at(failing)["status"], "Flake");
+    EXPECT_EQ(f.records.at(failing)["status"], "KnownFlake");
     EXPECT_EQ(f.records.at(failing)["raw_status"], "Fail");
     EXPECT_NE(f.records.at(failing)["message"].get<std::string>().find("known flake (flakes.txt:"),
               std::string::npos);
+    // deqp-runner's word for it, and no longer a failure.
+    EXPECT_NE(
+        testutil::read_text(dir.path() / "flaky" / "results.csv").find(failing + ",KnownFlake,"),
+        std::string::npos);
+    EXPECT_EQ(testutil::read_text(dir.path() / "flaky" / "failures.csv"), "");
     // A passing case is untouched by a pattern that matches it.
     for (const auto& [name, r] : all.records) {
         if (r["status"] == "Pass") {

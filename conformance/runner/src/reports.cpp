@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "conformance/deqp_runner.hpp"
 #include "harness/case_result.hpp"
 #include "harness/files.hpp"
 
@@ -116,12 +117,9 @@ std::string area_of(const std::string& name) {
     return b == std::string::npos ? name.substr(0, a) : name.substr(0, b);
 }
 
-// deqp-runner's word for a status (its RunnerStatus): NotSupported is Skip, and an internal
-// error of the harness, which deqp-runner has no word for, is a Fail.
-std::string deqp_status(const std::string& status) {
-    if (status == "NotSupported") return "Skip";
-    if (status == "InternalError") return "Fail";
-    return status;
+// deqp-runner's word for a record's status (deqp_runner.hpp).
+std::string deqp_status(const json& r) {
+    return deqp_runner_status(r.value("status", ""), r.value("raw_status", ""));
 }
 
 // The command that explains a case's pixel exactly as the run compared it: the same backend
@@ -170,7 +168,7 @@ bool failed(const std::string& status) {
 
 const char* status_color(const std::string& s) {
     if (s == "Pass") return "#2e7d32";
-    if (s == "ExpectedFail" || s == "Flake") return "#8d6e63";
+    if (s == "ExpectedFail" || s == "Flake" || s == "KnownFlake") return "#8d6e63";
     if (s == "NotSupported") return "#757575";
     return "#c62828";
 }
@@ -697,16 +695,15 @@ void write_reports(const std::filesystem::path& output, std::size_t selected_cas
         return a.value("case", "") < b.value("case", "");
     });
 
-    // deqp-runner's CSVs.
+    // deqp-runner's CSVs, as its RunnerResults::write_results and write_failures write them:
+    // sorted by name (bytewise, as Rust sorts a String), no header, the duration an f32
+    // printed with Rust's `{}`, and failures.csv every case that is not a success.
     std::ostringstream csv, failures;
     for (const auto& r : results) {
-        const std::string line = r.value("case", "") + "," + deqp_status(r.value("status", "")) +
-                                 "," + fixed(seconds(r, "reference") + seconds(r, "actual"), 6) +
-                                 "\n";
-        csv << line;
-        if (failed(r.value("status", ""))) {
-            failures << r.value("case", "") << "," << deqp_status(r.value("status", "")) << "\n";
-        }
+        const std::string word = deqp_status(r);
+        const auto duration = static_cast<float>(seconds(r, "reference") + seconds(r, "actual"));
+        csv << r.value("case", "") << "," << word << "," << deqp_runner_duration(duration) << "\n";
+        if (!deqp_runner_is_success(word)) failures << r.value("case", "") << "," << word << "\n";
     }
     write_file(output / "results.csv", csv.str());
     write_file(output / "failures.csv", failures.str());

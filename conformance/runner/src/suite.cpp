@@ -13,6 +13,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "conformance/deqp_runner.hpp"
 #include "conformance/reports.hpp"
 #include "harness/case_result.hpp"
 #include "harness/explain.hpp"
@@ -116,36 +117,50 @@ std::map<std::string, std::string> read_baseline(const std::filesystem::path& fi
         const auto b = line.find_first_not_of(" \t\r");
         if (b == std::string::npos) continue;
         line = line.substr(b, line.find_last_not_of(" \t\r") - b + 1);
+        // deqp-runner's RunnerResults::from_csv: a name, a comma, a status, and anything
+        // after a further comma (results.csv's duration) is not read.
         const auto comma = line.find(',');
         const std::string status =
             comma == std::string::npos
                 ? ""
                 : line.substr(comma + 1, line.find(',', comma + 1) - comma - 1);
-        const auto expected = baseline_status(status);
-        if (comma == std::string::npos || !expected) {
+        const auto word = deqp_runner_word(status);
+        if (comma == std::string::npos || comma == 0 || !word) {
             throw std::runtime_error(
                 file.string() + ":" + std::to_string(n) +
                 ": expected name,Status with one of deqp-runner's statuses (Pass, Fail, Skip, "
-                "Crash, Timeout, Warn, Flake, Missing, ExpectedFail, UnexpectedPass)");
+                "Crash, Timeout, Warn, Flake, KnownFlake, Missing, ExpectedFail, "
+                "UnexpectedImprovement(Status), UnexpectedPass)");
         }
         if (out.count(line.substr(0, comma)) != 0) {
             throw std::runtime_error(file.string() + ":" + std::to_string(n) + ": " +
                                      line.substr(0, comma) + " is listed twice");
         }
-        out[line.substr(0, comma)] = *expected;
+        out[line.substr(0, comma)] = *word;
     }
     return out;
 }
 
-std::optional<std::string> baseline_status(const std::string& word) {
-    // deqp-runner's words, and this project's own (results.jsonl's), for old baselines.
-    if (word == "Pass" || word == "UnexpectedPass" || word == "Warn") return "Pass";
-    if (word == "Fail" || word == "Missing" || word == "InternalError") return "Fail";
-    if (word == "Crash" || word == "Timeout") return word;
-    if (word == "Skip" || word == "NotSupported") return "NotSupported";
-    if (word == "ExpectedFail") return "ExpectedFail";  // any failure
-    if (word == "Flake") return "Flake";                // any result
-    return std::nullopt;
+bool apply_baseline(harness::CaseResult& r, const std::map<std::string, std::string>* baseline) {
+    using harness::CaseStatus;
+    if (baseline == nullptr) return harness::counts_as_failure(r.status);
+    const auto it = baseline->find(r.name);
+    const std::string listed = it == baseline->end() ? "" : it->second;
+    const CaseStatus result = r.status;
+    const std::string verdict =
+        deqp_runner_with_baseline(deqp_runner_status(harness::to_string(result), ""), listed);
+    const auto change = [&](CaseStatus to) {
+        r.raw_status = result;
+        r.status = to;
+    };
+    if (verdict == "ExpectedFail") {
+        change(CaseStatus::ExpectedFail);
+    } else if (verdict == "UnexpectedImprovement(Pass)") {
+        change(CaseStatus::UnexpectedPass);
+    } else if (verdict.rfind("UnexpectedImprovement(", 0) == 0) {
+        change(CaseStatus::UnexpectedImprovement);
+    }
+    return harness::counts_as_failure(r.status);
 }
 
 namespace {
@@ -232,33 +247,6 @@ void check_same_run(const std::map<std::string, nlohmann::json>& records,
                                      actual + ": refusing to resume into it");
         }
     }
-}
-
-// Applies the baseline to a case's result: an expected failure becomes ExpectedFail, a pass
-// of a listed failure UnexpectedPass. Returns whether the result is unexpected.
-bool judge(harness::CaseResult& r, const std::map<std::string, std::string>* baseline) {
-    if (baseline == nullptr) return false;
-    const auto it = baseline->find(r.name);
-    const std::string expected = it == baseline->end() ? "Pass" : it->second;
-    const std::string got(harness::to_string(r.status));
-    const bool failure = harness::counts_as_failure(r.status);
-    const auto expected_failure = [&] {
-        r.raw_status = r.status;
-        r.status = harness::CaseStatus::ExpectedFail;
-        return false;
-    };
-    if (r.status == harness::CaseStatus::NotSupported)
-        return false;  // skipping is never a regression
-    if (expected == "Flake") return failure ? expected_failure() : false;
-    if (expected == "ExpectedFail" && failure) return expected_failure();
-    if (expected == "Fail" && r.status == harness::CaseStatus::InternalError)
-        return expected_failure();
-    if (got == expected) return failure ? expected_failure() : false;
-    if (r.status == harness::CaseStatus::Pass && expected != "NotSupported") {
-        r.raw_status = r.status;
-        r.status = harness::CaseStatus::UnexpectedPass;
-    }
-    return expected != "NotSupported" || failure;
 }
 
 harness::CaseResult run_one(const CaseFile& c, harness::Backend& reference,
@@ -446,7 +434,16 @@ RunSummary run_suite(const RunOptions& options, std::ostream& console) {
         if (done.count(c.name) != 0) continue;
         harness::CaseResult r =
             run_one(c, *reference, *actual, options.reference.profile, options.gl_verdict);
-        if (judge(r, options.baseline ? &baseline : nullptr)) {
+        const bool failed = apply_baseline(r, options.baseline ? &baseline : nullptr);
+        const auto known_flake = failed ? flakes.match(c.name) : std::nullopt;
+        if (known_flake) {
+            // A failure of a case the flakes files list is a KnownFlake, as deqp-runner's
+            // --flakes makes it, and is not run again.
+            r.raw_status = r.raw_status.value_or(r.status);
+            r.status = harness::CaseStatus::KnownFlake;
+            r.message =
+                "known flake (" + *known_flake + ")" + (r.message.empty() ? "" : ": " + r.message);
+        } else if (failed && options.baseline) {
             // An unexpected result runs once more: the same again is the result, anything
             // else was a flake.
             const std::string first(harness::to_string(r.raw_status.value_or(r.status)));
@@ -458,15 +455,6 @@ RunSummary run_suite(const RunOptions& options, std::ostream& console) {
                 r.message = "unexpected " + first + ", then " +
                             std::string(harness::to_string(again.status)) + " on the re-run" +
                             (r.message.empty() ? "" : ": " + r.message);
-            }
-        }
-        // A known flake's failure is a Flake, as deqp-runner's --flakes makes it.
-        if (harness::counts_as_failure(r.status)) {
-            if (const auto where = flakes.match(c.name)) {
-                r.raw_status = r.raw_status.value_or(r.status);
-                r.status = harness::CaseStatus::Flake;
-                r.message =
-                    "known flake (" + *where + ")" + (r.message.empty() ? "" : ": " + r.message);
             }
         }
         r.shard = std::array<int, 2>{options.shard_index, options.shard_count};

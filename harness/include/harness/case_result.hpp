@@ -25,14 +25,17 @@ enum class CaseStatus : std::uint8_t {
     Timeout,
     InternalError,
     // Against a baseline:
-    ExpectedFail,    // failed as the baseline says it does
-    UnexpectedPass,  // passed where the baseline lists a failure
-    Flake,           // an unexpected result that did not repeat on the re-run
+    ExpectedFail,           // failed as the baseline says it does
+    UnexpectedPass,         // passed where the baseline lists a failure
+    UnexpectedImprovement,  // failed or was not supported where the baseline lists worse
+                            // (raw_status says which)
+    Flake,                  // an unexpected result that did not repeat on the re-run
+    KnownFlake,             // a failure of a case a flakes file lists
 };
 
 std::string_view to_string(CaseStatus s);
 std::optional<CaseStatus> case_status_from_string(std::string_view s);
-// Fail, Crash, Timeout, InternalError, UnexpectedPass.
+// Fail, Crash, Timeout, InternalError, UnexpectedPass, UnexpectedImprovement.
 bool counts_as_failure(CaseStatus s);
 
 struct CaseResult {

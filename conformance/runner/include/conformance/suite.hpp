@@ -6,8 +6,9 @@
 // without ".json"; two files giving one name are an error), selection by globs, exclusion
 // globs and case lists (dEQP style: one name per line, '#' comments), sharding (case i of the
 // sorted selection runs on shard i % count; the index and count come from shard.hpp, and
-// every record names its shard), baselines in deqp-runner's "name,Status" lines (ExpectedFail,
-// UnexpectedPass, and a re-run of every unexpected result to tell a Flake), resuming a killed
+// every record names its shard), baselines in deqp-runner's "name,Status" lines judged as
+// deqp-runner judges them (ExpectedFail, UnexpectedPass, UnexpectedImprovement, and a re-run
+// of every unexpected result to tell a Flake), its flakes files (KnownFlake), resuming a killed
 // run from its results.jsonl (a half-written last line is dropped), a progress line on
 // terminals, and the reports of reports.hpp.
 //
@@ -24,6 +25,7 @@
 #include <vector>
 
 #include "harness/backend.hpp"
+#include "harness/case_result.hpp"
 
 namespace conformance {
 
@@ -44,15 +46,19 @@ bool matches_any(const std::string& name, const std::vector<std::string>& globs)
 // Reads a case list: one name or glob per line, '#' starts a comment.
 std::vector<std::string> read_caselist(const std::filesystem::path& file);
 
-// Reads a baseline: "name,Status" lines (deqp-runner's failures.csv or results.csv, whose
-// status words it takes: Pass, Fail, Skip, Crash, Timeout, Warn, Flake, Missing, ExpectedFail,
-// UnexpectedPass; and this project's NotSupported and InternalError), '#' comments. Maps each
-// name to what the run expects: Pass, Fail, Crash, Timeout, NotSupported, ExpectedFail (any
-// failure) or Flake (any result). Throws std::runtime_error naming the file and line.
+// Reads a baseline: "name,Status[,...]" lines (deqp-runner's failures.csv or results.csv, in
+// the words of deqp_runner.hpp: deqp-runner's own, an older deqp-runner's UnexpectedPass, and
+// this project's NotSupported and InternalError), '#' comments and blank lines skipped. Maps
+// each name to its word in deqp-runner's current spelling. Throws std::runtime_error naming
+// the file and line of a line without a known word or of a case listed twice.
 std::map<std::string, std::string> read_baseline(const std::filesystem::path& file);
 
-// The expectation a baseline's status word stands for, as read_baseline maps it.
-std::optional<std::string> baseline_status(const std::string& word);
+// Applies the baseline to a case's result as deqp-runner does (deqp_runner_with_baseline):
+// ExpectedFail, UnexpectedPass (a pass where a failure, crash, timeout or missing case was
+// listed), UnexpectedImprovement (a fail or NotSupported where worse was listed); raw_status
+// keeps the result the baseline changed. Without a baseline, or for a case it does not list,
+// the result stands. Returns whether the verdict counts as failed.
+bool apply_baseline(harness::CaseResult& r, const std::map<std::string, std::string>* baseline);
 
 // deqp-runner's skips and flakes files: one regular expression a line (searched for anywhere
 // in the case name, as deqp-runner's RegexSet does), '#' comments. Throws std::runtime_error
@@ -92,8 +98,8 @@ struct RunOptions {
 };
 
 struct RunSummary {
-    std::size_t passed = 0;   // Pass, ExpectedFail, Flake
-    std::size_t failed = 0;   // Fail, Crash, Timeout, InternalError, UnexpectedPass
+    std::size_t passed = 0;   // Pass, ExpectedFail, Flake, KnownFlake
+    std::size_t failed = 0;   // Fail, Crash, Timeout, InternalError, Unexpected*
     std::size_t skipped = 0;  // NotSupported
 };
 
