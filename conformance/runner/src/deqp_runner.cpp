@@ -11,21 +11,16 @@ namespace conformance {
 
 namespace {
 
-// deqp-runner's TestStatus: the results dEQP itself reports, and the only ones that can sit
-// inside UnexpectedImprovement(...).
-constexpr std::array<std::string_view, 6> kTestStatuses = {"Pass", "Fail", "Crash",
-                                                           "Skip", "Warn", "Timeout"};
-
-bool is_test_status(std::string_view w) {
-    for (auto s : kTestStatuses)
-        if (s == w) return true;
-    return false;
-}
-
 bool one_of(std::string_view w, std::initializer_list<std::string_view> words) {
     for (auto s : words)
         if (s == w) return true;
     return false;
+}
+
+// deqp-runner's TestStatus: the results dEQP itself reports, and the only ones that can sit
+// inside UnexpectedImprovement(...).
+bool is_test_status(std::string_view w) {
+    return one_of(w, {"Pass", "Fail", "Crash", "Skip", "Warn", "Timeout"});
 }
 
 std::string improvement(std::string_view to) {
