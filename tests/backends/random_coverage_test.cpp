@@ -1,6 +1,6 @@
 // Random flat-colour triangles through the reference (llvmpipe-22.3 profile) and OSMesa
 // llvmpipe: every pixel must agree. Three seeds: two fixed, one from the environment
-// (REFRASTER_TEST_SEED, which .ci/run sets per run and prints).
+// (REFRASTER_TEST_SEED, 3 unless set; .ci/run prints it).
 //
 // Each scene is a 256x256 target cut into 16 cells of 64x64; every cell holds one triangle
 // drawn with the cell as viewport and scissor, so triangles never hide one another and those

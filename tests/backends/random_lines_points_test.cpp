@@ -1,5 +1,5 @@
 // Random lines and points through the reference (llvmpipe-22.3) and OSMesa llvmpipe, compared
-// in colour and depth. Seeds: two fixed, one from REFRASTER_TEST_SEED (set per CI run).
+// in colour and depth. Seeds: two fixed, one from REFRASTER_TEST_SEED (3 unless set).
 //
 // Lines: widths 1, 1.4, 2, 2.5 and 3; endpoints on the 1/256 and 1/65536 grids and on
 // integers; every octant; lines, strips and loops; some crossing the viewport. Points: sizes

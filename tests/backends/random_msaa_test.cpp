@@ -1,7 +1,7 @@
 // Random triangles, lines and points on a 4x multisampled target through the reference
 // (llvmpipe-22.3) and OSMesa llvmpipe, compared sample by sample: every sample's colour and
 // depth, and the resolved image, must agree exactly. Seeds: two fixed, one from
-// REFRASTER_TEST_SEED (set per CI run).
+// REFRASTER_TEST_SEED (3 unless set).
 //
 // Each scene is a 256x256 4x target cut into 64 cells of 32x32; every cell holds one
 // primitive (a triangle, a line, a strip or loop of lines, or up to three points) drawn with

@@ -10,7 +10,7 @@
 // values at the edge of float (denormal colours, depths and offsets, which the vector kernels
 // flush in hardware and the model by emulation).
 //
-// Seeds: 1, 2 and REFRASTER_TEST_SEED (set per CI run). A longer run is one command:
+// Seeds: 1, 2 and REFRASTER_TEST_SEED (3 unless set). A longer run is one command:
 //   REFRASTER_SAMENESS_SCENES=5000 REFRASTER_TEST_SEED=7 build/bin/core_tests
 //       --gtest_filter='Seeds/Sameness*' (one line)
 #include <gtest/gtest.h>
