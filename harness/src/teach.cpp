@@ -20,7 +20,7 @@
 #include "refraster/textbook/scanline_fill.hpp"
 #include "refraster/textbook/trapezoids.hpp"
 #include "refraster/textbook/wu_line.hpp"
-#include "setup.hpp"
+#include "models/llvmpipe/setup.hpp"
 
 namespace harness {
 

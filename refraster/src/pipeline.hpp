@@ -28,15 +28,15 @@
 #include <cstdint>
 #include <span>
 
-#include "exact_model.hpp"
-#include "llvmpipe_model.hpp"
-#include "model.hpp"
-#include "quad.hpp"
+#include "models/exact/exact_model.hpp"
+#include "models/llvmpipe/llvmpipe_model.hpp"
+#include "stages/model.hpp"
+#include "stages/quad.hpp"
 #include "refraster/framebuffer.hpp"
 #include "refraster/renderer.hpp"
-#include "softpipe_model.hpp"
-#include "vector_kernels.hpp"
-#include "vertex_stage.hpp"
+#include "models/softpipe/softpipe_model.hpp"
+#include "models/llvmpipe/vector_kernels.hpp"
+#include "stages/vertex_stage.hpp"
 
 namespace refraster::detail {
 

@@ -9,16 +9,16 @@
 #include <optional>
 #include <thread>
 
-#include "fragment.hpp"
-#include "observer.hpp"
+#include "models/llvmpipe/fragment.hpp"
+#include "stages/observer.hpp"
 #include "pipeline.hpp"
-#include "polygon_draw.hpp"
-#include "rules.hpp"
-#include "setup.hpp"
-#include "softpipe_sampler.hpp"
-#include "softpipe_tiles.hpp"
-#include "texture.hpp"
-#include "trace_observer.hpp"
+#include "stages/polygon_draw.hpp"
+#include "stages/rules.hpp"
+#include "models/llvmpipe/setup.hpp"
+#include "models/softpipe/softpipe_sampler.hpp"
+#include "models/softpipe/softpipe_tiles.hpp"
+#include "models/llvmpipe/texture.hpp"
+#include "trace/trace_observer.hpp"
 
 namespace refraster {
 

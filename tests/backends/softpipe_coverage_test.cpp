@@ -15,8 +15,8 @@
 #include "harness/backend.hpp"
 #include "random_scenes.hpp"
 #include "refraster/renderer.hpp"
-#include "scanline_setup.hpp"
-#include "vertex_stage.hpp"
+#include "models/softpipe/scanline_setup.hpp"
+#include "stages/vertex_stage.hpp"
 
 namespace {
 

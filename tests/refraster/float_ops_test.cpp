@@ -2,7 +2,7 @@
 // rounding to 24 bits with an unbounded exponent, which includes products just below FLT_MIN
 // that float's subnormal grid rounds up to FLT_MIN. Checked against this CPU's own MXCSR
 // FTZ/DAZ mode where the compiler targets SSE.
-#include "float_ops.hpp"
+#include "common/float_ops.hpp"
 
 #include <gtest/gtest.h>
 

@@ -6,7 +6,7 @@
 // moves an end half a pixel along the major axis where its parallelogram would decide
 // otherwise. Every expected value below is derived by hand from that rule; positions are
 // binary fractions, so no float rounding enters.
-#include "line_point.hpp"
+#include "models/llvmpipe/line_point.hpp"
 
 #include <gtest/gtest.h>
 
@@ -14,7 +14,7 @@
 #include <set>
 #include <utility>
 
-#include "traverse.hpp"
+#include "models/llvmpipe/traverse.hpp"
 
 namespace {
 

@@ -9,8 +9,8 @@
 #include <random>
 #include <vector>
 
-#include "setup.hpp"
-#include "traverse.hpp"
+#include "models/llvmpipe/setup.hpp"
+#include "models/llvmpipe/traverse.hpp"
 
 namespace {
 

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <map>
 
-#include "fragment.hpp"
+#include "models/llvmpipe/fragment.hpp"
 #include "refraster/renderer.hpp"
 
 namespace {

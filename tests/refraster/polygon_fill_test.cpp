@@ -1,13 +1,13 @@
 // The polygon filler (polygon_fill.hpp) against hand-derived pixels, against direct summation of
 // the winding number at every nudged centre, and against llvmpipe's own triangle coverage of
 // the polygon's fan (the stencil method's count), for every tie rule that is a nudge.
-#include "polygon_fill.hpp"
+#include "stages/polygon_fill.hpp"
 
 #include <gtest/gtest.h>
 
 #include <random>
 
-#include "setup.hpp"
+#include "models/llvmpipe/setup.hpp"
 
 namespace {
 

@@ -3,7 +3,7 @@
 // docs/precision.md "softpipe": raw clear floats until written back, write-back on eviction of
 // a direct-mapped slot and at the flush, reload as byte * (1/255); the generic path's unclamped
 // truncation with cvttss2si's wrap.
-#include "softpipe_fragment.hpp"
+#include "models/softpipe/softpipe_fragment.hpp"
 
 #include <gtest/gtest.h>
 
@@ -12,7 +12,7 @@
 #include <limits>
 
 #include "refraster/framebuffer.hpp"
-#include "softpipe_tiles.hpp"
+#include "models/softpipe/softpipe_tiles.hpp"
 
 namespace {
 

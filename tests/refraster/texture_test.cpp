@@ -1,6 +1,6 @@
 // The sampler's rules (refraster/src/texture.cpp) against the measured facts they come from
 // (docs/precision.md, "Textures"), each computed here a second, independent way.
-#include "texture.hpp"
+#include "models/llvmpipe/texture.hpp"
 
 #include <gtest/gtest.h>
 

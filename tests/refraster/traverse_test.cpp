@@ -1,6 +1,6 @@
 // The tiled, hierarchical traversal covers exactly the pixels the plain per-pixel test covers,
 // as row spans and as quad packets.
-#include "traverse.hpp"
+#include "models/llvmpipe/traverse.hpp"
 
 #include <gtest/gtest.h>
 
@@ -8,8 +8,8 @@
 #include <span>
 #include <vector>
 
-#include "setup.hpp"
-#include "vector_kernels.hpp"
+#include "models/llvmpipe/setup.hpp"
+#include "models/llvmpipe/vector_kernels.hpp"
 
 namespace {
 

@@ -37,7 +37,7 @@
 #include <string>
 #include <vector>
 
-#include "exact_coverage.hpp"
+#include "models/exact/exact_coverage.hpp"
 #include "refraster/assert.hpp"
 #include "refraster/draw.hpp"
 

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "../big_int.hpp"
+#include "common/big_int.hpp"
 #include "snap.hpp"
 
 namespace refraster::textbook {

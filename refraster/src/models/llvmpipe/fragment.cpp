@@ -1,0 +1,840 @@
+#include "models/llvmpipe/fragment.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <type_traits>
+
+#include "refraster/assert.hpp"
+#include "stages/rules.hpp"
+#include "stages/samples.hpp"
+#include "models/llvmpipe/vector_kernels.hpp"
+
+// Kernels also compiled for a wider instruction set, chosen at run time (GCC and clang on
+// x86-64; elsewhere only the baseline kernels exist).
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define REFRASTER_KERNEL_ISA_VARIANTS 1
+#else
+#define REFRASTER_KERNEL_ISA_VARIANTS 0
+#endif
+
+namespace refraster::detail {
+
+std::uint8_t clear_to_unorm8(float c) {
+    if (!(c > 0.0f)) return 0;  // NaN too
+    if (c >= 1.0f) return 255;
+    const float t = c * (255.0f / 256.0f) + 32768.0f;
+    return static_cast<std::uint8_t>(std::bit_cast<std::uint32_t>(t) & 0xffu);
+}
+
+namespace {
+
+// calc_coef4 for one channel (lp_state_setup.c), given the shared setup terms.
+struct SetupTerms {
+    float x0c, y0c, dx01o, dy01o, dx20o, dy20o;
+};
+
+[[gnu::always_inline]] inline Plane calc_coef(const Fp& fp, const SetupTerms& s, float a0, float a1,
+                                              float a2) {
+    const float da01 = fp.sub(a0, a1);
+    const float da20 = fp.sub(a2, a0);
+    Plane p;
+    p.dadx = fp.sub(fp.mul(da01, s.dy20o), fp.mul(da20, s.dy01o));
+    p.dady = fp.sub(fp.mul(da20, s.dx01o), fp.mul(da01, s.dx20o));
+    p.a0 = fp.sub(a0, fp.add(fp.mul(p.dadx, s.x0c), fp.mul(p.dady, s.y0c)));
+    return p;
+}
+
+// lp_state_fs.c, lp_build_depth_clamp: lp_build_clamp(z, 0, 1), which is lp_build_min(z, 1)
+// then lp_build_max(., 0) (lp_bld_arit.c) with undefined NaN behaviour, lowered to the x86
+// minps/maxps instructions: each returns its second operand unless the first compares less
+// (greater). A NaN depth therefore becomes 1 (the far value, in every depth format), -0 becomes
+// +0, and infinities clamp to the ends.
+
+}  // namespace
+
+namespace {
+
+// GL's encoding of the compare functions is a mask of the outcomes that pass: 1 less, 2 equal,
+// 4 greater (GL_NEVER 0x200 ... GL_ALWAYS 0x207); the enum keeps that order.
+static_assert(
+    static_cast<int>(CompareFunc::Never) == 0 && static_cast<int>(CompareFunc::Less) == 1 &&
+    static_cast<int>(CompareFunc::Equal) == 2 && static_cast<int>(CompareFunc::Lequal) == 3 &&
+    static_cast<int>(CompareFunc::Greater) == 4 && static_cast<int>(CompareFunc::NotEqual) == 5 &&
+    static_cast<int>(CompareFunc::Gequal) == 6 && static_cast<int>(CompareFunc::Always) == 7);
+
+// The outcome of comparing a fragment's depth with the stored one. z32f values are compared as
+// floats (both are in [0, 1], so their bit patterns order the same way, but the intent is kept
+// explicit); neither less nor equal counts as greater, as GREATER, NOTEQUAL and GEQUAL are
+// decided (!lt && !eq, !eq, !lt). With `daz` a denormal compares as zero: llvmpipe's depth test
+// runs under the rasterizer's denormals-are-zero mode (lp_rast.c), which a cleared depth such
+// as 1e-40 meets (measured: the scene extreme.z32f_denormal_clear).
+template <bool kFloat>
+[[gnu::always_inline]] inline unsigned depth_outcome(std::uint32_t frag, std::uint32_t stored,
+                                                     bool daz) {
+    if constexpr (kFloat) {
+        float f = std::bit_cast<float>(frag);
+        float s = std::bit_cast<float>(stored);
+        if (daz) {
+            f = flush_denormal(f);
+            s = flush_denormal(s);
+        }
+        return f < s ? 1u : f == s ? 2u : 4u;
+    } else {
+        (void)daz;
+        return frag < stored ? 1u : frag == stored ? 2u : 4u;
+    }
+}
+
+bool compare(CompareFunc f, std::uint32_t frag, std::uint32_t stored, bool is_float) {
+    const unsigned outcome = is_float ? depth_outcome<true>(frag, stored, false)
+                                      : depth_outcome<false>(frag, stored, false);
+    return (static_cast<unsigned>(f) & outcome) != 0;
+}
+
+}  // namespace
+
+void triangle_planes(const std::array<const StageVertex*, 3>& v, const VertexStage& stage,
+                     const Draw& draw, const Target& target, bool provoking_first,
+                     FragmentOptions options, bool daz, PlaneNeeds needs, SetupList& list,
+                     SetupPrimitive& prim) {
+    const Fp fp{options.flush_denormals};
+    PlaneWriter out(list, prim, daz);
+    float z_offset = 0.0f;
+    const auto& p0 = v[0]->window;
+    const auto& p1 = v[1]->window;
+    const auto& p2 = v[2]->window;
+    // init_args: the position deltas as vectors (x, y, z, 1/w).
+    std::array<float, 4> d01{}, d20{};
+    for (std::size_t k = 0; k < 4; ++k) {
+        d01[k] = fp.sub(p0[k], p1[k]);
+        d20[k] = fp.sub(p2[k], p0[k]);
+    }
+    const float e = fp.mul(d01[0], d20[1]);
+    const float f = fp.mul(d01[1], d20[0]);
+    const float ooa = fp.div(1.0f, fp.sub(e, f));
+
+    if (draw.state.polygon_offset && needs.depth) {
+        // lp_do_offset_tri: res12 = (dz20*dy01 - dy20*dz01, dx20*dz01 - dz20*dx01), times ooa.
+        const float res1 = fp.sub(fp.mul(d20[2], d01[1]), fp.mul(d20[1], d01[2]));
+        const float res2 = fp.sub(fp.mul(d20[0], d01[2]), fp.mul(d20[2], d01[0]));
+        const float dzdx = std::fabs(fp.mul(res1, ooa));
+        const float dzdy = std::fabs(fp.mul(res2, ooa));
+        // LLVMRealUGT: unordered or greater picks dzdx.
+        const float max_slope = (dzdx > dzdy || std::isnan(dzdx) || std::isnan(dzdy)) ? dzdx : dzdy;
+        const float mult = fp.mul(max_slope, draw.state.polygon_offset->factor);
+        const float units = draw.state.polygon_offset->units;
+        if (target.depth == DepthFormat::Z32f) {
+            // units * 2^(exponent(max |z_i|) - 23).
+            const float maxz =
+                std::max(std::fabs(p2[2]), std::max(std::fabs(p0[2]), std::fabs(p1[2])));
+            z_offset = fp.add(fp.mul(z32f_offset_scale(maxz), units), mult);
+        } else {
+            z_offset = fp.add(fixed_depth_offset_units(units, target.depth), mult);
+        }
+    }
+
+    SetupTerms s;
+    // lp_state_setup.c: the pixel centre offset, which multisampling sets to 0 (the shader
+    // then adds 0.5; docs/precision.md, "Multisampling (4x)").
+    const float pixel_offset = options.multisample ? 0.0f : 0.5f;
+    s.x0c = fp.sub(p0[0], pixel_offset);
+    s.y0c = fp.sub(p0[1], pixel_offset);
+    s.dx20o = fp.mul(d20[0], ooa);
+    s.dy20o = fp.mul(d20[1], ooa);
+    s.dx01o = fp.mul(d01[0], ooa);
+    s.dy01o = fp.mul(d01[1], ooa);
+    out.depth(needs.depth ? calc_coef(fp, s, p0[2], p1[2], p2[2]) : Plane{},
+              needs.w ? calc_coef(fp, s, p0[3], p1[3], p2[3]) : Plane{}, z_offset);
+
+    const auto c0 = stage.attributes(*v[0]);
+    const auto c1 = stage.attributes(*v[1]);
+    const auto c2 = stage.attributes(*v[2]);
+    const auto& prov = provoking_first ? c0 : c2;
+    for (std::size_t k = 0; k < c0.size(); ++k) {
+        switch (draw.state.shade) {
+            case ShadeModel::Flat:
+                out.constant(prov[k]);
+                break;  // emit_constant_coef4
+            case ShadeModel::Smooth:
+                // apply_perspective_corr: each vertex value times its own 1/w.
+                out.attribute(calc_coef(fp, s, fp.mul(c0[k], p0[3]), fp.mul(c1[k], p1[3]),
+                                        fp.mul(c2[k], p2[3])));
+                break;
+            case ShadeModel::NoPerspective:
+                out.attribute(calc_coef(fp, s, c0[k], c1[k], c2[k]));
+                break;
+        }
+    }
+}
+
+namespace {
+
+// The source colour as the output merge receives it: rgba8 bytes (lp_build_conv) or floats.
+template <ColorFormat C>
+using SourceColor =
+    std::conditional_t<C == ColorFormat::Rgba8, std::array<std::uint8_t, 4>, std::array<float, 4>>;
+
+template <ColorFormat C>
+[[gnu::always_inline]] inline SourceColor<C> source_color(const FragmentOptions& o,
+                                                          const std::array<float, 4>& c) {
+    if constexpr (C == ColorFormat::Rgba8) {
+        SourceColor<C> s{};
+        for (std::size_t k = 0; k < 4; ++k)
+            s[k] = o.color_truncate ? color_to_unorm8_truncated(c[k]) : color_to_unorm8(c[k]);
+        return s;
+    } else {
+        return c;
+    }
+}
+
+// Blending and the colour write of pixel `i` (lp_bld_blend; docs/precision.md "Colour output
+// and blending").
+template <ColorFormat C, BlendPreset B>
+[[gnu::always_inline]] inline void store_color(Framebuffer& fb, std::size_t i,
+                                               const SourceColor<C>& s, const Fp& fp) {
+    if constexpr (C == ColorFormat::Rgba8) {
+        std::uint8_t* d = fb.color8.data() + 4 * i;
+        if constexpr (B == BlendPreset::None) {
+            std::memcpy(d, s.data(), 4);
+        } else if constexpr (B == BlendPreset::Alpha) {
+            const std::uint32_t a = s[3];
+            for (std::size_t k = 0; k < 4; ++k) {
+                const std::uint32_t v =
+                    std::uint32_t{unorm8_mul(s[k], a)} + unorm8_mul(d[k], 255 - a);
+                d[k] = static_cast<std::uint8_t>(std::min<std::uint32_t>(v, 255));
+            }
+        } else {
+            for (std::size_t k = 0; k < 4; ++k) {
+                d[k] = static_cast<std::uint8_t>(
+                    std::min<std::uint32_t>(std::uint32_t{s[k]} + d[k], 255));
+            }
+        }
+    } else {
+        // The blend runs in the rasterizer's threads under FTZ/DAZ (lp_rast.c), so a subnormal
+        // source, alpha or destination counts as zero there; without blending the colour is
+        // only moved and keeps its bits.
+        float* d = fb.color32f.data() + 4 * i;
+        if constexpr (B == BlendPreset::None) {
+            std::copy(s.begin(), s.end(), d);
+        } else if constexpr (B == BlendPreset::Alpha) {
+            const float a = s[3];
+            const float inv = fp.sub(1.0f, a);
+            for (std::size_t k = 0; k < 4; ++k) d[k] = fp.add(fp.mul(s[k], a), fp.mul(d[k], inv));
+        } else {
+            for (std::size_t k = 0; k < 4; ++k) d[k] = fp.add(s[k], d[k]);
+        }
+    }
+}
+
+template <ColorFormat C>
+void write_color_as(const Draw& draw, Framebuffer& fb, std::size_t i, const std::array<float, 4>& c,
+                    const Fp& fp) {
+    const auto s = source_color<C>(FragmentOptions{}, c);
+    switch (draw.state.blend) {
+        case BlendPreset::None:
+            store_color<C, BlendPreset::None>(fb, i, s, fp);
+            break;
+        case BlendPreset::Alpha:
+            store_color<C, BlendPreset::Alpha>(fb, i, s, fp);
+            break;
+        case BlendPreset::Add:
+            store_color<C, BlendPreset::Add>(fb, i, s, fp);
+            break;
+    }
+}
+
+// One draw's per-pixel stage, for one combination of its state; D is DepthFormat::None when
+// the draw has no depth test. Samples: one a pixel (sample 0 of each packet pixel), or four
+// (a 4x target): colour once a pixel, depth, blending and stores a sample.
+template <ShadeModel S, DepthFormat D, ColorFormat C, BlendPreset B, unsigned kSamples>
+struct Kernel {
+    static_assert(kSamples == 1 || kSamples == kMsaaSamples, "1 or 4 samples a pixel");
+
+    // lp_bld_interp.c attribs_update_simple: fmuladd(dady, py, fmuladd(dadx, px, A0)).
+    [[gnu::always_inline]] static float plane_at(const Plane& p, float px, float py,
+                                                 const KernelState& k, const Fp& fp) {
+        if (k.options.fma) return fp.fma(p.dady, py, fp.fma(p.dadx, px, p.a0));
+        return fp.add(fp.mul(p.dady, py), fp.add(fp.mul(p.dadx, px), p.a0));
+    }
+
+    // z plus the offset, clamped, quantised (lp_bld_depth.c); `z` receives the clamped value.
+    [[gnu::always_inline]] static std::uint32_t depth_value(const Plane* planes, float z_offset,
+                                                            float px, float py,
+                                                            const KernelState& k, const Fp& fp,
+                                                            float& z) {
+        z = clamp_depth(fp.add(plane_at(planes[kZPlane], px, py, k, fp), z_offset));
+        if (k.options.depth_truncate) return truncate_depth(z, D);
+        return quantise_depth(z, D);
+    }
+
+    // The first N attributes (the colour, then s, t, r, q for a textured draw) at (px, py):
+    // flat ones the provoking vertex's, noperspective ones the plane, smooth ones the plane
+    // times 1 / (the 1/w plane).
+    template <std::size_t N>
+    [[gnu::always_inline]] static std::array<float, N> attributes(const Plane* planes,
+                                                                  const float* flat, float px,
+                                                                  float py, const KernelState& k,
+                                                                  const Fp& fp) {
+        std::array<float, N> a{};
+        if constexpr (S == ShadeModel::Flat) {
+            std::copy(flat, flat + N, a.begin());
+        } else if constexpr (S == ShadeModel::NoPerspective) {
+            for (std::size_t j = 0; j < N; ++j)
+                a[j] = plane_at(planes[kFirstAttributePlane + j], px, py, k, fp);
+        } else {
+            const float w = fp.div(
+                1.0f, plane_at(planes[kWPlane], px, py, k, fp));  // lp_build_rcp: a true division
+            for (std::size_t j = 0; j < N; ++j)
+                a[j] = fp.mul(plane_at(planes[kFirstAttributePlane + j], px, py, k, fp), w);
+        }
+        return a;
+    }
+
+    [[gnu::always_inline]] static std::array<float, 4> color(const Plane* planes, const float* flat,
+                                                             float px, float py,
+                                                             const KernelState& k, const Fp& fp) {
+        return attributes<4>(planes, flat, px, py, k, fp);
+    }
+
+    // The colours of a textured draw's quad: every pixel of the packet, covered or not (the
+    // level of detail is the quad's, from helper pixels too: docs/precision.md, "Textures").
+    // Coordinates are projected as textureProj does it: s and t times 1/q (lp_build_rcp, a
+    // true division). Modulate multiplies the interpolated colour by the texel in float.
+    // A textured draw's attribute floats: the colour, then s, t, r, q.
+    static constexpr std::size_t kTexturedFloats = 8;
+
+    static std::array<std::array<float, 4>, 4> textured_quad(const KernelState& k,
+                                                             const Plane* planes, const float* flat,
+                                                             std::int32_t qx, std::int32_t qy,
+                                                             float centre, const Fp& fp,
+                                                             TexelSample* trace = nullptr,
+                                                             unsigned trace_pixel = 0) {
+        std::array<float, 4> s{}, t{};
+        std::array<std::array<float, 4>, 4> col{};
+        const auto coords = [&](std::int32_t x0, std::array<float, 4>& ss, std::array<float, 4>& ts,
+                                std::array<std::array<float, 4>, 4>* c) {
+            for (unsigned p = 0; p < 4; ++p) {
+                const float px =
+                    static_cast<float>(x0 + static_cast<std::int32_t>(p & 1u)) + centre;
+                const float py =
+                    static_cast<float>(qy + static_cast<std::int32_t>(p >> 1)) + centre;
+                if (k.point_coords) {
+                    // Point sprite coordinates (point_planes): perspective planes after the
+                    // attributes, sampled without projection (texture at gl_PointCoord).
+                    constexpr std::size_t kSprite =
+                        kFirstAttributePlane + (S == ShadeModel::Flat ? 0 : kTexturedFloats);
+                    const float w = fp.div(1.0f, plane_at(planes[kWPlane], px, py, k, fp));
+                    ss[p] = fp.mul(plane_at(planes[kSprite], px, py, k, fp), w);
+                    ts[p] = fp.mul(plane_at(planes[kSprite + 1], px, py, k, fp), w);
+                    if (c != nullptr) (*c)[p] = attributes<4>(planes, flat, px, py, k, fp);
+                    continue;
+                }
+                const auto a = attributes<kTexturedFloats>(planes, flat, px, py, k, fp);
+                const float rq = fp.div(1.0f, a[7]);
+                ss[p] = fp.mul(a[4], rq);
+                ts[p] = fp.mul(a[5], rq);
+                if (c != nullptr) (*c)[p] = {a[0], a[1], a[2], a[3]};
+            }
+        };
+        coords(qx, s, t, &col);
+        // The other quad of the shader's eight-pixel vector (lp_state_fs.c: a 4x4 block in two
+        // vectors of two quads side by side), covered or not.
+        bool pair_linear = false;
+        if (k.texture->soa_nearest_as_linear) {
+            std::array<float, 4> ps{}, pt{};
+            coords(qx ^ 2, ps, pt, nullptr);
+            pair_linear = quad_takes_linear(*k.texture, ps, pt);
+        }
+        std::array<std::array<float, 4>, 4> out{};
+        {
+            // The sampler's plain operations run under the CPU's flush modes where the profile
+            // flushes, as llvmpipe's rasterizer threads run (set for the whole kernel already
+            // on the fast path, whose options then say no flushing).
+            const ScopedDenormalsAreZero mode(k.options.flush_denormals &&
+                                              cpu_flush_modes_available());
+            sample_quad(*k.texture, s, t, k.options.fma, out, pair_linear, trace, trace_pixel);
+        }
+        if (trace != nullptr) trace->point_coord = k.point_coords;
+        if (k.texture->state.env == TextureEnv::Modulate) {
+            for (unsigned p = 0; p < 4; ++p)
+                for (std::size_t c = 0; c < 4; ++c) out[p][c] = fp.mul(col[p][c], out[p][c]);
+        }
+        return out;
+    }
+
+    // A 4x target (docs/precision.md, "Multisampling (4x)"). With multisampling on, the
+    // planes were set up with pixel offset 0: colour is evaluated once at the pixel centre
+    // (px + 0.5, py + 0.5) and goes to every covered sample; depth is evaluated at each
+    // covered sample's position (px + sx, py + sy), tested and written per sample; blending
+    // reads each sample's own destination. With it off (a single-sample draw into a 4x
+    // target), coverage, colour and depth are the single-sample ones, at the pixel: the depth
+    // test reads and writes sample 0 only, and a pixel that passes is blended and written in
+    // all four samples (measured: samples 1 to 3 keep their depth).
+    static void shade_4x(const KernelState& k, const SetupList& list, const SetupPrimitive& prim,
+                         std::span<const QuadPacket> quads, Framebuffer& fb) {
+        const Fp fp{k.options.flush_denormals};
+        const Plane* planes = list.planes.data() + prim.planes;
+        const float* flat = list.flat.data() + prim.flat;
+        const bool owners = !fb.owner.empty();
+        const bool ms = k.options.multisample;
+        const float centre = ms ? 0.5f : 0.0f;
+        SourceColor<C> flat_source{};
+        if constexpr (S == ShadeModel::Flat)
+            flat_source = source_color<C>(k.options, color(planes, flat, 0, 0, k, fp));
+        for (const QuadPacket& q : quads) {
+            unsigned mask = q.mask;
+            if (!ms) mask = (mask & kSample0Pixels) * 0x1111u;  // every sample of the pixel
+            std::array<std::array<float, 4>, 4> textured{};
+            if (k.texture != nullptr)
+                textured = textured_quad(k, planes, flat, q.x, q.y, centre, fp);
+            for (unsigned p = 0; p < 4; ++p) {
+                if ((mask & (0x1111u << p)) == 0) continue;
+                const auto x = static_cast<std::uint32_t>(q.x) + (p & 1u);
+                const auto y = static_cast<std::uint32_t>(q.y) + (p >> 1);
+                const float px = static_cast<float>(x);
+                const float py = static_cast<float>(y);
+                SourceColor<C> source{};
+                if (k.texture != nullptr) {
+                    source = source_color<C>(k.options, textured[p]);
+                } else if constexpr (S == ShadeModel::Flat) {
+                    source = flat_source;
+                } else {
+                    source = source_color<C>(k.options,
+                                             color(planes, flat, px + centre, py + centre, k, fp));
+                }
+                if constexpr (D != DepthFormat::None) {
+                    if (!ms) {
+                        // One depth test for the pixel, at sample 0.
+                        float z = 0.0f;
+                        const std::uint32_t value =
+                            depth_value(planes, prim.z_offset, px, py, k, fp, z);
+                        const std::size_t i0 = fb.sample_index(x, y, 0);
+                        if ((k.depth_pass & depth_outcome<D == DepthFormat::Z32f>(
+                                                value, fb.depth[i0], k.options.flush_denormals)) ==
+                            0)
+                            continue;
+                        if (k.depth_write) fb.depth[i0] = value;
+                    }
+                }
+                for (unsigned s = 0; s < kMsaaSamples; ++s) {
+                    if ((mask & (1u << quad_bit(p, s))) == 0) continue;
+                    const std::size_t i = fb.sample_index(x, y, s);
+                    if constexpr (D != DepthFormat::None) {
+                        if (ms) {
+                            float z = 0.0f;
+                            const auto& pos = kSamplePositions4x[s];
+                            const std::uint32_t value = depth_value(
+                                planes, prim.z_offset, px + pos.x, py + pos.y, k, fp, z);
+                            if ((k.depth_pass &
+                                 depth_outcome<D == DepthFormat::Z32f>(
+                                     value, fb.depth[i], k.options.flush_denormals)) == 0)
+                                continue;
+                            if (k.depth_write) fb.depth[i] = value;
+                        }
+                    }
+                    store_color<C, B>(fb, i, source, fp);
+                    if (owners) fb.owner[i] = prim.owner;
+                }
+            }
+        }
+    }
+
+    static void shade(const KernelState& k, const SetupList& list, const SetupPrimitive& prim,
+                      std::span<const QuadPacket> quads, Framebuffer& fb) {
+        shade_body(k, list, prim, quads, fb);
+    }
+
+#if REFRASTER_KERNEL_ISA_VARIANTS
+    // The same kernel compiled for CPUs with FMA and SSE4.1 (chosen at run time, never
+    // assumed at build time): everything it calls is inlined into it (flatten), so that
+    // std::fma becomes one fused instruction and std::nearbyint one roundss instead of
+    // library calls. The operations and their order are the body's: the bytes do not change.
+    [[gnu::target("fma,sse4.1,popcnt"), gnu::flatten]] static void shade_fma(
+        const KernelState& k, const SetupList& list, const SetupPrimitive& prim,
+        std::span<const QuadPacket> quads, Framebuffer& fb) {
+        shade_body(k, list, prim, quads, fb);
+    }
+#endif
+
+    [[gnu::always_inline]] static inline void shade_body(const KernelState& k,
+                                                         const SetupList& list,
+                                                         const SetupPrimitive& prim,
+                                                         std::span<const QuadPacket> quads,
+                                                         Framebuffer& fb) {
+        if constexpr (kSamples == kMsaaSamples) {
+            shade_4x(k, list, prim, quads, fb);
+            return;
+        }
+        const Fp fp{k.options.flush_denormals};
+        const PrimitiveInputs in(k, list, prim, fb, fp);
+        if (k.texture != nullptr) {
+            for (const QuadPacket& q : quads) {
+                const auto colors = textured_quad(k, in.planes, in.flat, q.x, q.y, 0.0f, fp);
+                for (unsigned p = 0; p < 4; ++p) {
+                    if ((q.mask & (1u << quad_bit(p, 0))) == 0) continue;
+                    shade_pixel_colored(k, in, prim, static_cast<std::uint32_t>(q.x) + (p & 1u),
+                                        static_cast<std::uint32_t>(q.y) + (p >> 1), fb, fp,
+                                        colors[p]);
+                }
+            }
+            return;
+        }
+        for (const QuadPacket& q : quads) {
+            for (unsigned p = 0; p < 4; ++p) {
+                if ((q.mask & (1u << quad_bit(p, 0))) == 0) continue;
+                shade_pixel(k, in, prim, static_cast<std::uint32_t>(q.x) + (p & 1u),
+                            static_cast<std::uint32_t>(q.y) + (p >> 1), fb, fp);
+            }
+        }
+    }
+
+    // What every pixel of a primitive reads, fetched once.
+    struct PrimitiveInputs {
+        const Plane* planes;
+        const float* flat;
+        bool owners;
+        SourceColor<C> flat_source{};
+        [[gnu::always_inline]] PrimitiveInputs(const KernelState& k, const SetupList& list,
+                                               const SetupPrimitive& prim, const Framebuffer& fb,
+                                               const Fp& fp)
+            : planes(list.planes.data() + prim.planes),
+              flat(list.flat.data() + prim.flat),
+              owners(!fb.owner.empty()) {
+            if constexpr (S == ShadeModel::Flat)
+                flat_source = source_color<C>(k.options, color(planes, flat, 0, 0, k, fp));
+        }
+    };
+
+    // One pixel of a single-sample target: depth test and write, colour, blending, owner.
+    [[gnu::always_inline]] static inline void shade_pixel(const KernelState& k,
+                                                          const PrimitiveInputs& in,
+                                                          const SetupPrimitive& prim,
+                                                          std::uint32_t x, std::uint32_t y,
+                                                          Framebuffer& fb, const Fp& fp) {
+        const float px = static_cast<float>(x);
+        const float py = static_cast<float>(y);
+        const std::size_t i = fb.index(x, y);
+        if constexpr (D != DepthFormat::None) {
+            float z = 0.0f;
+            const std::uint32_t value = depth_value(in.planes, prim.z_offset, px, py, k, fp, z);
+            if ((k.depth_pass & depth_outcome<D == DepthFormat::Z32f>(
+                                    value, fb.depth[i], k.options.flush_denormals)) == 0)
+                return;
+            if (k.depth_write) fb.depth[i] = value;
+        }
+        if constexpr (S == ShadeModel::Flat) {
+            store_color<C, B>(fb, i, in.flat_source, fp);
+        } else {
+            store_color<C, B>(
+                fb, i, source_color<C>(k.options, color(in.planes, in.flat, px, py, k, fp)), fp);
+        }
+        if (in.owners) fb.owner[i] = prim.owner;
+    }
+
+    // One pixel of a single-sample target given its colour (a textured draw).
+    static void shade_pixel_colored(const KernelState& k, const PrimitiveInputs& in,
+                                    const SetupPrimitive& prim, std::uint32_t x, std::uint32_t y,
+                                    Framebuffer& fb, const Fp& fp, const std::array<float, 4>& c) {
+        const std::size_t i = fb.index(x, y);
+        if constexpr (D != DepthFormat::None) {
+            float z = 0.0f;
+            const std::uint32_t value = depth_value(in.planes, prim.z_offset, static_cast<float>(x),
+                                                    static_cast<float>(y), k, fp, z);
+            if ((k.depth_pass & depth_outcome<D == DepthFormat::Z32f>(
+                                    value, fb.depth[i], k.options.flush_denormals)) == 0)
+                return;
+            if (k.depth_write) fb.depth[i] = value;
+        }
+        store_color<C, B>(fb, i, source_color<C>(k.options, c), fp);
+        if (in.owners) fb.owner[i] = prim.owner;
+    }
+
+    // The same per-pixel stage over row blocks (single-sample targets only).
+    [[gnu::always_inline]] static inline void shade_rows_body(const KernelState& k,
+                                                              const SetupList& list,
+                                                              const SetupPrimitive& prim,
+                                                              const RowBlock& b, Framebuffer& fb) {
+        const Fp fp{k.options.flush_denormals};
+        const PrimitiveInputs in(k, list, prim, fb, fp);
+        for (int r = 0; r < b.rows; ++r) {
+            std::uint64_t m = b.mask[r];
+            const auto y = static_cast<std::uint32_t>(b.y0 + r);
+            while (m != 0) {
+                const auto x = static_cast<std::uint32_t>(b.x0 + std::countr_zero(m));
+                shade_pixel(k, in, prim, x, y, fb, fp);
+                m &= m - 1;
+            }
+        }
+    }
+    static void shade_rows(const KernelState& k, const SetupList& list, const SetupPrimitive& prim,
+                           const RowBlock& b, Framebuffer& fb) {
+        shade_rows_body(k, list, prim, b, fb);
+    }
+#if REFRASTER_KERNEL_ISA_VARIANTS
+    [[gnu::target("fma,sse4.1,popcnt,bmi"), gnu::flatten]] static void shade_rows_fma(
+        const KernelState& k, const SetupList& list, const SetupPrimitive& prim, const RowBlock& b,
+        Framebuffer& fb) {
+        shade_rows_body(k, list, prim, b, fb);
+    }
+#endif
+
+    // Sample `sample` of the pixel (0 for a single-sample target).
+    static FragmentTrace trace(const KernelState& k, const SetupList& list,
+                               const SetupPrimitive& prim, int x, int y, unsigned sample,
+                               const Framebuffer& fb_before) {
+        const Fp fp{k.options.flush_denormals};
+        const Plane* planes = list.planes.data() + prim.planes;
+        const float* flat = list.flat.data() + prim.flat;
+        const float px = static_cast<float>(x);
+        const float py = static_cast<float>(y);
+        const std::size_t i = fb_before.sample_index(static_cast<std::uint32_t>(x),
+                                                     static_cast<std::uint32_t>(y), sample);
+        // Where colour and depth are evaluated (shade_4x).
+        const bool ms = kSamples == kMsaaSamples && k.options.multisample;
+        const float centre = ms ? 0.5f : 0.0f;
+        const float zx = ms ? px + kSamplePositions4x[sample].x : px;
+        const float zy = ms ? py + kSamplePositions4x[sample].y : py;
+        FragmentTrace t;
+        const Plane& zp = planes[kZPlane];
+        const Plane& wp = planes[kWPlane];
+        t.z_plane = {zp.a0, zp.dadx, zp.dady};
+        t.w_plane = {wp.a0, wp.dadx, wp.dady};
+        t.z_offset = prim.z_offset;
+        t.depth_tested = D != DepthFormat::None;
+        if constexpr (D != DepthFormat::None) {
+            t.depth_value = depth_value(planes, prim.z_offset, zx, zy, k, fp, t.z);
+            // With multisampling off on a 4x target the test reads sample 0 (shade_4x).
+            const std::size_t di = kSamples == kMsaaSamples && !ms
+                                       ? fb_before.sample_index(static_cast<std::uint32_t>(x),
+                                                                static_cast<std::uint32_t>(y), 0)
+                                       : i;
+            t.depth_stored = fb_before.depth[di];
+            t.depth_pass =
+                (k.depth_pass & depth_outcome<D == DepthFormat::Z32f>(
+                                    t.depth_value, t.depth_stored, k.options.flush_denormals)) != 0;
+        }
+        if (k.texture != nullptr) {
+            // The pixel's quad, helper pixels included.
+            const unsigned p = static_cast<unsigned>((x & 1) | ((y & 1) << 1));
+            t.textured = true;
+            t.shader_color =
+                textured_quad(k, planes, flat, x & ~1, y & ~1, centre, fp, &t.texture, p)[p];
+        } else {
+            t.shader_color = color(planes, flat, px + centre, py + centre, k, fp);
+        }
+        Framebuffer one(1, 1, fb_before.color_format, DepthFormat::None);
+        for (std::size_t c = 0; c < 4; ++c) {
+            if constexpr (C == ColorFormat::Rgba8) {
+                one.color8[c] = fb_before.color8[4 * i + c];
+                t.destination[c] = one.color8[c];
+            } else {
+                one.color32f[c] = fb_before.color32f[4 * i + c];
+                t.destination[c] = one.color32f[c];
+            }
+        }
+        if (t.depth_pass) store_color<C, B>(one, 0, source_color<C>(k.options, t.shader_color), fp);
+        for (std::size_t c = 0; c < 4; ++c) {
+            t.written[c] = C == ColorFormat::Rgba8 ? one.color8[c] : one.color32f[c];
+        }
+        return t;
+    }
+};
+
+template <ShadeModel S, DepthFormat D, ColorFormat C, BlendPreset B>
+FragmentKernel make_kernel(KernelState state) {
+    if (state.samples == kMsaaSamples) {
+        using K4 = Kernel<S, D, C, B, kMsaaSamples>;
+        return {state, &K4::shade, &K4::trace};
+    }
+    using K = Kernel<S, D, C, B, 1>;
+    const KernelPath path = state.options.kernels;
+    if (path == KernelPath::Model) return {state, &K::shade, &K::trace};
+    if (state.texture != nullptr) {
+        // Quads only: the level of detail is a quad's. Where the profile flushes and the CPU
+        // has the modes, the kernel runs under them (hardware_denormals) with plain operations:
+        // the same results as the emulated flushes, depth compares included (depth_outcome).
+        KernelState plain = state;
+        const bool hardware = state.options.flush_denormals && cpu_flush_modes_available();
+        if (hardware) plain.options.flush_denormals = false;
+#if REFRASTER_KERNEL_ISA_VARIANTS
+        if (host_runs_fma_sse41()) return {plain, &K::shade_fma, &K::trace, nullptr, hardware};
+#endif
+        return {plain, &K::shade, &K::trace, nullptr, hardware};
+    }
+    if constexpr (C == ColorFormat::Rgba8) {
+        // The vector kernels write rgba8; rgba32f targets take the scalar path.
+        if (auto* fn = vector_shade_rows(path, S, D, B)) {
+            return {state, &K::shade, &K::trace, fn, state.options.flush_denormals};
+        }
+    }
+#if REFRASTER_KERNEL_ISA_VARIANTS
+    if (host_runs_fma_sse41()) return {state, &K::shade_fma, &K::trace, &K::shade_rows_fma};
+#endif
+    return {state, &K::shade, &K::trace, &K::shade_rows};
+}
+
+template <ShadeModel S, DepthFormat D, ColorFormat C>
+FragmentKernel pick_blend(const Draw& draw, KernelState state) {
+    switch (draw.state.blend) {
+        case BlendPreset::None:
+            return make_kernel<S, D, C, BlendPreset::None>(state);
+        case BlendPreset::Alpha:
+            return make_kernel<S, D, C, BlendPreset::Alpha>(state);
+        case BlendPreset::Add:
+            return make_kernel<S, D, C, BlendPreset::Add>(state);
+    }
+    return make_kernel<S, D, C, BlendPreset::None>(state);
+}
+
+template <ShadeModel S, DepthFormat D>
+FragmentKernel pick_color(const Draw& draw, const Target& target, KernelState state) {
+    if (target.color == ColorFormat::Rgba8)
+        return pick_blend<S, D, ColorFormat::Rgba8>(draw, state);
+    return pick_blend<S, D, ColorFormat::Rgba32f>(draw, state);
+}
+
+template <ShadeModel S>
+FragmentKernel pick_depth(const Draw& draw, const Target& target, KernelState state) {
+    if (!draw.state.depth_test) return pick_color<S, DepthFormat::None>(draw, target, state);
+    switch (target.depth) {
+        case DepthFormat::Z16:
+            return pick_color<S, DepthFormat::Z16>(draw, target, state);
+        case DepthFormat::Z24:
+            return pick_color<S, DepthFormat::Z24>(draw, target, state);
+        case DepthFormat::Z32f:
+            return pick_color<S, DepthFormat::Z32f>(draw, target, state);
+        case DepthFormat::None:
+            break;
+    }
+    return pick_color<S, DepthFormat::None>(draw, target, state);
+}
+
+}  // namespace
+
+FragmentKernel choose_fragment_kernel(const Draw& draw, const Target& target,
+                                      FragmentOptions options, const TextureUnit* texture) {
+    KernelState state;
+    state.options = options;
+    state.texture = texture;
+    state.point_coords = texture != nullptr && draw.samples_point_coords();
+    state.samples = target.samples;
+    if (draw.state.depth_test && target.depth != DepthFormat::None) {
+        state.depth_pass = static_cast<std::uint8_t>(*draw.state.depth_test);
+        state.depth_write = draw.state.depth_write;
+    }
+    switch (draw.state.shade) {
+        case ShadeModel::Flat:
+            return pick_depth<ShadeModel::Flat>(draw, target, state);
+        case ShadeModel::NoPerspective:
+            return pick_depth<ShadeModel::NoPerspective>(draw, target, state);
+        case ShadeModel::Smooth:
+            break;
+    }
+    return pick_depth<ShadeModel::Smooth>(draw, target, state);
+}
+
+void write_fragment_color(const Draw& draw, Framebuffer& fb, std::size_t i,
+                          const std::array<float, 4>& c, bool flush_denormals) {
+    const Fp fp{flush_denormals};
+    if (fb.color_format == ColorFormat::Rgba8) {
+        write_color_as<ColorFormat::Rgba8>(draw, fb, i, c, fp);
+    } else {
+        write_color_as<ColorFormat::Rgba32f>(draw, fb, i, c, fp);
+    }
+}
+
+}  // namespace refraster::detail
+
+namespace refraster::detail {
+
+ExactShader::ExactShader(const ExactCoverage& coverage, const std::array<StageVertex, 3>& v,
+                         const VertexStage& stage, const Draw& draw, const Target& target,
+                         bool provoking_first)
+    : coverage_(coverage),
+      v_(v),
+      stage_(stage),
+      draw_(draw),
+      target_(target),
+      provoking_first_(provoking_first) {
+    depth_test_ = draw.state.depth_test.has_value() && target.depth != DepthFormat::None;
+    if (draw.state.polygon_offset && depth_test_) {
+        // The slope of window z over window x and y: z is linear in window space. Only
+        // meaningful for triangles entirely in front of the eye.
+        std::array<std::array<double, 3>, 3> p{};
+        const auto& vp = draw.state.viewport;
+        const double n = draw.state.depth_near;
+        const double f = draw.state.depth_far;
+        for (std::size_t i = 0; i < 3; ++i) {
+            const auto& c = v[i].clip;
+            p[i] = {(double{c[0]} / double{c[3]} + 1.0) * 0.5 * vp.width + vp.x,
+                    (double{c[1]} / double{c[3]} + 1.0) * 0.5 * vp.height + vp.y,
+                    double{c[2]} / double{c[3]} * 0.5 * (f - n) + 0.5 * (n + f)};
+        }
+        const double ax = p[1][0] - p[0][0], ay = p[1][1] - p[0][1], az = p[1][2] - p[0][2];
+        const double bx = p[2][0] - p[0][0], by = p[2][1] - p[0][1], bz = p[2][2] - p[0][2];
+        const double det = ax * by - ay * bx;
+        const double m = det == 0.0 ? 0.0
+                                    : std::max(std::fabs((az * by - ay * bz) / det),
+                                               std::fabs((ax * bz - az * bx) / det));
+        double r = 0.0;
+        if (target.depth == DepthFormat::Z32f) {
+            const double maxz =
+                std::max({std::fabs(p[0][2]), std::fabs(p[1][2]), std::fabs(p[2][2])});
+            r = exact_z32f_offset_scale(maxz);
+        } else {
+            r = depth_mrd(target.depth);
+        }
+        offset_ = m * double{draw.state.polygon_offset->factor} +
+                  r * double{draw.state.polygon_offset->units};
+    }
+}
+
+void ExactShader::shade(int x, int y, Framebuffer& fb, std::uint32_t owner) const {
+    const auto b = coverage_.weights(x, y);
+    const std::size_t i = fb.index(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y));
+    if (depth_test_) {
+        double zn = 0.0;
+        for (std::size_t k = 0; k < 3; ++k) zn += b[k] * double{v_[k].clip[2]};
+        const double n = draw_.state.depth_near;
+        const double f = draw_.state.depth_far;
+        double z = zn * 0.5 * (f - n) + 0.5 * (n + f) + offset_;
+        z = std::min(std::max(z, 0.0), 1.0);
+        const std::uint32_t q = quantise_depth(z, target_.depth);
+        if (!compare(*draw_.state.depth_test, q, fb.depth[i], target_.depth == DepthFormat::Z32f))
+            return;
+        if (draw_.state.depth_write) fb.depth[i] = q;
+    }
+    std::array<float, 4> c{};
+    const auto a0 = stage_.attributes(v_[0]);
+    const auto a1 = stage_.attributes(v_[1]);
+    const auto a2 = stage_.attributes(v_[2]);
+    const std::array<std::span<const float>, 3> a{a0, a1, a2};
+    for (std::size_t k = 0; k < 4; ++k) {
+        switch (draw_.state.shade) {
+            case ShadeModel::Flat:
+                c[k] = a[provoking_first_ ? 0 : 2][k];
+                break;
+            case ShadeModel::Smooth: {
+                // Perspective-correct: the clip-space barycentric weights are b / sum b
+                // (exact_coverage.hpp, weights).
+                double s = 0.0;
+                for (std::size_t j = 0; j < 3; ++j) s += b[j] * double{a[j][k]};
+                c[k] = static_cast<float>(s / (b[0] + b[1] + b[2]));
+                break;
+            }
+            case ShadeModel::NoPerspective: {
+                double s = 0.0;
+                for (std::size_t j = 0; j < 3; ++j)
+                    s += b[j] * double{v_[j].clip[3]} * double{a[j][k]};
+                c[k] = static_cast<float>(s);
+                break;
+            }
+        }
+    }
+    write_fragment_color(draw_, fb, i, c, true);
+    if (!fb.owner.empty()) fb.owner[i] = owner;
+}
+
+}  // namespace refraster::detail

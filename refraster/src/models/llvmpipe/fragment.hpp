@@ -1,0 +1,259 @@
+// fragment.hpp: from a set-up primitive to bytes in the framebuffer, as llvmpipe computes them.
+//
+// Implements:
+//  - attribute planes (gallium/drivers/llvmpipe/lp_state_setup.c, init_args and calc_coef4):
+//    from the unsnapped window positions in setup's (swapped) vertex order,
+//    x0c = x0 - 0.5, ooa = 1 / (dx01*dy20 - dy01*dx20) with both products rounded, the deltas
+//    pre-multiplied by ooa, dadx = da01*dy20o - da20*dy01o, dady = da20*dx01o - da01*dx20o,
+//    A0 = a0 - (dadx*x0c + dady*y0c); smooth attributes are multiplied by their vertex's 1/w
+//    first (apply_perspective_corr); flat ones take the provoking vertex (emit_constant_coef4);
+//    window z and 1/w get planes of their own. All unfused.
+//  - polygon offset (lp_do_offset_tri): the slopes |dz/dx|, |dz/dy| from the cross product of
+//    the unscaled deltas times ooa; offset = units' + max slope * factor, where units' is
+//    units * 2 * mrd for fixed-point depth (lp_make_setup_variant_key), and for float depth
+//    units * 2^(exponent(max |z_i|) - 23).
+//  - per-pixel evaluation (lp_bld_interp.c, attribs_update_simple) at the pixel's integer
+//    coordinates: fmuladd(dady, py, fmuladd(dadx, px, A0)), fused when FMA is on; smooth
+//    values times 1 / (the 1/w plane's value), a true division.
+//  - depth: z plus the offset, clamped to [0, 1] (lp_build_depth_clamp: min with 1, then max
+//    with 0, with x86 minps/maxps semantics, so NaN becomes 1), quantised
+//    RNE(fl(z * (2^n - 1))) for z16 and z24 (lp_build_clamped_float_to_unsigned_norm) or kept
+//    as float for z32f, the eight compare functions on those values, writes when enabled.
+//  - colour output: rgba8 RNE(fl(c * 255)) of the clamped colour (lp_build_conv); rgba32f
+//    unclamped; blending per scene format's presets: on rgba8 in 8-bit fixed point with
+//    M(x, y) = (x*y + ((x*y) >> 8) + 128) >> 8 and saturating adds (lp_bld_blend; measured,
+//    docs/precision.md "Colour output and blending"); on rgba32f in float, unfused.
+//  - fragment kernels: the per-pixel stage compiled for one draw's state (shade model, depth
+//    format with the test on or off, colour format, blend preset, sample count), chosen once
+//    per draw, so that a pixel meets no switch on that state; the depth function becomes the
+//    draw's mask of passing outcomes (less, equal, greater: GL's own encoding of the eight
+//    functions). A draw without a depth test does no depth work, a flat draw evaluates no
+//    attribute plane, and a flat colour is converted once per primitive.
+//
+//  - 4x targets: kernels for four samples a pixel (colour once at the centre, depth and the
+//    output merge per sample), or the single-sample result repeated into every sample when
+//    the draw turns multisampling off.
+//
+// Deliberately does not: stencil, colour masks, blend equations other than the two presets,
+// sample shading or centroid interpolation.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "models/exact/exact_coverage.hpp"
+#include "common/float_ops.hpp"
+#include "stages/quad.hpp"
+#include "refraster/draw.hpp"
+#include "refraster/framebuffer.hpp"
+#include "refraster/renderer.hpp"
+#include "refraster/trace.hpp"
+#include "stages/row_block.hpp"
+#include "models/llvmpipe/setup_list.hpp"
+#include "models/llvmpipe/texture.hpp"
+#include "stages/vertex_stage.hpp"
+
+namespace refraster::detail {
+
+struct FragmentOptions {
+    bool fma = true;
+    bool flush_denormals = true;
+    // SetupParams::multisample: planes are set up with pixel offset 0 (A0 at the pixel's
+    // corner) and evaluated at the pixel centre for colour, at each sample for depth.
+    bool multisample = false;
+    KernelPath kernels = KernelPath::Model;  // resolved (resolve_kernel_path)
+    // The profile's depth_rounding and color_rounding are truncation (the Model path only: the
+    // renderer chooses it for such profiles).
+    bool depth_truncate = false;
+    bool color_truncate = false;
+};
+
+// Writes one primitive's planes into a SetupList: window z and 1/w first, then its
+// attributes. The per-pixel code runs under DAZ (lp_rast.c): with `daz`, a plane term that
+// setup left subnormal (setup without FTZ, see the llvmpipe model) is stored as the zero
+// every operation reading it would see. Flat values are only moved and keep their bits.
+class PlaneWriter {
+  public:
+    PlaneWriter(SetupList& list, SetupPrimitive& prim, bool daz)
+        : list_(list), prim_(prim), daz_(daz) {
+        prim_.planes = static_cast<std::uint32_t>(list_.planes.size());
+        prim_.flat = static_cast<std::uint32_t>(list_.flat.size());
+    }
+    void depth(const Plane& z, const Plane& w, float z_offset) {
+        list_.planes.push_back(daz(z));
+        list_.planes.push_back(daz(w));
+        prim_.z_offset = daz_ ? flush_denormal(z_offset) : z_offset;
+    }
+    // smooth and noperspective draws
+    void attribute(const Plane& p) { list_.planes.push_back(daz(p)); }
+    void constant(float v) { list_.flat.push_back(v); }  // flat draws
+
+  private:
+    Plane daz(Plane p) const {
+        if (daz_) {
+            p.a0 = flush_denormal(p.a0);
+            p.dadx = flush_denormal(p.dadx);
+            p.dady = flush_denormal(p.dady);
+        }
+        return p;
+    }
+    SetupList& list_;
+    SetupPrimitive& prim_;
+    bool daz_;
+};
+
+// Triangle planes (lp_state_setup.c); `v` in setup's order, after the orientation swap; one
+// plane (or constant) per attribute float of the draw. `options` are setup's (its FTZ may be
+// off, see the llvmpipe model), `daz` the per-pixel stage's.
+//
+// Planes no reader needs are left out (stored as zero): window z and the polygon offset
+// unless the draw tests depth, 1/w unless it is smooth-shaded, unless an observer records
+// them (PlaneNeeds).
+struct PlaneNeeds {
+    bool depth = true;  // the z plane and the polygon offset
+    bool w = true;      // the 1/w plane
+};
+void triangle_planes(const std::array<const StageVertex*, 3>& v, const VertexStage& stage,
+                     const Draw& draw, const Target& target, bool provoking_first,
+                     FragmentOptions options, bool daz, PlaneNeeds needs, SetupList& list,
+                     SetupPrimitive& prim);
+
+// The draw's state as a fragment kernel reads it at run time.
+struct KernelState {
+    // The draw's texture unit (texture.hpp), or null for an untextured draw: the fragment's
+    // colour is then the texel (replace) or the colour times it (modulate), sampled a quad at
+    // a time at the texture coordinates (attributes 4 to 7) divided by q.
+    const TextureUnit* texture = nullptr;
+    // Draw::samples_point_coords: s and t come from the two planes after the attributes
+    // (point_planes), as a perspective input, and are not divided by q.
+    bool point_coords = false;
+    std::uint8_t depth_pass = 7;  // outcomes that pass: 1 less, 2 equal, 4 greater
+    bool depth_write = false;
+    std::uint32_t samples = 1;  // of the target: 1 or 4
+    FragmentOptions options;
+};
+
+// The per-pixel stage of one draw: shades quad packets of a set-up primitive into the
+// framebuffer (depth test, colour, blending, owner), or traces one pixel of it.
+class FragmentKernel {
+  public:
+    using ShadeFn = void (*)(const KernelState&, const SetupList&, const SetupPrimitive&,
+                             std::span<const QuadPacket>, Framebuffer&);
+    using ShadeRowsFn = void (*)(const KernelState&, const SetupList&, const SetupPrimitive&,
+                                 const RowBlock&, Framebuffer&);
+    using TraceFn = FragmentTrace (*)(const KernelState&, const SetupList&, const SetupPrimitive&,
+                                      int, int, unsigned, const Framebuffer&);
+    FragmentKernel(KernelState state, ShadeFn shade_fn, TraceFn trace_fn,
+                   ShadeRowsFn shade_rows_fn = nullptr, bool hardware_denormals = false)
+        : state_(state),
+          shade_(shade_fn),
+          trace_(trace_fn),
+          shade_rows_(shade_rows_fn),
+          hardware_denormals_(hardware_denormals) {}
+
+    void shade(const SetupList& list, const SetupPrimitive& prim, std::span<const QuadPacket> quads,
+               Framebuffer& fb) const {
+        shade_(state_, list, prim, quads, fb);
+    }
+    // Whether the kernel reads row blocks (single-sample targets, every path but the model);
+    // shade_rows then replaces shade.
+    bool shades_rows() const { return shade_rows_ != nullptr; }
+    void shade_rows(const SetupList& list, const SetupPrimitive& prim, const RowBlock& block,
+                    Framebuffer& fb) const {
+        shade_rows_(state_, list, prim, block, fb);
+    }
+    // Whether the kernel must run with the CPU's flush-to-zero and denormals-are-zero modes
+    // on (ScopedDenormalsAreZero, float_env.hpp): the vector kernels flush as llvmpipe's
+    // rasterizer threads do, by the hardware, instead of testing every result.
+    bool hardware_denormals() const { return hardware_denormals_; }
+    // The kernel path the kernel was chosen for (resolved).
+    KernelPath path() const { return state_.options.kernels; }
+    // The decisions about sample `sample` of pixel (x, y) of `prim` (which must cover it),
+    // given the framebuffer before the primitive is shaded.
+    FragmentTrace trace(const SetupList& list, const SetupPrimitive& prim, int x, int y,
+                        unsigned sample, const Framebuffer& fb_before) const {
+        return trace_(state_, list, prim, x, y, sample, fb_before);
+    }
+
+  private:
+    KernelState state_;
+    ShadeFn shade_;
+    TraceFn trace_;
+    ShadeRowsFn shade_rows_;
+    bool hardware_denormals_;
+};
+
+// The kernel for a draw's state into `target`; `options` are the per-pixel stage's; `texture`
+// the draw's texture unit (null without one), which must outlive the kernel. A textured draw
+// shades quad packets only (its level of detail is a quad's), never row blocks.
+FragmentKernel choose_fragment_kernel(const Draw& draw, const Target& target,
+                                      FragmentOptions options,
+                                      const TextureUnit* texture = nullptr);
+
+// The exact oracle's fragments: attributes and depth from the exact homogeneous weights of the
+// pixel centre (perspective-correct: sum b_i a_i; noperspective: the screen-space weights
+// b_i w_i; flat: the provoking vertex), depth quantised by rounding the real value to
+// nearest, polygon offset as the GL specification states it (14.6.5: m * factor + r * units
+// with r = 1 / (2^n - 1), or 2^(e - 23) for float depth), the same output merge as llvmpipe's.
+class ExactShader {
+  public:
+    ExactShader(const ExactCoverage& coverage, const std::array<StageVertex, 3>& v,
+                const VertexStage& stage, const Draw& draw, const Target& target,
+                bool provoking_first);
+    void shade(int x, int y, Framebuffer& fb, std::uint32_t owner = 0) const;
+
+  private:
+    const ExactCoverage& coverage_;
+    std::array<StageVertex, 3> v_;
+    const VertexStage& stage_;
+    const Draw& draw_;
+    Target target_;
+    bool provoking_first_;
+    double offset_ = 0.0;
+    bool depth_test_ = false;
+};
+
+// The output merge shared by both models: conversion, blending and the colour write; float
+// blending flushes denormals when `flush_denormals` is set, as llvmpipe's rasterizer does.
+void write_fragment_color(const Draw& draw, Framebuffer& fb, std::size_t i,
+                          const std::array<float, 4>& c, bool flush_denormals);
+
+// glClearColor into rgba8: float_to_ubyte (util/u_math.h), which util_pack_color uses for
+// R8G8B8A8_UNORM: f * (255/256) + 32768 in float, then the low byte of the float's bits.
+std::uint8_t clear_to_unorm8(float c);
+
+// Fragment depth clamped to [0, 1] as llvmpipe's generated code does it (lp_state_fs.c,
+// lp_build_depth_clamp: lp_build_clamp(z, 0, 1), which is lp_build_min(z, 1) then
+// lp_build_max(., 0), lowered to x86 minps/maxps: each returns its second operand unless the
+// first compares less (greater)). A NaN depth therefore becomes 1 (the far value, in every
+// depth format), -0 becomes +0, and infinities clamp to the ends. Inline: the kernels'
+// run-time variants must not call out of their instruction set.
+[[gnu::always_inline]] inline float clamp_depth(float z) {
+    const float lo = z < 1.0f ? z : 1.0f;
+    return lo > 0.0f ? lo : 0.0f;
+}
+
+// Fragment colour into rgba8: clamp to [0, 1], then RNE(fl(c * 255)) (lp_build_conv;
+// docs/precision.md "Colour output and blending").
+[[gnu::always_inline]] inline std::uint8_t color_to_unorm8(float c) {
+    if (!(c > 0.0f)) return 0;
+    if (c >= 1.0f) return 255;
+    return static_cast<std::uint8_t>(round_to_nearest_even(c * 255.0f));
+}
+
+// The same with truncation instead of RNE (a profile's color_rounding=truncate).
+[[gnu::always_inline]] inline std::uint8_t color_to_unorm8_truncated(float c) {
+    if (!(c > 0.0f)) return 0;
+    if (c >= 1.0f) return 255;
+    return static_cast<std::uint8_t>(c * 255.0f);
+}
+
+// llvmpipe's 8-bit product (lp_build_mul_norm): (x*y + ((x*y) >> 8) + 128) >> 8.
+constexpr std::uint8_t unorm8_mul(std::uint32_t x, std::uint32_t y) {
+    const std::uint32_t p = x * y;
+    return static_cast<std::uint8_t>((p + (p >> 8) + 128) >> 8);
+}
+
+}  // namespace refraster::detail

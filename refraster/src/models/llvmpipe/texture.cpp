@@ -1,0 +1,549 @@
+#include "models/llvmpipe/texture.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <limits>
+
+#include "common/float_ops.hpp"
+#include "refraster/assert.hpp"
+#include "refraster/fixed.hpp"
+#include "models/llvmpipe/vector_kernels.hpp"
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define REFRASTER_SAMPLER_ISA_VARIANTS 1
+#else
+#define REFRASTER_SAMPLER_ISA_VARIANTS 0
+#endif
+
+namespace refraster::detail {
+
+namespace {
+
+constexpr std::int32_t kIndefinite = std::numeric_limits<std::int32_t>::min();
+
+// cvttps2dq of floor(x) (lp_build_ifloor with SSE4.1 rounding): INT32_MIN when the result does
+// not fit, as the instruction gives it.
+std::int32_t ifloor(float x) {
+    const float f = std::floor(x);
+    if (!(f >= -2147483648.0f && f < 2147483648.0f)) return kIndefinite;
+    return static_cast<std::int32_t>(f);
+}
+
+// cvttps2dq (lp_build_itrunc).
+std::int32_t itrunc(float x) {
+    const float f = std::trunc(x);
+    if (!(f >= -2147483648.0f && f < 2147483648.0f)) return kIndefinite;
+    return static_cast<std::int32_t>(f);
+}
+
+// 32-bit wrapping subtraction, as the vector integer instructions do it.
+std::int32_t sub_wrap(std::int32_t a, std::int32_t b) {
+    return static_cast<std::int32_t>(static_cast<std::uint32_t>(a) - static_cast<std::uint32_t>(b));
+}
+
+// The largest float below 1 (lp_build_fract_safe's clamp).
+constexpr float kBelowOne = 0x1.fffffep-1f;
+
+bool is_pot(std::uint32_t v) {
+    return v != 0 && (v & (v - 1)) == 0;
+}
+
+// The byte lerp of the 8-bit path: a + floor((w * (b - a) + 128) / 256) for a weight w in
+// units of 1/256 (lp_build_lerp on 8.8 values, pmulhrsw's rounding: lp_bld_arit.c,
+// lp_build_lerp_simple with the SSSE3 path; docs/precision.md "Textures").
+std::int32_t lerp8(std::int32_t w, std::int32_t a, std::int32_t b) {
+    return a + ((w * (b - a) + 128) >> 8);
+}
+
+// lp_bld_sample_soa.c, lp_build_coord_mirror: |2 * (u/2 - round(u/2))|, in float, round to
+// nearest even, then a max with 0 that turns a NaN into 0 (GALLIVM_NAN_RETURN_OTHER_SECOND_NONNAN).
+float mirror(float u) {
+    const float h = u * 0.5f;
+    const float d = h - round_to_nearest_even(h);
+    const float m = std::fabs(d + d);
+    return std::isnan(m) ? 0.0f : m;
+}
+
+// Texel coordinates and weights of one axis of one level.
+struct AxisNearest {
+    std::int32_t i = 0;
+    bool border = false;
+};
+struct AxisLinear {
+    std::int32_t i0 = 0;
+    std::int32_t i1 = 0;
+    bool border0 = false;
+    bool border1 = false;
+    std::int32_t w8 = 0;  // 8-bit path, units of 1/256
+    float w = 0.0f;       // float path
+};
+
+// lp_bld_sample_aos.c, lp_build_sample_wrap_nearest_int / the float path's
+// lp_build_sample_wrap_nearest for repeat and clamp-to-edge: the texel floor(u * n), wrapped.
+// Repeat of a size that is not a power of two takes the fraction first.
+std::int32_t nearest_repeat_or_edge(float u, std::int32_t n, bool pot, TextureWrap wrap) {
+    const float nf = static_cast<float>(n);
+    if (wrap == TextureWrap::Repeat) {
+        if (pot) return ifloor(u * nf) & (n - 1);
+        const float f = std::min(u - std::floor(u), kBelowOne);
+        return itrunc(f * nf);
+    }
+    return std::clamp(ifloor(u * nf), 0, n - 1);
+}
+
+AxisNearest nearest_aos(float u, std::int32_t n, bool pot, TextureWrap wrap) {
+    return {nearest_repeat_or_edge(u, n, pot, wrap), false};
+}
+
+// lp_bld_sample_aos.c, lp_build_sample_wrap_linear_int: 8.8 fixed point from
+// cvtps2dq(u * (n * 256)) - 128 (round to nearest even), the texel its high part, the weight its
+// low byte.
+AxisLinear linear_aos(float u, std::int32_t n, bool pot, TextureWrap wrap) {
+    AxisLinear a;
+    if (wrap == TextureWrap::Repeat && !pot) {
+        // lp_build_coord_repeat_npot_linear_int: the fraction scaled by n, then by 256.
+        const float f = u - std::floor(u);
+        const float scaled = (f * static_cast<float>(n)) * 256.0f;
+        const std::int32_t s = sub_wrap(round_nearest_even_or_indefinite(scaled), 128);
+        a.w8 = s & 255;
+        std::int32_t i0 = s >> 8;
+        if (i0 < 0) i0 = n - 1;
+        i0 = std::min(i0, n - 1);
+        a.i0 = i0;
+        a.i1 = i0 == n - 1 ? 0 : i0 + 1;
+        return a;
+    }
+    const float size256 = static_cast<float>(n * 256);  // exact: n <= 4096
+    const std::int32_t s = sub_wrap(round_nearest_even_or_indefinite(u * size256), 128);
+    a.w8 = s & 255;
+    const std::int32_t i0 = s >> 8;
+    if (wrap == TextureWrap::Repeat) {
+        a.i0 = i0 & (n - 1);
+        a.i1 = (i0 + 1) & (n - 1);
+    } else {
+        a.i0 = std::clamp(i0, 0, n - 1);
+        a.i1 = std::clamp(i0 + 1, 0, n - 1);
+    }
+    return a;
+}
+
+// lp_bld_sample_soa.c, lp_build_sample_wrap_nearest.
+AxisNearest nearest_soa(float u, std::int32_t n, bool pot, TextureWrap wrap) {
+    const float nf = static_cast<float>(n);
+    switch (wrap) {
+        case TextureWrap::Repeat:
+        case TextureWrap::ClampToEdge:
+            return {nearest_repeat_or_edge(u, n, pot, wrap), false};
+        case TextureWrap::MirroredRepeat:
+            return {std::min(itrunc(mirror(u) * nf), n - 1), false};
+        case TextureWrap::ClampToBorder: {
+            // The texel floor(u * n), unclamped: outside the image it reads the border colour
+            // (lp_build_sample_texel_soa's use_border).
+            const std::int32_t i = ifloor(u * nf);
+            return {i, i < 0 || i >= n};
+        }
+    }
+    return {};
+}
+
+// lp_bld_sample_soa.c, lp_build_sample_wrap_linear.
+AxisLinear linear_soa(float u, std::int32_t n, bool pot, TextureWrap wrap) {
+    const float nf = static_cast<float>(n);
+    AxisLinear a;
+    float c = 0.0f;
+    bool npot_repeat_below = false;
+    switch (wrap) {
+        case TextureWrap::Repeat:
+            if (pot) {
+                c = u * nf - 0.5f;
+            } else {
+                c = (u - std::floor(u)) * nf - 0.5f;
+                npot_repeat_below = c < 0.0f;
+            }
+            break;
+        case TextureWrap::ClampToEdge: {
+            // lp_build_min_ext with NaN returning the size, then max with 0.
+            const float x = u * nf;
+            c = std::max((x < nf ? x : nf) - 0.5f, 0.0f);
+            break;
+        }
+        case TextureWrap::MirroredRepeat:
+            c = mirror(u) * nf - 0.5f;
+            break;
+        case TextureWrap::ClampToBorder:
+            // No clamp: texels outside the image read the border colour.
+            c = u * nf - 0.5f;
+            break;
+    }
+    const float fl = std::floor(c);
+    a.w = c - fl;
+    std::int32_t i0 = ifloor(c);
+    std::int32_t i1 = i0 + (i0 == kIndefinite ? 0 : 1);
+    switch (wrap) {
+        case TextureWrap::Repeat:
+            if (pot) {
+                i0 &= n - 1;
+                i1 &= n - 1;
+            } else {
+                if (npot_repeat_below) i0 = n - 1;
+                i1 = i0 == n - 1 ? 0 : i0 + 1;
+            }
+            break;
+        case TextureWrap::ClampToEdge:
+            i1 = std::min(i1, n - 1);
+            break;
+        case TextureWrap::MirroredRepeat:
+            i0 = std::max(i0, 0);
+            i1 = std::min(i1, n - 1);
+            break;
+        case TextureWrap::ClampToBorder:
+            a.border0 = i0 < 0 || i0 >= n;
+            a.border1 = i1 < 0 || i1 >= n;
+            break;
+    }
+    a.i0 = i0;
+    a.i1 = i1;
+    return a;
+}
+
+struct LevelView {
+    const TextureImage* image;
+    std::int32_t w;
+    std::int32_t h;
+    // A texel's bytes. Coordinates outside the image happen only where the rules above leave
+    // the driver reading memory it does not own (never for coordinates a wrap keeps inside);
+    // they are clamped so that no read leaves the image.
+    const std::uint8_t* texel(std::int32_t x, std::int32_t y) const {
+        x = std::clamp(x, 0, w - 1);
+        y = std::clamp(y, 0, h - 1);
+        return image->rgba.data() + 4 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
+                                         static_cast<std::size_t>(x));
+    }
+};
+
+// One level sampled by the 8-bit path: bytes.
+std::array<std::uint8_t, 4> sample_level_aos(const TextureUnit& u, const LevelView& lv, float s,
+                                             float t, bool linear, TexelSample* tr,
+                                             std::size_t slot) {
+    std::array<std::uint8_t, 4> out{};
+    const auto& st = u.state;
+    if (!linear) {
+        const AxisNearest x = nearest_aos(s, lv.w, u.pot_s, st.wrap_s);
+        const AxisNearest y = nearest_aos(t, lv.h, u.pot_t, st.wrap_t);
+        const std::uint8_t* p = lv.texel(x.i, y.i);
+        std::copy(p, p + 4, out.begin());
+        if (tr != nullptr) tr->texels[slot] = {x.i, x.i, y.i, y.i};
+        return out;
+    }
+    const AxisLinear x = linear_aos(s, lv.w, u.pot_s, st.wrap_s);
+    const AxisLinear y = linear_aos(t, lv.h, u.pot_t, st.wrap_t);
+    const std::uint8_t* t00 = lv.texel(x.i0, y.i0);
+    const std::uint8_t* t10 = lv.texel(x.i1, y.i0);
+    const std::uint8_t* t01 = lv.texel(x.i0, y.i1);
+    const std::uint8_t* t11 = lv.texel(x.i1, y.i1);
+    for (std::size_t c = 0; c < 4; ++c) {
+        // Along s first, then along t (lp_build_lerp_2d).
+        const std::int32_t r0 = lerp8(x.w8, t00[c], t10[c]);
+        const std::int32_t r1 = lerp8(x.w8, t01[c], t11[c]);
+        out[c] = static_cast<std::uint8_t>(lerp8(y.w8, r0, r1));
+    }
+    if (tr != nullptr) {
+        tr->texels[slot] = {x.i0, x.i1, y.i0, y.i1};
+        tr->weights[slot] = {static_cast<float>(x.w8), static_cast<float>(y.w8)};
+    }
+    return out;
+}
+
+// The shader's float lerp: a + w * (b - a), fused on an FMA CPU (lp_build_lerp through
+// lp_build_fmuladd).
+float lerp_float(float w, float a, float b, bool fma) {
+    const float d = b - a;
+    return fma ? fused_multiply_add(w, d, a) : a + w * d;
+}
+
+// One level sampled by the float path: floats.
+std::array<float, 4> sample_level_soa(const TextureUnit& u, const LevelView& lv, float s, float t,
+                                      bool linear, bool both, bool fma, TexelSample* tr,
+                                      std::size_t slot) {
+    const auto& st = u.state;
+    // Texels as floats, the border colour where the wrap says so (lp_build_sample_texel_soa).
+    const auto fetch = [&](std::int32_t x, std::int32_t y, bool border) {
+        std::array<float, 4> v{};
+        if (border) {
+            for (std::size_t c = 0; c < 4; ++c) v[c] = std::clamp(st.border_color[c], 0.0f, 1.0f);
+            return v;
+        }
+        const std::uint8_t* p = lv.texel(x, y);
+        for (std::size_t c = 0; c < 4; ++c) v[c] = unorm8_to_float(p[c]);
+        return v;
+    };
+    if (!linear && !both) {
+        const AxisNearest x = nearest_soa(s, lv.w, u.pot_s, st.wrap_s);
+        const AxisNearest y = nearest_soa(t, lv.h, u.pot_t, st.wrap_t);
+        if (tr != nullptr) {
+            tr->texels[slot] = {x.i, x.i, y.i, y.i};
+            tr->border[slot] = {x.border || y.border, false, false, false};
+        }
+        return fetch(x.i, y.i, x.border || y.border);
+    }
+    AxisLinear x = linear_soa(s, lv.w, u.pot_s, st.wrap_s);
+    AxisLinear y = linear_soa(t, lv.h, u.pot_t, st.wrap_t);
+    if (!linear) {
+        // lp_build_sample_mipmap_both: a quad that takes the nearest filter runs the linear
+        // one with each weight replaced by (weight > 0.5 ? 1 : 0).
+        // (lp_build_cmp, unordered: a NaN weight becomes 1.)
+        x.w = !(x.w <= 0.5f) ? 1.0f : 0.0f;
+        y.w = !(y.w <= 0.5f) ? 1.0f : 0.0f;
+    }
+    const auto t00 = fetch(x.i0, y.i0, x.border0 || y.border0);
+    const auto t10 = fetch(x.i1, y.i0, x.border1 || y.border0);
+    const auto t01 = fetch(x.i0, y.i1, x.border0 || y.border1);
+    const auto t11 = fetch(x.i1, y.i1, x.border1 || y.border1);
+    std::array<float, 4> out{};
+    for (std::size_t c = 0; c < 4; ++c) {
+        const float r0 = lerp_float(x.w, t00[c], t10[c], fma);
+        const float r1 = lerp_float(x.w, t01[c], t11[c], fma);
+        out[c] = lerp_float(y.w, r0, r1, fma);
+    }
+    if (tr != nullptr) {
+        tr->texels[slot] = {x.i0, x.i1, y.i0, y.i1};
+        tr->weights[slot] = {x.w, y.w};
+        tr->border[slot] = {x.border0 || y.border0, x.border1 || y.border0, x.border0 || y.border1,
+                            x.border1 || y.border1};
+    }
+    return out;
+}
+
+LevelView level_view(const TextureUnit& u, std::uint32_t level) {
+    const TextureImage& img = (*u.levels)[level];
+    return {&img, static_cast<std::int32_t>(img.width), static_cast<std::int32_t>(img.height)};
+}
+
+// The LOD decisions of a quad (lp_bld_sample.c, lp_build_rho and lp_build_lod_selector, with
+// GALLIVM_PERF's rho_approx and brilinear off, no bias, no LOD clamps).
+struct QuadLod {
+    bool minified = false;
+    std::uint32_t level0 = 0;
+    std::uint32_t level1 = 0;
+    float frac = 0.0f;       // between level0 and level1 (trilinear)
+    std::int32_t frac8 = 0;  // the same in units of 1/256, truncated (8-bit path)
+    float rho2 = 0.0f;
+    float lod = 0.0f;
+    std::array<float, 4> terms{};
+};
+
+// Whether a filter's image filter is linear.
+bool is_linear(TextureFilter f) {
+    return f == TextureFilter::Linear || f == TextureFilter::LinearMipmapNearest ||
+           f == TextureFilter::LinearMipmapLinear;
+}
+
+// x86 maxps: the second operand unless the first compares greater.
+float max_ps(float a, float b) {
+    return a > b ? a : b;
+}
+
+QuadLod quad_lod(const TextureUnit& u, const std::array<float, 4>& s,
+                 const std::array<float, 4>& t) {
+    QuadLod q;
+    if (!u.needs_lod) return q;
+    // Differences of the coordinates first, then scaled to base-level texels.
+    const float dsdx = u.base_width * (s[1] - s[0]);
+    const float dtdx = u.base_height * (t[1] - t[0]);
+    const float dsdy = u.base_width * (s[2] - s[0]);
+    const float dtdy = u.base_height * (t[2] - t[0]);
+    q.terms = {dsdx, dtdx, dsdy, dtdy};
+    const float rx = dsdx * dsdx + dtdx * dtdx;
+    const float ry = dsdy * dsdy + dtdy * dtdy;
+    q.rho2 = max_ps(rx, ry);
+    // lp_build_cmp compares unordered: a NaN rho counts as minified.
+    q.minified = !(q.rho2 <= 1.0f);
+    if (!q.minified || !u.mipmapped) return q;
+    const auto bits = std::bit_cast<std::uint32_t>(q.rho2);
+    const auto e = static_cast<std::int32_t>((bits >> 23) & 0xffu);
+    const bool nearest_level = u.state.min_filter == TextureFilter::NearestMipmapNearest ||
+                               u.state.min_filter == TextureFilter::LinearMipmapNearest;
+    const auto last = static_cast<std::int32_t>(u.last_level);
+    if (nearest_level) {
+        // The level nearest log2(rho) from the exponent of rho squared (lp_build_ilog2 of
+        // rho squared, halved with an offset): level k for rho2 in [2^(2k-1), 2^(2k+1)).
+        const std::int32_t level = std::clamp((e - 126) >> 1, 0, last);
+        q.level0 = q.level1 = static_cast<std::uint32_t>(level);
+        return q;
+    }
+    // lp_build_fast_log2: (exponent - 1) + mantissa in [1, 2), then halved for rho.
+    const float mantissa = std::bit_cast<float>((bits & 0x7fffffu) | 0x3f800000u);
+    q.lod = (static_cast<float>(e - 128) + mantissa) * 0.5f;
+    const std::int32_t level0 = ifloor(q.lod);
+    float frac = q.lod - std::floor(q.lod);
+    std::int32_t l0 = level0;
+    std::int32_t l1 = level0 + 1;
+    if (level0 < 0) {
+        l0 = l1 = 0;
+        frac = 0.0f;
+    } else if (level0 >= last) {
+        l0 = l1 = last;
+        frac = 0.0f;
+    }
+    q.level0 = static_cast<std::uint32_t>(l0);
+    q.level1 = static_cast<std::uint32_t>(l1);
+    q.frac = frac;
+    q.frac8 = itrunc(frac * 256.0f);
+    return q;
+}
+
+}  // namespace
+
+float unorm8_to_float(std::uint8_t v) {
+    constexpr float kInv255 = 1.0f / 255.0f;
+    return static_cast<float>(v) * kInv255;
+}
+
+TextureUnit make_texture_unit(const TextureState& state, const std::vector<TextureImage>& levels) {
+    REFRASTER_ASSERT(!levels.empty(), "a texture with a base level");
+    TextureUnit u;
+    u.levels = &levels;
+    u.state = state;
+    const auto edge_or_repeat = [](TextureWrap w) {
+        return w == TextureWrap::Repeat || w == TextureWrap::ClampToEdge;
+    };
+    u.aos = edge_or_repeat(state.wrap_s) && edge_or_repeat(state.wrap_t);
+    u.pot_s = is_pot(levels[0].width);
+    u.pot_t = is_pot(levels[0].height);
+    u.mipmapped = uses_mipmaps(state.min_filter);
+    u.last_level = u.mipmapped ? static_cast<std::uint32_t>(levels.size() - 1) : 0;
+    const auto image_filter = [](TextureFilter f) {
+        return f == TextureFilter::Nearest || f == TextureFilter::NearestMipmapNearest ||
+                       f == TextureFilter::NearestMipmapLinear
+                   ? TextureFilter::Nearest
+                   : TextureFilter::Linear;
+    };
+    u.needs_lod = u.mipmapped || image_filter(state.min_filter) != state.mag_filter;
+    u.soa_nearest_as_linear = !u.aos && image_filter(state.min_filter) != state.mag_filter;
+    u.base_width = static_cast<float>(levels[0].width);
+    u.base_height = static_cast<float>(levels[0].height);
+    return u;
+}
+
+bool quad_takes_linear(const TextureUnit& u, const std::array<float, 4>& s,
+                       const std::array<float, 4>& t) {
+    return is_linear(quad_lod(u, s, t).minified ? u.state.min_filter : u.state.mag_filter);
+}
+
+namespace {
+
+[[gnu::always_inline]] inline void sample_quad_body(const TextureUnit& u,
+                                                    const std::array<float, 4>& s,
+                                                    const std::array<float, 4>& t, bool fma,
+                                                    std::array<std::array<float, 4>, 4>& out,
+                                                    bool pair_linear, TexelSample* trace,
+                                                    unsigned trace_pixel) {
+    const QuadLod lod = quad_lod(u, s, t);
+    const bool linear = is_linear(lod.minified ? u.state.min_filter : u.state.mag_filter);
+    // The float path with different image filters: the combined filter when this quad or
+    // the other quad of its eight-pixel vector takes the linear one, nearest otherwise.
+    const bool both = u.soa_nearest_as_linear && (linear || pair_linear);
+    const bool two_levels = lod.minified && u.mipmapped && lod.level0 != lod.level1;
+    const LevelView lv0 = level_view(u, lod.minified ? lod.level0 : 0);
+    const LevelView lv1 = two_levels ? level_view(u, lod.level1) : lv0;
+    for (unsigned p = 0; p < 4; ++p) {
+        TexelSample* tr = trace != nullptr && p == trace_pixel ? trace : nullptr;
+        if (u.aos) {
+            auto c0 = sample_level_aos(u, lv0, s[p], t[p], linear, tr, 0);
+            if (two_levels) {
+                const auto c1 = sample_level_aos(u, lv1, s[p], t[p], linear, tr, 1);
+                for (std::size_t c = 0; c < 4; ++c)
+                    c0[c] = static_cast<std::uint8_t>(lerp8(lod.frac8, c0[c], c1[c]));
+            }
+            for (std::size_t c = 0; c < 4; ++c) out[p][c] = unorm8_to_float(c0[c]);
+        } else {
+            auto c0 = sample_level_soa(u, lv0, s[p], t[p], linear, both, fma, tr, 0);
+            if (two_levels) {
+                const auto c1 = sample_level_soa(u, lv1, s[p], t[p], linear, both, fma, tr, 1);
+                for (std::size_t c = 0; c < 4; ++c) c0[c] = lerp_float(lod.frac, c0[c], c1[c], fma);
+            }
+            out[p] = c0;
+        }
+        if (tr != nullptr) {
+            tr->aos = u.aos;
+            tr->coord = {s[p], t[p]};
+            tr->rho_terms = lod.terms;
+            tr->rho2 = lod.rho2;
+            tr->minified = lod.minified;
+            tr->lod = lod.lod;
+            tr->level0 = lod.minified ? lod.level0 : 0;
+            tr->level1 = two_levels ? lod.level1 : tr->level0;
+            tr->level_weight = two_levels ? lod.frac : 0.0f;
+            tr->level_weight8 = two_levels ? static_cast<std::uint32_t>(lod.frac8) : 0;
+            tr->linear = linear;
+            tr->color = out[p];
+        }
+    }
+}
+
+}  // namespace
+
+#if REFRASTER_SAMPLER_ISA_VARIANTS
+// The same sampler compiled for CPUs with FMA and SSE4.1 (chosen at run time): floor, trunc and
+// the rounding become single instructions and the fused lerps one instruction each, instead of
+// library calls; the operations and their order are the body's, so the results are the same.
+[[gnu::target("fma,sse4.1,popcnt"), gnu::flatten]] void sample_quad_fma(
+    const TextureUnit& u, const std::array<float, 4>& s, const std::array<float, 4>& t, bool fma,
+    std::array<std::array<float, 4>, 4>& out, bool pair_linear, TexelSample* trace,
+    unsigned trace_pixel) {
+    sample_quad_body(u, s, t, fma, out, pair_linear, trace, trace_pixel);
+}
+#endif
+
+void sample_quad(const TextureUnit& u, const std::array<float, 4>& s, const std::array<float, 4>& t,
+                 bool fma, std::array<std::array<float, 4>, 4>& out, bool pair_linear,
+                 TexelSample* trace, unsigned trace_pixel) {
+#if REFRASTER_SAMPLER_ISA_VARIANTS
+    static const bool kVariant = host_runs_fma_sse41();
+    if (kVariant) return sample_quad_fma(u, s, t, fma, out, pair_linear, trace, trace_pixel);
+#endif
+    sample_quad_body(u, s, t, fma, out, pair_linear, trace, trace_pixel);
+}
+
+std::vector<TextureImage> generate_mipmaps(const TextureImage& base) {
+    // util_gen_mipmap: each level a linear blit of the one above (st_gen_mipmap.c); the blit
+    // samples the source with the 8-bit path, clamp-to-edge, at the destination texel's centre
+    // u = (i + 0.5) / new_width (docs/precision.md, "Generated mipmaps").
+    std::vector<TextureImage> out;
+    const TextureImage* src = &base;
+    while (src->width > 1 || src->height > 1) {
+        TextureImage next;
+        next.width = std::max(1u, src->width / 2);
+        next.height = std::max(1u, src->height / 2);
+        next.rgba.resize(std::size_t{next.width} * next.height * 4);
+        TextureUnit u;
+        u.state.wrap_s = u.state.wrap_t = TextureWrap::ClampToEdge;
+        const LevelView lv{src, static_cast<std::int32_t>(src->width),
+                           static_cast<std::int32_t>(src->height)};
+        for (std::uint32_t j = 0; j < next.height; ++j) {
+            const float v = (static_cast<float>(j) + 0.5f) / static_cast<float>(next.height);
+            for (std::uint32_t i = 0; i < next.width; ++i) {
+                const float uu = (static_cast<float>(i) + 0.5f) / static_cast<float>(next.width);
+                const auto c = sample_level_aos(u, lv, uu, v, true, nullptr, 0);
+                std::copy(c.begin(), c.end(),
+                          next.rgba.begin() +
+                              static_cast<std::ptrdiff_t>(4 * (std::size_t{j} * next.width + i)));
+            }
+        }
+        out.push_back(std::move(next));
+        src = &out.back();
+    }
+    return out;
+}
+
+std::vector<TextureImage> resolve_levels(const Texture& texture) {
+    REFRASTER_ASSERT(!texture.levels.empty(), "a texture with a base level");
+    std::vector<TextureImage> levels;
+    if (!texture.generate_mipmaps) return texture.levels;
+    levels.push_back(texture.levels.front());
+    for (auto& l : generate_mipmaps(texture.levels.front())) levels.push_back(std::move(l));
+    return levels;
+}
+
+}  // namespace refraster::detail

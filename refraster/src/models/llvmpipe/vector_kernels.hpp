@@ -1,0 +1,75 @@
+// vector_kernels.hpp: the per-pixel stage many pixels at a time, for the CPUs that have the
+// instructions, chosen at run time.
+//
+// Implements: the choice of a vector fragment kernel (8 lanes with AVX2 and FMA, 16 with
+// AVX-512) for a draw's state, the CPU checks behind that choice, and the floating-point mode
+// the kernels run under. A vector kernel reads row blocks (row_block.hpp) of a single-sample
+// rgba8 target and performs, lane by lane, exactly the float operations of the scalar model
+// (fragment.cpp, Kernel): the same planes evaluated in the same order, fused exactly where
+// the profile fuses, the same clamps, roundings and integer blending. Denormals are flushed
+// by the CPU itself (MXCSR flush-to-zero and denormals-are-zero, as llvmpipe's rasterizer
+// threads run, lp_rast.c util_fpstate_set_denorms_to_zero) where the profile flushes; the
+// scalar model emulates the same modes operation by operation (float_ops.hpp).
+//
+// Deliberately does not: rgba32f targets or 4x targets (the scalar kernels serve them), or
+// compile anything for an instruction set at build time: every vector kernel is compiled for
+// its target with a function-level target and called only when the CPU reports it.
+#pragma once
+
+#include <cstdint>
+
+// The vector kernels exist for x86-64 with GCC or clang (function-level targets); elsewhere
+// only the scalar paths do.
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define REFRASTER_VECTOR_KERNELS 1
+#else
+#define REFRASTER_VECTOR_KERNELS 0
+#endif
+
+#include "models/llvmpipe/fragment.hpp"
+
+namespace refraster::detail {
+
+// The vector kernel for `path` (Avx2 or Avx512; Fastest takes the widest this CPU runs) and
+// the draw's state on an rgba8 single-sample target; nullptr when the path is not a vector
+// path or the CPU lacks its instructions.
+FragmentKernel::ShadeRowsFn vector_shade_rows(KernelPath path, ShadeModel shade, DepthFormat depth,
+                                              BlendPreset blend);
+
+// The vector row-mask builder (RowMaskFn, row_block.hpp) of `path` (as above); nullptr when
+// the path is not a vector path or the CPU lacks its instructions: small_convex_rows then
+// steps the rows itself.
+RowMaskFn vector_row_masks(KernelPath path);
+
+// Whether this CPU runs code compiled for FMA, SSE4.1 and POPCNT: the scalar kernels' and the
+// vertex transform's run-time variants (fragment.cpp, vertex_stage.cpp).
+bool host_runs_fma_sse41();
+bool host_runs_avx2();
+bool host_runs_avx512();
+
+// Whether this CPU has flush-to-zero and denormals-are-zero modes the code can set (x86).
+bool cpu_flush_modes_available();
+
+// The CPU's flush-to-zero and denormals-are-zero modes set (`flush`) or cleared (!`flush`)
+// for the scope's duration when `active`, restored after: the float mode the vector kernels
+// and the fast setup assume where the profile flushes, and the plain mode that code the model
+// runs without flushing needs inside such a scope.
+class ScopedDenormalMode {
+  public:
+    ScopedDenormalMode(bool active, bool flush);
+    ~ScopedDenormalMode();
+    ScopedDenormalMode(const ScopedDenormalMode&) = delete;
+    ScopedDenormalMode& operator=(const ScopedDenormalMode&) = delete;
+
+  private:
+    bool active_;
+    std::uint32_t saved_ = 0;
+};
+
+// Flushing on for the scope when `on`.
+class ScopedDenormalsAreZero : public ScopedDenormalMode {
+  public:
+    explicit ScopedDenormalsAreZero(bool on) : ScopedDenormalMode(on, true) {}
+};
+
+}  // namespace refraster::detail

@@ -1,0 +1,130 @@
+// softpipe_model.hpp: the scanline model, Mesa 22.3 softpipe's setup and traversal.
+//
+// Implements: from a draw's vertex stage to set-up primitives in API order, as Mesa's draw
+// module and softpipe's setup (gallium/drivers/softpipe/sp_setup.c) produce them: triangle
+// assembly and the draw module's clipper and float cull (the same draw module as llvmpipe's:
+// vertex_stage.hpp), then softpipe's float scanline setup (scanline_setup.hpp: no snapping,
+// the vertices sorted by y, truncating spans, its own facing and cull) and attribute planes;
+// lines as Bresenham segments of the truncated end points (sp_setup_line), wide ones as the
+// draw module's two triangles (draw_pipe_wide_line.c); points as the
+// draw module's point sprites, two triangles each (draw_pipe_wide_point.c). Traversal of a set-up
+// primitive's rows into quad packets. The fragment stage: softpipe_fragment.hpp.
+//
+// Deliberately does not: snap, multisample (softpipe has no multisampling: render() answers
+// NotSupported), texture (refused the same way), or reproduce llvmpipe's quirks.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "stages/model.hpp"
+#include "stages/quad.hpp"
+#include "models/softpipe/softpipe_fragment.hpp"
+
+namespace refraster::detail {
+
+class SoftpipeModel {
+  public:
+    using List = ScanlineList;
+    using Primitive = ScanlinePrimitive;
+    static constexpr bool kRowBlocks = false;  // quad packets only
+
+    explicit SoftpipeModel(const DrawContext& ctx) : ctx_(ctx) {}
+
+    template <class Observer>
+    void setup(VertexStage& stage, Observer& obs, const ListSink<List>& sink);
+
+    // The primitive's quads a batch at a time, as softpipe hands them to its quad pipeline:
+    // a line's quads one by one in plotting order (clip_emit_quad); a triangle's a 2-row block
+    // (an even row and the one above it) at a time, bottom to top, each block in 16-pixel
+    // aligned column chunks from (min(left) & ~15) to max(right), left to right, each chunk's
+    // non-empty quads one batch (sp_setup.c flush_spans).
+    template <class Emit>
+    static void traverse(const ScanlineList& list, const ScanlinePrimitive& p, Emit&& emit) {
+        if (p.quad_count != 0) {
+            for (std::uint32_t q = 0; q < p.quad_count; ++q)
+                emit(std::span<const QuadPacket>(&list.quads[p.first_quad + q], 1));
+            return;
+        }
+        const auto rows = list.rows_of(p);
+        std::array<QuadPacket, 8> batch;
+        std::size_t r = 0;
+        while (r < rows.size()) {
+            const int y0 = rows[r].y & ~1;
+            // The (at most two) rows of this block; rows are sorted bottom to top, one a y.
+            const ScanlineRow* lo = nullptr;
+            const ScanlineRow* hi = nullptr;
+            if (rows[r].y == y0) {
+                lo = &rows[r++];
+                if (r < rows.size() && rows[r].y == y0 + 1) hi = &rows[r++];
+            } else {
+                hi = &rows[r++];
+            }
+            const int left =
+                std::min(lo != nullptr ? lo->x0 : hi->x0, hi != nullptr ? hi->x0 : lo->x0);
+            const int right =
+                std::max(lo != nullptr ? lo->x1 : hi->x1, hi != nullptr ? hi->x1 : lo->x1);
+            for (int chunk = left & ~15; chunk < right; chunk += 16) {
+                std::size_t n = 0;
+                for (int x = chunk; x < chunk + 16; x += 2) {
+                    unsigned mask = 0;
+                    for (unsigned k = 0; k < 4; ++k) {
+                        const ScanlineRow* row = k < 2 ? lo : hi;
+                        const int px = x + static_cast<int>(k & 1u);
+                        if (row != nullptr && px >= row->x0 && px < row->x1)
+                            mask |= 1u << quad_bit(k, 0);
+                    }
+                    if (mask != 0) batch[n++] = {x, y0, static_cast<std::uint16_t>(mask)};
+                }
+                if (n != 0) emit(std::span<const QuadPacket>(batch.data(), n));
+            }
+        }
+    }
+
+    ScanlineKernel kernel() const {
+        return {ctx_.draw,
+                ctx_.target,
+                *ctx_.tiles,
+                ctx_.profile.gl.flush_denormals,
+                ctx_.profile.gl.depth_rounding == Rounding::Nearest,
+                ctx_.sampler};
+    }
+
+  private:
+    template <class Observer>
+    void triangles(VertexStage& stage, Observer& obs);
+    template <class Observer>
+    void lines(VertexStage& stage, Observer& obs);
+    template <class Observer>
+    void points(VertexStage& stage, Observer& obs);
+    template <class Observer>
+    void unfilled(VertexStage& stage, Observer& obs);
+    template <class Observer>
+    void triangle(const VertexStage& stage, const std::array<const StageVertex*, 3>& v,
+                  bool clipped, bool sprite, Observer& obs,
+                  const std::array<std::array<float, 2>, 3>* point_coords = nullptr);
+    template <class Observer>
+    void segment(const VertexStage& stage, const StageVertex& v1, const StageVertex& v2,
+                 Observer& obs);
+    template <class Observer>
+    void wide_segment(const VertexStage& stage, const StageVertex& v0, const StageVertex& v1,
+                      float width, Observer& obs);
+    template <class Observer>
+    void point(const VertexStage& stage, const StageVertex& v, Observer& obs);
+    template <class Observer>
+    void next_primitive(std::size_t p, Observer& obs);
+    // Appends a primitive of `rows` with planes made by `plane(value_of_vertex)`.
+    ScanlinePrimitive& add_primitive(std::span<const ScanlineRow> rows, ScanlineInterp interp);
+
+    const DrawContext& ctx_;
+    const ListSink<List>* sink_ = nullptr;
+    ScanlineList list_;
+    std::uint32_t owner_ = 0;
+    ScanlineTriangle triangle_;  // the triangle being set up (its rows' storage is reused)
+    std::vector<ScanlineRow> rows_;
+};
+
+}  // namespace refraster::detail

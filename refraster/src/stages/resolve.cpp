@@ -1,0 +1,79 @@
+// resolve.cpp: a 4x framebuffer's resolve and its sample planes (framebuffer.hpp).
+#include <cmath>
+
+#include "common/float_ops.hpp"
+#include "models/llvmpipe/fragment.hpp"
+#include "refraster/framebuffer.hpp"
+
+namespace refraster {
+
+namespace {
+
+// llvmpipe turns a unorm8 byte into a float as v * K, K the float nearest 1/255
+// (lp_bld_conv.c: lp_build_unsigned_norm_to_float); cvt8(un8(v)) == v for every byte.
+constexpr float kUnorm8ToFloat = 1.0f / 255.0f;
+
+}  // namespace
+
+Framebuffer resolve_samples(const Framebuffer& ms) {
+    REFRASTER_ASSERT(ms.samples == 1 || ms.samples == 4, "a 1x or 4x framebuffer");
+    if (ms.samples == 1) return ms;
+    Framebuffer out(ms.width, ms.height, ms.color_format, ms.depth_format);
+    const std::size_t n = ms.pixel_count();
+    // The resolve shader runs inside llvmpipe's rasterizer, which flushes denormals
+    // (lp_rast.c: util_fpstate_set_denorms_to_zero).
+    const detail::Fp fp{true};
+    for (std::size_t i = 0; i < n; ++i) {
+        for (std::size_t c = 0; c < 4; ++c) {
+            // Summed in sample order from +0, then scaled: ((((+0 + f0) + f1) + f2) + f3),
+            // times 0.25 (u_simple_shaders.c: util_make_fs_msaa_resolve). Starting from +0
+            // only shows when every sample is -0 (or a flushed negative denormal): the sum
+            // is then +0, measured with rgba32f samples.
+            float sum = 0.0f;
+            for (std::size_t s = 0; s < 4; ++s) {
+                const std::size_t k = (i * 4 + s) * 4 + c;
+                const float f = ms.color_format == ColorFormat::Rgba8
+                                    ? fp.mul(static_cast<float>(ms.color8[k]), kUnorm8ToFloat)
+                                    : ms.color32f[k];
+                sum = fp.add(sum, f);
+            }
+            const float mean = fp.mul(sum, 0.25f);
+            if (ms.color_format == ColorFormat::Rgba8) {
+                out.color8[i * 4 + c] = detail::color_to_unorm8(mean);
+            } else {
+                out.color32f[i * 4 + c] = mean;
+            }
+        }
+        if (ms.depth_format != DepthFormat::None) out.depth[i] = ms.depth[i * 4];
+    }
+    if (!ms.owner.empty()) {
+        out.owner.resize(n);
+        for (std::size_t i = 0; i < n; ++i) out.owner[i] = ms.owner[i * 4];
+    }
+    return out;
+}
+
+Framebuffer sample_plane(const Framebuffer& ms, std::uint32_t s) {
+    REFRASTER_ASSERT(s < ms.samples, "a sample of the framebuffer");
+    Framebuffer out(ms.width, ms.height, ms.color_format, ms.depth_format);
+    const std::size_t n = ms.pixel_count();
+    const std::size_t k = ms.samples;
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::size_t from = i * k + s;
+        for (std::size_t c = 0; c < 4; ++c) {
+            if (ms.color_format == ColorFormat::Rgba8) {
+                out.color8[i * 4 + c] = ms.color8[from * 4 + c];
+            } else {
+                out.color32f[i * 4 + c] = ms.color32f[from * 4 + c];
+            }
+        }
+        if (ms.depth_format != DepthFormat::None) out.depth[i] = ms.depth[from];
+    }
+    if (!ms.owner.empty()) {
+        out.owner.resize(n);
+        for (std::size_t i = 0; i < n; ++i) out.owner[i] = ms.owner[i * k + s];
+    }
+    return out;
+}
+
+}  // namespace refraster
