@@ -1,23 +1,29 @@
 // pipeline.hpp: the stage order of one draw, in the spirit of Mesa softpipe's quad pipeline
 // (sp_quad_pipe.c): each stage is one call below, in the order the data flows.
 //
-//   vertex stage      fetch, viewport transform, clip masks      vertex_stage.cpp (draw module:
-//                                                                draw_llvm.c generate_viewport,
+//   vertex stage      fetch, viewport transform, clip masks      stages/vertex_stage.cpp (draw
+//                                                                module: draw_llvm.c
+//                                                                generate_viewport,
 //                                                                generate_clipmask)
-//   model, chosen     assembly (refraster/assembly.hpp), then    llvmpipe_model.cpp: clipper,
-//   once a draw       setup into lists of set-up primitives      float cull, polygon modes,
-//                     (edges, box, attribute planes, owner)      setup.cpp (lp_setup_tri.c),
-//                     in API order                               line_point.cpp (lp_setup_line.c,
-//                                                                lp_setup_point.c), planes in
-//                                                                fragment.cpp (lp_state_setup.c);
-//                                                                or softpipe_model.cpp
-//                                                                (sp_setup.c), or exact_model.cpp
-//                                                                (the oracle)
-//   traversal         quad packets of the covered pixels, or     traverse.hpp (lp_rast_tri_tmp.h),
-//                     row blocks for the fast kernels            quad.hpp, row_block.hpp
-//   fragment kernel,  depth, colour, blending, stores            fragment.cpp (lp_bld_interp.c,
-//   chosen once a                                                lp_bld_depth.c, lp_bld_blend*.c)
-//   draw
+//   draw module       assembly (refraster/assembly.hpp), the     stages/draw_module.hpp,
+//                     pipeline's clipper, cull and unfilled      stages/draw_batches.cpp
+//                     stages, lines and points
+//   model, chosen     setup into lists of set-up primitives      models/llvmpipe/ (setup.cpp:
+//   once a draw       (edges, box, attribute planes, owner)      lp_setup_tri.c; line_point.cpp;
+//                     in API order                               planes in fragment.cpp:
+//                                                                lp_state_setup.c), or
+//                                                                models/softpipe/ (sp_setup.c),
+//                                                                or models/exact/ (the oracle)
+//   traversal         quad packets of the covered pixels, or     models/llvmpipe/traverse.hpp
+//                     row blocks for the fast kernels            (lp_rast_tri_tmp.h),
+//                                                                stages/quad.hpp, row_block.hpp
+//   fragment kernel,  depth, colour, blending, stores            models/llvmpipe/fragment.cpp
+//   chosen once a                                                (lp_bld_interp.c,
+//   draw                                                         lp_bld_depth.c), the output
+//                                                                merge: stages/output_merge.hpp
+//
+// Each model meets the DriverModel contract (stages/model.hpp); ModelStates holds what each
+// keeps for a whole render.
 //
 // An observer watches every stage: TraceObserver for `explain`, NoObserver (nothing at all)
 // otherwise. RenderStage stops a draw after a stage, for `refraster bench`'s time split.
@@ -28,17 +34,47 @@
 #include <cstdint>
 #include <span>
 
+#include <optional>
+#include <vector>
+
 #include "models/exact/exact_model.hpp"
 #include "models/llvmpipe/llvmpipe_model.hpp"
-#include "stages/model.hpp"
-#include "stages/quad.hpp"
+#include "models/llvmpipe/vector_kernels.hpp"
+#include "models/softpipe/softpipe_fill.hpp"
+#include "models/softpipe/softpipe_model.hpp"
 #include "refraster/framebuffer.hpp"
 #include "refraster/renderer.hpp"
-#include "models/softpipe/softpipe_model.hpp"
-#include "models/llvmpipe/vector_kernels.hpp"
+#include "stages/model.hpp"
+#include "stages/polygon_draw.hpp"
+#include "stages/quad.hpp"
 #include "stages/vertex_stage.hpp"
 
 namespace refraster::detail {
+
+static_assert(DriverModel<LlvmpipeModel>);
+static_assert(DriverModel<SoftpipeModel>);
+static_assert(DriverModel<ExactModel>);
+
+// What every model keeps for the whole of one render.
+struct ModelStates {
+    LlvmpipeModel::RenderState llvmpipe;
+    SoftpipeModel::RenderState softpipe;
+    ExactModel::RenderState exact;
+
+    ModelStates(const DrawList& list, const Profile& profile, Framebuffer& fb)
+        : llvmpipe(list, profile, fb), softpipe(list, profile, fb), exact(list, profile, fb) {}
+
+    // The render's end: whatever a model still holds is written back.
+    void finish_render() { softpipe.flush_shared_tiles(); }
+};
+
+// The pixels a polygon's fill rule lights (polygon_draw.hpp): the stencil pass's count of
+// softpipe's own coverage under the scanline rules, the filler over the snapped outline
+// otherwise; nullopt when a position cannot be snapped.
+inline std::optional<FillMask> fill_rule_mask(const DrawContext& ctx) {
+    if (ctx.model == CoverageModel::Scanline) return softpipe_fill_mask(ctx);
+    return outline_fill_mask(ctx);
+}
 
 // The primitives of a list by 64-row band: band b holds, in API order, every primitive whose
 // box reaches one of its rows (a primitive llvmpipe's walk decides is put in every band).
@@ -124,11 +160,12 @@ inline std::span<const QuadPacket> claim_fill_pixels(FillMask& mask,
 
 // One draw through every stage of `Model`; returns the pixels traversal found covered when
 // the render stops after traversal.
-template <class Model, class Observer>
-std::uint64_t draw(const DrawContext& ctx, Observer& obs, RenderStage stop, Framebuffer& fb) {
+template <DriverModel Model, class Observer>
+std::uint64_t draw(const DrawContext& ctx, typename Model::RenderState& state, Observer& obs,
+                   RenderStage stop, Framebuffer& fb) {
     VertexStage stage(ctx.draw, ctx.vertex_options());
     if (stop == RenderStage::Load) return 0;
-    Model model(ctx);
+    Model model(ctx, state);
     const auto kernel = model.kernel();
     // A fill rule's cover pass claims pixels in API order, a quad packet at a time.
     [[maybe_unused]] bool row_blocks = false;
@@ -178,21 +215,26 @@ std::uint64_t draw(const DrawContext& ctx, Observer& obs, RenderStage stop, Fram
             });
         }
     });
+    model.finish_draw();
     return fragments;
 }
 
 // The model, chosen once per draw from the profile.
+// A draw of the other model's family than the render's tile cache (the profile's line or point
+// rule) finds that cache written back and leaves it empty.
 template <class Observer>
-std::uint64_t run_draw(const DrawContext& ctx, Observer& obs, RenderStage stop, Framebuffer& fb) {
+std::uint64_t run_draw(const DrawContext& ctx, ModelStates& states, Observer& obs,
+                       RenderStage stop, Framebuffer& fb) {
+    if (ctx.model != CoverageModel::Scanline) states.softpipe.flush_shared_tiles();
     switch (ctx.model) {
         case CoverageModel::Exact:
-            return draw<ExactModel>(ctx, obs, stop, fb);
+            return draw<ExactModel>(ctx, states.exact, obs, stop, fb);
         case CoverageModel::Scanline:
-            return draw<SoftpipeModel>(ctx, obs, stop, fb);
+            return draw<SoftpipeModel>(ctx, states.softpipe, obs, stop, fb);
         case CoverageModel::Snapped:
             break;
     }
-    return draw<LlvmpipeModel>(ctx, obs, stop, fb);
+    return draw<LlvmpipeModel>(ctx, states.llvmpipe, obs, stop, fb);
 }
 
 }  // namespace refraster::detail

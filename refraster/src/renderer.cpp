@@ -9,15 +9,12 @@
 #include <optional>
 #include <thread>
 
-#include "models/llvmpipe/fragment.hpp"
-#include "stages/observer.hpp"
+#include "models/llvmpipe/texture.hpp"
 #include "pipeline.hpp"
+#include "stages/observer.hpp"
+#include "stages/output_merge.hpp"
 #include "stages/polygon_draw.hpp"
 #include "stages/rules.hpp"
-#include "models/llvmpipe/setup.hpp"
-#include "models/softpipe/softpipe_sampler.hpp"
-#include "models/softpipe/softpipe_tiles.hpp"
-#include "models/llvmpipe/texture.hpp"
 #include "trace/trace_observer.hpp"
 
 namespace refraster {
@@ -190,67 +187,12 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
     if (kernels == KernelPath::Model || options.stop_after != RenderStage::Fragment) threads = 1;
     std::optional<detail::BandWorkers> workers;
     if (threads > 1) workers.emplace(threads);
-    // Every texture's levels: the draw list's own, or (generated mipmaps) the base and the
-    // levels made once here.
-    std::vector<std::vector<TextureImage>> generated(list.textures.size());
-    std::vector<const std::vector<TextureImage>*> texture_levels;
-    texture_levels.reserve(list.textures.size());
-    for (std::size_t t = 0; t < list.textures.size(); ++t) {
-        if (list.textures[t].generate_mipmaps)
-            generated[t] = detail::resolve_levels(list.textures[t]);
-        texture_levels.push_back(list.textures[t].generate_mipmaps ? &generated[t]
-                                                                   : &list.textures[t].levels);
-    }
-    // softpipe's colours stay float in its tile cache until written back (softpipe_tiles.hpp).
-    // glGenerateMipmap's blit, which the GL backends run after the clear, flushes it.
-    std::optional<detail::SoftpipeTileCache> tiles;
-    const bool truncate_colors = options.profile.gl.color_rounding == Rounding::Truncate;
-    if (options.profile.model == CoverageModel::Scanline) {
-        tiles.emplace(out, list.clear.color, truncate_colors);
-        for (const auto& t : list.textures) {
-            if (t.generate_mipmaps) {
-                tiles->flush();
-                break;
-            }
-        }
-    }
-    std::vector<std::vector<TextureImage>> softpipe_levels(list.textures.size());
+    detail::ModelStates states(list, options.profile, out);
     RenderOutcome outcome;
     for (std::size_t i = 0; i < list.draws.size(); ++i) {
         const Draw& d = list.draws[i];
         if (primitive_count(d.primitive, d.element_count()) == 0) continue;
-        std::optional<detail::TextureUnit> unit;
-        if (d.state.texture) {
-            REFRASTER_ASSERT(d.state.texture->texture < texture_levels.size(),
-                             "a texture the draw list holds");
-            REFRASTER_ASSERT(d.vertices.attribute_offset(d.vertices.attributes.size()) >=
-                                 VertexArray::kPositionComponents + 8,
-                             "colour and texture coordinates in a textured draw's vertices");
-            unit = detail::make_texture_unit(*d.state.texture,
-                                             *texture_levels[d.state.texture->texture]);
-        }
-        // A draw of the other model's family (the profile's line or point rule): a snapped
-        // draw in a scanline render finds the tile cache written back and leaves it empty; a
-        // scanline draw in a snapped render gets a cache of its own over the surface.
         const CoverageModel model = detail::draw_model(options.profile, d);
-        std::optional<detail::SoftpipeTileCache> own_tiles;
-        if (model != CoverageModel::Scanline && tiles) tiles->flush();
-        if (model == CoverageModel::Scanline && !tiles)
-            own_tiles.emplace(out, std::nullopt, truncate_colors);
-        detail::SoftpipeTileCache* draw_tiles = tiles ? &*tiles : own_tiles ? &*own_tiles : nullptr;
-        // softpipe's sampler of the draw's texture; generated levels are made once a texture.
-        std::optional<detail::SoftpipeSampler> sampler;
-        if (model == CoverageModel::Scanline && d.state.texture) {
-            const std::uint32_t t = d.state.texture->texture;
-            if (list.textures[t].generate_mipmaps && softpipe_levels[t].empty()) {
-                sampler.emplace(*d.state.texture, list.textures[t].levels, true);
-                softpipe_levels[t] = sampler->levels();
-            } else if (list.textures[t].generate_mipmaps) {
-                sampler.emplace(*d.state.texture, softpipe_levels[t], false);
-            } else {
-                sampler.emplace(*d.state.texture, list.textures[t].levels, false);
-            }
-        }
         detail::DrawContext ctx{i,
                                 d,
                                 list.target,
@@ -260,10 +202,7 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
                                 !out.owner.empty(),
                                 kernels,
                                 workers ? &*workers : nullptr,
-                                unit ? &*unit : nullptr,
-                                draw_tiles,
-                                model,
-                                sampler ? &*sampler : nullptr};
+                                model};
         // A fill rule: the stencil pass's pixels, taken by the cover pass (polygon_draw.hpp).
         std::optional<detail::FillMask> fill;
         if (d.state.fill_rule) {
@@ -279,15 +218,14 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
             const std::size_t traced_before = trace->primitives.size();
             const bool inside = fill && fill->test(trace->x, trace->y);
             detail::TraceObserver obs(*trace, ctx.params.multisample);
-            outcome.fragments += detail::run_draw(ctx, obs, options.stop_after, out);
+            outcome.fragments += detail::run_draw(ctx, states, obs, options.stop_after, out);
             if (fill) note_fill_rule(ctx, *trace, traced_before, inside);
         } else {
             detail::NoObserver obs;
-            outcome.fragments += detail::run_draw(ctx, obs, options.stop_after, out);
+            outcome.fragments += detail::run_draw(ctx, states, obs, options.stop_after, out);
         }
-        if (own_tiles) own_tiles->flush();
     }
-    if (tiles) tiles->flush();
+    states.finish_render();
     if (trace != nullptr && trace->x >= 0 && trace->y >= 0 &&
         static_cast<std::uint32_t>(trace->x) < out.width &&
         static_cast<std::uint32_t>(trace->y) < out.height) {

@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "stages/model.hpp"
+#include "stages/draw_module.hpp"
 #include "stages/vertex_stage.hpp"
 
 namespace refraster::detail {

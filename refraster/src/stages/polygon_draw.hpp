@@ -30,9 +30,12 @@ namespace refraster::detail {
 // triangles when the clipper cuts one. nullopt when a position cannot be snapped.
 std::optional<std::vector<Contour>> fill_contours(const DrawContext& ctx);
 
-// The pixels ctx's fill rule lights (the draw region's), or nullopt as fill_contours.
-std::optional<FillMask> fill_rule_mask(const DrawContext& ctx,
-                                       std::vector<FillScanline>* trace = nullptr);
+// The pixels ctx's fill rule lights (the draw region's) by the scanline filler over the snapped
+// outline (fill_contours), the rule of every snapped model, or nullopt as fill_contours. The
+// scanline (softpipe) model counts its own coverage instead (models/softpipe/softpipe_fill.hpp);
+// pipeline.hpp chooses.
+std::optional<FillMask> outline_fill_mask(const DrawContext& ctx,
+                                          std::vector<FillScanline>* trace = nullptr);
 
 // Why the reference cannot draw a fill rule in this draw and target under `profile`, or "".
 std::string fill_rule_unsupported(const Draw& d, const Target& target, const Profile& profile);

@@ -6,7 +6,7 @@
 
 #include "refraster/assert.hpp"
 #include "stages/rules.hpp"
-#include "models/llvmpipe/vector_kernels.hpp"
+#include "common/cpu.hpp"
 
 #if defined(__SSE2__)
 #include <emmintrin.h>

@@ -20,7 +20,7 @@
 
 #include "refraster/draw.hpp"
 #include "refraster/profile.hpp"
-#include "models/llvmpipe/setup.hpp"
+#include "stages/edge_rules.hpp"
 
 namespace refraster::detail {
 

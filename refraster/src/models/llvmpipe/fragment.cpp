@@ -21,13 +21,6 @@
 
 namespace refraster::detail {
 
-std::uint8_t clear_to_unorm8(float c) {
-    if (!(c > 0.0f)) return 0;  // NaN too
-    if (c >= 1.0f) return 255;
-    const float t = c * (255.0f / 256.0f) + 32768.0f;
-    return static_cast<std::uint8_t>(std::bit_cast<std::uint32_t>(t) & 0xffu);
-}
-
 namespace {
 
 // calc_coef4 for one channel (lp_state_setup.c), given the shared setup terms.
@@ -44,53 +37,6 @@ struct SetupTerms {
     p.dady = fp.sub(fp.mul(da20, s.dx01o), fp.mul(da01, s.dx20o));
     p.a0 = fp.sub(a0, fp.add(fp.mul(p.dadx, s.x0c), fp.mul(p.dady, s.y0c)));
     return p;
-}
-
-// lp_state_fs.c, lp_build_depth_clamp: lp_build_clamp(z, 0, 1), which is lp_build_min(z, 1)
-// then lp_build_max(., 0) (lp_bld_arit.c) with undefined NaN behaviour, lowered to the x86
-// minps/maxps instructions: each returns its second operand unless the first compares less
-// (greater). A NaN depth therefore becomes 1 (the far value, in every depth format), -0 becomes
-// +0, and infinities clamp to the ends.
-
-}  // namespace
-
-namespace {
-
-// GL's encoding of the compare functions is a mask of the outcomes that pass: 1 less, 2 equal,
-// 4 greater (GL_NEVER 0x200 ... GL_ALWAYS 0x207); the enum keeps that order.
-static_assert(
-    static_cast<int>(CompareFunc::Never) == 0 && static_cast<int>(CompareFunc::Less) == 1 &&
-    static_cast<int>(CompareFunc::Equal) == 2 && static_cast<int>(CompareFunc::Lequal) == 3 &&
-    static_cast<int>(CompareFunc::Greater) == 4 && static_cast<int>(CompareFunc::NotEqual) == 5 &&
-    static_cast<int>(CompareFunc::Gequal) == 6 && static_cast<int>(CompareFunc::Always) == 7);
-
-// The outcome of comparing a fragment's depth with the stored one. z32f values are compared as
-// floats (both are in [0, 1], so their bit patterns order the same way, but the intent is kept
-// explicit); neither less nor equal counts as greater, as GREATER, NOTEQUAL and GEQUAL are
-// decided (!lt && !eq, !eq, !lt). With `daz` a denormal compares as zero: llvmpipe's depth test
-// runs under the rasterizer's denormals-are-zero mode (lp_rast.c), which a cleared depth such
-// as 1e-40 meets (measured: the scene extreme.z32f_denormal_clear).
-template <bool kFloat>
-[[gnu::always_inline]] inline unsigned depth_outcome(std::uint32_t frag, std::uint32_t stored,
-                                                     bool daz) {
-    if constexpr (kFloat) {
-        float f = std::bit_cast<float>(frag);
-        float s = std::bit_cast<float>(stored);
-        if (daz) {
-            f = flush_denormal(f);
-            s = flush_denormal(s);
-        }
-        return f < s ? 1u : f == s ? 2u : 4u;
-    } else {
-        (void)daz;
-        return frag < stored ? 1u : frag == stored ? 2u : 4u;
-    }
-}
-
-bool compare(CompareFunc f, std::uint32_t frag, std::uint32_t stored, bool is_float) {
-    const unsigned outcome = is_float ? depth_outcome<true>(frag, stored, false)
-                                      : depth_outcome<false>(frag, stored, false);
-    return (static_cast<unsigned>(f) & outcome) != 0;
 }
 
 }  // namespace
@@ -170,80 +116,6 @@ void triangle_planes(const std::array<const StageVertex*, 3>& v, const VertexSta
 }
 
 namespace {
-
-// The source colour as the output merge receives it: rgba8 bytes (lp_build_conv) or floats.
-template <ColorFormat C>
-using SourceColor =
-    std::conditional_t<C == ColorFormat::Rgba8, std::array<std::uint8_t, 4>, std::array<float, 4>>;
-
-template <ColorFormat C>
-[[gnu::always_inline]] inline SourceColor<C> source_color(const FragmentOptions& o,
-                                                          const std::array<float, 4>& c) {
-    if constexpr (C == ColorFormat::Rgba8) {
-        SourceColor<C> s{};
-        for (std::size_t k = 0; k < 4; ++k)
-            s[k] = o.color_truncate ? color_to_unorm8_truncated(c[k]) : color_to_unorm8(c[k]);
-        return s;
-    } else {
-        return c;
-    }
-}
-
-// Blending and the colour write of pixel `i` (lp_bld_blend; docs/precision.md "Colour output
-// and blending").
-template <ColorFormat C, BlendPreset B>
-[[gnu::always_inline]] inline void store_color(Framebuffer& fb, std::size_t i,
-                                               const SourceColor<C>& s, const Fp& fp) {
-    if constexpr (C == ColorFormat::Rgba8) {
-        std::uint8_t* d = fb.color8.data() + 4 * i;
-        if constexpr (B == BlendPreset::None) {
-            std::memcpy(d, s.data(), 4);
-        } else if constexpr (B == BlendPreset::Alpha) {
-            const std::uint32_t a = s[3];
-            for (std::size_t k = 0; k < 4; ++k) {
-                const std::uint32_t v =
-                    std::uint32_t{unorm8_mul(s[k], a)} + unorm8_mul(d[k], 255 - a);
-                d[k] = static_cast<std::uint8_t>(std::min<std::uint32_t>(v, 255));
-            }
-        } else {
-            for (std::size_t k = 0; k < 4; ++k) {
-                d[k] = static_cast<std::uint8_t>(
-                    std::min<std::uint32_t>(std::uint32_t{s[k]} + d[k], 255));
-            }
-        }
-    } else {
-        // The blend runs in the rasterizer's threads under FTZ/DAZ (lp_rast.c), so a subnormal
-        // source, alpha or destination counts as zero there; without blending the colour is
-        // only moved and keeps its bits.
-        float* d = fb.color32f.data() + 4 * i;
-        if constexpr (B == BlendPreset::None) {
-            std::copy(s.begin(), s.end(), d);
-        } else if constexpr (B == BlendPreset::Alpha) {
-            const float a = s[3];
-            const float inv = fp.sub(1.0f, a);
-            for (std::size_t k = 0; k < 4; ++k) d[k] = fp.add(fp.mul(s[k], a), fp.mul(d[k], inv));
-        } else {
-            for (std::size_t k = 0; k < 4; ++k) d[k] = fp.add(s[k], d[k]);
-        }
-    }
-}
-
-template <ColorFormat C>
-void write_color_as(const Draw& draw, Framebuffer& fb, std::size_t i, const std::array<float, 4>& c,
-                    const Fp& fp) {
-    const auto s = source_color<C>(FragmentOptions{}, c);
-    switch (draw.state.blend) {
-        case BlendPreset::None:
-            store_color<C, BlendPreset::None>(fb, i, s, fp);
-            break;
-        case BlendPreset::Alpha:
-            store_color<C, BlendPreset::Alpha>(fb, i, s, fp);
-            break;
-        case BlendPreset::Add:
-            store_color<C, BlendPreset::Add>(fb, i, s, fp);
-            break;
-    }
-}
 
 // One draw's per-pixel stage, for one combination of its state; D is DepthFormat::None when
 // the draw has no depth test. Samples: one a pixel (sample 0 of each packet pixel), or four
@@ -382,7 +254,7 @@ struct Kernel {
         const float centre = ms ? 0.5f : 0.0f;
         SourceColor<C> flat_source{};
         if constexpr (S == ShadeModel::Flat)
-            flat_source = source_color<C>(k.options, color(planes, flat, 0, 0, k, fp));
+            flat_source = source_color<C>(k.options.color_truncate, color(planes, flat, 0, 0, k, fp));
         for (const QuadPacket& q : quads) {
             unsigned mask = q.mask;
             if (!ms) mask = (mask & kSample0Pixels) * 0x1111u;  // every sample of the pixel
@@ -397,11 +269,11 @@ struct Kernel {
                 const float py = static_cast<float>(y);
                 SourceColor<C> source{};
                 if (k.texture != nullptr) {
-                    source = source_color<C>(k.options, textured[p]);
+                    source = source_color<C>(k.options.color_truncate, textured[p]);
                 } else if constexpr (S == ShadeModel::Flat) {
                     source = flat_source;
                 } else {
-                    source = source_color<C>(k.options,
+                    source = source_color<C>(k.options.color_truncate,
                                              color(planes, flat, px + centre, py + centre, k, fp));
                 }
                 if constexpr (D != DepthFormat::None) {
@@ -503,7 +375,7 @@ struct Kernel {
               flat(list.flat.data() + prim.flat),
               owners(!fb.owner.empty()) {
             if constexpr (S == ShadeModel::Flat)
-                flat_source = source_color<C>(k.options, color(planes, flat, 0, 0, k, fp));
+                flat_source = source_color<C>(k.options.color_truncate, color(planes, flat, 0, 0, k, fp));
         }
     };
 
@@ -528,7 +400,7 @@ struct Kernel {
             store_color<C, B>(fb, i, in.flat_source, fp);
         } else {
             store_color<C, B>(
-                fb, i, source_color<C>(k.options, color(in.planes, in.flat, px, py, k, fp)), fp);
+                fb, i, source_color<C>(k.options.color_truncate, color(in.planes, in.flat, px, py, k, fp)), fp);
         }
         if (in.owners) fb.owner[i] = prim.owner;
     }
@@ -547,7 +419,7 @@ struct Kernel {
                 return;
             if (k.depth_write) fb.depth[i] = value;
         }
-        store_color<C, B>(fb, i, source_color<C>(k.options, c), fp);
+        store_color<C, B>(fb, i, source_color<C>(k.options.color_truncate, c), fp);
         if (in.owners) fb.owner[i] = prim.owner;
     }
 
@@ -634,7 +506,7 @@ struct Kernel {
                 t.destination[c] = one.color32f[c];
             }
         }
-        if (t.depth_pass) store_color<C, B>(one, 0, source_color<C>(k.options, t.shader_color), fp);
+        if (t.depth_pass) store_color<C, B>(one, 0, source_color<C>(k.options.color_truncate, t.shader_color), fp);
         for (std::size_t c = 0; c < 4; ++c) {
             t.written[c] = C == ColorFormat::Rgba8 ? one.color8[c] : one.color32f[c];
         }
@@ -733,108 +605,6 @@ FragmentKernel choose_fragment_kernel(const Draw& draw, const Target& target,
             break;
     }
     return pick_depth<ShadeModel::Smooth>(draw, target, state);
-}
-
-void write_fragment_color(const Draw& draw, Framebuffer& fb, std::size_t i,
-                          const std::array<float, 4>& c, bool flush_denormals) {
-    const Fp fp{flush_denormals};
-    if (fb.color_format == ColorFormat::Rgba8) {
-        write_color_as<ColorFormat::Rgba8>(draw, fb, i, c, fp);
-    } else {
-        write_color_as<ColorFormat::Rgba32f>(draw, fb, i, c, fp);
-    }
-}
-
-}  // namespace refraster::detail
-
-namespace refraster::detail {
-
-ExactShader::ExactShader(const ExactCoverage& coverage, const std::array<StageVertex, 3>& v,
-                         const VertexStage& stage, const Draw& draw, const Target& target,
-                         bool provoking_first)
-    : coverage_(coverage),
-      v_(v),
-      stage_(stage),
-      draw_(draw),
-      target_(target),
-      provoking_first_(provoking_first) {
-    depth_test_ = draw.state.depth_test.has_value() && target.depth != DepthFormat::None;
-    if (draw.state.polygon_offset && depth_test_) {
-        // The slope of window z over window x and y: z is linear in window space. Only
-        // meaningful for triangles entirely in front of the eye.
-        std::array<std::array<double, 3>, 3> p{};
-        const auto& vp = draw.state.viewport;
-        const double n = draw.state.depth_near;
-        const double f = draw.state.depth_far;
-        for (std::size_t i = 0; i < 3; ++i) {
-            const auto& c = v[i].clip;
-            p[i] = {(double{c[0]} / double{c[3]} + 1.0) * 0.5 * vp.width + vp.x,
-                    (double{c[1]} / double{c[3]} + 1.0) * 0.5 * vp.height + vp.y,
-                    double{c[2]} / double{c[3]} * 0.5 * (f - n) + 0.5 * (n + f)};
-        }
-        const double ax = p[1][0] - p[0][0], ay = p[1][1] - p[0][1], az = p[1][2] - p[0][2];
-        const double bx = p[2][0] - p[0][0], by = p[2][1] - p[0][1], bz = p[2][2] - p[0][2];
-        const double det = ax * by - ay * bx;
-        const double m = det == 0.0 ? 0.0
-                                    : std::max(std::fabs((az * by - ay * bz) / det),
-                                               std::fabs((ax * bz - az * bx) / det));
-        double r = 0.0;
-        if (target.depth == DepthFormat::Z32f) {
-            const double maxz =
-                std::max({std::fabs(p[0][2]), std::fabs(p[1][2]), std::fabs(p[2][2])});
-            r = exact_z32f_offset_scale(maxz);
-        } else {
-            r = depth_mrd(target.depth);
-        }
-        offset_ = m * double{draw.state.polygon_offset->factor} +
-                  r * double{draw.state.polygon_offset->units};
-    }
-}
-
-void ExactShader::shade(int x, int y, Framebuffer& fb, std::uint32_t owner) const {
-    const auto b = coverage_.weights(x, y);
-    const std::size_t i = fb.index(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y));
-    if (depth_test_) {
-        double zn = 0.0;
-        for (std::size_t k = 0; k < 3; ++k) zn += b[k] * double{v_[k].clip[2]};
-        const double n = draw_.state.depth_near;
-        const double f = draw_.state.depth_far;
-        double z = zn * 0.5 * (f - n) + 0.5 * (n + f) + offset_;
-        z = std::min(std::max(z, 0.0), 1.0);
-        const std::uint32_t q = quantise_depth(z, target_.depth);
-        if (!compare(*draw_.state.depth_test, q, fb.depth[i], target_.depth == DepthFormat::Z32f))
-            return;
-        if (draw_.state.depth_write) fb.depth[i] = q;
-    }
-    std::array<float, 4> c{};
-    const auto a0 = stage_.attributes(v_[0]);
-    const auto a1 = stage_.attributes(v_[1]);
-    const auto a2 = stage_.attributes(v_[2]);
-    const std::array<std::span<const float>, 3> a{a0, a1, a2};
-    for (std::size_t k = 0; k < 4; ++k) {
-        switch (draw_.state.shade) {
-            case ShadeModel::Flat:
-                c[k] = a[provoking_first_ ? 0 : 2][k];
-                break;
-            case ShadeModel::Smooth: {
-                // Perspective-correct: the clip-space barycentric weights are b / sum b
-                // (exact_coverage.hpp, weights).
-                double s = 0.0;
-                for (std::size_t j = 0; j < 3; ++j) s += b[j] * double{a[j][k]};
-                c[k] = static_cast<float>(s / (b[0] + b[1] + b[2]));
-                break;
-            }
-            case ShadeModel::NoPerspective: {
-                double s = 0.0;
-                for (std::size_t j = 0; j < 3; ++j)
-                    s += b[j] * double{v_[j].clip[3]} * double{a[j][k]};
-                c[k] = static_cast<float>(s);
-                break;
-            }
-        }
-    }
-    write_fragment_color(draw_, fb, i, c, true);
-    if (!fb.owner.empty()) fb.owner[i] = owner;
 }
 
 }  // namespace refraster::detail

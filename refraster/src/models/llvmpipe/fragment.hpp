@@ -43,7 +43,6 @@
 #include <span>
 #include <vector>
 
-#include "models/exact/exact_coverage.hpp"
 #include "common/float_ops.hpp"
 #include "stages/quad.hpp"
 #include "refraster/draw.hpp"
@@ -53,6 +52,7 @@
 #include "stages/row_block.hpp"
 #include "models/llvmpipe/setup_list.hpp"
 #include "models/llvmpipe/texture.hpp"
+#include "stages/output_merge.hpp"
 #include "stages/vertex_stage.hpp"
 
 namespace refraster::detail {
@@ -191,69 +191,5 @@ class FragmentKernel {
 FragmentKernel choose_fragment_kernel(const Draw& draw, const Target& target,
                                       FragmentOptions options,
                                       const TextureUnit* texture = nullptr);
-
-// The exact oracle's fragments: attributes and depth from the exact homogeneous weights of the
-// pixel centre (perspective-correct: sum b_i a_i; noperspective: the screen-space weights
-// b_i w_i; flat: the provoking vertex), depth quantised by rounding the real value to
-// nearest, polygon offset as the GL specification states it (14.6.5: m * factor + r * units
-// with r = 1 / (2^n - 1), or 2^(e - 23) for float depth), the same output merge as llvmpipe's.
-class ExactShader {
-  public:
-    ExactShader(const ExactCoverage& coverage, const std::array<StageVertex, 3>& v,
-                const VertexStage& stage, const Draw& draw, const Target& target,
-                bool provoking_first);
-    void shade(int x, int y, Framebuffer& fb, std::uint32_t owner = 0) const;
-
-  private:
-    const ExactCoverage& coverage_;
-    std::array<StageVertex, 3> v_;
-    const VertexStage& stage_;
-    const Draw& draw_;
-    Target target_;
-    bool provoking_first_;
-    double offset_ = 0.0;
-    bool depth_test_ = false;
-};
-
-// The output merge shared by both models: conversion, blending and the colour write; float
-// blending flushes denormals when `flush_denormals` is set, as llvmpipe's rasterizer does.
-void write_fragment_color(const Draw& draw, Framebuffer& fb, std::size_t i,
-                          const std::array<float, 4>& c, bool flush_denormals);
-
-// glClearColor into rgba8: float_to_ubyte (util/u_math.h), which util_pack_color uses for
-// R8G8B8A8_UNORM: f * (255/256) + 32768 in float, then the low byte of the float's bits.
-std::uint8_t clear_to_unorm8(float c);
-
-// Fragment depth clamped to [0, 1] as llvmpipe's generated code does it (lp_state_fs.c,
-// lp_build_depth_clamp: lp_build_clamp(z, 0, 1), which is lp_build_min(z, 1) then
-// lp_build_max(., 0), lowered to x86 minps/maxps: each returns its second operand unless the
-// first compares less (greater)). A NaN depth therefore becomes 1 (the far value, in every
-// depth format), -0 becomes +0, and infinities clamp to the ends. Inline: the kernels'
-// run-time variants must not call out of their instruction set.
-[[gnu::always_inline]] inline float clamp_depth(float z) {
-    const float lo = z < 1.0f ? z : 1.0f;
-    return lo > 0.0f ? lo : 0.0f;
-}
-
-// Fragment colour into rgba8: clamp to [0, 1], then RNE(fl(c * 255)) (lp_build_conv;
-// docs/precision.md "Colour output and blending").
-[[gnu::always_inline]] inline std::uint8_t color_to_unorm8(float c) {
-    if (!(c > 0.0f)) return 0;
-    if (c >= 1.0f) return 255;
-    return static_cast<std::uint8_t>(round_to_nearest_even(c * 255.0f));
-}
-
-// The same with truncation instead of RNE (a profile's color_rounding=truncate).
-[[gnu::always_inline]] inline std::uint8_t color_to_unorm8_truncated(float c) {
-    if (!(c > 0.0f)) return 0;
-    if (c >= 1.0f) return 255;
-    return static_cast<std::uint8_t>(c * 255.0f);
-}
-
-// llvmpipe's 8-bit product (lp_build_mul_norm): (x*y + ((x*y) >> 8) + 128) >> 8.
-constexpr std::uint8_t unorm8_mul(std::uint32_t x, std::uint32_t y) {
-    const std::uint32_t p = x * y;
-    return static_cast<std::uint8_t>((p + (p >> 8) + 128) >> 8);
-}
 
 }  // namespace refraster::detail

@@ -8,28 +8,56 @@
 // and points (clip_point, try_setup_point); polygon modes line and point through the draw
 // pipeline's offset, flat-shade and unfilled stages. Traversal of a set-up primitive into
 // quad packets (traverse.hpp), with llvmpipe's own walk where its integer widths decide
-// (llvmpipe_walk.hpp).
+// (llvmpipe_walk.hpp). The draw module's own walk over lines, points and unfilled polygons is
+// the one both Mesa models share (stages/draw_module.hpp); this model sets up what it hands on.
 //
-// Deliberately does not: shade (the fragment kernel does), or know about the exact oracle.
+// Deliberately does not: shade (the fragment kernel does), or know about the other models.
 #pragma once
 
 #include <cstdint>
 #include <vector>
 
-#include "stages/band_workers.hpp"
-#include "stages/model.hpp"
-#include "refraster/assembly.hpp"
+#include <optional>
+
+#include "models/llvmpipe/fragment.hpp"
 #include "models/llvmpipe/setup_list.hpp"
+#include "models/llvmpipe/texture.hpp"
 #include "models/llvmpipe/traverse.hpp"
+#include "refraster/assembly.hpp"
+#include "stages/band_workers.hpp"
+#include "stages/draw_module.hpp"
+#include "stages/model.hpp"
 
 namespace refraster::detail {
 
-class LlvmpipeModel {
+// The per-pixel stage's options for a draw (fragment.hpp), from the draw's context.
+inline FragmentOptions fragment_options(const DrawContext& ctx) {
+    return {ctx.fma,
+            ctx.profile.gl.flush_denormals,
+            ctx.params.multisample,
+            ctx.kernels,
+            ctx.profile.gl.depth_rounding == Rounding::Truncate,
+            ctx.profile.gl.color_rounding == Rounding::Truncate};
+}
+
+class LlvmpipeModel : public DrawModule<LlvmpipeModel, SetupList> {
   public:
     using List = SetupList;
     using Primitive = SetupPrimitive;
 
-    explicit LlvmpipeModel(const DrawContext& ctx) : ctx_(ctx) {}
+    // Every texture's levels for the whole render: the draw list's own, or (generated mipmaps)
+    // the base and the levels made once, as glGenerateMipmap makes them (texture.hpp).
+    class RenderState {
+      public:
+        RenderState(const DrawList& list, const Profile& profile, Framebuffer& fb);
+        const std::vector<TextureImage>& levels(std::uint32_t texture) const;
+
+      private:
+        std::vector<std::vector<TextureImage>> generated_;
+        std::vector<const std::vector<TextureImage>*> levels_;
+    };
+
+    LlvmpipeModel(const DrawContext& ctx, RenderState& state);
 
     template <class Observer>
     void setup(VertexStage& stage, Observer& obs, const ListSink<List>& sink);
@@ -111,19 +139,18 @@ class LlvmpipeModel {
     void prefetch_into(const Framebuffer* fb) { prefetch_fb_ = fb; }
 
     FragmentKernel kernel() const {
-        return choose_fragment_kernel(ctx_.draw, ctx_.target, ctx_.fragment_options(),
-                                      ctx_.texture);
+        return choose_fragment_kernel(ctx_.draw, ctx_.target, fragment_options(ctx_),
+                                      unit_ ? &*unit_ : nullptr);
     }
 
+    // Nothing is left to write back: llvmpipe's tiles are the framebuffer's.
+    void finish_draw() {}
+
   private:
+    friend class DrawModule<LlvmpipeModel, SetupList>;
+
     template <class Observer>
     void triangles(VertexStage& stage, Observer& obs);
-    template <class Observer>
-    void lines(VertexStage& stage, Observer& obs);
-    template <class Observer>
-    void points(VertexStage& stage, Observer& obs);
-    template <class Observer>
-    void unfilled(VertexStage& stage, Observer& obs);
     template <class Observer>
     void snapped_triangle(const VertexStage& stage, const std::array<const StageVertex*, 3>& v,
                           bool clipped, bool in_pipeline, bool setup_ftz, Observer& obs);
@@ -138,17 +165,11 @@ class LlvmpipeModel {
                                  const std::vector<bool>& segment_clipped) const;
     template <class Observer>
     PlaneNeeds plane_needs() const;
-    // Starts the next API primitive: hands a full list on first.
-    template <class Observer>
-    void next_primitive(std::size_t p, Observer& obs);
 
-    const DrawContext& ctx_;
-    const ListSink<List>* sink_ = nullptr;
-    SetupList list_;
+    std::optional<TextureUnit> unit_;  // the draw's texture unit, if it samples one
     // Triangle setup runs with the CPU's flush modes set and plain float operations where
     // the model emulates the flushing (fast paths of a flushing profile only).
     bool cpu_flushes_ = false;
-    std::uint32_t owner_ = 0;  // of the primitive being set up
     TriangleSetup triangle_;   // the triangle being set up, kept to spare clearing its walk
     const Framebuffer* prefetch_fb_ = nullptr;
 };

@@ -8,90 +8,7 @@
 
 namespace refraster::detail {
 
-SetupParams setup_params(const Profile& profile, const DrawState& state, const Target& target) {
-    REFRASTER_ASSERT(profile.gl.subpixel_bits >= 0 && profile.gl.subpixel_bits <= kMaxSubpixelBits,
-                     "subpixel bits within the snapped path's budget");
-    REFRASTER_ASSERT(
-        target.width <= (1u << kFramebufferBits) && target.height <= (1u << kFramebufferBits),
-        "a target within the edge functions' budget");
-    SetupParams p;
-    p.bits = profile.gl.subpixel_bits;
-    p.rounding = profile.gl.snap_rounding;
-    p.pixel_center_offset = profile.gl.pixel_center_offset;
-    p.half_pixel_center = profile.gl.pixel_center_offset;
-    p.tie_rule = profile.gl.tie_rule;
-    p.wrapping = profile.quirks.wrapping_arithmetic;
-    // lp_setup_tri.c / lp_setup_line.c / lp_setup_point.c: with the rasterizer's
-    // multisample state on, the snap has no pixel offset (docs/precision.md, "Multisampling (4x)").
-    p.multisample = target.samples > 1 && state.multisample;
-    if (p.multisample) p.pixel_center_offset = 0.0f;
-    p.cull = state.cull;
-    // st_atom_rasterizer.c: front_ccw = (FrontFace == GL_CCW), flipped for an FBO.
-    p.front_ccw = state.front_face != FrontFace::Ccw;
-    p.provoking_first = state.provoking_vertex == ProvokingVertex::First;
-    // lp_setup.c: the draw region is the framebuffer, intersected with the scissor.
-    p.draw_region = {0, 0, static_cast<int>(target.width) - 1, static_cast<int>(target.height) - 1};
-    p.framebuffer = p.draw_region;
-    if (profile.gl.clipping == Clipping::GuardBand) {
-        // With the guard band the viewport is applied as a scissor (lp_setup.c, draw_regions).
-        const auto& v = state.viewport;
-        p.draw_region = intersect(p.draw_region, {v.x, v.y, v.x + v.width - 1, v.y + v.height - 1});
-    }
-    if (state.scissor) {
-        const auto& s = *state.scissor;
-        const std::int64_t x1 = std::int64_t{s.x} + s.width - 1;
-        const std::int64_t y1 = std::int64_t{s.y} + s.height - 1;
-        p.draw_region = intersect(
-            p.draw_region, {s.x, s.y, static_cast<int>(std::clamp<std::int64_t>(x1, -1, 1 << 30)),
-                            static_cast<int>(std::clamp<std::int64_t>(y1, -1, 1 << 30))});
-    }
-    return p;
-}
-
-// The interior is where E grows: dE/dx = -a, dE/dy = b. A left edge has the interior to its
-// right (dE/dx > 0); a horizontal bottom edge has it above (dE/dy > 0).
-bool owns_ties(std::int32_t a, std::int32_t b, TieRule rule) {
-    if (rule == TieRule::None) return false;
-    if (rule == TieRule::All) return true;
-    if (a != 0) return (-a > 0) == owns_left_edges(rule);
-    return (b > 0) == owns_bottom_edges(rule);
-}
-
-EdgeFunction make_edge(std::int32_t xi, std::int32_t yi, std::int32_t xj, std::int32_t yj,
-                       TieRule rule) {
-    EdgeFunction e;
-    e.a = checked_sub(yi, yj);
-    e.b = checked_sub(xi, xj);
-    e.owns_ties = owns_ties(e.a, e.b, rule);
-    e.c = checked_add(checked_sub(wide_mul(e.a, xi), wide_mul(e.b, yi)),
-                      std::int64_t{e.owns_ties ? 1 : 0});
-    return e;
-}
-
 namespace {
-
-constexpr std::int32_t kIndefinite = INT32_MIN;  // cvtps2dq of NaN or of a value outside int32
-
-// A window coordinate converted as calc_fixed_position's cvtps2dq does it; `beyond` is set
-// when the result leaves the 24.8 budget of setup.hpp (kSnappedBits).
-[[gnu::always_inline]] inline std::int32_t convert_coordinate(float v, const SetupParams& p,
-                                                              bool& beyond) {
-    const float scaled = (v - p.pixel_center_offset) * static_cast<float>(1 << p.bits);
-    if (p.rounding == SnapRounding::NearestEven) {
-        // INT32_MIN (kIndefinite) for a value that does not fit, as the instruction gives it;
-        // it lies outside the budget too.
-        const std::int32_t r = round_nearest_even_or_indefinite(scaled);
-        if (r <= -(1 << kSnappedBits) || r >= (1 << kSnappedBits)) beyond = true;
-        return r;
-    }
-    const auto r = round_scaled<std::int32_t>(scaled, p.rounding);
-    if (!r) {
-        beyond = true;
-        return kIndefinite;
-    }
-    if (*r <= -(1 << kSnappedBits) || *r >= (1 << kSnappedBits)) beyond = true;
-    return *r;
-}
 
 // The orientation swap of triangle_both / triangle_cw: rotate_fixed_position_12 with the
 // first-vertex convention, _01 otherwise, so that the provoking vertex keeps its place.
@@ -124,14 +41,6 @@ bool uses_32bit_rasterizer(const PixelRect& raw) {
 }
 
 }  // namespace
-
-std::optional<std::array<std::int32_t, 2>> snap_position(float x, float y, const SetupParams& p) {
-    bool beyond = false;
-    const std::int32_t sx = convert_coordinate(x, p, beyond);
-    const std::int32_t sy = convert_coordinate(y, p, beyond);
-    if (beyond) return std::nullopt;
-    return std::array<std::int32_t, 2>{sx, sy};
-}
 
 void attach_llvmpipe_walk(const SetupParams& p, TriangleSetup& t) {
     const PixelRect raw = raw_box(p, t);
@@ -212,8 +121,8 @@ SetupOutcome setup_triangle(const std::array<std::array<float, 2>, 3>& w, const 
     t.bits = p.bits;
     bool beyond = false;
     for (std::size_t i = 0; i < 3; ++i) {
-        t.x[i] = convert_coordinate(w[i][0], p, beyond);
-        t.y[i] = convert_coordinate(w[i][1], p, beyond);
+        t.x[i] = snap_to_subpixel(w[i][0], p, beyond);
+        t.y[i] = snap_to_subpixel(w[i][1], p, beyond);
     }
     t.order = {0, 1, 2};
     // llvmpipe's arithmetic is reproduced for its own precision and rounding only.

@@ -18,14 +18,7 @@
 
 #include <cstdint>
 
-// The vector kernels exist for x86-64 with GCC or clang (function-level targets); elsewhere
-// only the scalar paths do.
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-#define REFRASTER_VECTOR_KERNELS 1
-#else
-#define REFRASTER_VECTOR_KERNELS 0
-#endif
-
+#include "common/cpu.hpp"
 #include "models/llvmpipe/fragment.hpp"
 
 namespace refraster::detail {
@@ -40,36 +33,5 @@ FragmentKernel::ShadeRowsFn vector_shade_rows(KernelPath path, ShadeModel shade,
 // the path is not a vector path or the CPU lacks its instructions: small_convex_rows then
 // steps the rows itself.
 RowMaskFn vector_row_masks(KernelPath path);
-
-// Whether this CPU runs code compiled for FMA, SSE4.1 and POPCNT: the scalar kernels' and the
-// vertex transform's run-time variants (fragment.cpp, vertex_stage.cpp).
-bool host_runs_fma_sse41();
-bool host_runs_avx2();
-bool host_runs_avx512();
-
-// Whether this CPU has flush-to-zero and denormals-are-zero modes the code can set (x86).
-bool cpu_flush_modes_available();
-
-// The CPU's flush-to-zero and denormals-are-zero modes set (`flush`) or cleared (!`flush`)
-// for the scope's duration when `active`, restored after: the float mode the vector kernels
-// and the fast setup assume where the profile flushes, and the plain mode that code the model
-// runs without flushing needs inside such a scope.
-class ScopedDenormalMode {
-  public:
-    ScopedDenormalMode(bool active, bool flush);
-    ~ScopedDenormalMode();
-    ScopedDenormalMode(const ScopedDenormalMode&) = delete;
-    ScopedDenormalMode& operator=(const ScopedDenormalMode&) = delete;
-
-  private:
-    bool active_;
-    std::uint32_t saved_ = 0;
-};
-
-// Flushing on for the scope when `on`.
-class ScopedDenormalsAreZero : public ScopedDenormalMode {
-  public:
-    explicit ScopedDenormalsAreZero(bool on) : ScopedDenormalMode(on, true) {}
-};
 
 }  // namespace refraster::detail

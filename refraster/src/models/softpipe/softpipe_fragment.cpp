@@ -8,7 +8,7 @@
 #include "models/llvmpipe/fragment.hpp"
 #include "models/softpipe/softpipe_sampler.hpp"
 #include "models/softpipe/softpipe_tiles.hpp"
-#include "models/llvmpipe/vector_kernels.hpp"
+#include "common/cpu.hpp"
 #include "stages/vertex_stage.hpp"
 
 namespace refraster::detail {

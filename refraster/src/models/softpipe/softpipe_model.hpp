@@ -8,7 +8,9 @@
 // lines as Bresenham segments of the truncated end points (sp_setup_line), wide ones as the
 // draw module's two triangles (draw_pipe_wide_line.c); points as the
 // draw module's point sprites, two triangles each (draw_pipe_wide_point.c). Traversal of a set-up
-// primitive's rows into quad packets. The fragment stage: softpipe_fragment.hpp.
+// primitive's rows into quad packets. The draw module's walk over lines, points and unfilled
+// polygons is the one both Mesa models share (stages/draw_module.hpp). The fragment stage:
+// softpipe_fragment.hpp.
 //
 // Deliberately does not: snap, multisample (softpipe has no multisampling: render() answers
 // NotSupported), texture (refused the same way), or reproduce llvmpipe's quirks.
@@ -20,19 +22,45 @@
 #include <span>
 #include <vector>
 
+#include <optional>
+
+#include "models/softpipe/softpipe_fragment.hpp"
+#include "models/softpipe/softpipe_sampler.hpp"
+#include "models/softpipe/softpipe_tiles.hpp"
+#include "stages/draw_module.hpp"
 #include "stages/model.hpp"
 #include "stages/quad.hpp"
-#include "models/softpipe/softpipe_fragment.hpp"
 
 namespace refraster::detail {
 
-class SoftpipeModel {
+class SoftpipeModel : public DrawModule<SoftpipeModel, ScanlineList> {
   public:
     using List = ScanlineList;
     using Primitive = ScanlinePrimitive;
     static constexpr bool kRowBlocks = false;  // quad packets only
 
-    explicit SoftpipeModel(const DrawContext& ctx) : ctx_(ctx) {}
+    // What softpipe keeps for a whole render: under a scanline profile its colour tile cache,
+    // in which colours stay float until written back (softpipe_tiles.hpp); the levels its
+    // sampler generates for a texture with generated mipmaps, made once a texture.
+    class RenderState {
+      public:
+        RenderState(const DrawList& list, const Profile& profile, Framebuffer& fb);
+        // Writes the render's tile cache back before a draw of another model's family (the
+        // profile's line or point rule) reads or writes the surface, and at the render's end.
+        void flush_shared_tiles() {
+            if (tiles_) tiles_->flush();
+        }
+
+      private:
+        friend class SoftpipeModel;
+        const DrawList& list_;
+        Framebuffer& fb_;
+        bool truncate_colors_ = false;
+        std::optional<SoftpipeTileCache> tiles_;
+        std::vector<std::vector<TextureImage>> generated_levels_;
+    };
+
+    SoftpipeModel(const DrawContext& ctx, RenderState& state);
 
     template <class Observer>
     void setup(VertexStage& stage, Observer& obs, const ListSink<List>& sink);
@@ -87,21 +115,23 @@ class SoftpipeModel {
     ScanlineKernel kernel() const {
         return {ctx_.draw,
                 ctx_.target,
-                *ctx_.tiles,
+                *tiles_,
                 ctx_.profile.gl.flush_denormals,
                 ctx_.profile.gl.depth_rounding == Rounding::Nearest,
-                ctx_.sampler};
+                sampler_ ? &*sampler_ : nullptr};
+    }
+
+    // A scanline draw in a render of the other family wrote a tile cache of its own: written
+    // back at the draw's end.
+    void finish_draw() {
+        if (own_tiles_) own_tiles_->flush();
     }
 
   private:
+    friend class DrawModule<SoftpipeModel, ScanlineList>;
+
     template <class Observer>
     void triangles(VertexStage& stage, Observer& obs);
-    template <class Observer>
-    void lines(VertexStage& stage, Observer& obs);
-    template <class Observer>
-    void points(VertexStage& stage, Observer& obs);
-    template <class Observer>
-    void unfilled(VertexStage& stage, Observer& obs);
     template <class Observer>
     void triangle(const VertexStage& stage, const std::array<const StageVertex*, 3>& v,
                   bool clipped, bool sprite, Observer& obs,
@@ -114,15 +144,12 @@ class SoftpipeModel {
                       float width, Observer& obs);
     template <class Observer>
     void point(const VertexStage& stage, const StageVertex& v, Observer& obs);
-    template <class Observer>
-    void next_primitive(std::size_t p, Observer& obs);
     // Appends a primitive of `rows` with planes made by `plane(value_of_vertex)`.
     ScanlinePrimitive& add_primitive(std::span<const ScanlineRow> rows, ScanlineInterp interp);
 
-    const DrawContext& ctx_;
-    const ListSink<List>* sink_ = nullptr;
-    ScanlineList list_;
-    std::uint32_t owner_ = 0;
+    std::optional<SoftpipeTileCache> own_tiles_;
+    SoftpipeTileCache* tiles_ = nullptr;  // the render's cache, or the draw's own
+    std::optional<SoftpipeSampler> sampler_;  // of the draw's texture, if it samples one
     ScanlineTriangle triangle_;  // the triangle being set up (its rows' storage is reused)
     std::vector<ScanlineRow> rows_;
 };
