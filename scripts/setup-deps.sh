@@ -17,6 +17,8 @@ else
 packages=(
   # toolchain; clang-format-14 checks the sources' layout (scripts/format.sh)
   g++ cmake ninja-build pkg-config git clang-format-14
+  # clang-tidy-14 checks the changed sources (scripts/tidy.sh, .clang-tidy)
+  clang-tidy-14
   # libraries (harness and tests)
   nlohmann-json3-dev libsimdjson-dev libcli11-dev libglm-dev libgtest-dev libgmock-dev libbenchmark-dev
   # the tests read the batch-system examples' YAML (docs/examples/)

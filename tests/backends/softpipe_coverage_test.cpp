@@ -1,4 +1,4 @@
-// softpipe's triangle coverage and colour planes (refraster/src/scanline_setup.cpp) against
+// softpipe's triangle coverage and colour planes (refraster/src/models/softpipe/scanline_setup.cpp) against
 // OSMesa softpipe, pixel for pixel: the random coverage generator's triangles that need no
 // clipping, each alone in a 64x64 cell with its own viewport and scissor, cull mode and front face.
 // The window positions are the draw module's C viewport transform (the reference's vertex stage,

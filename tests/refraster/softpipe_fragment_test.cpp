@@ -1,4 +1,4 @@
-// softpipe's colour tile cache (refraster/src/softpipe_tiles.hpp) and depth conversion
+// softpipe's colour tile cache (refraster/src/models/softpipe/softpipe_tiles.hpp) and depth conversion
 // (softpipe_fragment.hpp), each against values derived by hand from the rules of
 // docs/precision.md "softpipe": raw clear floats until written back, write-back on eviction of
 // a direct-mapped slot and at the flush, reload as byte * (1/255); the generic path's unclamped

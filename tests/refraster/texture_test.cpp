@@ -1,4 +1,4 @@
-// The sampler's rules (refraster/src/texture.cpp) against the measured facts they come from
+// The sampler's rules (refraster/src/models/llvmpipe/texture.cpp) against the measured facts they come from
 // (docs/precision.md, "Textures"), each computed here a second, independent way.
 #include "models/llvmpipe/texture.hpp"
 

@@ -10,7 +10,7 @@
 // - Float<T>: no snapping; window coordinates and edge functions in float32 or float64, the
 //   same tie rule applied to an edge function of exactly zero;
 // - Exact: the exact oracle (the `gl-exact` profile's predicates on the float32 clip-space
-//   inputs, refraster/src/exact_coverage.hpp).
+//   inputs, refraster/src/models/exact/exact_coverage.hpp).
 // Attributes are interpolated perspective-correctly from planes of a/w and 1/w over the
 // unsnapped window coordinates, in float32 for the snapped and float32 rules and float64 for
 // the float64 rule, fused (fma) or unfused; depth (window z, linear in window space) comes from

@@ -2,7 +2,7 @@
 #include <cmath>
 
 #include "common/float_ops.hpp"
-#include "models/llvmpipe/fragment.hpp"
+#include "stages/output_merge.hpp"
 #include "refraster/framebuffer.hpp"
 
 namespace refraster {

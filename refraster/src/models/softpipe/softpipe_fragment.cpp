@@ -5,7 +5,7 @@
 #include <bit>
 #include <cmath>
 
-#include "models/llvmpipe/fragment.hpp"
+#include "stages/output_merge.hpp"
 #include "models/softpipe/softpipe_sampler.hpp"
 #include "models/softpipe/softpipe_tiles.hpp"
 #include "common/cpu.hpp"

@@ -58,7 +58,7 @@ inline void pixels_to_rows(std::vector<std::array<int, 2>>& px, const PixelRect&
 
 }  // namespace softpipe_setup
 
-ScanlinePrimitive& SoftpipeModel::add_primitive(std::span<const ScanlineRow> rows,
+inline ScanlinePrimitive& SoftpipeModel::add_primitive(std::span<const ScanlineRow> rows,
                                                 ScanlineInterp interp) {
     ScanlinePrimitive& prim = list_.primitives.emplace_back();
     prim.first_row = static_cast<std::uint32_t>(list_.rows.size());

@@ -3,7 +3,7 @@
 
 #include <algorithm>
 
-#include "models/llvmpipe/fragment.hpp"
+#include "stages/output_merge.hpp"
 
 namespace refraster::detail {
 
