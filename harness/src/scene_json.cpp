@@ -1791,7 +1791,8 @@ std::string escape_for_message(std::string_view text) {
 
 SceneError::SceneError(std::string file, std::string json_path, std::string message,
                        std::size_t line, std::size_t column)
-    : std::runtime_error(compose_message(file, json_path, message, line, column)),
+    : refraster::Error(refraster::ExitClass::BadInput,
+                       compose_message(file, json_path, message, line, column)),
       file_(std::move(file)),
       json_path_(std::move(json_path)),
       detail_(std::move(message)),

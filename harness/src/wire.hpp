@@ -29,6 +29,7 @@
 
 #include "harness/backend.hpp"
 #include "refraster/draw.hpp"
+#include "refraster/error.hpp"
 
 namespace harness::wire {
 
@@ -50,10 +51,11 @@ inline constexpr std::uint64_t kMaxPayloadBytes = std::uint64_t{4} << 30;
 
 // A protocol or I/O failure. `error_number()` is the errno of a failed system call, 0 when the
 // stream itself was bad (truncated, oversized, undecodable).
-class WireError : public std::runtime_error {
+// A backend failure: the worker at the other end broke the protocol or went away.
+class WireError : public refraster::Error {
   public:
     explicit WireError(const std::string& message, int error_number = 0)
-        : std::runtime_error(message), errno_(error_number) {}
+        : refraster::Error(refraster::ExitClass::BackendFailure, message), errno_(error_number) {}
     int error_number() const { return errno_; }
 
   private:

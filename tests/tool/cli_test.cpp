@@ -12,6 +12,32 @@ TEST(Cli, UnknownSubcommandIsUsageError) {
     EXPECT_EQ(testutil::count_lines(r.err), 1u) << r.err;
 }
 
+// Bad input met below the command (an unknown profile, an --egl-device that is not an index)
+// reaches main as a refraster::Error of class BadInput: one line, "refraster: " and the
+// message, exit code 2, whichever command met it, and nothing written.
+TEST(Cli, BadInputErrorsAreOneLineWithExitTwo) {
+    testutil::TempDir dir;
+    const std::string scene = dir.write("s.json", R"({"format": "refraster-scene/1",
+      "target": {"width": 2, "height": 2}, "draws": []})")
+                                  .string();
+    const std::string out = (dir.path() / "o.png").string();
+    const std::vector<std::vector<std::string>> commands{
+        {"render", scene, "-o", out, "--profile", "no-such-profile"},
+        {"explain", scene, "--pixel", "0,0", "--no-backend", "--profile", "no-such-profile"},
+        {"fingerprint", "--against", "ref", "-o", out, "--profile", "no-such-profile"},
+        {"profile", "no-such-profile"},
+        {"bench", "--no-gl", "--profile", "no-such-profile"},
+        {"render", scene, "-o", out, "--backend", "egl", "--egl-device", "no-index"}};
+    for (const auto& args : commands) {
+        const auto r = testutil::run_cli(args);
+        EXPECT_EQ(r.exit_code, 2) << args[0] << ": " << r.err;
+        EXPECT_EQ(testutil::count_lines(r.err), 1u) << r.err;
+        EXPECT_EQ(r.err.rfind("refraster: ", 0), 0u) << r.err;
+        EXPECT_NE(r.err.find(args.back()), std::string::npos) << r.err;
+        EXPECT_FALSE(std::filesystem::exists(out)) << args[0];
+    }
+}
+
 TEST(Cli, HelpOnSubcommand) {
     const auto r = testutil::run_cli({"render", "--help"});
     EXPECT_EQ(r.exit_code, 0);

@@ -14,6 +14,7 @@
 #include <string>
 
 #include "harness/scene.hpp"
+#include "refraster/error.hpp"
 #include "refraster/framebuffer.hpp"
 #include "refraster/profile.hpp"
 
@@ -99,9 +100,10 @@ struct BackendOptions {
 
 // Backend options that cannot work (a device on a backend without devices): bad input, not a
 // backend failure.
-class BackendOptionError : public std::invalid_argument {
+class BackendOptionError : public refraster::Error {
   public:
-    using std::invalid_argument::invalid_argument;
+    explicit BackendOptionError(const std::string& message)
+        : refraster::Error(refraster::ExitClass::BadInput, message) {}
 };
 
 // A --mesa-prefix that holds no Mesa.

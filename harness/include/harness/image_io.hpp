@@ -17,13 +17,15 @@
 
 #include "harness/scene.hpp"
 #include "refraster/draw.hpp"
+#include "refraster/error.hpp"
 #include "refraster/framebuffer.hpp"
 
 namespace harness {
 
-class ImageIoError : public std::runtime_error {
+class ImageIoError : public refraster::Error {
   public:
-    using std::runtime_error::runtime_error;
+    explicit ImageIoError(const std::string& message)
+        : refraster::Error(refraster::ExitClass::BadInput, message) {}
 };
 
 // The file extension a target's colour is written with: ".png" or ".exr".

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "refraster/draw.hpp"
+#include "refraster/error.hpp"
 
 namespace harness {
 
@@ -86,7 +87,7 @@ struct Scene {
 //   FILE: JSON.PATH: what was expected        (a value that is wrong)
 //   FILE:LINE:COLUMN: what was expected       (a file that does not parse)
 //   FILE: what went wrong                     (a file that cannot be read)
-class SceneError : public std::runtime_error {
+class SceneError : public refraster::Error {
   public:
     SceneError(std::string file, std::string json_path, std::string message, std::size_t line = 0,
                std::size_t column = 0);

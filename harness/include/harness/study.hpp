@@ -26,6 +26,8 @@
 #include <utility>
 #include <vector>
 
+#include "refraster/error.hpp"
+
 namespace harness {
 
 struct StudyOptions {
@@ -51,9 +53,10 @@ struct StudyOutput {
 // summary.md: the provenance, the conclusions and the command that reproduces them.
 std::string study_summary_markdown(const StudyOutput& out, const std::string& command);
 
-class StudyError : public std::runtime_error {
+class StudyError : public refraster::Error {
   public:
-    using std::runtime_error::runtime_error;
+    explicit StudyError(const std::string& message)
+        : refraster::Error(refraster::ExitClass::BadInput, message) {}
 };
 
 StudyOutput run_precision_study(const StudyOptions& options);

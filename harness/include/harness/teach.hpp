@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "harness/scene.hpp"
+#include "refraster/error.hpp"
 #include "refraster/framebuffer.hpp"
 #include "refraster/textbook/trace.hpp"
 
@@ -36,9 +37,10 @@ struct TeachAlgorithmInfo {
 const std::vector<TeachAlgorithmInfo>& teach_algorithms();
 
 // A scene that holds nothing the algorithm draws, or an unknown algorithm: bad input.
-class TeachError : public std::runtime_error {
+class TeachError : public refraster::Error {
   public:
-    using std::runtime_error::runtime_error;
+    explicit TeachError(const std::string& message)
+        : refraster::Error(refraster::ExitClass::BadInput, message) {}
 };
 
 struct TeachDifference {

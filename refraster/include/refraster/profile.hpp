@@ -23,6 +23,7 @@
 #include <utility>
 #include <vector>
 
+#include "refraster/error.hpp"
 #include "refraster/fixed.hpp"
 
 namespace refraster {
@@ -137,9 +138,10 @@ struct Profile {
     friend bool operator==(const Profile&, const Profile&) = default;
 };
 
-class ProfileError : public std::runtime_error {
+// An unknown profile or parameter, or a value out of range: bad input.
+class ProfileError : public Error {
   public:
-    using std::runtime_error::runtime_error;
+    explicit ProfileError(const std::string& message) : Error(ExitClass::BadInput, message) {}
 };
 
 // The built-in profiles.

@@ -20,11 +20,14 @@
 #include <string>
 #include <vector>
 
+#include "refraster/error.hpp"
+
 namespace conformance {
 
-class MergeError : public std::runtime_error {
+class MergeError : public refraster::Error {
   public:
-    using std::runtime_error::runtime_error;
+    explicit MergeError(const std::string& message)
+        : refraster::Error(refraster::ExitClass::BadInput, message) {}
 };
 
 struct MergeSummary {

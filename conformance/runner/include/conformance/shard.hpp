@@ -24,6 +24,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "refraster/error.hpp"
+
 namespace conformance {
 
 struct Shard {
@@ -34,9 +36,10 @@ struct Shard {
     friend bool operator==(const Shard&, const Shard&) = default;
 };
 
-class ShardError : public std::runtime_error {
+class ShardError : public refraster::Error {
   public:
-    using std::runtime_error::runtime_error;
+    explicit ShardError(const std::string& message)
+        : refraster::Error(refraster::ExitClass::BadInput, message) {}
 };
 
 // A variable's value, or nullopt when it is not set.

@@ -1,0 +1,108 @@
+// bench: the reference timed against OSMesa llvmpipe and softpipe on generated workloads, with
+// the performance targets judged (docs/performance.md). The exit code says whether it ran, not
+// whether the targets were met.
+#include "harness/bench.hpp"
+
+#include <iostream>
+#include <memory>
+#include <stdexcept>
+
+#include "commands/commands.hpp"
+#include "harness/files.hpp"
+
+namespace tool {
+namespace {
+
+struct BenchArgs {
+    std::string scenes;
+    int rounds = 5;
+    double scale = 1.0;
+    std::uint64_t seed = 1;
+    bool no_gl = false;
+    bool no_softpipe = false;
+    bool scaling = false;
+    unsigned threads = 1;
+    unsigned second_threads = 2;
+    std::string kernels = "fastest";
+    std::string json;
+    ProfileArgs profile;
+};
+
+int run_bench(const BenchArgs& a) {
+    harness::BenchOptions o;
+    o.profile = a.profile.load();
+    o.scenes = split_globs(a.scenes);
+    o.rounds = a.rounds;
+    o.scale = a.scale;
+    o.seed = a.seed;
+    o.gl = !a.no_gl;
+    o.softpipe = !a.no_softpipe;
+    o.scaling = a.scaling;
+    o.threads = a.threads;
+    o.second_threads = a.second_threads;
+    o.kernels = *harness::parse_kernel_path(a.kernels);  // CLI checks the name
+    harness::BenchReport report;
+    try {
+        report = harness::run_bench(o, std::cerr);
+    } catch (const std::invalid_argument& e) {
+        std::cerr << "refraster bench: " << e.what() << "\n";
+        return kExitBadInput;
+    } catch (const std::exception& e) {
+        std::cerr << "refraster bench: " << e.what() << "\n";
+        return kExitBackendFailure;
+    }
+    std::cout << harness::bench_table(report);
+    if (!a.json.empty()) {
+        try {
+            harness::write_file_atomically(a.json, harness::bench_json(report));
+        } catch (const std::exception& e) {
+            std::cerr << e.what() << "\n";
+            return kExitBadInput;
+        }
+    }
+    return kExitOk;
+}
+
+}  // namespace
+
+Command add_bench_command(CLI::App& app) {
+    auto a = std::make_shared<BenchArgs>();
+    auto* cmd = app.add_subcommand(
+        "bench",
+        "Time the reference (one thread, two) against OSMesa llvmpipe (one thread, default "
+        "threads) and softpipe, and judge the performance targets");
+    cmd->add_option("--scenes", a->scenes,
+                    "Comma-separated workloads (default the standard eight): tiny-flat, "
+                    "tiny-smooth, medium-flat, medium-smooth, full-flat, full-smooth, "
+                    "medium-perspective, full-perspective; the scaling workloads "
+                    "tiny-flat-4m, full-flat-2048, full-smooth-2048");
+    cmd->add_flag("--scaling", a->scaling,
+                  "Also the scaling workloads (tiny-flat-4m, full-flat-2048, full-smooth-2048) "
+                  "and their standard counterparts, for the rate ratio");
+    cmd->add_option("--rounds", a->rounds, "Interleaved rounds; medians are reported")
+        ->check(CLI::Range(1, 1000))
+        ->capture_default_str();
+    cmd->add_option("--scale", a->scale, "Fraction of each workload's triangles, for quick runs")
+        ->check(CLI::Range(1e-6, 1.0))
+        ->capture_default_str();
+    cmd->add_option("--seed", a->seed, "Seed of the generated workloads")->capture_default_str();
+    cmd->add_flag("--no-gl", a->no_gl, "Time the reference alone");
+    cmd->add_flag("--no-softpipe", a->no_softpipe, "Leave softpipe out (llvmpipe only)");
+    cmd->add_option("--threads", a->threads,
+                    "The reference's threads, compared with llvmpipe LP_NUM_THREADS=0 (0: one "
+                    "per core)")
+        ->capture_default_str();
+    cmd->add_option("--second-threads", a->second_threads,
+                    "Threads of a second reference configuration, compared with llvmpipe's "
+                    "default threads (0: leave it out)")
+        ->capture_default_str();
+    cmd->add_option("--kernels", a->kernels,
+                    "The reference's fragment kernels: model, scalar, avx2, avx512 or fastest")
+        ->check(CLI::IsMember({"model", "scalar", "avx2", "avx512", "fastest"}))
+        ->capture_default_str();
+    cmd->add_option("--json", a->json, "Write the results as JSON here");
+    add_profile_options(cmd, a->profile);
+    return {cmd, [a] { return run_bench(*a); }};
+}
+
+}  // namespace tool

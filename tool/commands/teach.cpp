@@ -1,0 +1,167 @@
+// teach SCENE --algorithm A --output DIR: a textbook algorithm run on the scene beside GL's
+// rules (from the reference or a GL backend), written as a teaching page with its images.
+#include "harness/teach.hpp"
+
+#include <algorithm>
+#include <array>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <vector>
+
+#include "commands/commands.hpp"
+#include "harness/files.hpp"
+#include "harness/image_io.hpp"
+#include "harness/teach_page.hpp"
+
+namespace tool {
+namespace {
+
+struct TeachArgs {
+    std::string scene;
+    std::string algorithm;
+    std::string against = "ref";  // ref, or a GL backend: gl (OSMesa), osmesa, egl
+    BackendArgs backend{"ref"};
+    std::string output;
+    int zoom = 8;
+};
+
+// An image of `w` x `h` pixels, each a `zoom` x `zoom` block of colour(x, y).
+template <class Color>
+refraster::Framebuffer zoomed(int w, int h, int zoom, Color&& color) {
+    refraster::Framebuffer fb(static_cast<std::uint32_t>(w * zoom),
+                              static_cast<std::uint32_t>(h * zoom), refraster::ColorFormat::Rgba8,
+                              refraster::DepthFormat::None, 1);
+    for (int y = 0; y < h * zoom; ++y) {
+        for (int x = 0; x < w * zoom; ++x) {
+            const std::array<std::uint8_t, 4> c = color(x / zoom, y / zoom);
+            const std::size_t i =
+                fb.index(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y));
+            std::copy(c.begin(), c.end(), fb.color8.begin() + static_cast<long>(4 * i));
+        }
+    }
+    return fb;
+}
+
+int run_teach(TeachArgs a) {
+    const auto scene = load_or_report(a.scene);
+    if (!scene) return kExitBadInput;
+    if (scene->file.target.samples != 1) {
+        std::cerr << a.scene << ": target.samples: teach compares single-sample targets, got "
+                  << scene->file.target.samples << "\n";
+        return kExitBadInput;
+    }
+    a.backend.backend = a.against == "gl" ? "osmesa" : a.against;
+    auto backend = backend_or_report(a.backend, a.scene);
+    if (!backend) return kExitBackendFailure;
+    // The owner pass: which primitive lit each pixel, so that coverage is known even where a
+    // colour equals the clear colour.
+    const harness::RenderResult gl = backend->render_owners(*scene);
+    if (gl.status != harness::RenderStatus::Ok) {
+        std::cerr << a.scene << ": " << to_string(gl.status) << " in " << backend->name() << ": "
+                  << gl.message << "\n";
+        return exit_code_for(gl.status);
+    }
+    harness::TeachResult r;
+    try {
+        r = harness::teach(*scene, a.algorithm, gl.image);
+    } catch (const harness::TeachError& e) {
+        std::cerr << a.scene << ": " << e.what() << "\n";
+        return exit_code(e.exit_class());
+    }
+    const auto prov = [&](const char* key) {
+        const auto it = gl.provenance.find(key);
+        return it == gl.provenance.end() ? std::string("?") : it->second;
+    };
+    const std::string source = a.against == "ref"
+                                   ? "the reference rasterizer, profile " + prov("profile")
+                                   : backend->name() + " (" + prov("renderer") + ")";
+    const auto data = harness::teach_json(r, *scene, a.scene, source);
+    const std::filesystem::path dir(a.output);
+    const int w = r.width;
+    const auto at = [&](const std::vector<std::uint8_t>& rgba, int x, int y) {
+        const std::size_t i = 4 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
+                                   static_cast<std::size_t>(x));
+        return std::array<std::uint8_t, 4>{rgba[i], rgba[i + 1], rgba[i + 2], rgba[i + 3]};
+    };
+    std::vector<int> diff(static_cast<std::size_t>(w) * static_cast<std::size_t>(r.height), 0);
+    for (const auto& d : r.differences) {
+        diff[static_cast<std::size_t>(d.y * w + d.x)] = d.algorithm > 0.0 && d.algorithm < 1.0 ? 3
+                                                        : d.algorithm > 0.0 ? (d.gl ? 4 : 1)
+                                                                            : 2;
+    }
+    const auto algorithm_png =
+        zoomed(w, r.height, a.zoom, [&](int x, int y) { return at(r.algorithm_rgba, x, y); });
+    const auto gl_png =
+        zoomed(w, r.height, a.zoom, [&](int x, int y) { return at(r.gl_rgba, x, y); });
+    // The difference mask, in the page's colours: orange lit by the algorithm only, blue by
+    // GL only, yellow a partial weight or another primitive seen, dark grey equal (lighter where
+    // both light the pixel).
+    const auto mask_png = zoomed(w, r.height, a.zoom, [&](int x, int y) {
+        const std::size_t i = static_cast<std::size_t>(y * w + x);
+        switch (diff[i]) {
+            case 1:
+                return std::array<std::uint8_t, 4>{255, 109, 0, 255};
+            case 2:
+                return std::array<std::uint8_t, 4>{41, 121, 255, 255};
+            case 3:
+            case 4:
+                return std::array<std::uint8_t, 4>{255, 214, 0, 255};
+            default:
+                break;
+        }
+        return r.gl_lit[i] ? std::array<std::uint8_t, 4>{90, 90, 90, 255}
+                           : std::array<std::uint8_t, 4>{40, 40, 40, 255};
+    });
+    try {
+        std::filesystem::create_directories(dir);
+        harness::write_color_images({{&algorithm_png, dir / "algorithm.png"},
+                                     {&gl_png, dir / "gl.png"},
+                                     {&mask_png, dir / "differences.png"}});
+        harness::write_file_atomically(dir / "teach.json", data.dump(1) + "\n");
+        harness::write_file_atomically(dir / "index.html", harness::teach_page_html(data));
+    } catch (const std::exception& e) {
+        std::cerr << a.output << ": " << e.what() << "\n";
+        return kExitBadInput;
+    }
+    std::cout << r.title << " on " << scene->file.name << " against " << source << ": " << r.summary
+              << "; " << r.steps.size() << " steps\n";
+    std::cout << "wrote " << (dir / "index.html").string() << "\n";
+    return kExitOk;
+}
+
+}  // namespace
+
+Command add_teach_command(CLI::App& app) {
+    auto a = std::make_shared<TeachArgs>();
+    auto* cmd = app.add_subcommand(
+        "teach", "Run a textbook algorithm on a scene beside GL's rules and write a teaching page");
+    cmd->add_option("scene", a->scene, "Scene file (format refraster-scene/1)")->required();
+    std::vector<std::string> algorithm_names;
+    std::string algorithm_help = "The algorithm:";
+    for (const auto& info : harness::teach_algorithms()) {
+        algorithm_names.emplace_back(info.name);
+        algorithm_help += "\n  " + std::string(info.name) + ": " + std::string(info.title) + " (" +
+                          std::string(info.takes) + ")";
+    }
+    cmd->add_option("--algorithm", a->algorithm, algorithm_help)
+        ->required()
+        ->check(CLI::IsMember(algorithm_names));
+    cmd->add_option("--against", a->against,
+                    "GL's rules from the reference (ref) or a GL backend (gl: OSMesa, osmesa, "
+                    "egl)")
+        ->check(CLI::IsMember({"ref", "gl", "osmesa", "egl"}))
+        ->capture_default_str();
+    cmd->add_option("--output", a->output,
+                    "Directory for index.html, teach.json and the images algorithm.png, gl.png, "
+                    "differences.png")
+        ->required();
+    cmd->add_option("--zoom", a->zoom, "Screen pixels a pixel in the PNG images")
+        ->check(CLI::Range(1, 64))
+        ->capture_default_str();
+    add_driver_options(cmd, a->backend);
+    add_profile_options(cmd, a->backend.profile);
+    return {cmd, [a] { return run_teach(*a); }};
+}
+
+}  // namespace tool
