@@ -26,7 +26,7 @@
 #include <vector>
 
 #include "refraster/framebuffer.hpp"
-#include "wire.hpp"
+#include "backends/wire.hpp"
 
 namespace harness::gl {
 

@@ -13,7 +13,7 @@
 #include "harness/scene.hpp"
 #include "harness/scene_text.hpp"
 #include "test_util.hpp"
-#include "wire.hpp"
+#include "backends/wire.hpp"
 
 namespace {
 
