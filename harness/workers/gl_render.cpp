@@ -25,8 +25,8 @@
 #include <stdexcept>
 #include <vector>
 
-#include "refraster/framebuffer.hpp"
 #include "backends/wire.hpp"
+#include "refraster/framebuffer.hpp"
 
 namespace harness::gl {
 
