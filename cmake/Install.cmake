@@ -6,7 +6,7 @@ include(CMakePackageConfigHelpers)
 
 set(REFRASTER_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/refraster)
 # The GL workers are programs the harness starts, not commands: libexec, where the harness looks
-# for them beside an installed bin/ (harness/src/backend_gl.cpp, gl_worker_path).
+# for them beside an installed bin/ (harness/src/backends/backend_gl.cpp, gl_worker_path).
 set(REFRASTER_INSTALL_WORKERDIR ${CMAKE_INSTALL_LIBEXECDIR}/refraster)
 
 install(TARGETS refraster EXPORT refrasterCoreTargets

@@ -1,7 +1,7 @@
 # Every dependency is a Debian 12 package; scripts/setup-deps.sh installs them.
 find_package(glm 0.9.9 CONFIG REQUIRED)
 find_package(nlohmann_json 3.11 CONFIG REQUIRED)
-# The scene loader's parser (harness/src/scene_json.cpp); Debian's libsimdjson-dev exports
+# The scene loader's parser (harness/src/scene/strict_json.cpp); Debian's libsimdjson-dev exports
 # simdjson::simdjson.
 find_package(simdjson 3.0 CONFIG REQUIRED)
 if(REFRASTER_FUZZ)

@@ -25,8 +25,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "backends/wire.hpp"
 #include "refraster/framebuffer.hpp"
-#include "wire.hpp"
 
 namespace harness::gl {
 

@@ -21,7 +21,7 @@
 #include <string>
 #include <vector>
 
-#include "backend_gl.hpp"
+#include "backends/backend_gl.hpp"
 #include "harness/backend.hpp"
 
 #ifndef REFRASTER_TEST_EGL

@@ -8,12 +8,12 @@
 #include <cmath>
 #include <random>
 
+#include "backends/wire.hpp"
 #include "harness/backend.hpp"
 #include "harness/front_end.hpp"
 #include "harness/scene.hpp"
 #include "harness/scene_text.hpp"
 #include "test_util.hpp"
-#include "wire.hpp"
 
 namespace {
 

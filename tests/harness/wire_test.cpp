@@ -1,6 +1,6 @@
-// wire_test.cpp: the worker protocol (harness/src/wire.hpp) round-trips every field, and a
+// wire_test.cpp: the worker protocol (harness/src/backends/wire.hpp) round-trips every field, and a
 // short or corrupt stream is an error, never a wrong value.
-#include "wire.hpp"
+#include "backends/wire.hpp"
 
 #include <fcntl.h>
 #include <gtest/gtest.h>

@@ -10,7 +10,7 @@
 //  - gl_verdict (gl_verdict.hpp): differences judged against GL's freedoms;
 //  - fingerprint (fingerprint.hpp): a backend's rules inferred from probe scenes;
 //  - write_color_image (image_io.hpp);
-//  - scenes written in code: SceneFile (scene.hpp), scene_to_json (reduce.hpp), camera
+//  - scenes written in code: SceneFile (scene.hpp), scene_to_json (scene_writer.hpp), camera
 //    matrices (authoring.hpp).
 //
 // Link refraster::harness (find_package(refraster), docs/library.md). Deliberately does not:
@@ -34,6 +34,7 @@
 #include "harness/profile_io.hpp"
 #include "harness/reduce.hpp"
 #include "harness/scene.hpp"
+#include "harness/scene_writer.hpp"
 
 namespace harness {
 

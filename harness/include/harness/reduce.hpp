@@ -1,7 +1,6 @@
-// reduce.hpp: delta debugging of a failing scene, and writing scenes back to JSON.
+// reduce.hpp: delta debugging of a failing scene.
 //
-// Implements: scene_to_json, the inverse of the loader (every value the file held, defaults
-// left out); reduce_scene, which shrinks a scene while it keeps the same mismatch signature
+// Implements: reduce_scene, which shrinks a scene while it keeps the same mismatch signature
 // (a mismatch against the backend, explained by the same rule at the pixel of largest
 // difference, see explain.hpp): draws become explicit lists of primitives in the order the
 // driver assembles them, then whole draws, then primitives (ddmin: halves, quarters, ... down
@@ -19,16 +18,9 @@
 
 #include "harness/backend.hpp"
 #include "harness/scene.hpp"
+#include "harness/scene_writer.hpp"  // scene_to_json, which writes the reduced scene
 
 namespace harness {
-
-// Textures (extension "textures") are written with their texels as base64 "data", and
-// "textures" is added to "requires" when the scene uses the extension (uses_textures).
-std::string scene_to_json(const SceneFile& s);
-
-// Whether `s` uses the extension "textures": it defines a texture, a draw samples one, or a
-// vertex has a texture coordinate other than the default (0, 0, 0, 1), bit for bit.
-bool uses_textures(const SceneFile& s);
 
 // Which mismatch a reduction keeps: by default the one at the pixel of largest difference.
 struct MismatchToKeep {

@@ -25,7 +25,7 @@
 namespace harness {
 
 // The scene format's version string. The extensions this reader implements, "multisample",
-// "vertex_arrays" and "textures", are checked by the loader (scene_json.cpp); any other
+// "vertex_arrays" and "textures", are checked by the loader (scene_reader.cpp); any other
 // required name is unsupported.
 inline constexpr const char* kSceneFormatV1 = "refraster-scene/1";
 

@@ -10,7 +10,7 @@
 #include <random>
 #include <stdexcept>
 
-#include "harness/reduce.hpp"
+#include "harness/scene_writer.hpp"
 
 namespace harness {
 

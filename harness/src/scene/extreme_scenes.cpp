@@ -14,8 +14,8 @@
 #include <stdexcept>
 
 #include "harness/files.hpp"
-#include "harness/reduce.hpp"
 #include "harness/scene_text.hpp"
+#include "harness/scene_writer.hpp"
 
 namespace harness {
 

@@ -1,0 +1,401 @@
+// explain_draw.cpp: an explanation drawn as SVG (explanation_svg).
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <stdexcept>
+#include <tuple>
+
+#include "explain_shared.hpp"
+#include "harness/profile_io.hpp"
+#include "harness/explain.hpp"
+#include "refraster/renderer.hpp"
+
+namespace harness {
+
+using explain_detail::color_at;
+using explain_detail::kSampleOffsets;
+using explain_detail::same_color;
+using explain_detail::where;
+
+namespace {
+
+constexpr int kTexelCell = 40;  // screen pixels per texel
+constexpr int kTexelPanelWidth = 8 * kTexelCell + 320;
+constexpr int kTexelPanelHeight = 8 * kTexelCell + 60;
+
+// The teaching view of a textured fragment: the level's texels (rows bottom to top, as the
+// texture is addressed), the sampled point, the texels the filter read with their weights,
+// and the pixel's footprint (the quad's derivatives as a parallelogram in texels).
+std::string texel_panel_svg(const Explanation::TexelWindow& w, int top) {
+    std::ostringstream s;
+    const auto& t = w.sample;
+    const int C = kTexelCell;
+    const int rows = w.rows;
+    const auto tx = [&](double u) { return 10 + (u - w.x0) * C; };  // texel units to screen
+    const auto ty = [&](double v) { return top + 30 + (w.y0 + rows - v) * C; };
+    s << "<text x=\"4\" y=\"" << top + 16
+      << "\" font-family=\"sans-serif\" font-size=\"12\">texels of level " << t.level0 << " ("
+      << w.level_width << "x" << w.level_height << "), " << (t.linear ? "bilinear" : "nearest")
+      << ", " << (t.aos ? "8-bit path" : "float path") << "</text>\n";
+    for (int y = 0; y < rows; ++y) {
+        for (int x = 0; x < w.columns; ++x) {
+            const auto& c = w.texels[static_cast<std::size_t>(y * w.columns + x)];
+            char fill[8];
+            std::snprintf(fill, sizeof fill, "#%02x%02x%02x", c[0], c[1], c[2]);
+            s << "<rect x=\"" << tx(w.x0 + x) << "\" y=\"" << ty(w.y0 + y + 1) << "\" width=\"" << C
+              << "\" height=\"" << C << "\" fill=\"" << fill
+              << "\" stroke=\"#888\" stroke-width=\"1\"><title>texel (" << w.x0 + x << ", "
+              << w.y0 + y << "): " << int{c[0]} << "," << int{c[1]} << "," << int{c[2]} << ","
+              << int{c[3]} << "</title></rect>\n";
+        }
+    }
+    // The texels read (level 0 of the sample), outlined.
+    const auto& r = t.texels[0];
+    const auto outline = [&](int x, int y, const char* colour) {
+        if (x < w.x0 || y < w.y0 || x >= w.x0 + w.columns || y >= w.y0 + rows) return;
+        s << "<rect x=\"" << tx(x) + 2 << "\" y=\"" << ty(y + 1) + 2 << "\" width=\"" << C - 4
+          << "\" height=\"" << C - 4 << "\" fill=\"none\" stroke=\"" << colour
+          << "\" stroke-width=\"3\"/>\n";
+    };
+    outline(r[0], r[2], "#ff00ff");
+    if (t.linear) {
+        outline(r[1], r[2], "#ff00ff");
+        outline(r[0], r[3], "#ff00ff");
+        outline(r[1], r[3], "#ff00ff");
+    }
+    // The sampled point and the footprint: the quad's steps along x and y, in texels of this
+    // level (the derivatives are in base-level texels).
+    const double scale = std::ldexp(1.0, -static_cast<int>(t.level0));
+    const double u = static_cast<double>(t.coord[0]) * w.level_width;
+    const double v = static_cast<double>(t.coord[1]) * w.level_height;
+    const double ax = double{t.rho_terms[0]} * scale, ay = double{t.rho_terms[1]} * scale;
+    const double bx = double{t.rho_terms[2]} * scale, by = double{t.rho_terms[3]} * scale;
+    s << "<polygon fill=\"#00c85333\" stroke=\"#00c853\" stroke-width=\"2\" points=\"" << tx(u)
+      << "," << ty(v) << " " << tx(u + ax) << "," << ty(v + ay) << " " << tx(u + ax + bx) << ","
+      << ty(v + ay + by) << " " << tx(u + bx) << "," << ty(v + by)
+      << "\"><title>the pixel's footprint: one pixel step along x and along y</title></polygon>\n";
+    s << "<circle cx=\"" << tx(u) << "\" cy=\"" << ty(v)
+      << "\" r=\"4\" fill=\"#ff00ff\"><title>sampled at (" << u << ", " << v
+      << ") texels</title></circle>\n";
+    // The numbers beside the grid.
+    std::ostringstream lines;
+    lines.precision(6);
+    lines << "s, t = " << t.coord[0] << ", " << t.coord[1] << "|rho^2 = " << t.rho2
+          << (t.minified ? " (minified)" : " (magnified)") << "|levels " << t.level0;
+    if (t.level1 != t.level0) lines << " and " << t.level1 << ", weight " << t.level_weight;
+    lines << "|texels x " << r[0] << (t.linear ? ", " + std::to_string(r[1]) : "") << " y " << r[2]
+          << (t.linear ? ", " + std::to_string(r[3]) : "");
+    if (t.linear) {
+        lines << "|weights " << t.weights[0][0] << (t.aos ? "/256" : "") << ", " << t.weights[0][1]
+              << (t.aos ? "/256" : "");
+    }
+    lines << "|colour " << t.color[0] << ", " << t.color[1] << ", " << t.color[2] << ", "
+          << t.color[3];
+    std::string text = lines.str();
+    int line = 0;
+    std::size_t start = 0;
+    while (start <= text.size()) {
+        const auto bar = text.find('|', start);
+        const std::string part =
+            text.substr(start, bar == std::string::npos ? std::string::npos : bar - start);
+        s << "<text x=\"" << 20 + 8 * C << "\" y=\"" << top + 50 + 18 * line
+          << "\" font-family=\"sans-serif\" font-size=\"12\">" << part << "</text>\n";
+        ++line;
+        if (bar == std::string::npos) break;
+        start = bar + 1;
+    }
+    return s.str();
+}
+
+}  // namespace
+
+// The explain view (explanation_svg): the pixel's neighbourhood twice, side by side, on the
+// same pixel grid: left the primitives as setup receives them (unsnapped window coordinates),
+// right as the edge functions see them (snapped to the 1/2^bits grid), each edge with its
+// direction and the side its inside lies on. Cells outside the target are hatched; geometry
+// is clipped to each panel. A legend says what every mark means.
+namespace svg_view {
+constexpr int kCell = 40;     // screen pixels per framebuffer pixel
+constexpr int kAxis = 34;     // room for the y labels left of a panel
+constexpr int kTitle = 30;    // a panel's title above it
+constexpr int kTicks = 22;    // the x labels below a panel
+constexpr int kGap = 28;      // between the panels
+constexpr int kLegend = 132;  // the legend's height
+constexpr int kSubpixel = 8;  // grid lines a pixel: 1/8 pixel (32 of llvmpipe's 1/256)
+}  // namespace svg_view
+
+std::string explanation_svg(const Explanation& e, int radius) {
+    using namespace svg_view;
+    const auto& fb = e.reference_image;
+    const int cx = e.trace.x;
+    const int cy = e.trace.y;
+    const int S = kCell;
+    const int n = 2 * radius + 1;
+    const int x0 = cx - radius;
+    const int y0 = cy - radius;
+    const int PW = n * S;
+    const int panel_w = kAxis + PW;
+    const int W0 = 2 * panel_w + kGap + 8;
+    const int pictures_h = kTitle + PW + kTicks;
+    const int verdict_y = pictures_h + 18;
+    const int legend_top = verdict_y + 12;
+    const int H0 = legend_top + kLegend;
+    const bool multisampled = !e.reference_samples.empty();
+    std::ostringstream s;
+    s << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W0 << "\" height=\"" << H0
+      << "\" viewBox=\"0 0 " << W0 << " " << H0
+      << "\" font-family=\"system-ui,sans-serif\" font-size=\"12\">\n";
+    s << "<title>pixel (" << cx << ", " << cy << "): " << e.verdict << "</title>\n";
+    s << "<defs><pattern id=\"outside\" width=\"8\" height=\"8\" patternUnits=\"userSpaceOnUse\" "
+         "patternTransform=\"rotate(45)\"><rect width=\"8\" height=\"8\" fill=\"#d7d7d7\"/>"
+         "<line x1=\"0\" y1=\"0\" x2=\"0\" y2=\"8\" stroke=\"#9e9e9e\" stroke-width=\"3\"/>"
+         "</pattern><marker id=\"arrow\" viewBox=\"0 0 10 10\" refX=\"5\" refY=\"5\" "
+         "markerWidth=\"7\" markerHeight=\"7\" orient=\"auto-start-reverse\"><path d=\"M0,0 "
+         "L10,5 L0,10 z\" fill=\"context-stroke\"/></marker></defs>\n";
+    bool tie = false;
+    for (const auto& p : e.trace.primitives)
+        for (const auto& st : p.setups)
+            for (const auto& ed : st.edges) tie = tie || ed.tie;
+    // The traced point: the pixel centre, or the traced sample of a 4x target.
+    double tx = cx + 0.5;
+    double ty = cy + 0.5;
+    if (multisampled) {
+        const auto& o = kSampleOffsets[static_cast<std::size_t>(e.trace.sample)];
+        tx = cx + o[0];
+        ty = cy + o[1];
+    }
+
+    const auto panel = [&](int left, bool snapped) {
+        const int top = kTitle;
+        const auto sx = [&](double wx) { return left + kAxis + (wx - x0) * S; };
+        const auto sy = [&](double wy) { return top + (y0 + n - wy) * S; };  // y up
+        const std::string clip = snapped ? "clip-snapped" : "clip-unsnapped";
+        s << "<g class=\"panel\" id=\"" << (snapped ? "snapped" : "unsnapped") << "\">\n";
+        s << "<text x=\"" << left + kAxis << "\" y=\"18\" font-weight=\"600\">"
+          << (snapped ? "snapped: corners as the edge functions see them"
+                      : "unsnapped: window coordinates into setup")
+          << "</text>\n";
+        s << "<clipPath id=\"" << clip << "\"><rect x=\"" << sx(x0) << "\" y=\"" << sy(y0 + n)
+          << "\" width=\"" << PW << "\" height=\"" << PW << "\"/></clipPath>\n";
+        // Pixels in the reference's colours; outside the target hatched.
+        for (int y = y0; y < y0 + n; ++y) {
+            for (int x = x0; x < x0 + n; ++x) {
+                const bool inside = x >= 0 && y >= 0 && static_cast<std::uint32_t>(x) < fb.width &&
+                                    static_cast<std::uint32_t>(y) < fb.height;
+                std::string fill = "url(#outside)";
+                if (inside) {
+                    const auto c = color_at(fb, x, y);
+                    int rgb[3];
+                    for (int k = 0; k < 3; ++k) {
+                        const float v =
+                            fb.color_format == refraster::ColorFormat::Rgba8
+                                ? c[static_cast<std::size_t>(k)]
+                                : std::clamp(c[static_cast<std::size_t>(k)], 0.0f, 1.0f) * 255.0f;
+                        rgb[k] = static_cast<int>(v);
+                    }
+                    char buf[8];
+                    std::snprintf(buf, sizeof buf, "#%02x%02x%02x", rgb[0] & 255, rgb[1] & 255,
+                                  rgb[2] & 255);
+                    fill = buf;
+                }
+                s << "<rect class=\"" << (inside ? "cell" : "cell outside") << "\" x=\"" << sx(x)
+                  << "\" y=\"" << sy(y + 1) << "\" width=\"" << S << "\" height=\"" << S
+                  << "\" fill=\"" << fill << "\" stroke=\"#888\" stroke-width=\"1\">"
+                  << "<title>pixel (" << x << ", " << y << ")"
+                  << (inside ? "" : ": outside the target") << "</title></rect>\n";
+            }
+        }
+        // The sub-pixel grid, faint, over the cells.
+        s << "<g class=\"subpixel-grid\" stroke=\"#7f7f7f\" stroke-opacity=\"0.25\" "
+             "stroke-width=\"0.5\">";
+        for (int k = 1; k < n * kSubpixel; ++k) {
+            if (k % kSubpixel == 0) continue;
+            const double f = static_cast<double>(k) / kSubpixel;
+            s << "<line x1=\"" << sx(x0 + f) << "\" y1=\"" << sy(y0) << "\" x2=\"" << sx(x0 + f)
+              << "\" y2=\"" << sy(y0 + n) << "\"/><line x1=\"" << sx(x0) << "\" y1=\"" << sy(y0 + f)
+              << "\" x2=\"" << sx(x0 + n) << "\" y2=\"" << sy(y0 + f) << "\"/>";
+        }
+        s << "</g>\n";
+        // Sample points: pixel centres, or a 4x target's four positions.
+        for (int y = y0; y < y0 + n; ++y) {
+            for (int x = x0; x < x0 + n; ++x) {
+                if (!multisampled) {
+                    s << "<circle cx=\"" << sx(x + 0.5) << "\" cy=\"" << sy(y + 0.5)
+                      << "\" r=\"2.5\" fill=\"#666\"/>\n";
+                } else {
+                    for (const auto& o : kSampleOffsets) {
+                        s << "<circle cx=\"" << sx(x + o[0]) << "\" cy=\"" << sy(y + o[1])
+                          << "\" r=\"2\" fill=\"#666\"/>\n";
+                    }
+                }
+            }
+        }
+        // The traced pixel.
+        s << "<rect x=\"" << sx(cx) << "\" y=\"" << sy(cy + 1) << "\" width=\"" << S
+          << "\" height=\"" << S << "\" fill=\"none\" stroke=\"#ff00ff\" stroke-width=\"3\"/>\n";
+        // The primitives that reach the pixel, clipped to the panel.
+        s << "<g clip-path=\"url(#" << clip << ")\">\n";
+        for (const auto& p : e.trace.primitives) {
+            for (const auto& st : p.setups) {
+                const char* colour = p.covered ? "#00a844" : "#2962ff";
+                std::vector<std::array<double, 2>> pts;
+                if (snapped) {
+                    if (st.x.size() < 2) continue;
+                    const double one = static_cast<double>(1 << st.subpixel_bits);
+                    // The snapped grid's origin: the pixel centre, or its corner when
+                    // multisampling.
+                    const double origin = p.multisample ? 0.0 : 0.5;
+                    for (std::size_t i = 0; i < st.x.size(); ++i)
+                        pts.push_back({st.x[i] / one + origin, st.y[i] / one + origin});
+                } else {
+                    for (const auto& w : st.window) pts.push_back({w[0], w[1]});
+                }
+                if (pts.empty()) continue;
+                if (pts.size() == 1) {
+                    // A point: its centre.
+                    s << "<circle cx=\"" << sx(pts[0][0]) << "\" cy=\"" << sy(pts[0][1])
+                      << "\" r=\"4\" fill=\"" << colour << "\"><title>" << where(p) << ": centre ("
+                      << pts[0][0] << ", " << pts[0][1] << ")</title></circle>\n";
+                    continue;
+                }
+                s << "<polygon class=\"" << (snapped ? "snapped" : "unsnapped")
+                  << "\" fill=\"none\" stroke=\"" << colour << "\" stroke-width=\"2\""
+                  << (snapped ? "" : " stroke-dasharray=\"6 4\"") << " points=\"";
+                for (const auto& q : pts) s << sx(q[0]) << "," << sy(q[1]) << " ";
+                s << "\"><title>" << where(p) << " (" << st.outcome << ")</title></polygon>\n";
+                if (!snapped || pts.size() < 3) continue;
+                // Each edge's direction (an arrow at its middle) and its inside side (a tick
+                // towards the polygon's centre, which is inside: the set-up polygons are convex).
+                double mx = 0, my = 0;
+                for (const auto& q : pts) {
+                    mx += q[0];
+                    my += q[1];
+                }
+                mx /= static_cast<double>(pts.size());
+                my /= static_cast<double>(pts.size());
+                for (std::size_t i = 0; i < pts.size(); ++i) {
+                    const auto& a = pts[i];
+                    const auto& b = pts[(i + 1) % pts.size()];
+                    const double ex = b[0] - a[0], ey = b[1] - a[1];
+                    const double len = std::hypot(ex, ey);
+                    if (len == 0) continue;
+                    const double hx = (a[0] + b[0]) / 2, hy = (a[1] + b[1]) / 2;
+                    const double step = 0.18;  // pixels
+                    s << "<line class=\"edge-direction\" x1=\"" << sx(hx - ex / len * step)
+                      << "\" y1=\"" << sy(hy - ey / len * step) << "\" x2=\""
+                      << sx(hx + ex / len * step) << "\" y2=\"" << sy(hy + ey / len * step)
+                      << "\" stroke=\"" << colour
+                      << "\" stroke-width=\"2\" marker-end=\"url(#arrow)\"><title>edge " << i
+                      << ": from corner " << i << " to corner " << (i + 1) % pts.size()
+                      << "</title></line>\n";
+                    // The normal towards the centre.
+                    double nx = -ey / len, ny = ex / len;
+                    if ((mx - hx) * nx + (my - hy) * ny < 0) {
+                        nx = -nx;
+                        ny = -ny;
+                    }
+                    s << "<line class=\"inside-side\" x1=\"" << sx(hx) << "\" y1=\"" << sy(hy)
+                      << "\" x2=\"" << sx(hx + nx * 0.3) << "\" y2=\"" << sy(hy + ny * 0.3)
+                      << "\" stroke=\"" << colour
+                      << "\" stroke-width=\"3\" stroke-linecap=\"round\"><title>edge " << i
+                      << ": its inside is this side</title></line>\n";
+                }
+            }
+        }
+        s << "</g>\n";
+        if (multisampled) {
+            s << "<circle cx=\"" << sx(tx) << "\" cy=\"" << sy(ty)
+              << "\" r=\"4\" fill=\"#ff00ff\"><title>sample " << e.trace.sample
+              << "</title></circle>\n";
+        }
+        if (tie) {
+            s << "<circle cx=\"" << sx(tx) << "\" cy=\"" << sy(ty)
+              << "\" r=\"9\" fill=\"none\" stroke=\"#ff6d00\" stroke-width=\"3\"><title>tie: the "
+                 "point lies exactly on an edge</title></circle>\n";
+        }
+        // Pixel-coordinate axes: each column's x below, each row's y to the left.
+        for (int x = x0; x < x0 + n; ++x) {
+            s << "<text class=\"axis-x\" x=\"" << sx(x + 0.5) << "\" y=\"" << sy(y0) + 15
+              << "\" text-anchor=\"middle\" fill=\"#444\">" << x << "</text>";
+        }
+        for (int y = y0; y < y0 + n; ++y) {
+            s << "<text class=\"axis-y\" x=\"" << sx(x0) - 5 << "\" y=\"" << sy(y + 0.5) + 4
+              << "\" text-anchor=\"end\" fill=\"#444\">" << y << "</text>";
+        }
+        s << "\n</g>\n";
+    };
+    panel(0, false);
+    panel(panel_w + kGap, true);
+
+    std::string verdict = e.verdict;
+    for (auto& c : verdict) {
+        if (c == '<' || c == '>' || c == '&') c = ' ';
+    }
+    s << "<text x=\"4\" y=\"" << verdict_y << "\">" << verdict.substr(0, 160) << "</text>\n";
+    // The legend: every mark of the two panels.
+    s << "<g id=\"legend\" transform=\"translate(8 " << legend_top << ")\">\n";
+    struct Entry {
+        std::string mark;
+        const char* text;
+    };
+    const Entry entries[] = {
+        {"<rect x=\"0\" y=\"-10\" width=\"14\" height=\"14\" fill=\"none\" stroke=\"#ff00ff\" "
+         "stroke-width=\"3\"/>",
+         "the explained pixel (x right, y up, GL's window coordinates)"},
+        {"<line x1=\"0\" y1=\"-3\" x2=\"22\" y2=\"-3\" stroke=\"#00a844\" stroke-width=\"2\"/>",
+         "a primitive that covers the point"},
+        {"<line x1=\"0\" y1=\"-3\" x2=\"22\" y2=\"-3\" stroke=\"#2962ff\" stroke-width=\"2\"/>",
+         "a primitive that reaches the pixel but does not cover the point"},
+        {"<line x1=\"0\" y1=\"-3\" x2=\"22\" y2=\"-3\" stroke=\"#555\" stroke-width=\"2\" "
+         "stroke-dasharray=\"6 4\"/>",
+         "unsnapped outline (left); solid: snapped corners (right)"},
+        {"<line x1=\"0\" y1=\"-3\" x2=\"16\" y2=\"-3\" stroke=\"#555\" stroke-width=\"2\" "
+         "marker-end=\"url(#arrow)\"/><line x1=\"8\" y1=\"-3\" x2=\"8\" y2=\"4\" stroke=\"#555\" "
+         "stroke-width=\"3\"/>",
+         "an edge's direction, and a tick on its inside side"},
+        {"<circle cx=\"7\" cy=\"-3\" r=\"2.5\" fill=\"#666\"/>",
+         multisampled ? "sample positions (4x: four a pixel)"
+                      : "pixel centres (where coverage is tested)"},
+        {"<circle cx=\"7\" cy=\"-3\" r=\"6\" fill=\"none\" stroke=\"#ff6d00\" stroke-width=\"3\"/>",
+         "a tie: the point lies exactly on an edge, and the tie rule decides"},
+        {"<rect x=\"0\" y=\"-10\" width=\"14\" height=\"14\" fill=\"url(#outside)\"/>",
+         "outside the target"},
+        {"<rect x=\"0\" y=\"-10\" width=\"14\" height=\"14\" fill=\"none\" stroke=\"#7f7f7f\" "
+         "stroke-opacity=\"0.5\"/><line x1=\"7\" y1=\"-10\" x2=\"7\" y2=\"4\" stroke=\"#7f7f7f\" "
+         "stroke-opacity=\"0.5\"/>",
+         "faint lines: the sub-pixel grid, every 1/8 pixel"},
+    };
+    int row = 0;
+    for (const auto& en : entries) {
+        const int col = row % 2;
+        const int line = row / 2;
+        s << "<g transform=\"translate(" << col * (W0 / 2) << " " << 14 + line * 24 << ")\">"
+          << en.mark << "<text x=\"30\" y=\"0\">" << en.text << "</text></g>\n";
+        ++row;
+    }
+    s << "</g>\n";
+    if (e.texels) s << texel_panel_svg(*e.texels, H0);
+    s << "</svg>\n";
+    std::string out = s.str();
+    if (e.texels) {
+        // The texel panel sits below: widen and heighten the picture to hold it.
+        const int width = std::max(W0, kTexelPanelWidth);
+        const int height = H0 + kTexelPanelHeight;
+        const std::string old_head = "width=\"" + std::to_string(W0) + "\" height=\"" +
+                                     std::to_string(H0) + "\" viewBox=\"0 0 " + std::to_string(W0) +
+                                     " " + std::to_string(H0) + "\"";
+        const std::string new_head = "width=\"" + std::to_string(width) + "\" height=\"" +
+                                     std::to_string(height) + "\" viewBox=\"0 0 " +
+                                     std::to_string(width) + " " + std::to_string(height) + "\"";
+        if (const auto at = out.find(old_head); at != std::string::npos)
+            out.replace(at, old_head.size(), new_head);
+    }
+    return out;
+}
+
+}  // namespace harness
