@@ -11,8 +11,8 @@
 #include <tuple>
 
 #include "explain_shared.hpp"
-#include "harness/profile_io.hpp"
 #include "harness/explain.hpp"
+#include "harness/profile_io.hpp"
 #include "refraster/renderer.hpp"
 
 namespace harness {
