@@ -17,7 +17,6 @@
 
 namespace harness {
 
-using explain_detail::color_at;
 using explain_detail::kSampleOffsets;
 using explain_detail::same_color;
 using explain_detail::where;
