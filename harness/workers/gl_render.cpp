@@ -26,6 +26,8 @@
 #include <vector>
 
 #include "backends/wire.hpp"
+#include "gl_enums.hpp"
+#include "gl_provenance.hpp"
 #include "refraster/framebuffer.hpp"
 
 namespace harness::gl {
@@ -98,86 +100,6 @@ GLint gl_int(GLenum name) {
     GLint v = 0;
     glGetIntegerv(name, &v);
     return v;
-}
-
-GLenum color_internal_format(ColorFormat f) {
-    return f == ColorFormat::Rgba8 ? GL_RGBA8 : GL_RGBA32F;
-}
-
-// A target without depth still gets z24: see the spec, a depth-less colour buffer can change
-// llvmpipe's clipping path.
-GLenum depth_internal_format(DepthFormat f, bool stencil) {
-    if (stencil && f == DepthFormat::Z32f) return GL_DEPTH32F_STENCIL8;
-    if (stencil && f != DepthFormat::Z16) return GL_DEPTH24_STENCIL8;
-    switch (f) {
-        case DepthFormat::Z16:
-            return GL_DEPTH_COMPONENT16;
-        case DepthFormat::Z32f:
-            return GL_DEPTH_COMPONENT32F;
-        case DepthFormat::Z24:
-        case DepthFormat::None:
-            return GL_DEPTH_COMPONENT24;
-    }
-    return GL_DEPTH_COMPONENT24;
-}
-
-GLenum primitive_mode(refraster::PrimitiveType p) {
-    using refraster::PrimitiveType;
-    switch (p) {
-        case PrimitiveType::Points:
-            return GL_POINTS;
-        case PrimitiveType::Lines:
-            return GL_LINES;
-        case PrimitiveType::LineStrip:
-            return GL_LINE_STRIP;
-        case PrimitiveType::LineLoop:
-            return GL_LINE_LOOP;
-        case PrimitiveType::Triangles:
-            return GL_TRIANGLES;
-        case PrimitiveType::TriangleStrip:
-            return GL_TRIANGLE_STRIP;
-        case PrimitiveType::TriangleFan:
-            return GL_TRIANGLE_FAN;
-        case PrimitiveType::Polygon:
-            return GL_POLYGON;
-    }
-    return GL_TRIANGLES;
-}
-
-GLenum compare_func(refraster::CompareFunc f) {
-    using refraster::CompareFunc;
-    switch (f) {
-        case CompareFunc::Never:
-            return GL_NEVER;
-        case CompareFunc::Less:
-            return GL_LESS;
-        case CompareFunc::Equal:
-            return GL_EQUAL;
-        case CompareFunc::Lequal:
-            return GL_LEQUAL;
-        case CompareFunc::Greater:
-            return GL_GREATER;
-        case CompareFunc::NotEqual:
-            return GL_NOTEQUAL;
-        case CompareFunc::Gequal:
-            return GL_GEQUAL;
-        case CompareFunc::Always:
-            return GL_ALWAYS;
-    }
-    return GL_ALWAYS;
-}
-
-GLenum polygon_mode(refraster::PolygonMode m) {
-    using refraster::PolygonMode;
-    switch (m) {
-        case PolygonMode::Fill:
-            return GL_FILL;
-        case PolygonMode::Line:
-            return GL_LINE;
-        case PolygonMode::Point:
-            return GL_POINT;
-    }
-    return GL_FILL;
 }
 
 void set_enabled(GLenum cap, bool on) {
@@ -330,79 +252,6 @@ GLuint build_program(refraster::ShadeModel shade, bool owners,
     }
     check_gl("building the shader program");
     return p;
-}
-
-// "K=V;K=V" for every LP_* and GALLIUM_* variable, sorted so that equal environments give
-// equal strings.
-std::string mesa_environment() {
-    std::vector<std::string> vars;
-    for (char** e = environ; e && *e; ++e) {
-        const std::string_view kv(*e);
-        if (kv.starts_with("LP_") || kv.starts_with("GALLIUM_")) vars.emplace_back(kv);
-    }
-    std::sort(vars.begin(), vars.end());
-    std::string out;
-    for (const auto& v : vars) {
-        if (!out.empty()) out += ';';
-        out += v;
-    }
-    return out;
-}
-
-// The Mesa and GL libraries this process has mapped (/proc/self/maps), ';'-separated, in the
-// order first mapped: which build the worker really loaded, whatever the environment asked.
-std::string loaded_gl_libraries() {
-    std::ifstream in("/proc/self/maps");
-    std::vector<std::string> seen;
-    for (std::string line; std::getline(in, line);) {
-        const auto slash = line.find('/');
-        if (slash == std::string::npos) continue;
-        const std::string path = line.substr(slash);
-        const std::string name = path.substr(path.rfind('/') + 1);
-        const bool gl = name.starts_with("libOSMesa") || name.starts_with("libEGL") ||
-                        name.starts_with("libGL") || name.starts_with("libOpenGL") ||
-                        name.starts_with("libglapi") || name.starts_with("libgallium") ||
-                        name.find("_dri.so") != std::string::npos;
-        if (gl && std::find(seen.begin(), seen.end(), path) == seen.end()) seen.push_back(path);
-    }
-    std::string out;
-    for (const auto& p : seen) out += (out.empty() ? "" : ";") + p;
-    return out;
-}
-
-// "22.3.6" from a GL_VERSION such as "4.5 (Core Profile) Mesa 22.3.6"; empty without "Mesa ".
-std::string mesa_version_of(const std::string& gl_version) {
-    const auto at = gl_version.find("Mesa ");
-    if (at == std::string::npos) return {};
-    const std::string rest = gl_version.substr(at + 5);
-    return rest.substr(0, rest.find(' '));
-}
-
-// The installed version of a Debian package, from dpkg's database; empty when not found.
-std::string debian_package_version(std::string_view package) {
-    std::ifstream in("/var/lib/dpkg/status");
-    if (!in) return {};
-    std::string line;
-    bool in_package = false;
-    bool installed = false;
-    std::string version;
-    auto finish = [&]() -> bool { return in_package && installed && !version.empty(); };
-    while (std::getline(in, line)) {
-        if (line.empty()) {
-            if (finish()) return version;
-            in_package = installed = false;
-            version.clear();
-            continue;
-        }
-        if (line.starts_with("Package: ")) {
-            in_package = std::string_view(line).substr(9) == package;
-        } else if (line.starts_with("Status: ")) {
-            installed = line.ends_with(" installed");
-        } else if (line.starts_with("Version: ")) {
-            version = line.substr(9);
-        }
-    }
-    return finish() ? version : std::string();
 }
 
 struct TargetObjects {
@@ -1270,40 +1119,6 @@ void Renderer::Impl::draw(const refraster::Target& t, const refraster::Draw& d) 
 }
 
 namespace {
-
-GLint texture_filter(refraster::TextureFilter f) {
-    using refraster::TextureFilter;
-    switch (f) {
-        case TextureFilter::Nearest:
-            return GL_NEAREST;
-        case TextureFilter::Linear:
-            return GL_LINEAR;
-        case TextureFilter::NearestMipmapNearest:
-            return GL_NEAREST_MIPMAP_NEAREST;
-        case TextureFilter::LinearMipmapNearest:
-            return GL_LINEAR_MIPMAP_NEAREST;
-        case TextureFilter::NearestMipmapLinear:
-            return GL_NEAREST_MIPMAP_LINEAR;
-        case TextureFilter::LinearMipmapLinear:
-            return GL_LINEAR_MIPMAP_LINEAR;
-    }
-    return GL_LINEAR;
-}
-
-GLint texture_wrap(refraster::TextureWrap w) {
-    using refraster::TextureWrap;
-    switch (w) {
-        case TextureWrap::Repeat:
-            return GL_REPEAT;
-        case TextureWrap::ClampToEdge:
-            return GL_CLAMP_TO_EDGE;
-        case TextureWrap::MirroredRepeat:
-            return GL_MIRRORED_REPEAT;
-        case TextureWrap::ClampToBorder:
-            return GL_CLAMP_TO_BORDER;
-    }
-    return GL_REPEAT;
-}
 
 // After a texture allocation: any error, GL_OUT_OF_MEMORY included, is a GlFailure naming
 // the texture and level.

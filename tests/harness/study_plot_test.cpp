@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "harness/markup.hpp"
 #include "refraster/assert.hpp"
 #include "study/plot.hpp"
 #include "test_util.hpp"
@@ -119,32 +120,6 @@ std::string xml_problem(const std::string& xml) {
     if (!open.empty()) return "<" + open.back() + "> is never closed";
     if (!root_seen) return "no root element";
     return "";
-}
-
-std::string escaped(const std::string& s) {
-    std::string out;
-    for (char c : s) {
-        switch (c) {
-            case '&':
-                out += "&amp;";
-                break;
-            case '<':
-                out += "&lt;";
-                break;
-            case '>':
-                out += "&gt;";
-                break;
-            case '"':
-                out += "&quot;";
-                break;
-            case '\'':
-                out += "&#39;";
-                break;
-            default:
-                out += c;
-        }
-    }
-    return out;
 }
 
 std::string lower(std::string s) {
@@ -313,18 +288,18 @@ TEST(StudyPlot, TheFigureIsSelfContainedWellFormedSvg) {
     EXPECT_FALSE(contains(svg, "<script"));
     EXPECT_FALSE(contains(svg, "href"));
     EXPECT_FALSE(contains(svg, "url("));
-    EXPECT_TRUE(contains(svg, escaped("precision <study> & \"friends\"")));
+    EXPECT_TRUE(contains(svg, harness::markup::escape("precision <study> & \"friends\"")));
     EXPECT_TRUE(numbers_compact(svg));
 
     // Every series in a legend and every drawable label beside its point.
     for (const PlotPanel& p : {scatter_panel(), curve_panel(), empty}) {
-        EXPECT_TRUE(contains(svg, ">" + escaped(p.title) + "</text>")) << p.title;
+        EXPECT_TRUE(contains(svg, ">" + harness::markup::escape(p.title) + "</text>")) << p.title;
         for (const PlotSeries& s : p.series) {
-            EXPECT_TRUE(contains(svg, ">" + escaped(s.name) + "</text>")) << s.name;
+            EXPECT_TRUE(contains(svg, ">" + harness::markup::escape(s.name) + "</text>")) << s.name;
         }
     }
     for (const char* label : {"snap-8", "snap-12", "snap-16", "f32 'fast'", "f32 slow", "exact"}) {
-        EXPECT_TRUE(contains(svg, ">" + escaped(label) + "</text>")) << label;
+        EXPECT_TRUE(contains(svg, ">" + harness::markup::escape(label) + "</text>")) << label;
     }
     // The points without an x are not drawn, nor their labels.
     EXPECT_FALSE(contains(svg, ">lost</text>"));

@@ -17,7 +17,7 @@
 #include "harness/study.hpp"
 #include "harness/teach.hpp"
 #include "refraster/profile.hpp"
-#include "wire.hpp"
+#include "backends/wire.hpp"
 
 namespace {
 

@@ -14,6 +14,7 @@
 #include "conformance/deqp_runner.hpp"
 #include "harness/case_result.hpp"
 #include "harness/files.hpp"
+#include "harness/markup.hpp"
 
 namespace conformance {
 
@@ -21,32 +22,7 @@ namespace {
 
 using json = nlohmann::json;
 using ojson = nlohmann::ordered_json;
-
-std::string esc(const std::string& s) {
-    std::string o;
-    for (char c : s) {
-        switch (c) {
-            case '&':
-                o += "&amp;";
-                break;
-            case '<':
-                o += "&lt;";
-                break;
-            case '>':
-                o += "&gt;";
-                break;
-            case '"':
-                o += "&quot;";
-                break;
-            case '\'':
-                o += "&#39;";
-                break;
-            default:
-                o += c;
-        }
-    }
-    return o;
-}
+namespace markup = harness::markup;
 
 std::string fixed(double v, int digits) {
     std::ostringstream o;
@@ -256,7 +232,7 @@ const char* kTableScript = R"(</table><script>
 // A pixel's channel values as people read them: "0, 0, 0, 255" for an rgba8 target's bytes
 // (whole numbers, however the record stores them), the float values otherwise.
 std::string channel_values(const json& values) {
-    if (!values.is_array()) return esc(values.dump());
+    if (!values.is_array()) return markup::escape(values.dump());
     std::ostringstream o;
     bool first = true;
     for (const auto& v : values) {
@@ -270,7 +246,7 @@ std::string channel_values(const json& values) {
                 o << v.dump();
             }
         } else {
-            o << esc(v.dump());
+            o << markup::escape(v.dump());
         }
     }
     return "(" + o.str() + ")";
@@ -364,8 +340,7 @@ struct ChartAxis {
     void linear_ticks(double from, double to, double floor_at) {
         const double span = std::max(to - from, to * 1e-3 + 1e-12);
         const double raw = span / 5;
-        const double p = std::pow(10.0, std::floor(std::log10(raw)));
-        const double step = raw <= p ? p : raw <= 2 * p ? 2 * p : raw <= 5 * p ? 5 * p : 10 * p;
+        const double step = markup::tick_step(raw);
         lo = std::max(floor_at, std::floor(from / step) * step);
         hi = std::ceil(to / step) * step;
         if (hi <= lo) hi = lo + step;
@@ -393,11 +368,15 @@ std::string chart(const std::vector<json>& results) {
     const auto x_of = [&](double t) { return L + ax.position(t) * pw; };
     const auto y_of = [&](double n) { return H - B - ay.position(n) * ph; };
     std::ostringstream s;
-    s << "<svg id=\"error-chart\" xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W
-      << "\" height=\"" << H << "\" role=\"img\" aria-label=\"mismatched pixels against run time\" "
-      << "font-family=\"system-ui,sans-serif\" font-size=\"11\" data-x-scale=\""
-      << (ax.log ? "log" : "linear") << "\" data-y-scale=\"" << (ay.log ? "log" : "linear")
-      << "\">";
+    s << markup::svg_open({{"width", fixed(W, 0)},
+                           {"height", fixed(H, 0)},
+                           {"role", "img"},
+                           {"aria-label", "mismatched pixels against run time"},
+                           {"font-family", "system-ui,sans-serif"},
+                           {"font-size", "11"},
+                           {"data-x-scale", ax.log ? "log" : "linear"},
+                           {"data-y-scale", ay.log ? "log" : "linear"}},
+                          "error-chart");
     s << "<rect x=\"" << L << "\" y=\"" << T << "\" width=\"" << pw << "\" height=\"" << ph
       << "\" fill=\"#fafafa\" stroke=\"#999\"/>";
     for (const double v : ax.major) {
@@ -438,9 +417,9 @@ std::string chart(const std::vector<json>& results) {
         const std::string st = r.value("status", "");
         s << "<circle cx=\"" << fixed(x_of(t), 1) << "\" cy=\""
           << fixed(y_of(static_cast<double>(mismatched(r))), 1) << "\" r=\"3.5\" fill=\""
-          << status_color(st) << "\" fill-opacity=\"0.7\"><title>" << esc(r.value("case", ""))
-          << ": " << esc(st) << ", " << mismatched(r) << " px, " << fixed(t * 1000, 2)
-          << " ms</title></circle>";
+          << status_color(st) << "\" fill-opacity=\"0.7\"><title>"
+          << markup::escape(r.value("case", "")) << ": " << markup::escape(st) << ", "
+          << mismatched(r) << " px, " << fixed(t * 1000, 2) << " ms</title></circle>";
     }
     // The legend: one entry a status present, with its count.
     s << "<g id=\"chart-legend\">";
@@ -448,10 +427,10 @@ std::string chart(const std::vector<json>& results) {
     for (const auto& [st, n] : statuses) {
         s << "<circle cx=\"" << W - R + 18 << "\" cy=\"" << ly << "\" r=\"4\" fill=\""
           << status_color(st) << "\"/><text x=\"" << W - R + 28 << "\" y=\"" << ly + 4 << "\">"
-          << esc(st) << " (" << n << ")</text>";
+          << markup::escape(st) << " (" << n << ")</text>";
         ly += 18;
     }
-    s << "</g></svg>";
+    s << "</g>" << markup::svg_close();
     return s.str();
 }
 
@@ -459,17 +438,17 @@ std::string case_page(const json& r, const std::filesystem::path& images) {
     const std::string name = r.value("case", "");
     const std::string st = r.value("status", "");
     std::ostringstream h;
-    h << "<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>" << esc(name) << "</title>"
-      << kStyle
+    h << "<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>" << markup::escape(name)
+      << "</title>" << kStyle
       << "</head><body><p><a href=\"../index.html\">&larr; all cases</a></p><h1 id=\"case-name\">"
-      << esc(name)
+      << markup::escape(name)
       << "</h1><p>Status: <span id=\"case-status\" class=\"st\" style=\"color:" << status_color(st)
-      << "\">" << esc(st) << "</span>";
+      << "\">" << markup::escape(st) << "</span>";
     if (r.contains("raw_status"))
-        h << " (result " << esc(r["raw_status"].get<std::string>()) << ")";
-    h << "</p><p>Scene: <code>" << esc(r.value("scene", "")) << "</code></p>";
+        h << " (result " << markup::escape(r["raw_status"].get<std::string>()) << ")";
+    h << "</p><p>Scene: <code>" << markup::escape(r.value("scene", "")) << "</code></p>";
     if (r.contains("message"))
-        h << "<p id=\"case-message\">" << esc(r["message"].get<std::string>()) << "</p>";
+        h << "<p id=\"case-message\">" << markup::escape(r["message"].get<std::string>()) << "</p>";
 
     // Images, side by side, pixelated and zoomable.
     h << "<p><label>Zoom <input id=\"zoom\" type=\"range\" min=\"1\" max=\"64\" "
@@ -480,8 +459,8 @@ std::string case_page(const json& r, const std::filesystem::path& images) {
     const auto figure = [&](const std::string& file, const std::string& caption) {
         if (!std::filesystem::exists(images / file)) return;
         h << "<figure><div class=\"frame\"><img class=\"zoomable pixels\" src=\"../images/"
-          << esc(file) << "\" alt=\"" << esc(caption)
-          << "\"><div class=\"cursor\"></div></div><figcaption>" << esc(caption)
+          << markup::escape(file) << "\" alt=\"" << markup::escape(caption)
+          << "\"><div class=\"cursor\"></div></div><figcaption>" << markup::escape(caption)
           << "</figcaption></figure>";
     };
     const std::string ref =
@@ -500,8 +479,8 @@ std::string case_page(const json& r, const std::filesystem::path& images) {
             "coloured as the error mask";
         h << "<figure id=\"sample-mask\"><img class=\"zoomable\" data-scale=\"0.5\" "
              "src=\"../images/"
-          << esc(name + ".samples.png") << "\" alt=\"" << esc(caption) << "\"><figcaption>"
-          << esc(caption) << "</figcaption></figure>";
+          << markup::escape(name + ".samples.png") << "\" alt=\"" << markup::escape(caption)
+          << "\"><figcaption>" << markup::escape(caption) << "</figcaption></figure>";
     }
     h << "</div>";
     if (std::filesystem::exists(images / (name + ".mask.png")) ||
@@ -525,8 +504,8 @@ std::string case_page(const json& r, const std::filesystem::path& images) {
     if (std::filesystem::exists(images.parent_path() / "explain" / (name + ".svg"))) {
         h << "<p id=\"explain-view\">The explain view of the pixel of largest difference: <a "
              "href=\"../explain/"
-          << esc(name) << ".svg\">picture</a>, <a href=\"../explain/" << esc(name)
-          << ".txt\">every decision as text</a>.</p>";
+          << markup::escape(name) << ".svg\">picture</a>, <a href=\"../explain/"
+          << markup::escape(name) << ".txt\">every decision as text</a>.</p>";
     }
 
     if (r.contains("comparison")) {
@@ -588,7 +567,7 @@ std::string case_page(const json& r, const std::filesystem::path& images) {
                   << "</td></tr>";
             }
             h << "<tr><th>samples classified by</th><td>"
-              << esc(c.value("samples_classified_by", "")) << "</td></tr>";
+              << markup::escape(c.value("samples_classified_by", "")) << "</td></tr>";
         }
         h << "</table>";
         h << "<h2>Explanation</h2><p id=\"case-explanation\">";
@@ -596,24 +575,26 @@ std::string case_page(const json& r, const std::filesystem::path& images) {
             h << (has_samples(r) ? "Every pixel and every sample agrees." : "Every pixel agrees.");
         } else if (r.contains("explanation")) {
             const auto& e = r["explanation"];
-            h << "<b>" << esc(e.value("difference", "")) << ", " << esc(e.value("rule", ""))
-              << "</b>: " << esc(e.value("verdict", ""))
+            h << "<b>" << markup::escape(e.value("difference", "")) << ", "
+              << markup::escape(e.value("rule", ""))
+              << "</b>: " << markup::escape(e.value("verdict", ""))
               << ". Every decision at that pixel: <code id=\"explain-command\">"
-              << esc(explain_command(r, e["pixel"][0].get<int>(), e["pixel"][1].get<int>()))
+              << markup::escape(
+                     explain_command(r, e["pixel"][0].get<int>(), e["pixel"][1].get<int>()))
               << "</code>.";
         } else if (c.contains("max_color")) {
             const auto& m = c["max_color"];
             h << "The largest difference is at pixel (" << m.value("x", 0) << ", "
               << m.value("y", 0)
               << "). Trace every decision there with <code id=\"explain-command\">"
-              << esc(explain_command(r, m.value("x", 0), m.value("y", 0))) << "</code>.";
+              << markup::escape(explain_command(r, m.value("x", 0), m.value("y", 0))) << "</code>.";
         } else if (c.contains("max_sample_color") || c.contains("max_sample_depth")) {
             const auto& m =
                 c.contains("max_sample_color") ? c["max_sample_color"] : c["max_sample_depth"];
             h << "The resolved pixels agree; the largest sample difference is at pixel ("
               << m.value("x", 0) << ", " << m.value("y", 0) << "), sample " << m.value("sample", 0)
               << ". Trace every decision there with <code id=\"explain-command\">"
-              << esc(explain_command(r, m.value("x", 0), m.value("y", 0))) << "</code>.";
+              << markup::escape(explain_command(r, m.value("x", 0), m.value("y", 0))) << "</code>.";
         }
         h << "</p>";
     }
@@ -621,8 +602,8 @@ std::string case_page(const json& r, const std::filesystem::path& images) {
         if (!r.contains(who) || !r[who].contains("provenance")) return;
         h << "<h2>" << title << "</h2><table>";
         for (const auto& [k, v] : r[who]["provenance"].items()) {
-            h << "<tr><th>" << esc(k) << "</th><td>"
-              << esc(v.is_string() ? v.get<std::string>() : v.dump()) << "</td></tr>";
+            h << "<tr><th>" << markup::escape(k) << "</th><td>"
+              << markup::escape(v.is_string() ? v.get<std::string>() : v.dump()) << "</td></tr>";
         }
         h << "</table>";
     };
@@ -771,15 +752,15 @@ void write_reports(const std::filesystem::path& output, std::size_t selected_cas
         const std::string name = r.value("case", "");
         const auto dot = name.rfind('.');
         x << "  <testcase classname=\""
-          << esc(dot == std::string::npos ? name : name.substr(0, dot)) << "\" name=\""
-          << esc(dot == std::string::npos ? name : name.substr(dot + 1)) << "\" time=\""
+          << markup::escape(dot == std::string::npos ? name : name.substr(0, dot)) << "\" name=\""
+          << markup::escape(dot == std::string::npos ? name : name.substr(dot + 1)) << "\" time=\""
           << fixed(seconds(r, "reference") + seconds(r, "actual"), 6) << "\">";
         const std::string st = r.value("status", "");
         if (st == "NotSupported") {
-            x << "<skipped message=\"" << esc(r.value("message", "")) << "\"/>";
+            x << "<skipped message=\"" << markup::escape(r.value("message", "")) << "\"/>";
         } else if (failed(st)) {
-            x << "<failure type=\"" << esc(st) << "\" message=\"" << esc(r.value("message", st))
-              << "\"/>";
+            x << "<failure type=\"" << markup::escape(st) << "\" message=\""
+              << markup::escape(r.value("message", st)) << "\"/>";
         }
         // What a CI page shows beside the test: the verdict, the numbers, where to look.
         std::string out = st + ": " + std::to_string(mismatched(r)) + " mismatched pixels";
@@ -800,7 +781,7 @@ void write_reports(const std::filesystem::path& output, std::size_t selected_cas
             out += "\n" + r.value("message", "");  // why nothing was compared
         }
         out += "\ncase page: cases/" + name + ".html";
-        x << "<system-out>" << esc(out) << "</system-out>";
+        x << "<system-out>" << markup::escape(out) << "</system-out>";
         x << "</testcase>\n";
     }
     x << "</testsuite></testsuites>\n";
@@ -813,25 +794,27 @@ void write_reports(const std::filesystem::path& output, std::size_t selected_cas
       << kStyle << "</head><body><h1>refraster conformance run</h1>";
     if (!results.empty() && results.front().contains("actual")) {
         const auto& pv = results.front()["actual"].value("provenance", json::object());
-        h << "<p>Against <b>" << esc(results.front()["actual"].value("backend", ""))
-          << "</b>: " << esc(pv.value("renderer", "")) << ", " << esc(pv.value("gl_version", ""))
-          << ", Mesa package " << esc(pv.value("mesa_version", "")) << "; CPU "
-          << esc(pv.value("cpu_flags", "")) << "; commit " << esc(pv.value("commit", ""))
-          << ".</p>";
+        h << "<p>Against <b>" << markup::escape(results.front()["actual"].value("backend", ""))
+          << "</b>: " << markup::escape(pv.value("renderer", "")) << ", "
+          << markup::escape(pv.value("gl_version", "")) << ", Mesa package "
+          << markup::escape(pv.value("mesa_version", "")) << "; CPU "
+          << markup::escape(pv.value("cpu_flags", "")) << "; commit "
+          << markup::escape(pv.value("commit", "")) << ".</p>";
     }
     if (!results.empty() && results.front().contains("reference") &&
         results.front()["reference"].contains("provenance")) {
         const auto& pv = results.front()["reference"]["provenance"];
-        h << "<p id=\"reference-profile\">Reference profile <b>" << esc(pv.value("profile", ""))
-          << "</b> (" << esc(pv.value("profile_source", "built-in"));
+        h << "<p id=\"reference-profile\">Reference profile <b>"
+          << markup::escape(pv.value("profile", "")) << "</b> ("
+          << markup::escape(pv.value("profile_source", "built-in"));
         if (pv.contains("profile_overrides"))
-            h << ", --profile-set " << esc(pv.value("profile_overrides", ""));
-        h << "): <code>" << esc(pv.value("profile_rules", "")) << "</code>.</p>";
+            h << ", --profile-set " << markup::escape(pv.value("profile_overrides", ""));
+        h << "): <code>" << markup::escape(pv.value("profile_rules", "")) << "</code>.</p>";
     }
     h << "<table id=\"summary\"><tr><th>status</th><th>cases</th></tr>";
     for (const auto& [st, n] : counts) {
-        h << "<tr><td class=\"st\" style=\"color:" << status_color(st) << "\">" << esc(st)
-          << "</td><td class=\"num\">" << n << "</td></tr>";
+        h << "<tr><td class=\"st\" style=\"color:" << status_color(st) << "\">"
+          << markup::escape(st) << "</td><td class=\"num\">" << n << "</td></tr>";
     }
     h << "<tr><th>finished</th><td class=\"num\">" << results.size() << " of " << selected_cases
       << "</td></tr></table>";
@@ -848,8 +831,8 @@ void write_reports(const std::filesystem::path& output, std::size_t selected_cas
                 p += n;
             }
         }
-        h << "<tr><td>" << esc(area) << "</td><td class=\"num\">" << p << "</td><td class=\"num\">"
-          << f << "</td><td class=\"num\">" << k << "</td></tr>";
+        h << "<tr><td>" << markup::escape(area) << "</td><td class=\"num\">" << p
+          << "</td><td class=\"num\">" << f << "</td><td class=\"num\">" << k << "</td></tr>";
     }
     h << "</table><h2>Error against run time</h2>" << chart(results);
     // This chart is per case; how the reference's own precision choices (sub-pixel bits, float
@@ -866,7 +849,7 @@ void write_reports(const std::filesystem::path& output, std::size_t selected_cas
          "type=\"search\" placeholder=\"case name, status or verdict\"></label> <label>status "
          "<select id=\"status-filter\"><option value=\"\">any</option>";
     for (const auto& [st, n] : counts) {
-        h << "<option>" << esc(st) << "</option>";
+        h << "<option>" << markup::escape(st) << "</option>";
     }
     h << "</select></label> <span id=\"case-count\"></span></p>";
     h << "<table id=\"cases\" class=\"sortable\"><thead><tr>";
@@ -904,13 +887,15 @@ void write_reports(const std::filesystem::path& output, std::size_t selected_cas
         } else if (failed(st)) {
             verdict = r.value("message", "");
         }
-        h << "<tr data-status=\"" << esc(st) << "\"><td><a href=\"cases/" << esc(name) << ".html\">"
-          << esc(name) << "</a></td><td class=\"st\" style=\"color:" << status_color(st) << "\">"
-          << esc(st) << "</td><td class=\"verdict\">" << esc(verdict) << "</td><td class=\"num\">"
-          << count("mismatched_pixels") << "</td><td class=\"num\">" << count("missing")
-          << "</td><td class=\"num\">" << count("extra") << "</td><td class=\"num\">"
-          << count("color_only") << "</td><td class=\"num\">" << count("depth_only")
-          << "</td><td class=\"num\">" << count("other_primitive") << "</td><td class=\"num\">"
+        h << "<tr data-status=\"" << markup::escape(st) << "\"><td><a href=\"cases/"
+          << markup::escape(name) << ".html\">" << markup::escape(name)
+          << "</a></td><td class=\"st\" style=\"color:" << status_color(st) << "\">"
+          << markup::escape(st) << "</td><td class=\"verdict\">" << markup::escape(verdict)
+          << "</td><td class=\"num\">" << count("mismatched_pixels") << "</td><td class=\"num\">"
+          << count("missing") << "</td><td class=\"num\">" << count("extra")
+          << "</td><td class=\"num\">" << count("color_only") << "</td><td class=\"num\">"
+          << count("depth_only") << "</td><td class=\"num\">" << count("other_primitive")
+          << "</td><td class=\"num\">"
           << (has_samples(r) ? std::to_string(mismatched_samples(r)) : std::string())
           << "</td><td class=\"num\">" << maxc << "</td><td class=\"num\">"
           << fixed(seconds(r, "reference") * 1000, 3) << "</td><td class=\"num\">"

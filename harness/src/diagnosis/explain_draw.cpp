@@ -11,15 +11,15 @@
 #include <tuple>
 
 #include "explain_shared.hpp"
-#include "harness/profile_io.hpp"
 #include "harness/explain.hpp"
+#include "harness/markup.hpp"
+#include "harness/profile_io.hpp"
 #include "refraster/renderer.hpp"
 
 namespace harness {
 
 using explain_detail::color_at;
 using explain_detail::kSampleOffsets;
-using explain_detail::same_color;
 using explain_detail::where;
 
 namespace {
@@ -147,9 +147,14 @@ std::string explanation_svg(const Explanation& e, int radius) {
     const int H0 = legend_top + kLegend;
     const bool multisampled = !e.reference_samples.empty();
     std::ostringstream s;
-    s << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W0 << "\" height=\"" << H0
-      << "\" viewBox=\"0 0 " << W0 << " " << H0
-      << "\" font-family=\"system-ui,sans-serif\" font-size=\"12\">\n";
+    const std::string width_text = std::to_string(W0);
+    const std::string height_text = std::to_string(H0);
+    s << markup::svg_open({{"width", width_text},
+                           {"height", height_text},
+                           {"viewBox", "0 0 " + width_text + " " + height_text},
+                           {"font-family", "system-ui,sans-serif"},
+                           {"font-size", "12"}})
+      << "\n";
     s << "<title>pixel (" << cx << ", " << cy << "): " << e.verdict << "</title>\n";
     s << "<defs><pattern id=\"outside\" width=\"8\" height=\"8\" patternUnits=\"userSpaceOnUse\" "
          "patternTransform=\"rotate(45)\"><rect width=\"8\" height=\"8\" fill=\"#d7d7d7\"/>"
@@ -380,7 +385,7 @@ std::string explanation_svg(const Explanation& e, int radius) {
     }
     s << "</g>\n";
     if (e.texels) s << texel_panel_svg(*e.texels, H0);
-    s << "</svg>\n";
+    s << markup::svg_close() << "\n";
     std::string out = s.str();
     if (e.texels) {
         // The texel panel sits below: widen and heighten the picture to hold it.

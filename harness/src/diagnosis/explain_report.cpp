@@ -11,13 +11,12 @@
 #include <tuple>
 
 #include "explain_shared.hpp"
-#include "harness/profile_io.hpp"
 #include "harness/explain.hpp"
+#include "harness/profile_io.hpp"
 #include "refraster/renderer.hpp"
 
 namespace harness {
 
-using explain_detail::color_at;
 using explain_detail::kSampleOffsets;
 using explain_detail::same_color;
 using explain_detail::where;

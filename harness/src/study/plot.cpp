@@ -23,6 +23,7 @@
 #include <string_view>
 #include <utility>
 
+#include "harness/markup.hpp"
 #include "refraster/assert.hpp"
 
 namespace harness::study {
@@ -70,33 +71,6 @@ const char* colour_of(std::size_t series) {
 // both.
 Marker marker_of(std::size_t series) {
     return kMarkers[(series / kPalette.size()) % kMarkers.size()];
-}
-
-std::string esc(std::string_view s) {
-    std::string out;
-    out.reserve(s.size());
-    for (char c : s) {
-        switch (c) {
-            case '&':
-                out += "&amp;";
-                break;
-            case '<':
-                out += "&lt;";
-                break;
-            case '>':
-                out += "&gt;";
-                break;
-            case '"':
-                out += "&quot;";
-                break;
-            case '\'':
-                out += "&#39;";
-                break;
-            default:
-                out += c;
-        }
-    }
-    return out;
 }
 
 // A coordinate or length: at most two decimals, no trailing zeros, never "-0", and never
@@ -267,14 +241,7 @@ class Axis {
     // Ticks every 1, 2 or 5 x 10^k from `lo` to `hi` (data values), about `count` of them.
     void add_linear_ticks(double lo, double hi, double count) {
         const double raw = (hi - lo) / count;
-        const double magnitude = std::pow(10.0, std::floor(std::log10(raw)));
-        double step = 10.0 * magnitude;
-        for (double m : {1.0, 2.0, 5.0}) {
-            if (m * magnitude >= raw * 0.999) {
-                step = m * magnitude;
-                break;
-            }
-        }
+        const double step = markup::tick_step(raw, 0.999);
         const double largest = std::max(std::fabs(lo), std::fabs(hi));
         const double first = std::ceil(lo / step - 1e-9);
         const double last = std::floor(hi / step + 1e-9);
@@ -365,7 +332,7 @@ std::string text_svg(double x, double y, std::string_view text, double font,
         "<text x=\"" + num(x) + "\" y=\"" + num(y) + "\" font-size=\"" + num(font) + "\"";
     if (anchor != "start") s += " text-anchor=\"" + std::string(anchor) + "\"";
     if (!extra.empty()) s += " " + std::string(extra);
-    return s + ">" + esc(text) + "</text>\n";
+    return s + ">" + markup::escape(text) + "</text>\n";
 }
 
 std::string line_svg(double x1, double y1, double x2, double y2, std::string_view style) {
@@ -620,7 +587,7 @@ std::string panel_svg(const PlotPanel& panel, const PanelAxes& axes, double left
     const double ylx = -left_margin + kYLabelSpace - 8.0;
     s += "<text x=\"" + num(ylx) + "\" y=\"" + num(kPlotHeight / 2.0) +
          "\" font-size=\"11.5\" text-anchor=\"middle\" transform=\"rotate(-90 " + num(ylx) + " " +
-         num(kPlotHeight / 2.0) + ")\">" + esc(panel.y_label) + "</text>\n";
+         num(kPlotHeight / 2.0) + ")\">" + markup::escape(panel.y_label) + "</text>\n";
 
     // Reference lines, under the data.
     for (const auto& [x, label] : panel.x_marks) {
@@ -803,10 +770,13 @@ std::string svg_figure(const std::string& title, const std::vector<PlotPanel>& p
 
     std::string s;
     s += "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
-    s += "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"" + num(width) +
-         "\" height=\"" + num(height) + "\" viewBox=\"0 0 " + num(width) + " " + num(height) +
-         "\" font-family=\"sans-serif\">\n";
-    s += "<title>" + esc(title) + "</title>\n";
+    s += markup::svg_open({{"version", "1.1"},
+                           {"width", num(width)},
+                           {"height", num(height)},
+                           {"viewBox", "0 0 " + num(width) + " " + num(height)},
+                           {"font-family", "sans-serif"}}) +
+         "\n";
+    s += "<title>" + markup::escape(title) + "</title>\n";
     s += "<rect x=\"0\" y=\"0\" width=\"" + num(width) + "\" height=\"" + num(height) +
          "\" fill=\"#ffffff\"/>\n";
     s += text_svg(width / 2.0, 27.0, title, 16.0, "middle", "font-weight=\"bold\"");
@@ -822,7 +792,7 @@ std::string svg_figure(const std::string& title, const std::vector<PlotPanel>& p
         s += panel_svg(panels[i], axes[i], left[c]);
         s += "</g>\n";
     }
-    s += "</svg>\n";
+    s += markup::svg_close() + "\n";
     return s;
 }
 

@@ -13,6 +13,7 @@
 #include "refraster/profile.hpp"
 #include "refraster/textbook/circle.hpp"
 #include "refraster/textbook/ear_clipping.hpp"
+#include "refraster/textbook/edge_functions.hpp"
 #include "refraster/textbook/flood_fill.hpp"
 #include "refraster/textbook/homogeneous.hpp"
 #include "refraster/textbook/lines.hpp"
@@ -20,7 +21,6 @@
 #include "refraster/textbook/scanline_fill.hpp"
 #include "refraster/textbook/trapezoids.hpp"
 #include "refraster/textbook/wu_line.hpp"
-#include "models/llvmpipe/setup.hpp"
 
 namespace harness {
 
@@ -768,10 +768,10 @@ Run run_homogeneous(const Scene& s, int w, int h) {
 }
 
 // GL's own rule as a lecture shows it: each triangle snapped to 1/256 pixel, its three edge
-// functions E(x, y) = c - a*x + b*y with the tie rule's +1 on the edges it owns (setup.hpp, the
-// reference's own setup), and each pixel of its box tested at its centre: covered iff all
-// three are positive. A step a pixel: the three values, and which edge a centre lies on and
-// whether the rule gives it the pixel.
+// functions E(x, y) = c - a*x + b*y with the tie rule's +1 on the edges it owns
+// (refraster/textbook/edge_functions.hpp: the reference's own setup), and each pixel of its box
+// tested at its centre: covered iff all three are positive. A step a pixel: the three values, and
+// which edge a centre lies on and whether the rule gives it the pixel.
 Run run_half_space(const Scene& s, int w, int h) {
     const auto tris = scene_triangles(s);
     if (tris.empty()) throw TeachError("the scene has no triangle draw to rasterize");
@@ -782,17 +782,15 @@ Run run_half_space(const Scene& s, int w, int h) {
     for (std::size_t k = 0; k < tris.size(); ++k) {
         const auto& st = tris[k];
         const auto& draw = s.draw_list.draws[st.draw];
-        const auto params =
-            refraster::detail::setup_params(profile, draw.state, s.draw_list.target);
+        const auto rule = tb::gl_edge_rule(profile, draw.state, s.draw_list.target);
         std::array<std::array<std::int32_t, 2>, 3> v{};
         bool ok = true;
         for (std::size_t i = 0; i < 3; ++i) {
             const auto c = st.clip[i];
             clipped_any[k] = clipped_any[k] || c[3] <= 0.0f || std::abs(c[0]) > c[3] ||
                              std::abs(c[1]) > c[3] || std::abs(c[2]) > c[3];
-            const auto p =
-                refraster::detail::snap_position(static_cast<float>(st.t.position[i].x),
-                                                 static_cast<float>(st.t.position[i].y), params);
+            const auto p = tb::gl_snap(rule, static_cast<float>(st.t.position[i].x),
+                                       static_cast<float>(st.t.position[i].y));
             if (!p) {
                 ok = false;
                 break;
@@ -829,11 +827,11 @@ Run run_half_space(const Scene& s, int w, int h) {
             continue;
         }
         if (area < 0) std::swap(v[0], v[1]);  // setup's orientation: counter-clockwise
-        std::array<refraster::detail::EdgeFunction, 3> e;
+        std::array<tb::GlEdgeFunction, 3> e;
         for (std::size_t i = 0; i < 3; ++i) {
             const auto& p = v[i];
             const auto& q = v[(i + 1) % 3];
-            e[i] = refraster::detail::make_edge(p[0], p[1], q[0], q[1], params.tie_rule);
+            e[i] = tb::gl_edge_function(rule, p, q);
             head.state.push_back({"E" + std::to_string(i),
                                   "c " + std::to_string(e[i].c) + " - " + std::to_string(e[i].a) +
                                       " x + " + std::to_string(e[i].b) + " y" +
@@ -854,7 +852,7 @@ Run run_half_space(const Scene& s, int w, int h) {
                 bool in = true;
                 std::string ties;
                 for (std::size_t i = 0; i < 3; ++i) {
-                    const std::int64_t value = e[i].at(x, y, params.bits);
+                    const std::int64_t value = e[i].at(x, y, rule.subpixel_bits);
                     const std::int64_t bare = value - (e[i].owns_ties ? 1 : 0);
                     in = in && value > 0;
                     step.state.push_back({"E" + std::to_string(i), std::to_string(value)});

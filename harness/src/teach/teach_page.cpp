@@ -20,38 +20,13 @@
 #include <sstream>
 #include <string_view>
 
+#include "harness/markup.hpp"
+
 namespace harness {
 
 namespace {
 
 using nlohmann::json;
-
-std::string esc(std::string_view s) {
-    std::string out;
-    out.reserve(s.size());
-    for (char c : s) {
-        switch (c) {
-            case '&':
-                out += "&amp;";
-                break;
-            case '<':
-                out += "&lt;";
-                break;
-            case '>':
-                out += "&gt;";
-                break;
-            case '"':
-                out += "&quot;";
-                break;
-            case '\'':
-                out += "&#39;";
-                break;
-            default:
-                out += c;
-        }
-    }
-    return out;
-}
 
 // A field's text: a string as it is, a number or a boolean as JSON writes it, a whole float
 // without its ".0"; anything else (absent, null, an array) as "".
@@ -563,17 +538,20 @@ std::string teach_page_html(const nlohmann::json& data) {
     std::ostringstream h;
     h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
          "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>"
-      << esc(title.empty() ? algorithm : title) << " &middot; " << esc(scene) << "</title>\n"
+      << markup::escape(title.empty() ? algorithm : title) << " &middot; " << markup::escape(scene)
+      << "</title>\n"
       << kStyle << "</head>\n<body>\n";
 
     // What this page is.
-    h << "<header><h1>" << esc(title) << " <span class=\"algo\">(" << esc(algorithm)
-      << ") against GL's rules</span></h1>\n<p id=\"meta\">Scene <code id=\"scene\">" << esc(scene)
-      << "</code> from <code>" << esc(scene_file) << "</code>, a " << width << "&times;" << height
+    h << "<header><h1>" << markup::escape(title) << " <span class=\"algo\">("
+      << markup::escape(algorithm)
+      << ") against GL's rules</span></h1>\n<p id=\"meta\">Scene <code id=\"scene\">"
+      << markup::escape(scene) << "</code> from <code>" << markup::escape(scene_file)
+      << "</code>, a " << width << "&times;" << height
       << " target (pixel (x, y), y up from the bottom row as GL counts it). GL's rules: <span "
          "id=\"gl-source\">"
-      << esc(field(d, "gl_source")) << "</span>.</p>\n<p id=\"summary\">"
-      << esc(field(d, "summary")) << "</p></header>\n";
+      << markup::escape(field(d, "gl_source")) << "</span>.</p>\n<p id=\"summary\">"
+      << markup::escape(field(d, "summary")) << "</p></header>\n";
 
     // Controls, the three images and the step-through beside them.
     h << "<div id=\"controls\"><label>Zoom <input id=\"zoom\" type=\"range\" min=\"1\" "
@@ -588,7 +566,7 @@ std::string teach_page_html(const nlohmann::json& data) {
              "width=\"0\" height=\"0\"></canvas></div><figcaption>"
           << caption << "</figcaption></figure>\n";
     };
-    panel("algorithm", "<b>" + esc(title.empty() ? algorithm : title) + "</b>");
+    panel("algorithm", "<b>" + markup::escape(title.empty() ? algorithm : title) + "</b>");
     panel("gl", "<b>GL's rules</b>");
     panel("mask", "<b>difference mask</b> (" + std::to_string(differences.size()) +
                       (differences.size() == 1 ? " pixel differs" : " pixels differ") + ")");
@@ -605,7 +583,8 @@ std::string teach_page_html(const nlohmann::json& data) {
     if (steps.empty()) {
         h << "This algorithm recorded no steps.";
     } else {
-        h << esc(text_of(steps[0].is_object() ? steps[0].value("title", json()) : json()));
+        h << markup::escape(
+            text_of(steps[0].is_object() ? steps[0].value("title", json()) : json()));
     }
     h << "</p><table id=\"step-state\"><thead><tr><th>variable</th><th>value</th></tr></thead>"
          "<tbody></tbody></table><p id=\"step-pixels\"></p></section>\n</div>\n";
@@ -648,11 +627,12 @@ std::string teach_page_html(const nlohmann::json& data) {
             const json& diff = e.is_object() ? e : empty;
             const std::string x = field(diff, "x"), y = field(diff, "y");
             h << "<tr class=\"diff\" tabindex=\"0\" data-index=\"" << i++ << "\" data-x=\""
-              << esc(x) << "\" data-y=\"" << esc(y) << "\"><td class=\"num\">" << esc(x)
-              << "</td><td class=\"num\">" << esc(y) << "</td><td class=\"num\">"
-              << esc(field(diff, "algorithm")) << "</td><td>"
-              << (lit(diff.value("gl", json())) ? "lit" : "not lit") << "</td><td class=\"reason\">"
-              << esc(field(diff, "reason")) << "</td></tr>\n";
+              << markup::escape(x) << "\" data-y=\"" << markup::escape(y) << "\"><td class=\"num\">"
+              << markup::escape(x) << "</td><td class=\"num\">" << markup::escape(y)
+              << "</td><td class=\"num\">" << markup::escape(field(diff, "algorithm"))
+              << "</td><td>" << (lit(diff.value("gl", json())) ? "lit" : "not lit")
+              << "</td><td class=\"reason\">" << markup::escape(field(diff, "reason"))
+              << "</td></tr>\n";
         }
         h << "</tbody></table>\n";
     }
@@ -662,12 +642,13 @@ std::string teach_page_html(const nlohmann::json& data) {
         h << "<p id=\"notes\" class=\"muted\">No notes.</p>\n";
     } else {
         h << "<ul id=\"notes\">";
-        for (const auto& n : notes) h << "<li>" << esc(text_of(n)) << "</li>";
+        for (const auto& n : notes) h << "<li>" << markup::escape(text_of(n)) << "</li>";
         h << "</ul>\n";
     }
 
     h << "<h2>Reproduce this page</h2>\n<p><code id=\"command\">refraster teach "
-      << esc(shell_word(scene_file)) << " --algorithm " << esc(shell_word(algorithm))
+      << markup::escape(shell_word(scene_file)) << " --algorithm "
+      << markup::escape(shell_word(algorithm))
       << " --output <span id=\"command-dir\">DIR</span></code> <span class=\"muted\">(DIR: "
          "this page's directory)</span></p>\n";
 
