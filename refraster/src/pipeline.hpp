@@ -32,9 +32,8 @@
 #pragma once
 
 #include <cstdint>
-#include <span>
-
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "models/exact/exact_model.hpp"
@@ -223,8 +222,8 @@ std::uint64_t draw(const DrawContext& ctx, typename Model::RenderState& state, O
 // A draw of the other model's family than the render's tile cache (the profile's line or point
 // rule) finds that cache written back and leaves it empty.
 template <class Observer>
-std::uint64_t run_draw(const DrawContext& ctx, ModelStates& states, Observer& obs,
-                       RenderStage stop, Framebuffer& fb) {
+std::uint64_t run_draw(const DrawContext& ctx, ModelStates& states, Observer& obs, RenderStage stop,
+                       Framebuffer& fb) {
     if (ctx.model != CoverageModel::Scanline) states.softpipe.flush_shared_tiles();
     switch (ctx.model) {
         case CoverageModel::Exact:

@@ -1,5 +1,5 @@
-// softpipe's triangle coverage and colour planes (refraster/src/models/softpipe/scanline_setup.cpp) against
-// OSMesa softpipe, pixel for pixel: the random coverage generator's triangles that need no
+// softpipe's triangle coverage and colour planes (refraster/src/models/softpipe/scanline_setup.cpp)
+// against OSMesa softpipe, pixel for pixel: the random coverage generator's triangles that need no
 // clipping, each alone in a 64x64 cell with its own viewport and scissor, cull mode and front face.
 // The window positions are the draw module's C viewport transform (the reference's vertex stage,
 // unfused: softpipe creates its draw module without LLVM). Seeds: two fixed, one from
@@ -13,9 +13,9 @@
 #include <random>
 
 #include "harness/backend.hpp"
+#include "models/softpipe/scanline_setup.hpp"
 #include "random_scenes.hpp"
 #include "refraster/renderer.hpp"
-#include "models/softpipe/scanline_setup.hpp"
 #include "stages/vertex_stage.hpp"
 
 namespace {

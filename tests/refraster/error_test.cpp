@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "backends/wire.hpp"
 #include "conformance/merge.hpp"
 #include "conformance/shard.hpp"
 #include "harness/backend.hpp"
@@ -17,7 +18,6 @@
 #include "harness/study.hpp"
 #include "harness/teach.hpp"
 #include "refraster/profile.hpp"
-#include "backends/wire.hpp"
 
 namespace {
 

@@ -1,6 +1,7 @@
-// softpipe's scanline triangle setup (refraster/src/models/softpipe/scanline_setup.cpp) against coverage derived
-// by hand from its rule: a pixel centre (x + 0.5, y + 0.5) is covered when it lies inside the
-// triangle, or on a right or bottom edge (gallium y = GL y, an FBO), never on a left or top one.
+// softpipe's scanline triangle setup (refraster/src/models/softpipe/scanline_setup.cpp) against
+// coverage derived by hand from its rule: a pixel centre (x + 0.5, y + 0.5) is covered when it lies
+// inside the triangle, or on a right or bottom edge (gallium y = GL y, an FBO), never on a left or
+// top one.
 #include "models/softpipe/scanline_setup.hpp"
 
 #include <gtest/gtest.h>

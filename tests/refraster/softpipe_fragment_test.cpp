@@ -1,5 +1,5 @@
-// softpipe's colour tile cache (refraster/src/models/softpipe/softpipe_tiles.hpp) and depth conversion
-// (softpipe_fragment.hpp), each against values derived by hand from the rules of
+// softpipe's colour tile cache (refraster/src/models/softpipe/softpipe_tiles.hpp) and depth
+// conversion (softpipe_fragment.hpp), each against values derived by hand from the rules of
 // docs/precision.md "softpipe": raw clear floats until written back, write-back on eviction of
 // a direct-mapped slot and at the flush, reload as byte * (1/255); the generic path's unclamped
 // truncation with cvttss2si's wrap.
@@ -11,8 +11,8 @@
 #include <cmath>
 #include <limits>
 
-#include "refraster/framebuffer.hpp"
 #include "models/softpipe/softpipe_tiles.hpp"
+#include "refraster/framebuffer.hpp"
 
 namespace {
 

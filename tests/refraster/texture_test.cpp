@@ -1,5 +1,5 @@
-// The sampler's rules (refraster/src/models/llvmpipe/texture.cpp) against the measured facts they come from
-// (docs/precision.md, "Textures"), each computed here a second, independent way.
+// The sampler's rules (refraster/src/models/llvmpipe/texture.cpp) against the measured facts they
+// come from (docs/precision.md, "Textures"), each computed here a second, independent way.
 #include "models/llvmpipe/texture.hpp"
 
 #include <gtest/gtest.h>

@@ -214,9 +214,8 @@ class DrawModule {
         for (std::size_t p = 0; p < tris.size(); ++p) {
             next_primitive(p, obs);
             const auto& at = tris[p];
-            const std::array<std::uint32_t, 3> idx{d.element(at.element[0]),
-                                                   d.element(at.element[1]),
-                                                   d.element(at.element[2])};
+            const std::array<std::uint32_t, 3> idx{
+                d.element(at.element[0]), d.element(at.element[1]), d.element(at.element[2])};
             obs.begin_primitive(kind, ctx_.index, p, idx, stage);
             staged.clear();
             stage.clip_triangle(idx, first, staged, nullptr, at.edge_flags);

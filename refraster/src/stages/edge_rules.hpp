@@ -107,12 +107,13 @@ EdgeFunction make_edge(std::int32_t xi, std::int32_t yi, std::int32_t xj, std::i
 // budget above (setup then takes llvmpipe's own walk).
 std::optional<std::array<std::int32_t, 2>> snap_position(float x, float y, const SetupParams& p);
 
-inline constexpr std::int32_t kIndefinite = INT32_MIN;  // cvtps2dq of NaN or of a value outside int32
+inline constexpr std::int32_t kIndefinite =
+    INT32_MIN;  // cvtps2dq of NaN or of a value outside int32
 
-// A window coordinate snapped to the sub-pixel grid as calc_fixed_position's cvtps2dq does it; `beyond` is set
-// when the result leaves the 24.8 budget above (kSnappedBits).
+// A window coordinate snapped to the sub-pixel grid as calc_fixed_position's cvtps2dq does it;
+// `beyond` is set when the result leaves the 24.8 budget above (kSnappedBits).
 [[gnu::always_inline]] inline std::int32_t snap_to_subpixel(float v, const SetupParams& p,
-                                                              bool& beyond) {
+                                                            bool& beyond) {
     const float scaled = (v - p.pixel_center_offset) * static_cast<float>(1 << p.bits);
     if (p.rounding == SnapRounding::NearestEven) {
         // INT32_MIN (kIndefinite) for a value that does not fit, as the instruction gives it;

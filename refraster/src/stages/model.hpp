@@ -19,12 +19,11 @@
 // model's types: a model's own state lives in the model.
 #pragma once
 
+#include <concepts>
 #include <cstddef>
 #include <functional>
-#include <vector>
-
-#include <concepts>
 #include <span>
+#include <vector>
 
 #include "common/cpu.hpp"
 #include "refraster/assembly.hpp"
@@ -98,22 +97,23 @@ using ListSink = std::function<void(const List&)>;
 // The contract of a driver model (the shape pipeline.hpp's stage order relies on), checked
 // where the pipeline instantiates each model.
 template <class M>
-concept DriverModel =
-    requires(M model, const M& cmodel, const DrawContext& ctx, typename M::RenderState& state,
-             VertexStage& stage, NoObserver& obs, const ListSink<typename M::List>& sink,
-             const typename M::List& list, const typename M::Primitive& prim,
-             void (*emit)(std::span<const QuadPacket>), std::span<const QuadPacket> quads,
-             Framebuffer& fb, const Profile& profile, const DrawList& draws) {
-        typename M::RenderState;
-        { M::kRowBlocks } -> std::convertible_to<bool>;
-        requires std::constructible_from<typename M::RenderState, const DrawList&,
-                                         const Profile&, Framebuffer&>;
-        requires std::constructible_from<M, const DrawContext&, typename M::RenderState&>;
-        model.setup(stage, obs, sink);
-        M::traverse(list, prim, emit);
-        cmodel.kernel().shade(list, prim, quads, fb);
-        { cmodel.kernel().hardware_denormals() } -> std::convertible_to<bool>;
-        model.finish_draw();
-    };
+concept DriverModel = requires(M model, const M& cmodel, const DrawContext& ctx,
+                               typename M::RenderState& state, VertexStage& stage, NoObserver& obs,
+                               const ListSink<typename M::List>& sink, const typename M::List& list,
+                               const typename M::Primitive& prim,
+                               void (*emit)(std::span<const QuadPacket>),
+                               std::span<const QuadPacket> quads, Framebuffer& fb,
+                               const Profile& profile, const DrawList& draws) {
+    typename M::RenderState;
+    { M::kRowBlocks } -> std::convertible_to<bool>;
+    requires std::constructible_from<typename M::RenderState, const DrawList&, const Profile&,
+                                     Framebuffer&>;
+    requires std::constructible_from<M, const DrawContext&, typename M::RenderState&>;
+    model.setup(stage, obs, sink);
+    M::traverse(list, prim, emit);
+    cmodel.kernel().shade(list, prim, quads, fb);
+    { cmodel.kernel().hardware_denormals() } -> std::convertible_to<bool>;
+    model.finish_draw();
+};
 
 }  // namespace refraster::detail

@@ -2,8 +2,8 @@
 #include <cmath>
 
 #include "common/float_ops.hpp"
-#include "stages/output_merge.hpp"
 #include "refraster/framebuffer.hpp"
+#include "stages/output_merge.hpp"
 
 namespace refraster {
 

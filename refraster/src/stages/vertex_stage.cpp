@@ -4,9 +4,9 @@
 #include <cmath>
 #include <limits>
 
+#include "common/cpu.hpp"
 #include "refraster/assert.hpp"
 #include "stages/rules.hpp"
-#include "common/cpu.hpp"
 
 #if defined(__SSE2__)
 #include <emmintrin.h>

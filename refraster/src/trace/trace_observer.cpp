@@ -5,9 +5,9 @@
 
 #include "models/exact/exact_coverage.hpp"
 #include "models/llvmpipe/line_point.hpp"
-#include "stages/samples.hpp"
-#include "models/softpipe/scanline_setup.hpp"
 #include "models/llvmpipe/traverse.hpp"
+#include "models/softpipe/scanline_setup.hpp"
+#include "stages/samples.hpp"
 #include "stages/vertex_stage.hpp"
 
 namespace refraster::detail {

@@ -12,9 +12,9 @@
 #include <cstddef>
 #include <vector>
 
-#include "stages/observer.hpp"
-#include "refraster/trace.hpp"
 #include "models/llvmpipe/setup.hpp"
+#include "refraster/trace.hpp"
+#include "stages/observer.hpp"
 #include "stages/vertex_stage.hpp"  // StageVertex complete: the clipper polygons are held by value
 
 namespace refraster::detail {

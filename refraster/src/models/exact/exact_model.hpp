@@ -18,9 +18,9 @@
 #include "models/exact/exact_coverage.hpp"
 #include "models/exact/exact_shader.hpp"
 #include "stages/draw_module.hpp"
-#include "stages/rules.hpp"
 #include "stages/model.hpp"
 #include "stages/quad.hpp"
+#include "stages/rules.hpp"
 
 namespace refraster::detail {
 

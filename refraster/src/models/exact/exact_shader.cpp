@@ -63,7 +63,8 @@ void ExactShader::shade(int x, int y, Framebuffer& fb, std::uint32_t owner) cons
         double z = zn * 0.5 * (f - n) + 0.5 * (n + f) + offset_;
         z = std::min(std::max(z, 0.0), 1.0);
         const std::uint32_t q = quantise_depth(z, target_.depth);
-        if (!depth_passes(*draw_.state.depth_test, q, fb.depth[i], target_.depth == DepthFormat::Z32f))
+        if (!depth_passes(*draw_.state.depth_test, q, fb.depth[i],
+                          target_.depth == DepthFormat::Z32f))
             return;
         if (draw_.state.depth_write) fb.depth[i] = q;
     }

@@ -6,10 +6,10 @@
 #include <cstring>
 #include <type_traits>
 
+#include "models/llvmpipe/vector_kernels.hpp"
 #include "refraster/assert.hpp"
 #include "stages/rules.hpp"
 #include "stages/samples.hpp"
-#include "models/llvmpipe/vector_kernels.hpp"
 
 // Kernels also compiled for a wider instruction set, chosen at run time (GCC and clang on
 // x86-64; elsewhere only the baseline kernels exist).
@@ -254,7 +254,8 @@ struct Kernel {
         const float centre = ms ? 0.5f : 0.0f;
         SourceColor<C> flat_source{};
         if constexpr (S == ShadeModel::Flat)
-            flat_source = source_color<C>(k.options.color_truncate, color(planes, flat, 0, 0, k, fp));
+            flat_source =
+                source_color<C>(k.options.color_truncate, color(planes, flat, 0, 0, k, fp));
         for (const QuadPacket& q : quads) {
             unsigned mask = q.mask;
             if (!ms) mask = (mask & kSample0Pixels) * 0x1111u;  // every sample of the pixel
@@ -375,7 +376,8 @@ struct Kernel {
               flat(list.flat.data() + prim.flat),
               owners(!fb.owner.empty()) {
             if constexpr (S == ShadeModel::Flat)
-                flat_source = source_color<C>(k.options.color_truncate, color(planes, flat, 0, 0, k, fp));
+                flat_source =
+                    source_color<C>(k.options.color_truncate, color(planes, flat, 0, 0, k, fp));
         }
     };
 
@@ -400,7 +402,9 @@ struct Kernel {
             store_color<C, B>(fb, i, in.flat_source, fp);
         } else {
             store_color<C, B>(
-                fb, i, source_color<C>(k.options.color_truncate, color(in.planes, in.flat, px, py, k, fp)), fp);
+                fb, i,
+                source_color<C>(k.options.color_truncate, color(in.planes, in.flat, px, py, k, fp)),
+                fp);
         }
         if (in.owners) fb.owner[i] = prim.owner;
     }
@@ -506,7 +510,9 @@ struct Kernel {
                 t.destination[c] = one.color32f[c];
             }
         }
-        if (t.depth_pass) store_color<C, B>(one, 0, source_color<C>(k.options.color_truncate, t.shader_color), fp);
+        if (t.depth_pass)
+            store_color<C, B>(one, 0, source_color<C>(k.options.color_truncate, t.shader_color),
+                              fp);
         for (std::size_t c = 0; c < 4; ++c) {
             t.written[c] = C == ColorFormat::Rgba8 ? one.color8[c] : one.color32f[c];
         }

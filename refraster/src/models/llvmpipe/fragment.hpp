@@ -44,15 +44,15 @@
 #include <vector>
 
 #include "common/float_ops.hpp"
-#include "stages/quad.hpp"
+#include "models/llvmpipe/setup_list.hpp"
+#include "models/llvmpipe/texture.hpp"
 #include "refraster/draw.hpp"
 #include "refraster/framebuffer.hpp"
 #include "refraster/renderer.hpp"
 #include "refraster/trace.hpp"
-#include "stages/row_block.hpp"
-#include "models/llvmpipe/setup_list.hpp"
-#include "models/llvmpipe/texture.hpp"
 #include "stages/output_merge.hpp"
+#include "stages/quad.hpp"
+#include "stages/row_block.hpp"
 #include "stages/vertex_stage.hpp"
 
 namespace refraster::detail {

@@ -17,8 +17,7 @@ LlvmpipeModel::RenderState::RenderState(const DrawList& list, const Profile&, Fr
     }
 }
 
-const std::vector<TextureImage>& LlvmpipeModel::RenderState::levels(
-    std::uint32_t texture) const {
+const std::vector<TextureImage>& LlvmpipeModel::RenderState::levels(std::uint32_t texture) const {
     REFRASTER_ASSERT(texture < levels_.size(), "a texture the draw list holds");
     return *levels_[texture];
 }

@@ -15,9 +15,8 @@
 #pragma once
 
 #include <cstdint>
-#include <vector>
-
 #include <optional>
+#include <vector>
 
 #include "models/llvmpipe/fragment.hpp"
 #include "models/llvmpipe/setup_list.hpp"
@@ -170,7 +169,7 @@ class LlvmpipeModel : public DrawModule<LlvmpipeModel, SetupList> {
     // Triangle setup runs with the CPU's flush modes set and plain float operations where
     // the model emulates the flushing (fast paths of a flushing profile only).
     bool cpu_flushes_ = false;
-    TriangleSetup triangle_;   // the triangle being set up, kept to spare clearing its walk
+    TriangleSetup triangle_;  // the triangle being set up, kept to spare clearing its walk
     const Framebuffer* prefetch_fb_ = nullptr;
 };
 

@@ -3,14 +3,13 @@
 // and trace/traced_models.cpp (the trace).
 #pragma once
 
-#include "models/llvmpipe/llvmpipe_model.hpp"
-
 #include <algorithm>
 #include <array>
 
 #include "models/llvmpipe/line_point.hpp"
-#include "stages/observer.hpp"
+#include "models/llvmpipe/llvmpipe_model.hpp"
 #include "models/llvmpipe/vector_kernels.hpp"
+#include "stages/observer.hpp"
 
 namespace refraster::detail {
 

@@ -27,12 +27,12 @@
 #include <cstdint>
 #include <optional>
 
-#include "models/llvmpipe/llvmpipe_walk.hpp"
-#include "stages/edge_rules.hpp"
 #include "common/pixel_rect.hpp"
+#include "models/llvmpipe/llvmpipe_walk.hpp"
 #include "refraster/draw.hpp"
 #include "refraster/fixed.hpp"
 #include "refraster/profile.hpp"
+#include "stages/edge_rules.hpp"
 
 namespace refraster::detail {
 

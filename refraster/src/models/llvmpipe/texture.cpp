@@ -6,9 +6,9 @@
 #include <limits>
 
 #include "common/float_ops.hpp"
+#include "models/llvmpipe/vector_kernels.hpp"
 #include "refraster/assert.hpp"
 #include "refraster/fixed.hpp"
-#include "models/llvmpipe/vector_kernels.hpp"
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #define REFRASTER_SAMPLER_ISA_VARIANTS 1

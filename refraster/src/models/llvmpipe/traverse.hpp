@@ -20,10 +20,10 @@
 #include <tuple>
 #include <utility>
 
+#include "models/llvmpipe/setup.hpp"
 #include "stages/quad.hpp"
 #include "stages/row_block.hpp"
 #include "stages/samples.hpp"
-#include "models/llvmpipe/setup.hpp"
 
 namespace refraster::detail {
 

@@ -11,8 +11,8 @@
 #include <cstdint>
 
 #include "models/llvmpipe/fragment.hpp"
-#include "stages/rules.hpp"
 #include "models/llvmpipe/vector_kernels.hpp"
+#include "stages/rules.hpp"
 
 #if REFRASTER_VECTOR_KERNELS
 #if defined(__clang__)

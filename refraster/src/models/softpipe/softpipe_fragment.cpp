@@ -5,10 +5,10 @@
 #include <bit>
 #include <cmath>
 
-#include "stages/output_merge.hpp"
+#include "common/cpu.hpp"
 #include "models/softpipe/softpipe_sampler.hpp"
 #include "models/softpipe/softpipe_tiles.hpp"
-#include "common/cpu.hpp"
+#include "stages/output_merge.hpp"
 #include "stages/vertex_stage.hpp"
 
 namespace refraster::detail {

@@ -30,11 +30,11 @@
 #include <span>
 #include <vector>
 
-#include "stages/quad.hpp"
+#include "models/softpipe/scanline_setup.hpp"
 #include "refraster/draw.hpp"
 #include "refraster/framebuffer.hpp"
 #include "refraster/trace.hpp"
-#include "models/softpipe/scanline_setup.hpp"
+#include "stages/quad.hpp"
 
 namespace refraster::detail {
 

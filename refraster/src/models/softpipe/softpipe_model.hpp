@@ -19,10 +19,9 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
-
-#include <optional>
 
 #include "models/softpipe/softpipe_fragment.hpp"
 #include "models/softpipe/softpipe_sampler.hpp"
@@ -148,7 +147,7 @@ class SoftpipeModel : public DrawModule<SoftpipeModel, ScanlineList> {
     ScanlinePrimitive& add_primitive(std::span<const ScanlineRow> rows, ScanlineInterp interp);
 
     std::optional<SoftpipeTileCache> own_tiles_;
-    SoftpipeTileCache* tiles_ = nullptr;  // the render's cache, or the draw's own
+    SoftpipeTileCache* tiles_ = nullptr;      // the render's cache, or the draw's own
     std::optional<SoftpipeSampler> sampler_;  // of the draw's texture, if it samples one
     ScanlineTriangle triangle_;  // the triangle being set up (its rows' storage is reused)
     std::vector<ScanlineRow> rows_;

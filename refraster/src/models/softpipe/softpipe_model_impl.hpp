@@ -3,16 +3,15 @@
 // softpipe_model.cpp (no observer) and trace/traced_models.cpp (the trace).
 #pragma once
 
-#include "models/softpipe/softpipe_model.hpp"
-
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdlib>
 
+#include "common/cpu.hpp"
+#include "models/softpipe/softpipe_model.hpp"
 #include "stages/observer.hpp"
 #include "stages/rules.hpp"
-#include "common/cpu.hpp"
 
 namespace refraster::detail {
 
@@ -41,7 +40,7 @@ int truncate_to_int(Real v) {
 // Rows of the pixels (x, y) listed in order, merged into runs per row: the rows of a set of
 // pixels with at most one run a row (a Bresenham line, a square).
 inline void pixels_to_rows(std::vector<std::array<int, 2>>& px, const PixelRect& region,
-                    std::vector<ScanlineRow>& rows) {
+                           std::vector<ScanlineRow>& rows) {
     rows.clear();
     std::sort(px.begin(), px.end(), [](const auto& a, const auto& b) {
         return a[1] != b[1] ? a[1] < b[1] : a[0] < b[0];
@@ -59,7 +58,7 @@ inline void pixels_to_rows(std::vector<std::array<int, 2>>& px, const PixelRect&
 }  // namespace softpipe_setup
 
 inline ScanlinePrimitive& SoftpipeModel::add_primitive(std::span<const ScanlineRow> rows,
-                                                ScanlineInterp interp) {
+                                                       ScanlineInterp interp) {
     ScanlinePrimitive& prim = list_.primitives.emplace_back();
     prim.first_row = static_cast<std::uint32_t>(list_.rows.size());
     prim.row_count = static_cast<std::uint32_t>(rows.size());
