@@ -10,7 +10,7 @@
 //                     stages, lines and points
 //   model, chosen     setup into lists of set-up primitives      models/llvmpipe/ (setup.cpp:
 //   once a draw       (edges, box, attribute planes, owner)      lp_setup_tri.c; line_point.cpp;
-//                     in API order                               planes in fragment.cpp:
+//                     in API order                               planes.cpp:
 //                                                                lp_state_setup.c), or
 //                                                                models/softpipe/ (sp_setup.c),
 //                                                                or models/exact/ (the oracle)

@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "models/llvmpipe/fragment.hpp"
+#include "models/llvmpipe/planes.hpp"
 #include "models/llvmpipe/setup.hpp"
 #include "stages/vertex_stage.hpp"
 

@@ -4,7 +4,7 @@
 // module and llvmpipe's setup produce them: triangle assembly and segments, the draw
 // pipeline for segments that need clipping (clipper, float cull, the FTZ state each batch of
 // its output is set up under), llvmpipe's nine-vertex rectangle analysis, fixed-point triangle
-// setup (setup.hpp) and attribute planes (fragment.hpp); lines (do_clip_line, try_setup_line)
+// setup (setup.hpp) and attribute planes (planes.hpp); lines (do_clip_line, try_setup_line)
 // and points (clip_point, try_setup_point); polygon modes line and point through the draw
 // pipeline's offset, flat-shade and unfilled stages. Traversal of a set-up primitive into
 // quad packets (traverse.hpp), with llvmpipe's own walk where its integer widths decide
@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "models/llvmpipe/fragment.hpp"
+#include "models/llvmpipe/planes.hpp"
 #include "models/llvmpipe/setup_list.hpp"
 #include "models/llvmpipe/texture.hpp"
 #include "models/llvmpipe/traverse.hpp"
