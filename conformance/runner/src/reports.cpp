@@ -306,10 +306,7 @@ struct ChartAxis {
             a.lo = std::floor(std::log10(tmin));
             a.hi = std::ceil(std::log10(tmax));
             if (a.hi <= a.lo) a.hi = a.lo + 1;
-            for (double d = a.lo; d <= a.hi; d += 1) {
-                a.major.push_back(std::pow(10.0, d));
-                for (int m = 2; m <= 9 && d < a.hi; ++m) a.minor.push_back(m * std::pow(10.0, d));
-            }
+            a.add_decades(static_cast<int>(a.lo), static_cast<int>(a.hi));
         } else {
             a.linear_ticks(tmin, tmax, 0.0);
         }
@@ -323,11 +320,9 @@ struct ChartAxis {
         if (a.log) {
             a.lo = 0;
             a.hi = std::ceil(std::log10(1.0 + nmax));
-            a.major.push_back(0);
-            for (double d = 0; d <= a.hi; d += 1) {
-                if (d > 0) a.major.push_back(std::pow(10.0, d));
-                for (int m = 2; m <= 9 && d < a.hi; ++m) a.minor.push_back(m * std::pow(10.0, d));
-            }
+            a.add_decades(0, static_cast<int>(a.hi));
+            // The axis plots 1 + n, so its first decade, log10(1) = 0, is where n = 0 sits.
+            a.major.front() = 0;
         } else {
             a.linear_ticks(0.0, std::max(1.0, nmax), 0.0);
         }
@@ -335,6 +330,12 @@ struct ChartAxis {
     }
 
   private:
+    void add_decades(int first, int last) {
+        const markup::DecadeTicks ticks = markup::decade_ticks(first, last);
+        for (const markup::DecadeTick& t : ticks.major) major.push_back(t.value);
+        for (const markup::DecadeTick& t : ticks.minor) minor.push_back(t.value);
+    }
+
     // Ticks at the 1-2-5 step that gives about five of them, the range widened to whole steps
     // (never below `floor_at`).
     void linear_ticks(double from, double to, double floor_at) {
@@ -344,6 +345,9 @@ struct ChartAxis {
         lo = std::max(floor_at, std::floor(from / step) * step);
         hi = std::ceil(to / step) * step;
         if (hi <= lo) hi = lo + step;
+        // Added up rather than markup::linear_ticks: the running sum prints differently at
+        // some ends (0.9999999999999999 s reads "1e+03 ms", 1.0 reads "1 s"), and the report
+        // keeps the labels it has always written.
         for (double v = lo; v <= hi + step / 2; v += step) major.push_back(v);
     }
 };

@@ -3,15 +3,18 @@
 //
 // Implements: escaping text for HTML and XML, in element content and in attribute values
 // alike; the root element of an SVG document, standalone or inline in an HTML page; the step
-// between a chart axis's ticks.
+// between a chart axis's ticks, and the ticks themselves: the decades of a logarithmic axis
+// with their 2..9 marks, and the multiples of the step on a linear one.
 //
 // Deliberately does not: format numbers (each writer keeps its own precision, so that its
 // output stays as it is), or lay anything out.
 #pragma once
 
+#include <cstddef>
 #include <initializer_list>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace harness::markup {
 
@@ -37,5 +40,32 @@ std::string svg_close();
 // 10^k (10^k the power of ten at or below `raw`) that is at least `raw * slack`, else 10^(k+1).
 // A slack a little below 1 keeps a step that rounding made a hair too small.
 double tick_step(double raw, double slack = 1.0);
+
+// A tick of a logarithmic axis: `mantissa` x 10^`exponent`, and that value. The two integers
+// are kept so that a writer can label the tick or place it without taking a logarithm again.
+struct DecadeTick {
+    int mantissa = 1;
+    int exponent = 0;
+    double value = 1.0;
+};
+
+// The ticks of a logarithmic axis.
+struct DecadeTicks {
+    std::vector<DecadeTick> major;  // 10^k, ascending
+    std::vector<DecadeTick> minor;  // m x 10^k for m = 2..9, ascending
+};
+
+// The powers of ten from 10^first_exponent to 10^last_exponent as `major`, and the 2..9 x 10^k
+// between each and the next as `minor` (none above the last power, which closes the range).
+// Both are empty when last_exponent < first_exponent. A value is m * pow(10, k), the same
+// double whichever writer asks.
+DecadeTicks decade_ticks(int first_exponent, int last_exponent);
+
+// The multiples k x `step` (k an integer) from `lo` to `hi`, ascending, each computed as k times
+// the step rather than by adding steps up, so that rounding does not accumulate along the axis.
+// An end a billionth of a step outside still counts, so that a bound which rounding left a hair
+// short of a multiple keeps its tick. At most `limit` of them: past 2^53, k + 1 == k, and a
+// range that narrow would otherwise never end.
+std::vector<double> linear_ticks(double lo, double hi, double step, std::size_t limit = 50);
 
 }  // namespace harness::markup

@@ -1,4 +1,4 @@
-// markup.cpp: escaping and the SVG root element (markup.hpp).
+// markup.cpp: escaping, the SVG root element and chart axis ticks (markup.hpp).
 #include "harness/markup.hpp"
 
 #include <cmath>
@@ -54,6 +54,24 @@ double tick_step(double raw, double slack) {
         if (m * magnitude >= raw * slack) return m * magnitude;
     }
     return 10.0 * magnitude;
+}
+
+DecadeTicks decade_ticks(int first_exponent, int last_exponent) {
+    DecadeTicks out;
+    for (int k = first_exponent; k <= last_exponent; ++k) {
+        out.major.push_back({1, k, std::pow(10.0, k)});
+        if (k == last_exponent) break;
+        for (int m = 2; m <= 9; ++m) out.minor.push_back({m, k, m * std::pow(10.0, k)});
+    }
+    return out;
+}
+
+std::vector<double> linear_ticks(double lo, double hi, double step, std::size_t limit) {
+    std::vector<double> out;
+    const double first = std::ceil(lo / step - 1e-9);
+    const double last = std::floor(hi / step + 1e-9);
+    for (double k = first; k <= last && out.size() < limit; k += 1.0) out.push_back(k * step);
+    return out;
 }
 
 }  // namespace harness::markup

@@ -243,11 +243,8 @@ class Axis {
         const double raw = (hi - lo) / count;
         const double step = markup::tick_step(raw, 0.999);
         const double largest = std::max(std::fabs(lo), std::fabs(hi));
-        const double first = std::ceil(lo / step - 1e-9);
-        const double last = std::floor(hi / step + 1e-9);
         // Multiples of the step counted in integers, so that 0.1 * 3 is printed as 0.3.
-        for (double k = first; k <= last && ticks_.size() < 50; k += 1.0) {
-            const double v = k * step;
+        for (const double v : markup::linear_ticks(lo, hi, step)) {
             ticks_.push_back({v, linear_tick_text(v, step, largest), true});
         }
     }
@@ -258,10 +255,10 @@ class Axis {
         const int decades = last - first + 1;
         // Eight labelled decades at most; the others get a mark.
         const int every = std::max(1, (decades + 7) / 8);
-        for (int k = first; k <= last; ++k) {
-            const bool labelled = (k - first) % every == 0;
+        for (const markup::DecadeTick& d : markup::decade_ticks(first, last).major) {
+            const bool labelled = (d.exponent - first) % every == 0;
             ticks_.push_back(
-                {std::pow(10.0, k), labelled ? log_tick_text(1, k) : std::string(), labelled});
+                {d.value, labelled ? log_tick_text(1, d.exponent) : std::string(), labelled});
         }
         // Within a decade or two, 2 and 5 are labelled too (and within half a decade every
         // multiple), so that a short range has ticks to read; over a few decades, 2 to 9 are
@@ -270,15 +267,16 @@ class Axis {
         const bool label_minor = decades < 2 || span < 1.5;
         const bool mark_minor = span <= 6.0;
         if (label_minor || mark_minor) {
-            for (int k = static_cast<int>(std::floor(lo_)); k <= static_cast<int>(std::ceil(hi_));
-                 ++k) {
-                for (int m = 2; m <= 9; ++m) {
-                    const double t = std::log10(m) + k;
-                    if (t < lo_ || t > hi_) continue;
-                    const bool labelled = label_minor && (span < 0.5 || m == 2 || m == 5);
-                    ticks_.push_back({m * std::pow(10.0, k),
-                                      labelled ? log_tick_text(m, k) : std::string(), labelled});
-                }
+            // The decades that hold lo_ and hi_, the top one's marks included.
+            const markup::DecadeTicks decades_around = markup::decade_ticks(
+                static_cast<int>(std::floor(lo_)), static_cast<int>(std::ceil(hi_)) + 1);
+            for (const markup::DecadeTick& d : decades_around.minor) {
+                const int m = d.mantissa;
+                const double t = std::log10(m) + d.exponent;
+                if (t < lo_ || t > hi_) continue;
+                const bool labelled = label_minor && (span < 0.5 || m == 2 || m == 5);
+                ticks_.push_back(
+                    {d.value, labelled ? log_tick_text(m, d.exponent) : std::string(), labelled});
             }
         }
         // A range narrower than the gap between two of those is nearly linear: it gets a
