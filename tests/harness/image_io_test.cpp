@@ -105,7 +105,8 @@ TEST(ImageIo, TexturePngDecoderReadsPngOnlyAndPrintsNothing) {
     const auto image = harness::read_texture_png(png);
     EXPECT_EQ(image.width, 2u);
     EXPECT_EQ(image.height, 2u);
-    EXPECT_EQ(image.rgba, fb.color8);  // rows bottom to top, as the framebuffer holds them
+    // Rows bottom to top, as the framebuffer holds them.
+    EXPECT_EQ(image.rgba, std::vector<std::uint8_t>(fb.color8.begin(), fb.color8.end()));
     // Broken copies: the compressed data's header, a cut inside the image data, IHDR's CRC.
     const std::string text(png.begin(), png.end());
     const std::size_t idat = text.find("IDAT");
@@ -124,7 +125,8 @@ TEST(ImageIo, TexturePngDecoderReadsPngOnlyAndPrintsNothing) {
     ::dup2(file, 2);
     ::close(file);
     int refused = 0;
-    for (const auto* b : {&bad_zlib, &cut, &bad_crc}) {
+    const std::vector<const std::vector<std::uint8_t>*> broken = {&bad_zlib, &cut, &bad_crc};
+    for (const auto* b : broken) {
         try {
             (void)harness::read_texture_png(*b);
         } catch (const harness::ImageIoError&) {
