@@ -9,6 +9,8 @@ if(REFRASTER_FUZZ)
 endif()
 find_package(CLI11 2.1 CONFIG REQUIRED)
 find_package(OpenImageIO CONFIG REQUIRED)
+# Texture files are decoded with libpng alone (harness/src/io/image_io.cpp, read_texture_png).
+find_package(PNG REQUIRED)
 # Debian 12: the exported OpenImageIO target lists /usr/include/opencv4, which exists only
 # with libopencv-dev installed; CMake then refuses to generate. Drop that directory.
 get_target_property(_oiio_inc OpenImageIO::OpenImageIO INTERFACE_INCLUDE_DIRECTORIES)

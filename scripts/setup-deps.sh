@@ -25,6 +25,8 @@ packages=(
   libyaml-cpp-dev
   # image files; OpenImageIO's exported CMake targets name the tools' binaries, so both
   libopenimageio-dev openimageio-tools
+  # texture files are decoded with libpng alone
+  libpng-dev
   # Mesa: OSMesa, and EGL surfaceless with the llvmpipe/softpipe DRI driver
   libosmesa6-dev libegl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri
   # the HTML report test opens the report in headless Chromium

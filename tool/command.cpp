@@ -5,9 +5,9 @@
 
 namespace tool {
 
-std::optional<harness::Scene> load_or_report(const std::string& path) {
+std::optional<harness::Scene> load_or_report(const std::string& path, const SceneArgs& scene) {
     try {
-        return harness::load_scene(path);
+        return harness::load_scene(path, scene.limits());
     } catch (const harness::SceneError& e) {
         std::cerr << e.what() << "\n";
         return std::nullopt;

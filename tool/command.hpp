@@ -40,8 +40,9 @@ struct Command {
     std::function<int()> run;
 };
 
-// The scene, or nullopt after printing its one-line SceneError (bad input).
-std::optional<harness::Scene> load_or_report(const std::string& path);
+// The scene, loaded under `scene` (--texture-root), or nullopt after printing its one-line
+// SceneError (bad input).
+std::optional<harness::Scene> load_or_report(const std::string& path, const SceneArgs& scene);
 
 // The backend, or nullptr after reporting a backend that cannot start (a backend failure).
 // Bad input (a profile, --egl-device or --mesa-prefix that cannot work) is thrown, for main to

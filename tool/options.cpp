@@ -134,6 +134,19 @@ std::vector<std::string> split_globs(const std::string& s) {
     return out;
 }
 
+harness::SceneLimits SceneArgs::limits() const {
+    harness::SceneLimits l;
+    l.texture_root = texture_root;
+    return l;
+}
+
+void add_scene_options(CLI::App* cmd, SceneArgs& a) {
+    cmd->add_option("--texture-root", a.texture_root,
+                    "A folder the scene's texture files may also lie under (after resolving "
+                    "symlinks); by default only the scene's own folder (docs/scene-format.md)")
+        ->check(CLI::ExistingDirectory);
+}
+
 std::filesystem::path default_scenes_root() {
     if (std::filesystem::is_directory("conformance/scenes")) return "conformance/scenes";
     return std::filesystem::path(REFRASTER_SOURCE_DIR) / "conformance/scenes";

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "harness/backend.hpp"
+#include "harness/scene.hpp"
 #include "refraster/draw.hpp"
 #include "refraster/profile.hpp"
 
@@ -63,6 +64,17 @@ bool inside(const refraster::Target& t, const std::array<int, 2>& p);
 
 // "a,b,,c" as {"a", "b", "c"}.
 std::vector<std::string> split_globs(const std::string& s);
+
+// How scene files are loaded, shared by every subcommand that loads them: --texture-root DIR,
+// a folder a scene's texture files may lie under besides the scene's own folder
+// (docs/scene-format.md, "Texture files").
+struct SceneArgs {
+    std::string texture_root;
+
+    harness::SceneLimits limits() const;
+};
+// --texture-root.
+void add_scene_options(CLI::App* cmd, SceneArgs& a);
 
 // conformance/scenes of the working directory, else of the source tree the tool was built from.
 std::filesystem::path default_scenes_root();

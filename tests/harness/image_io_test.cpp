@@ -1,7 +1,12 @@
 // Image files: rows are flipped to top-first on disk and back on reading; writes are atomic.
 #include "harness/image_io.hpp"
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <vector>
 
 #include "test_util.hpp"
 
@@ -80,6 +85,61 @@ TEST(ImageIo, SampleImagePathsFollowThePrefix) {
     EXPECT_EQ(png[3], std::filesystem::path("out/x.s3.png"));
     const auto exr = harness::sample_image_paths("y", 4, refraster::ColorFormat::Rgba32f);
     EXPECT_EQ(exr[2], std::filesystem::path("y.s2.exr"));
+}
+
+// The texture decoder reads the PNG its writer makes, and refuses everything else without a
+// word on stderr (libpng's own messages are kept): the caller reports it once.
+TEST(ImageIo, TexturePngDecoderReadsPngOnlyAndPrintsNothing) {
+    testutil::TempDir dir;
+    refraster::Framebuffer fb(2, 2, refraster::ColorFormat::Rgba8, refraster::DepthFormat::None);
+    for (std::size_t i = 0; i < fb.color8.size(); ++i)
+        fb.color8[i] = static_cast<std::uint8_t>(i * 11);
+    harness::write_color_image(fb, dir.path() / "a.png");
+    refraster::Framebuffer f32(1, 1, refraster::ColorFormat::Rgba32f, refraster::DepthFormat::None);
+    harness::write_color_image(f32, dir.path() / "a.exr");
+    const auto bytes = [&](const char* name) {
+        const std::string text = testutil::read_text(dir.path() / name);
+        return std::vector<std::uint8_t>(text.begin(), text.end());
+    };
+    const std::vector<std::uint8_t> png = bytes("a.png");
+    const auto image = harness::read_texture_png(png);
+    EXPECT_EQ(image.width, 2u);
+    EXPECT_EQ(image.height, 2u);
+    // Rows bottom to top, as the framebuffer holds them.
+    EXPECT_EQ(image.rgba, std::vector<std::uint8_t>(fb.color8.begin(), fb.color8.end()));
+    // Broken copies: the compressed data's header, a cut inside the image data, IHDR's CRC.
+    const std::string text(png.begin(), png.end());
+    const std::size_t idat = text.find("IDAT");
+    ASSERT_NE(idat, std::string::npos);
+    std::vector<std::uint8_t> bad_zlib = png;
+    bad_zlib[idat + 4] = 0x7f;
+    const std::vector<std::uint8_t> cut(png.begin(), png.begin() + static_cast<long>(idat) + 8);
+    std::vector<std::uint8_t> bad_crc = png;
+    bad_crc[29] ^= 1;
+    // stderr into a file while the decoder runs.
+    const auto err = dir.path() / "stderr.txt";
+    std::fflush(stderr);
+    const int saved = ::dup(2);
+    const int file = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+    ASSERT_GE(file, 0);
+    ::dup2(file, 2);
+    ::close(file);
+    int refused = 0;
+    const std::vector<const std::vector<std::uint8_t>*> broken = {&bad_zlib, &cut, &bad_crc};
+    for (const auto* b : broken) {
+        try {
+            (void)harness::read_texture_png(*b);
+        } catch (const harness::ImageIoError&) {
+            ++refused;
+        }
+    }
+    const std::vector<std::uint8_t> exr = bytes("a.exr");
+    EXPECT_THROW((void)harness::read_texture_png(exr), harness::ImageIoError);
+    std::fflush(stderr);
+    ::dup2(saved, 2);
+    ::close(saved);
+    EXPECT_EQ(refused, 3);
+    EXPECT_EQ(testutil::read_text(err), "");
 }
 
 }  // namespace

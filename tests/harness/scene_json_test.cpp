@@ -558,6 +558,10 @@ TEST(SceneLimits, DefaultsAreTheDocumentedOnes) {
     EXPECT_EQ(l.max_indices, 4'194'304u);
     EXPECT_EQ(l.max_primitives, 4'194'304u);
     EXPECT_EQ(l.max_fragments, 2'147'483'648u);
+    // Texture files (docs/limits.md, "Texture files"): 128 MiB, and no root beyond the scene's
+    // own folder.
+    EXPECT_EQ(l.max_texture_file_bytes, 134'217'728u);
+    EXPECT_TRUE(l.texture_root.empty());
 }
 
 // Each limit refuses one past it with one line naming the file and the JSON path, and accepts

@@ -3,12 +3,15 @@
 // what the front end makes of them, how scenes written back load again, and how every fault is
 // refused with the path of the value.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <array>
 #include <cstring>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "harness/front_end.hpp"
@@ -87,6 +90,13 @@ SceneError refusal(const json& j, const std::string& label = "tex.json",
         EXPECT_NE(e_.detail().find(detail_), std::string::npos) << e_.what(); \
     } while (false)
 
+// The one refusal of every texture file that cannot be used, whatever the reason.
+std::string unusable(const std::string& written) {
+    return "\"" + written +
+           "\" cannot be used as a texture (a PNG file under the scene's folder or "
+           "--texture-root; docs/scene-format.md)";
+}
+
 // ---- PNG files written byte by byte (grey, grey and alpha, RGB, bit depths the writer of
 // image_io.hpp does not make): zlib's stored blocks, no compression.
 
@@ -112,9 +122,13 @@ void put_chunk(std::vector<std::uint8_t>& out, const char* type,
     put_u32_be(out, crc32(body.data(), body.size()));
 }
 
-// A PNG of `rows` (file order: top row first), each row's bytes without the filter byte.
+using Chunks = std::vector<std::pair<std::string, std::vector<std::uint8_t>>>;
+
+// A PNG of `rows` (file order: top row first), each row's bytes without the filter byte, with
+// the chunks `before_idat` (PLTE, tRNS) between IHDR and IDAT.
 std::string png_bytes(std::uint32_t w, std::uint32_t h, std::uint8_t depth, std::uint8_t color_type,
-                      const std::vector<std::vector<std::uint8_t>>& rows) {
+                      const std::vector<std::vector<std::uint8_t>>& rows,
+                      const Chunks& before_idat = {}) {
     std::vector<std::uint8_t> raw;
     for (const auto& r : rows) {
         raw.push_back(0);  // filter: none
@@ -147,6 +161,7 @@ std::string png_bytes(std::uint32_t w, std::uint32_t h, std::uint8_t depth, std:
     put_u32_be(ihdr, h);
     ihdr.insert(ihdr.end(), {depth, color_type, 0, 0, 0});
     put_chunk(out, "IHDR", ihdr);
+    for (const auto& [type, data] : before_idat) put_chunk(out, type.c_str(), data);
     put_chunk(out, "IDAT", z);
     put_chunk(out, "IEND", {});
     return {out.begin(), out.end()};
@@ -652,9 +667,8 @@ TEST(TexturesRefusal, Files) {
         EXPECT_NE(e.detail().find(detail), std::string::npos) << e.what();
     };
     const std::string d = dir.path().string() + "/";
-    refused({{"file", "missing.png"}}, "textures.t.file",
-            "cannot read " + d + "missing.png: no such file");
-    refused({{"file", "."}}, "textures.t.file", "not a regular file");
+    refused({{"file", "missing.png"}}, "textures.t.file", unusable("missing.png"));
+    refused({{"file", "."}}, "textures.t.file", unusable("."));
     refused({{"file", ""}}, "textures.t.file", "expected the path of a PNG file");
     refused({{"file", "four.png"}, {"width", 2}}, "textures.t.file",
             d + "four.png is 4 x 2 pixels, but \"width\" is 2");
@@ -665,12 +679,11 @@ TEST(TexturesRefusal, Files) {
     refused({{"file", "grey16.png"}}, "textures.t.file",
             d + "grey16.png: 16-bit channels; textures are read from PNGs of 8-bit channels");
     refused({{"file", "grey1.png"}}, "textures.t.file", "grey1.png: 1-bit channels");
-    refused({{"file", "text.png"}}, "textures.t.file", d + "text.png: cannot read");
-    refused({{"file", "float.exr"}}, "textures.t.file",
-            "float.exr: a file of format openexr; textures are read from PNG files");
+    refused({{"file", "text.png"}}, "textures.t.file", unusable("text.png"));
+    refused({{"file", "float.exr"}}, "textures.t.file", unusable("float.exr"));
     json level = {{"width", 8}, {"height", 4}, {"data", image_json(8, 4)["data"]}};
     level["levels"] = {{{"file", "four.png"}}, {{"file", "missing.png"}}};
-    refused(level, "textures.t.levels[1].file", "missing.png: no such file");
+    refused(level, "textures.t.levels[1].file", unusable("missing.png"));
     level["levels"] = {{{"file", "four.png"}}, {{"file", "four.png"}}};
     refused(level, "textures.t.levels[1].file",
             "level 2 of a 8 x 4 texture is 2 x 1 (max(1, size >> 2)); " + d + "four.png is 4 x 2");
@@ -682,9 +695,240 @@ TEST(TexturesRefusal, Files) {
     const auto r = testutil::run_cli(
         {"render", scene.string(), "--backend", "ref", "-o", (dir.path() / "out.png").string()});
     EXPECT_EQ(r.exit_code, 2);
-    EXPECT_EQ(r.err, scene.string() + ": textures.t.file: cannot read " + d +
-                         "missing.png: no such file\n");
+    EXPECT_EQ(r.err, scene.string() + ": textures.t.file: " + unusable("missing.png") + "\n");
     EXPECT_FALSE(std::filesystem::exists(dir.path() / "out.png"));
+}
+
+// ---- which files a scene may read (docs/scene-format.md, "Texture files")
+
+// A 1 x 1 RGBA PNG whose texel is (r, 0, 0, 255).
+std::string red_png(std::uint8_t r) {
+    return png_bytes(1, 1, 8, 6, {{r, 0, 0, 255}});
+}
+
+// What the texture file `file` loads as in a scene labelled `label`: "texel R" (its red), or
+// the refusal's detail (after its JSON path when that is not "textures.t.file").
+std::string outcome(const std::string& file, const std::string& label,
+                    const harness::SceneLimits& limits = {}) {
+    try {
+        const auto s = load(scene_json({{"t", {{"file", file}}}}, nullptr), label, limits);
+        return "texel " + std::to_string(s.file.textures.at("t").levels[0].rgba[0]);
+    } catch (const SceneError& e) {
+        return e.json_path() == "textures.t.file" ? e.detail() : e.json_path() + ": " + e.detail();
+    }
+}
+
+// A scene reads files whose real path lies under its folder's real path, however they are
+// named; `..`, absolute paths and symlinks that lead elsewhere are refused exactly like a file
+// that does not exist. A texture root widens the folder.
+TEST(TextureFiles, OnlyUnderTheScenesFolderOrTheTextureRoot) {
+    TempDir dir("texture-files");
+    const auto top = dir.path();
+    std::filesystem::create_directories(top / "scene" / "sub");
+    std::filesystem::create_directories(top / "other");
+    dir.write("outside.png", red_png(1));
+    dir.write("scene/in.png", red_png(2));
+    dir.write("scene/sub/deeper.png", red_png(3));
+    dir.write("other/o.png", red_png(4));
+    std::filesystem::create_symlink(top / "outside.png", top / "scene" / "link_out.png");
+    std::filesystem::create_symlink("in.png", top / "scene" / "link_in.png");
+    std::filesystem::create_symlink(top, top / "scene" / "up");  // a folder leading out
+    const std::string label = (top / "scene" / "scene.json").string();
+    EXPECT_EQ(outcome("in.png", label), "texel 2");
+    EXPECT_EQ(outcome("sub/deeper.png", label), "texel 3");
+    EXPECT_EQ(outcome("sub/../in.png", label), "texel 2");
+    EXPECT_EQ(outcome("./link_in.png", label), "texel 2");
+    EXPECT_EQ(outcome("up/scene/in.png", label), "texel 2");  // out and back in: inside
+    EXPECT_EQ(outcome((top / "scene" / "in.png").string(), label), "texel 2");
+    const std::vector<std::string> elsewhere = {"../outside.png",
+                                                (top / "outside.png").string(),
+                                                "link_out.png",
+                                                "up/outside.png",
+                                                "sub/../../outside.png",
+                                                "../other/o.png",
+                                                "/etc/passwd",
+                                                "/dev/zero",
+                                                "missing.png",
+                                                "../missing.png",
+                                                "sub",
+                                                "/"};
+    for (const auto& f : elsewhere) EXPECT_EQ(outcome(f, label), unusable(f)) << f;
+
+    // The root widens the scene's folder; relative names still start from the scene's folder.
+    harness::SceneLimits wide;
+    wide.texture_root = top;
+    EXPECT_EQ(outcome("../outside.png", label, wide), "texel 1");
+    EXPECT_EQ(outcome((top / "outside.png").string(), label, wide), "texel 1");
+    EXPECT_EQ(outcome("link_out.png", label, wide), "texel 1");
+    EXPECT_EQ(outcome("../other/o.png", label, wide), "texel 4");
+    EXPECT_EQ(outcome("in.png", label, wide), "texel 2");
+    EXPECT_EQ(outcome("/etc/passwd", label, wide), unusable("/etc/passwd"));
+    harness::SceneLimits other;
+    other.texture_root = top / "other";
+    EXPECT_EQ(outcome("../other/o.png", label, other), "texel 4");
+    EXPECT_EQ(outcome("in.png", label, other), "texel 2");
+    EXPECT_EQ(outcome("../outside.png", label, other), unusable("../outside.png"));
+    // A root given through a symlink is its real path.
+    std::filesystem::create_symlink(top / "other", top / "other_link");
+    other.texture_root = top / "other_link";
+    EXPECT_EQ(outcome("../other/o.png", label, other), "texel 4");
+}
+
+// Every file under the folder that cannot be used gets the same message, whatever the reason:
+// the message never tells a missing file from one that exists.
+TEST(TextureFiles, EveryUnusableFileGetsTheSameMessage) {
+    TempDir dir("texture-unusable");
+    std::filesystem::create_directories(dir.path() / "folder.png");
+    ASSERT_EQ(::mkfifo((dir.path() / "fifo.png").c_str(), 0600), 0);
+    dir.write("text.png", "not an image");
+    dir.write("empty.png", "");
+    refraster::Framebuffer f32(1, 1, refraster::ColorFormat::Rgba32f, refraster::DepthFormat::None);
+    harness::write_color_image(f32, dir.path() / "float.exr");
+    std::filesystem::copy_file(dir.path() / "float.exr", dir.path() / "exr_named.png");
+    const std::string good = red_png(9);
+    dir.write("signature_only.png", good.substr(0, 8));
+    dir.write("cut.png", good.substr(0, good.size() - 20));  // inside IDAT
+    // Headers PNG does not allow, with their right CRCs.
+    dir.write("zero_width.png", png_bytes(0, 1, 8, 6, {{}}));
+    dir.write("bad_type.png", png_bytes(1, 1, 8, 5, {{1, 2}}));
+    dir.write("bad_depth.png", png_bytes(1, 1, 3, 6, {{1, 2, 3, 4}}));
+    std::string bad_crc = good;
+    bad_crc[29] = static_cast<char>(bad_crc[29] ^ 1);  // IHDR's CRC
+    dir.write("bad_crc.png", bad_crc);
+    std::string bad_zlib = good;
+    bad_zlib[33 + 8] = 0x7f;  // IDAT's zlib header
+    dir.write("bad_zlib.png", bad_zlib);
+    dir.write("no_idat.png", good.substr(0, 33) + good.substr(good.size() - 12));
+    // Index 2 of a palette of two.
+    dir.write("past_palette.png",
+              png_bytes(3, 1, 8, 3, {{0, 1, 2}}, {{"PLTE", {1, 2, 3, 4, 5, 6}}}));
+    const std::string label = (dir.path() / "scene.json").string();
+    for (const std::string f :
+         {"missing.png", "folder.png", "fifo.png", "text.png", "empty.png", "float.exr",
+          "exr_named.png", "signature_only.png", "cut.png", "zero_width.png", "bad_type.png",
+          "bad_depth.png", "bad_crc.png", "bad_zlib.png", "no_idat.png", "past_palette.png"}) {
+        EXPECT_EQ(outcome(f, label), unusable(f)) << f;
+    }
+    EXPECT_EQ(outcome("good.png", label), unusable("good.png"));
+    dir.write("good.png", good);
+    EXPECT_EQ(outcome("good.png", label), "texel 9");
+    if (::geteuid() != 0) {  // root reads any file
+        std::filesystem::permissions(dir.path() / "good.png", std::filesystem::perms::none);
+        EXPECT_EQ(outcome("good.png", label), unusable("good.png"));
+    }
+}
+
+// A scene held in a string reads under the folder of its label, the working directory when the
+// label names none.
+TEST(TextureFiles, SceneTextReadsUnderItsLabelsFolder) {
+    TempDir dir("texture-text");
+    std::filesystem::create_directories(dir.path() / "work");
+    dir.write("outside.png", red_png(1));
+    dir.write("work/in.png", red_png(2));
+    EXPECT_EQ(outcome("in.png", (dir.path() / "work" / "s.json").string()), "texel 2");
+    EXPECT_EQ(outcome("../outside.png", (dir.path() / "work" / "s.json").string()),
+              unusable("../outside.png"));
+    const auto cwd = std::filesystem::current_path();
+    std::filesystem::current_path(dir.path() / "work");
+    const std::string in = outcome("in.png", "tex.json");
+    const std::string out = outcome("../outside.png", "tex.json");
+    std::filesystem::current_path(cwd);
+    EXPECT_EQ(in, "texel 2");
+    EXPECT_EQ(out, unusable("../outside.png"));
+}
+
+// The header's size and channels, and the file's size, are checked before any decoder runs:
+// a file whose pixels could not be decoded is refused for its size first.
+TEST(TextureFiles, HeaderAndFileSizeBeforeDecoding) {
+    TempDir dir("texture-header");
+    const std::string label = (dir.path() / "scene.json").string();
+    const std::string d = dir.path().string() + "/";
+    // Headers followed by no image data at all.
+    const std::string wide = png_bytes(4097, 1, 8, 6, {{0}});
+    dir.write("wide.png", wide.substr(0, 33) + wide.substr(wide.size() - 12));
+    EXPECT_EQ(outcome("wide.png", label),
+              d + "wide.png is 4097 x 1 pixels; a texture is 1 to 4096 pixels a side");
+    const std::string deep = png_bytes(1, 1, 16, 6, {{0}});
+    dir.write("deep.png", deep.substr(0, 33) + deep.substr(deep.size() - 12));
+    EXPECT_EQ(outcome("deep.png", label),
+              d + "deep.png: 16-bit channels; textures are read from PNGs of 8-bit channels");
+    harness::SceneLimits limits;
+    limits.max_texel_bytes = 8;
+    const std::string square = png_bytes(2, 2, 8, 6, {{0}});
+    dir.write("square.png", square.substr(0, 33) + square.substr(square.size() - 12));
+    EXPECT_EQ(
+        outcome("square.png", label, limits),
+        "textures.t: this brings the scene's textures to 16 bytes of texels, over the limit of 8 "
+        "(docs/limits.md)");
+    // The file's size: a PNG over the limit is refused before it is read; anything else is not
+    // a PNG first.
+    const std::string good = red_png(5);
+    dir.write("good.png", good);
+    dir.write("text.png", std::string(good.size() + 1, 'x'));
+    limits = {};
+    limits.max_texture_file_bytes = good.size();
+    EXPECT_EQ(outcome("good.png", label, limits), "texel 5");
+    limits.max_texture_file_bytes = good.size() - 1;
+    EXPECT_EQ(outcome("good.png", label, limits),
+              d + "good.png is a file of " + std::to_string(good.size()) +
+                  " bytes, over the limit of " + std::to_string(good.size() - 1) +
+                  " for a texture file (docs/limits.md)");
+    EXPECT_EQ(outcome("text.png", label, limits), unusable("text.png"));
+    EXPECT_EQ(harness::SceneLimits{}.max_texture_file_bytes, std::uint64_t{1} << 27);
+}
+
+// PNG transparency: tRNS makes RGB and grey pixels of its colour transparent and gives palette
+// entries their alpha (255 past its end); the texels are what every backend uploads.
+TEST(TextureFiles, TransparencyAsPngMeansIt) {
+    TempDir dir("texture-trns");
+    dir.write("rgb.png",
+              png_bytes(3, 1, 8, 2, {{1, 2, 3, 4, 5, 6, 4, 5, 7}}, {{"tRNS", {0, 4, 0, 5, 0, 6}}}));
+    dir.write("grey.png", png_bytes(2, 1, 8, 0, {{7, 9}}, {{"tRNS", {0, 9}}}));
+    dir.write("palette.png",
+              png_bytes(3, 1, 8, 3, {{0, 1, 2}},
+                        {{"PLTE", {10, 11, 12, 20, 21, 22, 30, 31, 32}}, {"tRNS", {0, 128}}}));
+    // Two bits an index, four pixels in one byte: 0, 1, 2, 3.
+    dir.write("palette2.png",
+              png_bytes(4, 1, 2, 3, {{0x1b}}, {{"PLTE", {1, 1, 1, 2, 2, 2, 3, 3, 3, 4, 4, 4}}}));
+    dir.write("rgb_plain.png", png_bytes(1, 1, 8, 2, {{4, 5, 6}}));
+    const json t = {{"rgb", {{"file", "rgb.png"}}},
+                    {"grey", {{"file", "grey.png"}}},
+                    {"palette", {{"file", "palette.png"}}},
+                    {"palette2", {{"file", "palette2.png"}}},
+                    {"rgb_plain", {{"file", "rgb_plain.png"}}}};
+    const auto s = load(scene_json(t, nullptr), (dir.path() / "scene.json").string());
+    using Texels = std::vector<std::uint8_t>;
+    EXPECT_EQ(s.file.textures.at("rgb").levels[0].rgba,
+              (Texels{1, 2, 3, 255, 4, 5, 6, 0, 4, 5, 7, 255}));
+    EXPECT_EQ(s.file.textures.at("grey").levels[0].rgba, (Texels{7, 7, 7, 255, 9, 9, 9, 0}));
+    EXPECT_EQ(s.file.textures.at("palette").levels[0].rgba,
+              (Texels{10, 11, 12, 0, 20, 21, 22, 128, 30, 31, 32, 255}));
+    EXPECT_EQ(s.file.textures.at("palette2").levels[0].rgba,
+              (Texels{1, 1, 1, 255, 2, 2, 2, 255, 3, 3, 3, 255, 4, 4, 4, 255}));
+    EXPECT_EQ(s.file.textures.at("rgb_plain").levels[0].rgba, (Texels{4, 5, 6, 255}));
+    // What the backends get: the draw list's texels, the same as the file's.
+    EXPECT_EQ(s.draw_list.textures[s.draw_list.textures.size() - 1].levels[0].rgba,
+              s.file.textures.at("rgb_plain").levels[0].rgba);
+}
+
+// libpng's own messages never reach stderr: the CLI prints the project's one line only.
+TEST(TextureFiles, CliPrintsOneLineForAFileLibpngRefuses) {
+    TempDir dir("texture-cli");
+    const std::string good = red_png(9);
+    dir.write("bad_ihdr.png", png_bytes(1, 1, 3, 6, {{1, 2, 3, 4}}));  // bit depth 3
+    std::string bad_crc = good;
+    bad_crc[29] = static_cast<char>(bad_crc[29] ^ 1);
+    dir.write("bad_crc.png", bad_crc);
+    std::string bad_zlib = good;
+    bad_zlib[33 + 8] = 0x7f;
+    dir.write("bad_zlib.png", bad_zlib);
+    for (const std::string f : {"bad_ihdr.png", "bad_crc.png", "bad_zlib.png"}) {
+        const auto scene =
+            dir.write("scene.json", scene_json({{"t", {{"file", f}}}}, nullptr).dump());
+        const auto r = testutil::run_cli({"check", scene.string()});
+        EXPECT_EQ(r.exit_code, 2) << f;
+        EXPECT_EQ(r.err, scene.string() + ": textures.t.file: " + unusable(f) + "\n") << f;
+    }
 }
 
 TEST(TexturesRefusal, Limits) {

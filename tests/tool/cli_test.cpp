@@ -301,4 +301,58 @@ TEST(Cli, ExplainSvgShowsBothGeometriesAxesGridAndLegend) {
     EXPECT_NE(text.find("the sub-pixel grid"), std::string::npos);
 }
 
+// Every subcommand that loads scene files takes --texture-root: without it a scene's texture
+// file outside its folder is refused (exit 2 where the command reports bad input), with it the
+// scene loads.
+TEST(Cli, EveryCommandThatLoadsScenesTakesTheTextureRoot) {
+    testutil::TempDir dir;
+    std::filesystem::create_directories(dir.path() / "scenes");
+    std::filesystem::create_directories(dir.path() / "tex");
+    refraster::Framebuffer fb(1, 1, refraster::ColorFormat::Rgba8, refraster::DepthFormat::None);
+    fb.color8 = {10, 20, 30, 255};
+    harness::write_color_image(fb, dir.path() / "tex" / "t.png");
+    const std::string scene = dir.write("scenes/t.json", R"({"format": "refraster-scene/1",
+      "name": "t", "requires": ["textures"], "target": {"width": 4, "height": 4},
+      "textures": {"t": {"file": "../tex/t.png"}},
+      "draws": [{"primitive": "triangles", "state": {"texture": {"name": "t"}},
+                 "vertices": [{"position": [0, 0]}, {"position": [4, 0]}, {"position": [0, 4]}]}]})")
+                                  .string();
+    const std::string root = (dir.path() / "tex").string();
+    const std::string out = (dir.path() / "out").string();
+    const std::string message = "cannot be used as a texture";
+    const std::vector<std::vector<std::string>> commands{
+        {"check", scene},
+        {"render", scene, "-o", out + ".png"},
+        {"compare", scene, "--against", "ref"},
+        {"explain", scene, "--pixel", "1,1", "--no-backend"},
+        {"teach", scene, "--algorithm", "half-space", "--against", "ref", "--output", out},
+        {"reduce", scene, "--pixel", "1,1", "-o", out + ".json"},
+        {"conformance", "hashes", "--scenes", (dir.path() / "scenes").string()},
+        {"conformance", "run", "--against", "ref", "--scenes", (dir.path() / "scenes").string(),
+         "--output", out + "-run"}};
+    for (const auto& args : commands) {
+        const std::string name = args[0] + (args[0] == "conformance" ? " " + args[1] : "");
+        const auto without = testutil::run_cli(args);
+        EXPECT_NE(without.exit_code, 0) << name;
+        if (args[0] != "conformance") {  // the runner records it in the case's result
+            EXPECT_EQ(without.exit_code, 2) << name << ": " << without.err;
+            EXPECT_EQ(testutil::count_lines(without.err), 1u) << name << ": " << without.err;
+            EXPECT_NE(without.err.find(message), std::string::npos) << name << ": " << without.err;
+        }
+        auto widened = args;
+        widened.insert(widened.end(), {"--texture-root", root});
+        const auto with = testutil::run_cli(widened);
+        EXPECT_EQ((with.out + with.err).find(message), std::string::npos)
+            << name << ": " << with.err;
+        if (args[0] != "reduce") {
+            EXPECT_EQ(with.exit_code, 0) << name << ": " << with.err;
+        }
+        std::filesystem::remove_all(out + "-run");
+    }
+    // The root must be a folder.
+    const auto r = testutil::run_cli({"check", scene, "--texture-root", scene});
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("--texture-root"), std::string::npos) << r.err;
+}
+
 }  // namespace

@@ -14,13 +14,13 @@
 namespace tool {
 namespace {
 
-int run_check(const std::string& path, int rounds) {
+int run_check(const std::string& path, const SceneArgs& scene_args, int rounds) {
     double best = 0;
     std::optional<harness::Scene> scene;
     for (int r = 0; r < rounds; ++r) {
         scene.reset();  // one scene in memory at a time
         const auto start = std::chrono::steady_clock::now();
-        scene = load_or_report(path);
+        scene = load_or_report(path, scene_args);
         const double s =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         if (!scene) return kExitBadInput;
@@ -52,6 +52,7 @@ int run_check(const std::string& path, int rounds) {
 
 struct CheckArgs {
     std::string scene;
+    SceneArgs scene_args;  // --texture-root
     int rounds = 1;
 };
 
@@ -62,10 +63,11 @@ Command add_check_command(CLI::App& app) {
     auto* cmd = app.add_subcommand("check",
                                    "Load a scene, say what it holds and how fast it loaded (MB/s)");
     cmd->add_option("scene", a->scene, "Scene file")->required();
+    add_scene_options(cmd, a->scene_args);
     cmd->add_option("--rounds", a->rounds, "Loads; the best time is reported")
         ->check(CLI::Range(1, 1000))
         ->capture_default_str();
-    return {cmd, [a] { return run_check(a->scene, a->rounds); }};
+    return {cmd, [a] { return run_check(a->scene, a->scene_args, a->rounds); }};
 }
 
 }  // namespace tool

@@ -17,6 +17,7 @@ namespace {
 
 struct CompareArgs {
     std::string scene;
+    SceneArgs scene_args;  // --texture-root
     BackendArgs reference{"ref"};
     BackendArgs against{"osmesa"};
     std::string reference_driver;  // empty: the same as --driver
@@ -45,7 +46,7 @@ void write_diff_images(const harness::CaseResult& r, const std::filesystem::path
 }
 
 int run_compare(CompareArgs a) {
-    const auto scene = load_or_report(a.scene);
+    const auto scene = load_or_report(a.scene, a.scene_args);
     if (!scene) return kExitBadInput;
     if (!a.diff.empty() && std::filesystem::path(a.diff).extension() != ".png") {
         std::cerr << a.diff << ": the error mask is written as .png\n";
@@ -101,6 +102,7 @@ Command add_compare_command(CLI::App& app) {
     auto* cmd = app.add_subcommand(
         "compare", "Render one scene through the reference and a GL backend and compare pixels");
     cmd->add_option("scene", a->scene, "Scene file (format refraster-scene/1)")->required();
+    add_scene_options(cmd, a->scene_args);
     add_backend_option(cmd, "--against", a->against.backend, "Backend compared with the reference",
                        {"ref", "osmesa", "egl"});
     add_backend_option(cmd, "--reference", a->reference.backend,

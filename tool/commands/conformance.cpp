@@ -26,6 +26,7 @@ struct ConformanceArgs {
     std::string caselist;
     std::string baseline;
     std::string scenes;
+    SceneArgs scene_args;  // --texture-root
     std::optional<int> shard_index;
     std::optional<int> shard_count;
     std::vector<std::string> skips;
@@ -41,6 +42,7 @@ struct ConformanceArgs {
 int run_conformance(const ConformanceArgs& a) {
     conformance::RunOptions o;
     o.scenes_root = a.scenes.empty() ? default_scenes_root() : std::filesystem::path(a.scenes);
+    o.scene_limits = a.scene_args.limits();
     o.case_globs = split_globs(a.cases);
     o.exclude_globs = split_globs(a.exclude);
     if (!a.caselist.empty()) o.caselist = a.caselist;
@@ -101,7 +103,7 @@ int run_merge(const std::vector<std::string>& shards, const std::string& output)
 
 // One line per scene, "case hash", of the reference's render (or its status when it does not
 // render): the golden file conformance/expectations/ref-hashes.txt.
-int run_hashes(const std::string& scenes, const ProfileArgs& profile) {
+int run_hashes(const std::string& scenes, const SceneArgs& scene_args, const ProfileArgs& profile) {
     try {
         BackendArgs ref{"ref"};
         ref.profile = profile;
@@ -116,7 +118,7 @@ int run_hashes(const std::string& scenes, const ProfileArgs& profile) {
                   << "# regenerate: build/bin/refraster conformance hashes > "
                      "conformance/expectations/ref-hashes.txt\n";
         for (const auto& c : conformance::discover_cases(root)) {
-            const auto r = backend->render(harness::load_scene(c.file));
+            const auto r = backend->render(harness::load_scene(c.file, scene_args.limits()));
             std::cout << c.name << " "
                       << (r.status == harness::RenderStatus::Ok
                               ? harness::render_hash(r.image, r.samples)
@@ -136,6 +138,7 @@ struct ConformanceCommandArgs {
     std::string merge_output;
     ConformanceArgs run;
     std::string hash_scenes;
+    SceneArgs hash_scene_args;
     ProfileArgs hash_profile;
 };
 
@@ -188,6 +191,7 @@ Command add_conformance_command(CLI::App& app) {
     run_cmd->add_flag("--resume", conf.resume,
                       "Continue a run killed part way, keeping its finished cases");
     run_cmd->add_option("--scenes", conf.scenes, "Scene root (default conformance/scenes)");
+    add_scene_options(run_cmd, conf.scene_args);
     add_backend_option(run_cmd, "--against", conf.against.backend,
                        "GL backend compared with the reference", {"ref", "osmesa", "egl"});
     add_driver_options(run_cmd, conf.against);
@@ -206,12 +210,14 @@ Command add_conformance_command(CLI::App& app) {
     auto* hash_cmd =
         conf_cmd->add_subcommand("hashes", "Print the reference's image hash for every scene");
     hash_cmd->add_option("--scenes", a->hash_scenes, "Scene root (default conformance/scenes)");
+    add_scene_options(hash_cmd, a->hash_scene_args);
     add_profile_options(hash_cmd, a->hash_profile);
 
     return {conf_cmd, [a, merge_cmd, run_cmd, hash_cmd] {
                 if (merge_cmd->parsed()) return run_merge(a->merge_shards, a->merge_output);
                 if (run_cmd->parsed()) return run_conformance(a->run);
-                if (hash_cmd->parsed()) return run_hashes(a->hash_scenes, a->hash_profile);
+                if (hash_cmd->parsed())
+                    return run_hashes(a->hash_scenes, a->hash_scene_args, a->hash_profile);
                 return kExitBadInput;
             }};
 }

@@ -15,6 +15,7 @@ namespace {
 
 struct ExplainArgs {
     std::string scene;
+    SceneArgs scene_args;  // --texture-root
     std::string pixel;
     bool json = false;
     std::string svg;
@@ -24,7 +25,7 @@ struct ExplainArgs {
 };
 
 int run_explain(const ExplainArgs& a) {
-    const auto scene = load_or_report(a.scene);
+    const auto scene = load_or_report(a.scene, a.scene_args);
     if (!scene) return kExitBadInput;
     const auto pixel = parse_pixel(a.pixel);
     if (!pixel) {
@@ -73,6 +74,7 @@ Command add_explain_command(CLI::App& app) {
     auto* cmd = app.add_subcommand(
         "explain", "Trace every decision about one pixel, and where the backend parts");
     cmd->add_option("scene", a->scene, "Scene file (format refraster-scene/1)")->required();
+    add_scene_options(cmd, a->scene_args);
     cmd->add_option("--pixel", a->pixel,
                     "The pixel, X,Y in window coordinates (row 0 at the bottom)")
         ->required();

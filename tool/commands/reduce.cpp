@@ -15,6 +15,7 @@ namespace {
 
 struct ReduceArgs {
     std::string scene;
+    SceneArgs scene_args;  // --texture-root
     std::string output;
     std::string pixel;
     std::string difference;
@@ -22,7 +23,7 @@ struct ReduceArgs {
 };
 
 int run_reduce(const ReduceArgs& a) {
-    const auto scene = load_or_report(a.scene);
+    const auto scene = load_or_report(a.scene, a.scene_args);
     if (!scene) return kExitBadInput;
     harness::MismatchToKeep keep;
     keep.difference = a.difference;
@@ -80,6 +81,7 @@ Command add_reduce_command(CLI::App& app) {
     auto* cmd =
         app.add_subcommand("reduce", "Shrink a failing scene while it keeps the same mismatch");
     cmd->add_option("scene", a->scene, "Scene file that mismatches")->required();
+    add_scene_options(cmd, a->scene_args);
     cmd->add_option("-o,--output", a->output,
                     "Where to write the reduced scene (.json); it is named after the file")
         ->required();

@@ -13,13 +13,14 @@ namespace {
 
 struct RenderArgs {
     std::string scene;
+    SceneArgs scene_args;  // --texture-root
     BackendArgs backend{"ref"};
     std::string output;
     std::string samples_output;  // PREFIX: PREFIX.s0.png .. PREFIX.s3.png for a 4x target
 };
 
 int run_render(const RenderArgs& a) {
-    const auto scene = load_or_report(a.scene);
+    const auto scene = load_or_report(a.scene, a.scene_args);
     if (!scene) return kExitBadInput;
     const std::filesystem::path out(a.output);
     const auto want_ext = harness::image_extension(scene->file.target.color);
@@ -89,6 +90,7 @@ Command add_render_command(CLI::App& app) {
     auto a = std::make_shared<RenderArgs>();
     auto* cmd = app.add_subcommand("render", "Render one scene file through one backend");
     cmd->add_option("scene", a->scene, "Scene file (format refraster-scene/1)")->required();
+    add_scene_options(cmd, a->scene_args);
     add_backend_option(cmd, "--backend", a->backend.backend, "Renderer: ref, osmesa or egl",
                        {"ref", "osmesa", "egl"});
     add_driver_options(cmd, a->backend);

@@ -19,6 +19,7 @@ namespace {
 
 struct TeachArgs {
     std::string scene;
+    SceneArgs scene_args;  // --texture-root
     std::string algorithm;
     std::string against = "ref";  // ref, or a GL backend: gl (OSMesa), osmesa, egl
     BackendArgs backend{"ref"};
@@ -44,7 +45,7 @@ refraster::Framebuffer zoomed(int w, int h, int zoom, Color&& color) {
 }
 
 int run_teach(TeachArgs a) {
-    const auto scene = load_or_report(a.scene);
+    const auto scene = load_or_report(a.scene, a.scene_args);
     if (!scene) return kExitBadInput;
     if (scene->file.target.samples != 1) {
         std::cerr << a.scene << ": target.samples: teach compares single-sample targets, got "
@@ -137,6 +138,7 @@ Command add_teach_command(CLI::App& app) {
     auto* cmd = app.add_subcommand(
         "teach", "Run a textbook algorithm on a scene beside GL's rules and write a teaching page");
     cmd->add_option("scene", a->scene, "Scene file (format refraster-scene/1)")->required();
+    add_scene_options(cmd, a->scene_args);
     std::vector<std::string> algorithm_names;
     std::string algorithm_help = "The algorithm:";
     for (const auto& info : harness::teach_algorithms()) {

@@ -249,11 +249,11 @@ void check_same_run(const std::map<std::string, nlohmann::json>& records,
     }
 }
 
-harness::CaseResult run_one(const CaseFile& c, harness::Backend& reference,
-                            harness::Backend& actual, const refraster::Profile& profile,
-                            bool gl_verdict) {
+harness::CaseResult run_one(const CaseFile& c, const harness::SceneLimits& limits,
+                            harness::Backend& reference, harness::Backend& actual,
+                            const refraster::Profile& profile, bool gl_verdict) {
     try {
-        const harness::Scene scene = harness::load_scene(c.file);
+        const harness::Scene scene = harness::load_scene(c.file, limits);
         auto r = harness::run_case(scene, c.name, reference, actual);
         if (!scene.file.name.empty() && scene.file.name != c.name) {
             r.status = harness::CaseStatus::InternalError;
@@ -432,8 +432,8 @@ RunSummary run_suite(const RunOptions& options, std::ostream& console) {
     const std::size_t resumed = finished;
     for (const auto& c : cases) {
         if (done.count(c.name) != 0) continue;
-        harness::CaseResult r =
-            run_one(c, *reference, *actual, options.reference.profile, options.gl_verdict);
+        harness::CaseResult r = run_one(c, options.scene_limits, *reference, *actual,
+                                        options.reference.profile, options.gl_verdict);
         const bool failed = apply_baseline(r, options.baseline ? &baseline : nullptr);
         const auto known_flake = failed ? flakes.match(c.name) : std::nullopt;
         if (known_flake) {
@@ -447,8 +447,8 @@ RunSummary run_suite(const RunOptions& options, std::ostream& console) {
             // An unexpected result runs once more: the same again is the result, anything
             // else was a flake.
             const std::string first(harness::to_string(r.raw_status.value_or(r.status)));
-            harness::CaseResult again =
-                run_one(c, *reference, *actual, options.reference.profile, options.gl_verdict);
+            harness::CaseResult again = run_one(c, options.scene_limits, *reference, *actual,
+                                                options.reference.profile, options.gl_verdict);
             if (std::string(harness::to_string(again.status)) != first) {
                 r.raw_status = r.raw_status.value_or(r.status);
                 r.status = harness::CaseStatus::Flake;

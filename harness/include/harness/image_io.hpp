@@ -1,16 +1,19 @@
-// image_io.hpp: image files, and nothing else (the only OpenImageIO user).
+// image_io.hpp: image files, and nothing else (the only OpenImageIO and libpng user).
 //
 // Implements: writing a Framebuffer's colour as an 8-bit RGBA PNG (rgba8) or a float32 EXR
 // (rgba32f), top row first as image files are, atomically (a temporary file renamed into
 // place, so a failed write leaves nothing behind); reading such files back into bottom-up rows;
-// reading 8-bit PNGs as texture images for the scene loader (extension "textures"), which this
-// library installs as the loader's texture file reader (scene.hpp, set_texture_file_reader).
+// decoding 8-bit PNGs as texture images for the scene loader (extension "textures") with libpng
+// alone, which this library installs as the loader's texture file reader (scene.hpp,
+// set_texture_file_reader).
 //
 // Deliberately does not: compare files by their bytes. OpenImageIO stamps metadata into PNGs;
 // comparisons work on decoded pixels.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
+#include <span>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -46,13 +49,15 @@ std::vector<std::filesystem::path> sample_image_paths(const std::filesystem::pat
 // Reads a PNG (as rgba8) or an EXR (as rgba32f). Depth is not stored in image files.
 refraster::Framebuffer read_color_image(const std::filesystem::path& path);
 
-// Reads a PNG of 8-bit channels as RGBA8 texels, rows bottom to top as glTexImage2D takes them
-// (the file's top row last). RGBA as stored (alpha not multiplied in), RGB with alpha 255, grey
-// g as (g, g, g, 255), grey and alpha as (g, g, g, a); a palette image as the RGB or RGBA its
-// palette gives. Any other file, and channels of 1, 2, 4 or 16 bits, are refused
-// (ImageIoError, naming the file). `check_size(width, height)`, when given, runs once the
-// header is read and before any pixel is decoded; what it throws passes through.
-refraster::TextureImage read_texture_png(const std::filesystem::path& path,
-                                         const TextureSizeCheck& check_size = {});
+// Decodes `png`, the bytes of a PNG file of 8-bit channels, as RGBA8 texels, rows bottom to top
+// as glTexImage2D takes them (the file's top row last), with libpng's PNG decoder alone (no
+// other format is ever tried, and libpng prints nothing). RGBA as stored (alpha not multiplied
+// in), RGB with alpha 255, grey g as (g, g, g, 255), grey and alpha as (g, g, g, a), a palette
+// image as its palette's colours; a tRNS chunk makes an RGB or grey pixel that equals its
+// colour exactly transparent (alpha 0) and gives palette entries their alpha (255 past its
+// end), as PNG means it. Gamma, colour profiles and every chunk but IHDR, PLTE, tRNS, IDAT and
+// IEND are ignored. Anything but a PNG, channels of 1, 2, 4 (grey) or 16 bits, a side past
+// 4096, a palette index past the palette and any fault of the file are refused (ImageIoError).
+refraster::TextureImage read_texture_png(std::span<const std::uint8_t> png);
 
 }  // namespace harness

@@ -14,6 +14,7 @@
 #include <functional>
 #include <map>
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -125,17 +126,25 @@ struct SceneLimits {
     std::uint64_t max_textures = 256;             // extension "textures"
     // RGBA8 texels over every level of every texture, those glGenerateMipmap makes included.
     std::uint64_t max_texel_bytes = std::uint64_t{1} << 30;
+    // The largest texture file read (extension "textures", key "file"), in bytes: read whole
+    // before it is decoded.
+    std::uint64_t max_texture_file_bytes = std::uint64_t{1} << 27;
+    // What files a scene may read as textures (docs/scene-format.md, "Texture files"): those
+    // whose real path lies under the real path of the scene's folder (the folder of the scene
+    // file; for load_scene_text and parse_scene the folder of the label, the working directory
+    // when the label names none) or, when not empty, under this folder (the CLI's
+    // --texture-root).
+    std::filesystem::path texture_root;
 };
 
-// How the loader reads the image file of a texture (extension "textures", key "file"): RGBA8
-// texels, rows bottom to top. `check_size(width, height)` must be called once the image's size
-// is known and before its pixels are decoded; it throws SceneError to refuse the size. Other
-// failures throw any std::exception whose what() names the file. harness_core reads no image
-// files itself: linking harness_image_io installs its PNG reader (image_io.hpp,
-// read_texture_png); a program without it refuses "file" with a message that says so.
-using TextureSizeCheck = std::function<void(std::uint32_t width, std::uint32_t height)>;
-using TextureFileReader = refraster::TextureImage (*)(const std::filesystem::path& path,
-                                                      const TextureSizeCheck& check_size);
+// How the loader decodes the image file of a texture (extension "textures", key "file"): the
+// loader opens and reads the file under its policy (docs/scene-format.md, "Texture files"),
+// checks PNG's signature, the header and the size against the limits, then hands the whole
+// file to this decoder, which returns RGBA8 texels, rows bottom to top, or throws any
+// std::exception when it cannot decode them. harness_core decodes no image itself: linking
+// harness_image_io installs its PNG decoder (image_io.hpp, read_texture_png); a program without
+// it refuses "file" with a message that says so.
+using TextureFileReader = refraster::TextureImage (*)(std::span<const std::uint8_t> png);
 void set_texture_file_reader(TextureFileReader reader);
 TextureFileReader texture_file_reader();
 
@@ -157,7 +166,8 @@ std::string escape_for_message(std::string_view text);
 
 // Parses and validates text that claims to be a scene file. `file_label` names it in errors;
 // a texture's "file" is read relative to the directory of `file_label`'s path (load_scene: the
-// scene file's own directory).
+// scene file's own directory), and that directory (the working directory when the label has
+// none) is the scene's folder its texture files must lie under (SceneLimits::texture_root).
 SceneFile parse_scene(std::string_view text, const std::string& file_label,
                       const SceneLimits& limits = {});
 

@@ -1,10 +1,13 @@
 #include "harness/image_io.hpp"
 
 #include <OpenImageIO/imageio.h>
+#include <png.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
-#include <fstream>
+#include <csetjmp>
+#include <cstring>
 #include <system_error>
 
 #include "harness/files.hpp"
@@ -134,73 +137,189 @@ refraster::Framebuffer read_color_image(const std::filesystem::path& path) {
 
 namespace {
 
-// The bit depth and colour type of a PNG's header (IHDR, always the first chunk: the 8-byte
-// signature, the chunk's length and type, width, height, then these two bytes). OpenImageIO
-// expands 1, 2 and 4-bit grey to 8 bits without saying so in its spec.
-std::pair<int, int> png_depth_and_color_type(const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::array<char, 26> h{};
-    if (!in.read(h.data(), h.size()) || std::string_view(h.data() + 12, 4) != "IHDR") {
-        throw ImageIoError(path.string() + ": cannot read the PNG header");
+// libpng's messages are not printed: a file that cannot be decoded is reported once, by the
+// caller. The error handler keeps the message and returns to png_decode's setjmp.
+struct PngSource {
+    std::span<const std::uint8_t> bytes;
+    std::size_t at = 0;
+    const char* error = nullptr;  // libpng's message, a literal of its own
+};
+
+[[noreturn]] void png_error_handler(png_structp png, png_const_charp message) {
+    static_cast<PngSource*>(png_get_error_ptr(png))->error = message;
+    png_longjmp(png, 1);
+}
+
+void png_warning_handler(png_structp /*png*/, png_const_charp /*message*/) {}
+
+void png_read_from_memory(png_structp png, png_bytep out, std::size_t n) {
+    auto* source = static_cast<PngSource*>(png_get_io_ptr(png));
+    if (source->bytes.size() - source->at < n) png_error(png, "the file ends early");
+    std::memcpy(out, source->bytes.data() + source->at, n);
+    source->at += n;
+}
+
+// The PNG's samples as stored, 8 bits each (palette images: one index a byte), into `rows`
+// (one pointer a row, in file order); its palette and transparency into `palette` (256 RGBA
+// entries) and `trns` (the grey or RGB colour that is transparent, when tRNS gives one).
+// Everything that owns memory lives in the caller: a libpng error returns here by longjmp.
+// Returns libpng's message, nullptr on success.
+struct PngTransparency {
+    bool has_colour = false;
+    std::array<std::uint16_t, 3> colour{};  // grey in [0], or red, green, blue
+};
+
+const char* png_decode(PngSource& source, std::uint32_t width, std::uint32_t height, int channels,
+                       png_bytep* rows, std::array<std::array<std::uint8_t, 4>, 256>& palette,
+                       int& palette_entries, PngTransparency& trns) {
+    png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &source, png_error_handler,
+                                             png_warning_handler);
+    if (png == nullptr) return "cannot allocate a decoder";
+    png_infop info = png_create_info_struct(png);
+    if (info == nullptr) {
+        png_destroy_read_struct(&png, nullptr, nullptr);
+        return "cannot allocate a decoder";
     }
-    return {static_cast<unsigned char>(h[24]), static_cast<unsigned char>(h[25])};
+    if (setjmp(png_jmpbuf(png))) {  // NOLINT(cert-err52-cpp): libpng's error return
+        png_destroy_read_struct(&png, &info, nullptr);
+        return source.error != nullptr ? source.error : "cannot decode";
+    }
+    png_set_read_fn(png, &source, png_read_from_memory);
+    // Only the chunks a texture needs: IHDR, PLTE, tRNS, IDAT, IEND; every other chunk, known
+    // or not, is skipped unread (no text or colour profile is decompressed).
+    png_set_keep_unknown_chunks(png, PNG_HANDLE_CHUNK_NEVER, nullptr, -1);
+    png_set_user_limits(png, width, height);
+    png_set_chunk_malloc_max(png, std::size_t{1} << 20);
+    png_read_info(png, info);
+    if (png_get_image_width(png, info) != width || png_get_image_height(png, info) != height ||
+        png_get_bit_depth(png, info) > 8 || png_get_channels(png, info) != channels) {
+        png_error(png, "the header changed");
+    }
+    const int color_type = png_get_color_type(png, info);
+    if (color_type == PNG_COLOR_TYPE_PALETTE) {
+        png_colorp entries = nullptr;
+        if (png_get_PLTE(png, info, &entries, &palette_entries) == 0) {
+            png_error(png, "a palette image without a palette");
+        }
+        for (int i = 0; i < palette_entries && i < 256; ++i) {
+            palette[static_cast<std::size_t>(i)] = {entries[i].red, entries[i].green,
+                                                    entries[i].blue, 255};
+        }
+        png_set_packing(png);  // 1, 2 and 4-bit indices one a byte
+    }
+    png_bytep alpha = nullptr;
+    int alpha_entries = 0;
+    png_color_16p colour = nullptr;
+    if (png_get_tRNS(png, info, &alpha, &alpha_entries, &colour) != 0) {
+        if (color_type == PNG_COLOR_TYPE_PALETTE) {
+            for (int i = 0; i < alpha_entries && i < 256; ++i) {
+                palette[static_cast<std::size_t>(i)][3] = alpha[i];
+            }
+        } else if (colour != nullptr) {
+            trns.has_colour = true;
+            trns.colour =
+                color_type == PNG_COLOR_TYPE_GRAY
+                    ? std::array<std::uint16_t, 3>{colour->gray, 0, 0}
+                    : std::array<std::uint16_t, 3>{colour->red, colour->green, colour->blue};
+        }
+    }
+    png_set_interlace_handling(png);
+    png_read_update_info(png, info);
+    if (png_get_rowbytes(png, info) != std::size_t{width} * static_cast<std::size_t>(channels)) {
+        png_error(png, "unexpected row size");
+    }
+    png_read_image(png, rows);
+    png_destroy_read_struct(&png, &info, nullptr);
+    return nullptr;
 }
 
 }  // namespace
 
-refraster::TextureImage read_texture_png(const std::filesystem::path& path,
-                                         const TextureSizeCheck& check_size) {
-    // Keep the colour as stored: without this, PNG colour is multiplied by alpha on reading.
-    OIIO::ImageSpec config;
-    config.attribute("oiio:UnassociatedAlpha", 1);
-    auto in = OIIO::ImageInput::open(path.string(), &config);
-    if (!in) throw ImageIoError(path.string() + ": cannot read: " + OIIO::geterror());
-    if (std::string_view(in->format_name()) != "png") {
-        throw ImageIoError(path.string() + ": a file of format " + in->format_name() +
-                           "; textures are read from PNG files");
+refraster::TextureImage read_texture_png(std::span<const std::uint8_t> png) {
+    // The signature and IHDR (always the first chunk): the 8-byte signature, the chunk's
+    // length and type, width, height, bit depth, colour type. Checked here so that nothing but
+    // a PNG reaches the decoder.
+    static constexpr std::array<std::uint8_t, 8> kSignature = {0x89, 'P',  'N',  'G',
+                                                               '\r', '\n', 0x1a, '\n'};
+    if (png.size() < 33 || !std::equal(kSignature.begin(), kSignature.end(), png.begin()) ||
+        std::memcmp(png.data() + 12, "IHDR", 4) != 0) {
+        throw ImageIoError("not a PNG file");
     }
-    const OIIO::ImageSpec& spec = in->spec();
-    const auto [depth, color_type] = png_depth_and_color_type(path);
+    const auto u32 = [&](std::size_t at) {
+        return (std::uint32_t{png[at]} << 24) | (std::uint32_t{png[at + 1]} << 16) |
+               (std::uint32_t{png[at + 2]} << 8) | std::uint32_t{png[at + 3]};
+    };
+    const std::uint32_t width = u32(16);
+    const std::uint32_t height = u32(20);
+    const int depth = png[24];
+    const int color_type = png[25];
+    constexpr std::uint32_t kMaxSide = 4096;  // the scene format's texture limit
+    if (width < 1 || height < 1 || width > kMaxSide || height > kMaxSide) {
+        throw ImageIoError("a PNG of " + std::to_string(width) + " x " + std::to_string(height) +
+                           " pixels; textures are 1 to 4096 pixels a side");
+    }
     constexpr int kPalette = 3;
-    if (spec.format != OIIO::TypeDesc::UINT8 || (depth != 8 && color_type != kPalette)) {
-        throw ImageIoError(path.string() + ": " + std::to_string(depth) +
+    if (depth != 8 && color_type != kPalette) {
+        throw ImageIoError(std::to_string(depth) +
                            "-bit channels; textures are read from PNGs of 8-bit channels");
     }
-    const int nch = spec.nchannels;
-    if (spec.width <= 0 || spec.height <= 0 || nch < 1 || nch > 4) {
-        throw ImageIoError(path.string() + ": " + std::to_string(nch) +
-                           " channels; expected grey, grey and alpha, RGB or RGBA");
+    // Samples a pixel as stored: grey 1, palette index 1, grey and alpha 2, RGB 3, RGBA 4.
+    const int channels = color_type == 0 || color_type == kPalette ? 1
+                         : color_type == 4                         ? 2
+                         : color_type == 2                         ? 3
+                         : color_type == 6                         ? 4
+                                                                   : 0;
+    if (channels == 0) throw ImageIoError("a PNG of unknown colour type");
+    const std::size_t pixels = std::size_t{width} * height;
+    const auto nch = static_cast<std::size_t>(channels);
+    std::vector<std::uint8_t> stored(pixels * nch);
+    std::vector<png_bytep> rows(height);
+    for (std::uint32_t r = 0; r < height; ++r) rows[r] = stored.data() + r * width * nch;
+    std::array<std::array<std::uint8_t, 4>, 256> palette{};
+    int palette_entries = 0;
+    PngTransparency trns;
+    PngSource source{png};
+    if (const char* error = png_decode(source, width, height, channels, rows.data(), palette,
+                                       palette_entries, trns)) {
+        throw ImageIoError(std::string("cannot decode the PNG: ") + error);
     }
-    const auto width = static_cast<std::uint32_t>(spec.width);
-    const auto height = static_cast<std::uint32_t>(spec.height);
-    if (check_size) check_size(width, height);
     refraster::TextureImage image;
     image.width = width;
     image.height = height;
-    const auto channels = static_cast<std::size_t>(nch);
-    const std::size_t pixels = std::size_t{width} * height;
-    std::vector<std::uint8_t> stored(pixels * channels);
-    const std::size_t row_bytes = std::size_t{width} * channels;
-    // The file's top row into the last row: a negative row stride flips.
-    std::uint8_t* last_row = stored.data() + (std::size_t{height} - 1) * row_bytes;
-    if (!in->read_image(0, 0, 0, nch, OIIO::TypeDesc::UINT8, last_row,
-                        static_cast<OIIO::stride_t>(channels),
-                        -static_cast<OIIO::stride_t>(row_bytes))) {
-        throw ImageIoError(path.string() + ": cannot read: " + in->geterror());
-    }
-    in->close();
     image.rgba.resize(pixels * 4);
-    for (std::size_t i = 0; i < pixels; ++i) {
-        const std::uint8_t* p = stored.data() + i * channels;
-        std::uint8_t* t = image.rgba.data() + i * 4;
-        if (nch <= 2) {
-            t[0] = t[1] = t[2] = p[0];
-            t[3] = nch == 2 ? p[1] : 255;
-        } else {
-            t[0] = p[0];
-            t[1] = p[1];
-            t[2] = p[2];
-            t[3] = nch == 4 ? p[3] : 255;
+    // The file's top row is the texture's last.
+    for (std::uint32_t r = 0; r < height; ++r) {
+        const std::uint8_t* in = stored.data() + std::size_t{r} * width * nch;
+        std::uint8_t* out = image.rgba.data() + std::size_t{height - 1 - r} * width * 4;
+        for (std::uint32_t x = 0; x < width; ++x, in += nch, out += 4) {
+            switch (color_type) {
+                case kPalette:
+                    if (in[0] >= palette_entries) {
+                        throw ImageIoError("cannot decode the PNG: palette index " +
+                                           std::to_string(in[0]) + " past its " +
+                                           std::to_string(palette_entries) + " entries");
+                    }
+                    std::copy_n(palette[in[0]].begin(), 4, out);
+                    break;
+                case 0:  // grey; transparent where it equals tRNS's grey
+                    out[0] = out[1] = out[2] = in[0];
+                    out[3] = trns.has_colour && in[0] == trns.colour[0] ? 0 : 255;
+                    break;
+                case 4:  // grey and alpha
+                    out[0] = out[1] = out[2] = in[0];
+                    out[3] = in[1];
+                    break;
+                case 2:  // RGB; transparent where all three equal tRNS's colour
+                    std::copy_n(in, 3, out);
+                    out[3] = trns.has_colour && in[0] == trns.colour[0] &&
+                                     in[1] == trns.colour[1] && in[2] == trns.colour[2]
+                                 ? 0
+                                 : 255;
+                    break;
+                default:  // RGBA, alpha not multiplied in
+                    std::copy_n(in, 4, out);
+                    break;
+            }
         }
     }
     return image;
@@ -208,7 +327,7 @@ refraster::TextureImage read_texture_png(const std::filesystem::path& path,
 
 namespace {
 
-// The loader reads texture files through read_texture_png in every program that links this
+// The loader decodes texture files through read_texture_png in every program that links this
 // library (scene.hpp). Every such program uses this file's writers or readers too, so the
 // linker always keeps it and this registration.
 const bool kTextureReaderInstalled = [] {

@@ -14,12 +14,14 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <new>
 #include <system_error>
 
 #include "harness/front_end.hpp"
 #include "harness/scene.hpp"
 #include "refraster/renderer.hpp"
 #include "strict_json.hpp"
+#include "texture_file.hpp"
 
 namespace harness {
 
@@ -778,6 +780,14 @@ struct TexelBudget {
     }
 };
 
+// Where a scene's texture files are read from: relative names start from `base_dir`, and a
+// file's real path must lie inside one of `roots` (texture_file.hpp).
+struct TextureFiles {
+    std::filesystem::path base_dir;
+    std::vector<std::string> roots;
+    std::uint64_t max_bytes = 0;
+};
+
 std::string size_text(std::uint32_t width, std::uint32_t height) {
     return std::to_string(width) + " x " + std::to_string(height);
 }
@@ -785,11 +795,10 @@ std::string size_text(std::uint32_t width, std::uint32_t height) {
 // One image of a texture: its base (`level` 0) or level `level` of "levels", which must be
 // exactly max(1, base_width >> level) x max(1, base_height >> level). Either "width", "height"
 // and "data" (base64 of width x height RGBA8 texels, rows bottom to top), or "file" (a PNG,
-// relative to `base_dir`) with "width" and "height" optional and then checked.
+// relative to `files.base_dir`) with "width" and "height" optional and then checked.
 refraster::TextureImage read_texture_image(const Node& n, std::uint32_t level,
                                            std::uint32_t base_width, std::uint32_t base_height,
-                                           const std::filesystem::path& base_dir,
-                                           TexelBudget& budget) {
+                                           const TextureFiles& files, TexelBudget& budget) {
     const auto data = n.get("data");
     const auto file = n.get("file");
     if (data && file) file->fail("give either \"data\" or \"file\", not both");
@@ -834,50 +843,62 @@ refraster::TextureImage read_texture_image(const Node& n, std::uint32_t level,
     }
     const std::string written = file->string();
     if (written.empty()) file->fail("expected the path of a PNG file, got an empty string");
-    const std::filesystem::path path = base_dir / written;
+    const std::filesystem::path path = files.base_dir / written;
     const std::string shown = escape_for_message(path.string());
-    std::error_code ec;
-    const auto status = std::filesystem::status(path, ec);
-    if (ec || !std::filesystem::exists(status))
-        file->fail("cannot read " + shown + ": no such file");
-    if (!std::filesystem::is_regular_file(status)) {
-        file->fail("cannot read " + shown + ": not a regular file");
-    }
     const TextureFileReader reader = texture_file_reader();
     if (reader == nullptr) {
         file->fail("cannot read " + shown +
                    ": this program reads no image files (it is built without harness_image_io); "
                    "give the texels as \"data\"");
     }
-    bool checked = false;
-    const auto check_size = [&](std::uint32_t w, std::uint32_t h) {
-        checked = true;
-        if (w < 1 || h < 1 || w > kMaxTextureSide || h > kMaxTextureSide) {
-            file->fail(shown + " is " + size_text(w, h) +
-                       " pixels; a texture is 1 to 4096 pixels a side");
-        }
-        if (width && w != *width) {
-            file->fail(shown + " is " + size_text(w, h) + " pixels, but \"width\" is " +
-                       std::to_string(*width));
-        }
-        if (height && h != *height) {
-            file->fail(shown + " is " + size_text(w, h) + " pixels, but \"height\" is " +
-                       std::to_string(*height));
-        }
-        if (level != 0 && (w != want_width || h != want_height)) {
-            file->fail(level_size() + "; " + shown + " is " + size_text(w, h));
-        }
-        budget.add(n, std::uint64_t{w} * h * 4);
-    };
-    try {
-        image = reader(path, check_size);
-    } catch (const SceneError&) {
-        throw;
-    } catch (const std::exception& e) {
-        file->fail(escape_for_message(e.what()));
+    // Every file that cannot be used gets this one message, whatever the reason (missing,
+    // unreadable, not a regular file, outside the roots, not a PNG, not decodable), so that
+    // a message never tells which files exist outside the roots.
+    const std::string unusable = "\"" + escape_for_message(written) +
+                                 "\" cannot be used as a texture (a PNG file under the scene's "
+                                 "folder or --texture-root; docs/scene-format.md)";
+    texture_file::FileBytes read = texture_file::read_png_file(path, files.roots, files.max_bytes);
+    if (read.status == texture_file::Status::TooLarge) {
+        file->fail(shown + " is a file of " + std::to_string(read.size) +
+                   " bytes, over the limit of " + std::to_string(files.max_bytes) +
+                   " for a texture file (docs/limits.md)");
     }
-    if (!checked) check_size(image.width, image.height);
-    if (image.rgba.size() != std::size_t{image.width} * image.height * 4) {
+    if (read.status != texture_file::Status::Ok) file->fail(unusable);
+    const auto header = texture_file::png_header(read.bytes);
+    if (!header) file->fail(unusable);
+    const std::uint32_t w = header->width;
+    const std::uint32_t h = header->height;
+    constexpr int kPalette = 3;
+    if (header->bit_depth != 8 && header->color_type != kPalette) {
+        file->fail(shown + ": " + std::to_string(header->bit_depth) +
+                   "-bit channels; textures are read from PNGs of 8-bit channels");
+    }
+    // The header's size, before any decoder runs.
+    if (w < 1 || h < 1 || w > kMaxTextureSide || h > kMaxTextureSide) {
+        file->fail(shown + " is " + size_text(w, h) +
+                   " pixels; a texture is 1 to 4096 pixels a side");
+    }
+    if (width && w != *width) {
+        file->fail(shown + " is " + size_text(w, h) + " pixels, but \"width\" is " +
+                   std::to_string(*width));
+    }
+    if (height && h != *height) {
+        file->fail(shown + " is " + size_text(w, h) + " pixels, but \"height\" is " +
+                   std::to_string(*height));
+    }
+    if (level != 0 && (w != want_width || h != want_height)) {
+        file->fail(level_size() + "; " + shown + " is " + size_text(w, h));
+    }
+    budget.add(n, std::uint64_t{w} * h * 4);
+    try {
+        image = reader(read.bytes);
+    } catch (const std::bad_alloc&) {
+        throw;
+    } catch (const std::exception&) {
+        file->fail(unusable);
+    }
+    if (image.width != w || image.height != h ||
+        image.rgba.size() != std::size_t{image.width} * image.height * 4) {
         file->fail(shown + ": the image reader returned " + std::to_string(image.rgba.size()) +
                    " bytes for " + size_text(image.width, image.height) + " texels");
     }
@@ -886,11 +907,10 @@ refraster::TextureImage read_texture_image(const Node& n, std::uint32_t level,
 
 // One texture: its base image, then "levels" (the given mipmap levels 1, 2, ...) or "mipmaps":
 // "generate".
-refraster::Texture read_texture(const Node& n, const std::filesystem::path& base_dir,
-                                TexelBudget& budget) {
+refraster::Texture read_texture(const Node& n, const TextureFiles& files, TexelBudget& budget) {
     n.require_object({"width", "height", "data", "file", "levels", "mipmaps"});
     refraster::Texture t;
-    t.levels.push_back(read_texture_image(n, 0, 0, 0, base_dir, budget));
+    t.levels.push_back(read_texture_image(n, 0, 0, 0, files, budget));
     const std::uint32_t width = t.levels[0].width;
     const std::uint32_t height = t.levels[0].height;
     // The levels below the base, down to 1 x 1.
@@ -910,7 +930,7 @@ refraster::Texture read_texture(const Node& n, const std::filesystem::path& base
         std::uint32_t level = 1;
         levels->for_each([&](const Node& e) {
             e.require_object({"width", "height", "data", "file"});
-            t.levels.push_back(read_texture_image(e, level++, width, height, base_dir, budget));
+            t.levels.push_back(read_texture_image(e, level++, width, height, files, budget));
         });
     }
     if (mipmaps) {
@@ -929,6 +949,11 @@ refraster::Texture read_texture(const Node& n, const std::filesystem::path& base
 std::map<std::string, refraster::Texture> read_textures(const Node& n,
                                                         const std::filesystem::path& base_dir,
                                                         const SceneLimits& limits) {
+    // The folders texture files may lie under: the scene's, and the texture root when given.
+    std::vector<std::filesystem::path> folders{base_dir};
+    if (!limits.texture_root.empty()) folders.push_back(limits.texture_root);
+    const TextureFiles files{base_dir, texture_file::real_roots(folders),
+                             limits.max_texture_file_bytes};
     const std::size_t count = n.members("an object of textures by name");
     if (count > limits.max_textures) {
         n.fail(std::to_string(count) + " textures exceed the limit of " +
@@ -937,7 +962,7 @@ std::map<std::string, refraster::Texture> read_textures(const Node& n,
     TexelBudget budget{limits};
     std::map<std::string, refraster::Texture> out;
     n.for_each_member([&](std::string_view name, const Node& t) {
-        out.emplace(std::string(name), read_texture(t, base_dir, budget));
+        out.emplace(std::string(name), read_texture(t, files, budget));
     });
     return out;
 }

@@ -26,6 +26,7 @@
 
 #include "harness/backend.hpp"
 #include "harness/case_result.hpp"
+#include "harness/scene.hpp"
 
 namespace conformance {
 
@@ -76,6 +77,8 @@ class NamePatterns {
 
 struct RunOptions {
     std::filesystem::path scenes_root;
+    // How each scene file is loaded: the limits and the texture root (--texture-root).
+    harness::SceneLimits scene_limits;
     std::vector<std::string> case_globs;
     std::vector<std::string> exclude_globs;
     std::optional<std::filesystem::path> caselist;
