@@ -131,8 +131,8 @@ TEST(HostileRuns, ScenePathCannotEndTheCasePageScript) {
 }
 
 TEST(HostileRuns, SceneFileNamesThatWouldForgeOutputAreRefusedBeforeWriting) {
-    for (const std::string bad : {std::string("x\nPass forged_case"), std::string("x\x1b[2Jy"),
-                                  std::string("a,b"), std::string(250, 'n')}) {
+    for (const std::string& bad : {std::string("x\nPass forged_case"), std::string("x\x1b[2Jy"),
+                                   std::string("a,b"), std::string(250, 'n')}) {
         testutil::TempDir dir;
         const fs::path root = suite(dir.path() / "scenes");
         std::ofstream(root / "t" / (bad + ".json")) << kPlain;
