@@ -328,6 +328,38 @@ TEST(HostileRuns, RunIntoAUsedFolderClearsWhatTheEarlierRunWroteAndNothingElse) 
     EXPECT_EQ(records(out / "results.jsonl").size(), 1u);
 }
 
+TEST(HostileRuns, NoOutputFolderLeadsOutOfTheOutput) {
+    testutil::TempDir dir;
+    const fs::path root = suite(dir.path() / "scenes");
+    const fs::path out = dir.path() / "out", elsewhere = dir.path() / "elsewhere";
+    ASSERT_EQ(cli(run_args(root, out)).exit_code, 1);
+    // cases/ replaced by a link to a folder of someone else's, holding a file of a case's name.
+    fs::create_directories(elsewhere);
+    std::ofstream(elsewhere / "t.tie.html") << "mine";
+    fs::remove_all(out / "cases");
+    fs::create_directory_symlink(elsewhere, out / "cases");
+    const std::string before = testutil::read_text(out / "results.jsonl");
+    for (const bool resume : {false, true}) {
+        auto args = run_args(root, out);
+        if (resume) args.push_back("--resume");
+        const auto r = cli(args);
+        EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+        EXPECT_NE(r.err.find("not a directory"), std::string::npos) << r.err;
+        EXPECT_EQ(testutil::read_text(elsewhere / "t.tie.html"), "mine");
+        EXPECT_FALSE(fs::exists(elsewhere / "t.plain.html"));
+        EXPECT_EQ(testutil::read_text(out / "results.jsonl"), before);
+    }
+    // A merge into it.
+    const fs::path shard = dir.path() / "shard";
+    fs::create_directories(shard);
+    std::ofstream(shard / "results.jsonl") << before;
+    const auto m = cli({"conformance", "merge", shard.string(), "--output", out.string()});
+    EXPECT_EQ(m.exit_code, 2) << m.out << m.err;
+    EXPECT_NE(m.err.find("not a directory"), std::string::npos) << m.err;
+    EXPECT_EQ(testutil::read_text(elsewhere / "t.tie.html"), "mine");
+    EXPECT_EQ(testutil::read_text(out / "results.jsonl"), before);
+}
+
 TEST(HostileRuns, ExplainEchoesABadPixelEscaped) {
     testutil::TempDir dir;
     const fs::path scene = dir.write("s.json", kPlain);

@@ -172,6 +172,11 @@ MergeSummary merge_shards(const std::vector<fs::path>& shards, const fs::path& o
             }
         }
     }
+    try {
+        check_output_folders(output);
+    } catch (const std::runtime_error& e) {
+        throw MergeError(e.what());
+    }
     // Every report built before anything is written: a record the reports cannot read stops
     // the merge here.
     std::vector<ReportFile> reports;

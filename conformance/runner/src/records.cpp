@@ -130,6 +130,18 @@ fs::path case_file(const fs::path& output, std::string_view dir, std::string_vie
     return output_file(output, dir, std::string(name) + std::string(suffix));
 }
 
+void check_output_folders(const fs::path& output) {
+    std::error_code ec;
+    for (const char* d : {"cases", "images", "explain"}) {
+        const auto st = fs::symlink_status(output / d, ec);
+        if (!ec && fs::exists(st) && !fs::is_directory(st)) {
+            throw std::runtime_error(harness::encode::terminal((output / d).string()) +
+                                     ": not a directory (a symbolic link?); refusing to write "
+                                     "through it");
+        }
+    }
+}
+
 fs::path output_file(const fs::path& output, std::string_view dir, std::string_view file) {
     const auto plain = [](std::string_view n) {
         return !n.empty() && n != "." && n != ".." && n.find('/') == std::string_view::npos &&

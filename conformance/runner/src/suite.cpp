@@ -456,6 +456,8 @@ void clear_run_output(const std::filesystem::path& output) {
     const auto present = [&](const fs::path& p) { return fs::exists(fs::symlink_status(p, ec)); };
     const fs::path jsonl = output / "results.jsonl";
     if (!present(jsonl) && !present(output / "run.json")) return;
+    // Nothing is removed through a link that leads out of the output.
+    check_output_folders(output);
     // Which files are the earlier run's: read everything before removing anything.
     std::vector<fs::path> owned;
     for (const char* f : {"results.csv", "failures.csv", "samples.csv", "results.json", "junit.xml",
@@ -568,6 +570,7 @@ RunSummary run_suite(const RunOptions& options, std::ostream& console) {
     setup["selection"] = {
         {"cases", options.case_globs}, {"exclude", options.exclude_globs}, {"names", names}};
 
+    check_output_folders(options.output);
     std::map<std::string, json> done;
     std::map<std::string, std::string> kept_identity;
     if (options.resume) {

@@ -62,6 +62,11 @@ ResultLines read_result_lines(const std::filesystem::path& file);
 std::filesystem::path output_file(const std::filesystem::path& output, std::string_view dir,
                                   std::string_view file);
 
+// Throws std::runtime_error naming the first of output/cases, output/images and
+// output/explain that exists as anything but a directory (a symbolic link included): a run or
+// merge checks them before it removes or writes anything.
+void check_output_folders(const std::filesystem::path& output);
+
 // output_file(output, dir, name + suffix) for a case name that case_name_problem accepts;
 // throws with its problem otherwise.
 std::filesystem::path case_file(const std::filesystem::path& output, std::string_view dir,
