@@ -161,6 +161,12 @@ TEST(HostileRuns, ControlCharactersInPathsReachNoReportOrTerminalRaw) {
     EXPECT_EQ(junit.find('\x1b'), std::string::npos) << "XML 1.0 forbids it";
     const std::string csv = testutil::read_text(out / "results.csv");
     EXPECT_EQ(count(csv, "\n"), 3u) << csv;
+    // The run merges as it is: the case that rendered nothing is of the same run as the others.
+    const auto m =
+        cli({"conformance", "merge", out.string(), "--output", (dir.path() / "merged").string()});
+    EXPECT_EQ(m.exit_code, 0) << m.out << m.err;
+    EXPECT_EQ(testutil::read_text(dir.path() / "merged" / "results.csv"), csv);
+    EXPECT_EQ(m.out.find('\x1b'), std::string::npos) << m.out;
 }
 
 TEST(HostileRuns, MergeRefusesNamesOutsideTheOutputAndBadRecordsBeforeWriting) {

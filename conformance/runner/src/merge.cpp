@@ -73,13 +73,18 @@ ShardInput read_shard(const fs::path& dir) {
         if (first) {
             in.index = index;
             in.count = count;
-            in.identity = identity_of(r);
             first = false;
         } else if (index != in.index || count != in.count) {
             throw MergeError(at + ": shard " + std::to_string(index) + " of " +
                              std::to_string(count) + " among records of shard " +
                              std::to_string(in.index) + " of " + std::to_string(in.count));
-        } else if (const auto d = first_difference(identity_of(r), in.identity); !d.empty()) {
+        }
+        // A case whose scene did not load rendered nothing and names no backend: it belongs to
+        // any run.
+        const auto id = identity_of(r);
+        if (in.identity.empty()) {
+            in.identity = id;
+        } else if (const auto d = first_difference(id, in.identity); !id.empty() && !d.empty()) {
             throw MergeError(at + ": a record of another run than the file's first (" +
                              harness::encode::terminal(d) + ")");
         }
@@ -132,7 +137,7 @@ MergeSummary merge_shards(const std::vector<fs::path>& shards, const fs::path& o
             throw MergeError(shown(s.dir) + ": shard " + std::to_string(s.index) + " of " +
                              std::to_string(s.count) + ", but " + shown(first.dir) + " is of " +
                              std::to_string(first.count));
-        if (s.identity != first.identity)
+        if (!s.identity.empty() && !first.identity.empty() && s.identity != first.identity)
             throw MergeError(
                 shown(s.dir) + ": another run than " + shown(first.dir) + ": " +
                 harness::encode::terminal(first_difference(s.identity, first.identity)));
