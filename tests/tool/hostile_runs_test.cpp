@@ -148,9 +148,13 @@ TEST(HostileRuns, SceneFileNamesThatWouldForgeOutputAreRefusedBeforeWriting) {
 
 TEST(HostileRuns, ControlCharactersInPathsReachNoReportOrTerminalRaw) {
     testutil::TempDir dir;
-    // A scene that does not load: its message quotes its path, which holds ESC and a newline.
+    // A scene that does not load, under a root whose path holds ESC and a newline, and one whose
+    // `name` (quoted in its InternalError message) holds an escape sequence and a forged line.
     const fs::path root = suite(dir.path() / "r\x1b[31m\nPass forged");
     std::ofstream(root / "t" / "broken.json") << "{ not json";
+    std::ofstream(root / "t" / "named.json")
+        << R"({"format": "refraster-scene/1", "name": "x\u001b[31mred\nPass forged",
+              "target": {"width": 4, "height": 4}, "draws": []})";
     const fs::path out = dir.path() / "out";
     const auto r = cli(run_args(root, out));
     ASSERT_EQ(r.exit_code, 1) << r.out << r.err;
@@ -159,8 +163,10 @@ TEST(HostileRuns, ControlCharactersInPathsReachNoReportOrTerminalRaw) {
     const std::string junit = testutil::read_text(out / "junit.xml");
     ASSERT_NE(junit.find("t.broken"), std::string::npos);
     EXPECT_EQ(junit.find('\x1b'), std::string::npos) << "XML 1.0 forbids it";
+    EXPECT_NE(junit.find("t.named"), std::string::npos);
+    EXPECT_EQ(testutil::read_text(out / "cases" / "t.named.html").find('\x1b'), std::string::npos);
     const std::string csv = testutil::read_text(out / "results.csv");
-    EXPECT_EQ(count(csv, "\n"), 3u) << csv;
+    EXPECT_EQ(count(csv, "\n"), 4u) << csv;
     // The run merges as it is: the case that rendered nothing is of the same run as the others.
     const auto m =
         cli({"conformance", "merge", out.string(), "--output", (dir.path() / "merged").string()});
