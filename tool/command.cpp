@@ -3,13 +3,15 @@
 #include <exception>
 #include <iostream>
 
+#include "harness/encode.hpp"
+
 namespace tool {
 
 std::optional<harness::Scene> load_or_report(const std::string& path, const SceneArgs& scene) {
     try {
         return harness::load_scene(path, scene.limits());
     } catch (const harness::SceneError& e) {
-        std::cerr << e.what() << "\n";
+        std::cerr << harness::encode::terminal(e.what()) << "\n";
         return std::nullopt;
     }
 }
@@ -22,10 +24,12 @@ std::unique_ptr<harness::Backend> backend_or_report(const BackendArgs& a,
         // Bad input is the user's to fix, and main says so whatever the scene; anything else
         // is this backend failing on it.
         if (e.exit_class() == refraster::ExitClass::BadInput) throw;
-        std::cerr << scene << ": backend " << a.backend << ": " << e.what() << "\n";
+        std::cerr << harness::encode::terminal(scene) << ": backend " << a.backend << ": "
+                  << harness::encode::terminal(e.what()) << "\n";
         return nullptr;
     } catch (const std::exception& e) {
-        std::cerr << scene << ": backend " << a.backend << ": " << e.what() << "\n";
+        std::cerr << harness::encode::terminal(scene) << ": backend " << a.backend << ": "
+                  << harness::encode::terminal(e.what()) << "\n";
         return nullptr;
     }
 }

@@ -13,6 +13,7 @@
 
 #include "command.hpp"
 #include "commands/commands.hpp"
+#include "harness/encode.hpp"
 #include "options.hpp"
 
 namespace {
@@ -34,7 +35,7 @@ int run(int argc, char** argv) {
     } catch (const CLI::CallForAllHelp& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        std::cerr << "refraster: " << e.what() << " (see --help)\n";
+        std::cerr << "refraster: " << harness::encode::terminal(e.what()) << " (see --help)\n";
         return tool::kExitBadInput;
     }
     for (const auto& command : commands) {
@@ -49,13 +50,13 @@ int main(int argc, char** argv) {
     try {
         return run(argc, argv);
     } catch (const refraster::Error& e) {
-        std::cerr << "refraster: " << e.what() << "\n";
+        std::cerr << "refraster: " << harness::encode::terminal(e.what()) << "\n";
         return tool::exit_code(e.exit_class());
     } catch (const std::bad_alloc&) {
         std::cerr << "refraster: out of memory\n";
         return tool::kExitOutOfMemory;
     } catch (const std::exception& e) {
-        std::cerr << "refraster: " << e.what() << "\n";
+        std::cerr << "refraster: " << harness::encode::terminal(e.what()) << "\n";
         return tool::kExitBackendFailure;
     }
 }

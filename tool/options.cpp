@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "command.hpp"
+#include "harness/encode.hpp"
 #include "harness/profile_io.hpp"
 
 namespace tool {
@@ -104,7 +105,8 @@ std::optional<int> list_egl_devices_if_asked(int argc, char** argv) {
         } catch (const harness::BackendOptionError&) {
             throw;  // bad input: main reports it
         } catch (const std::exception& e) {
-            std::cerr << "refraster: --egl-device list: " << e.what() << "\n";
+            std::cerr << "refraster: --egl-device list: " << harness::encode::terminal(e.what())
+                      << "\n";
             return kExitBackendFailure;
         }
     }

@@ -112,6 +112,12 @@ TEST(Shard, RefusesWhatItCannotTrust) {
     EXPECT_NE(error_of({}, {}, {{"SLURM_ARRAY_TASK_ID", "3"}}).find("SLURM_ARRAY_TASK_COUNT"),
               std::string::npos);
     EXPECT_NE(error_of(0, 0, {}).find("below 1"), std::string::npos);
+    // The most shards a run may have (docs/limits.md), from a flag or a variable alike.
+    EXPECT_EQ(error_of(4095, 4096, {}), "");
+    EXPECT_NE(error_of(0, 4097, {}).find("above 4096"), std::string::npos);
+    EXPECT_NE(error_of({}, {}, {{"GTEST_SHARD_INDEX", "0"}, {"GTEST_TOTAL_SHARDS", "2000000000"}})
+                  .find("above 4096"),
+              std::string::npos);
 }
 
 }  // namespace

@@ -225,15 +225,37 @@ TEST(SampleReports, ResumedRunReportsTheSamples) {
     const SwappedSamples f;
     FixedBackend ref("ref", result_of(f.ref));
     FixedBackend act("ref", result_of(f.act));
-    const auto r = harness::run_case(scene, "ms.case", ref, act);
+    auto r = harness::run_case(scene, "ms.case", ref, act);
+    // A real run of the same cases sets the directory up (run.json, which a resume must
+    // match); its ms.case record is then replaced by this one, with the real record's shard
+    // and provenance, as a run of these backends would have written it.
     const auto out = dir.path() / "out";
-    std::filesystem::create_directories(out / "images");
+    const std::vector<std::string> run_args{"conformance", "run", "--scenes", scenes.string(),
+                                            "--against",   "ref", "--output", out.string()};
+    ASSERT_EQ(testutil::run_cli(run_args).exit_code, 0);
+    nlohmann::json real;
+    {
+        std::istringstream in(testutil::read_text(out / "results.jsonl"));
+        for (std::string l; std::getline(in, l);) {
+            if (nlohmann::json::parse(l)["case"] == "ms.case") real = nlohmann::json::parse(l);
+        }
+    }
+    ASSERT_TRUE(real.is_object());
+    r.shard = std::array<int, 2>{0, 1};
+    r.shard_source = real["shard"]["source"].get<std::string>();
+    for (auto* side : {&r.reference, &r.actual}) {
+        (*side)->provenance.clear();
+        const char* key = side == &r.reference ? "reference" : "actual";
+        for (const auto& [k, v] : real[key]["provenance"].items())
+            (*side)->provenance[k] = v.get<std::string>();
+    }
     const std::string record = harness::to_json_line(r) + "\n";
-    std::ofstream(out / "results.jsonl", std::ios::binary) << record;
+    std::ofstream(out / "results.jsonl", std::ios::binary | std::ios::trunc) << record;
     harness::write_color_image(r.sample_comparison->mask, out / "images" / "ms.case.samples.png");
 
-    const auto run = testutil::run_cli({"conformance", "run", "--scenes", scenes.string(),
-                                        "--against", "ref", "--resume", "--output", out.string()});
+    auto resume_args = run_args;
+    resume_args.push_back("--resume");
+    const auto run = testutil::run_cli(resume_args);
     ASSERT_EQ(run.exit_code, 1) << run.out << run.err;
     EXPECT_NE(run.out.find("resume: kept 1 finished case"), std::string::npos) << run.out;
     EXPECT_NE(run.out.find("1 passed, 1 failed, 0 skipped"), std::string::npos) << run.out;

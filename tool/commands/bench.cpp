@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "commands/commands.hpp"
+#include "harness/encode.hpp"
 #include "harness/files.hpp"
 
 namespace tool {
@@ -45,10 +46,10 @@ int run_bench(const BenchArgs& a) {
     try {
         report = harness::run_bench(o, std::cerr);
     } catch (const std::invalid_argument& e) {
-        std::cerr << "refraster bench: " << e.what() << "\n";
+        std::cerr << "refraster bench: " << harness::encode::terminal(e.what()) << "\n";
         return kExitBadInput;
     } catch (const std::exception& e) {
-        std::cerr << "refraster bench: " << e.what() << "\n";
+        std::cerr << "refraster bench: " << harness::encode::terminal(e.what()) << "\n";
         return kExitBackendFailure;
     }
     std::cout << harness::bench_table(report);
@@ -56,7 +57,7 @@ int run_bench(const BenchArgs& a) {
         try {
             harness::write_file_atomically(a.json, harness::bench_json(report));
         } catch (const std::exception& e) {
-            std::cerr << e.what() << "\n";
+            std::cerr << harness::encode::terminal(e.what()) << "\n";
             return kExitBadInput;
         }
     }

@@ -9,6 +9,7 @@
 
 #include "commands/commands.hpp"
 #include "harness/case_result.hpp"
+#include "harness/encode.hpp"
 #include "harness/files.hpp"
 #include "harness/image_io.hpp"
 
@@ -49,7 +50,7 @@ int run_compare(CompareArgs a) {
     const auto scene = load_or_report(a.scene, a.scene_args);
     if (!scene) return kExitBadInput;
     if (!a.diff.empty() && std::filesystem::path(a.diff).extension() != ".png") {
-        std::cerr << a.diff << ": the error mask is written as .png\n";
+        std::cerr << harness::encode::terminal(a.diff) << ": the error mask is written as .png\n";
         return kExitBadInput;
     }
     if (a.reference_driver.empty()) a.reference_driver = a.against.driver;
@@ -73,7 +74,7 @@ int run_compare(CompareArgs a) {
             write_diff_images(r, a.diff);
         }
     } catch (const std::exception& e) {
-        std::cerr << e.what() << "\n";
+        std::cerr << harness::encode::terminal(e.what()) << "\n";
         return kExitBadInput;
     }
     std::cout << to_string(r.status) << " " << r.name << " (" << r.reference_name << " vs "
@@ -87,10 +88,12 @@ int run_compare(CompareArgs a) {
         case harness::CaseStatus::Fail:
             return kExitMismatch;
         case harness::CaseStatus::NotSupported:
-            std::cerr << a.scene << ": NotSupported: " << r.message << "\n";
+            std::cerr << harness::encode::terminal(a.scene)
+                      << ": NotSupported: " << harness::encode::terminal(r.message) << "\n";
             return kExitNotSupported;
         default:
-            std::cerr << a.scene << ": " << to_string(r.status) << ": " << r.message << "\n";
+            std::cerr << harness::encode::terminal(a.scene) << ": " << to_string(r.status) << ": "
+                      << harness::encode::terminal(r.message) << "\n";
             return kExitBackendFailure;
     }
 }

@@ -13,6 +13,7 @@
 #include "conformance/merge.hpp"
 #include "conformance/shard.hpp"
 #include "conformance/suite.hpp"
+#include "harness/encode.hpp"
 #include "harness/image_hash.hpp"
 
 namespace tool {
@@ -54,7 +55,7 @@ int run_conformance(const ConformanceArgs& a) {
         o.shard_count = shard.count;
         o.shard_source = shard.source;
     } catch (const conformance::ShardError& e) {
-        std::cerr << "refraster conformance run: " << e.what() << "\n";
+        std::cerr << "refraster conformance run: " << harness::encode::terminal(e.what()) << "\n";
         return exit_code(e.exit_class());
     }
     o.skips.assign(a.skips.begin(), a.skips.end());
@@ -75,7 +76,7 @@ int run_conformance(const ConformanceArgs& a) {
     } catch (const std::exception& e) {
         // Whatever stops a run before its verdict (a profile, a scene, a results directory
         // that cannot be resumed) is reported as the run's bad input.
-        std::cerr << "refraster conformance run: " << e.what() << "\n";
+        std::cerr << "refraster conformance run: " << harness::encode::terminal(e.what()) << "\n";
         return kExitBadInput;
     }
 }
@@ -91,10 +92,11 @@ int run_merge(const std::vector<std::string>& shards, const std::string& output)
         std::cout << "report: " << (std::filesystem::path(output) / "index.html").string() << "\n";
         return summary.missing_shards.empty() ? kExitOk : kExitMismatch;
     } catch (const conformance::MergeError& e) {
-        std::cerr << "refraster conformance merge: " << e.what() << "\n";
+        std::cerr << "refraster conformance merge: " << harness::encode::terminal(e.what()) << "\n";
         return exit_code(e.exit_class());
     } catch (const std::exception& e) {
-        std::cerr << "refraster conformance merge: " << output << ": " << e.what() << "\n";
+        std::cerr << "refraster conformance merge: " << harness::encode::terminal(output) << ": "
+                  << harness::encode::terminal(e.what()) << "\n";
         return kExitBadInput;
     }
 }
@@ -127,7 +129,8 @@ int run_hashes(const std::string& scenes, const SceneArgs& scene_args, const Pro
         }
         return kExitOk;
     } catch (const std::exception& e) {
-        std::cerr << "refraster conformance hashes: " << e.what() << "\n";
+        std::cerr << "refraster conformance hashes: " << harness::encode::terminal(e.what())
+                  << "\n";
         return kExitBadInput;
     }
 }

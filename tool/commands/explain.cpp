@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "commands/commands.hpp"
+#include "harness/encode.hpp"
 #include "harness/files.hpp"
 #include "harness/gl_verdict.hpp"
 
@@ -29,21 +30,23 @@ int run_explain(const ExplainArgs& a) {
     if (!scene) return kExitBadInput;
     const auto pixel = parse_pixel(a.pixel);
     if (!pixel) {
-        std::cerr << "refraster explain: --pixel " << a.pixel << ": expected X,Y\n";
+        std::cerr << "refraster explain: --pixel " << harness::encode::terminal(a.pixel)
+                  << ": expected X,Y\n";
         return kExitBadInput;
     }
     const int x = (*pixel)[0];
     const int y = (*pixel)[1];
     const auto& target = scene->draw_list.target;
     if (!inside(target, *pixel)) {
-        std::cerr << a.scene << ": --pixel " << a.pixel << ": outside the " << target.width << "x"
+        std::cerr << harness::encode::terminal(a.scene) << ": --pixel "
+                  << harness::encode::terminal(a.pixel) << ": outside the " << target.width << "x"
                   << target.height << " target\n";
         return kExitBadInput;
     }
     if (a.sample >= 0 && target.samples != 4) {
-        std::cerr << a.scene << ": --sample " << a.sample << ": the target has " << target.samples
-                  << " sample" << (target.samples == 1 ? "" : "s")
-                  << " (--sample needs a 4x target)\n";
+        std::cerr << harness::encode::terminal(a.scene) << ": --sample " << a.sample
+                  << ": the target has " << target.samples << " sample"
+                  << (target.samples == 1 ? "" : "s") << " (--sample needs a 4x target)\n";
         return kExitBadInput;
     }
     refraster::Profile profile;
@@ -62,7 +65,8 @@ int run_explain(const ExplainArgs& a) {
         if (!a.svg.empty()) harness::write_file_atomically(a.svg, harness::explanation_svg(e));
         return e.agree ? kExitOk : kExitMismatch;
     } catch (const std::exception& ex) {
-        std::cerr << a.scene << ": " << ex.what() << "\n";
+        std::cerr << harness::encode::terminal(a.scene) << ": "
+                  << harness::encode::terminal(ex.what()) << "\n";
         return kExitBackendFailure;
     }
 }

@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "commands/commands.hpp"
+#include "harness/encode.hpp"
 #include "harness/profile_io.hpp"
 
 namespace tool {
@@ -27,7 +28,7 @@ int run_fingerprint(const FingerprintArgs& a) {
         r = harness::fingerprint(
             *backend, [](const std::string& s) { std::cerr << "fingerprint: " << s << "\n"; });
     } catch (const std::exception& e) {
-        std::cerr << "fingerprint: " << e.what() << "\n";
+        std::cerr << "fingerprint: " << harness::encode::terminal(e.what()) << "\n";
         return kExitBackendFailure;
     }
     std::cout << harness::fingerprint_text(r);
@@ -37,7 +38,7 @@ int run_fingerprint(const FingerprintArgs& a) {
             std::ofstream o(tmp, std::ios::binary);
             o << text << "\n";
             if (!o) {
-                std::cerr << path << ": cannot write\n";
+                std::cerr << harness::encode::terminal(path) << ": cannot write\n";
                 std::error_code ec;
                 std::filesystem::remove(tmp, ec);
                 return false;
@@ -48,7 +49,7 @@ int run_fingerprint(const FingerprintArgs& a) {
     };
     if (!write(a.output, harness::profile_to_json(r.profile))) return kExitBadInput;
     if (!a.json.empty() && !write(a.json, harness::fingerprint_json(r))) return kExitBadInput;
-    std::cerr << a.output << ": profile " << r.profile.name << "\n";
+    std::cerr << harness::encode::terminal(a.output) << ": profile " << r.profile.name << "\n";
     // Undecided rules are a finding, not a failure of the tool: the profile is written, and the
     // exit code says that it is incomplete.
     return r.complete() ? kExitOk : kExitMismatch;

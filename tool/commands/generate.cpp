@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "commands/commands.hpp"
+#include "harness/encode.hpp"
 #include "harness/extreme_scenes.hpp"
 #include "harness/scene_text.hpp"
 
@@ -27,14 +28,14 @@ int run_generate_many(std::uint64_t triangles, std::uint64_t seed, const std::st
         std::ofstream o(tmp, std::ios::binary);
         o.write(text.data(), static_cast<std::streamsize>(text.size()));
         if (!o) {
-            std::cerr << output << ": cannot write\n";
+            std::cerr << harness::encode::terminal(output) << ": cannot write\n";
             std::error_code ec;
             std::filesystem::remove(tmp, ec);
             return kExitBadInput;
         }
     }
     std::filesystem::rename(tmp, out);
-    std::cerr << output << ": " << text.size() << " bytes\n";
+    std::cerr << harness::encode::terminal(output) << ": " << text.size() << " bytes\n";
     return kExitOk;
 }
 

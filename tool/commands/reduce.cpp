@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "commands/commands.hpp"
+#include "harness/encode.hpp"
 #include "harness/files.hpp"
 #include "harness/scene_text.hpp"
 
@@ -30,11 +31,13 @@ int run_reduce(const ReduceArgs& a) {
     if (!a.pixel.empty()) {
         keep.pixel = parse_pixel(a.pixel);
         if (!keep.pixel) {
-            std::cerr << "refraster reduce: --pixel " << a.pixel << ": expected X,Y\n";
+            std::cerr << "refraster reduce: --pixel " << harness::encode::terminal(a.pixel)
+                      << ": expected X,Y\n";
             return kExitBadInput;
         }
         if (!inside(scene->draw_list.target, *keep.pixel)) {
-            std::cerr << a.scene << ": --pixel " << a.pixel << ": outside the "
+            std::cerr << harness::encode::terminal(a.scene) << ": --pixel "
+                      << harness::encode::terminal(a.pixel) << ": outside the "
                       << scene->draw_list.target.width << "x" << scene->draw_list.target.height
                       << " target\n";
             return kExitBadInput;
@@ -65,11 +68,11 @@ int run_reduce(const ReduceArgs& a) {
         return kExitOk;
     } catch (const harness::SceneError& e) {
         // The reducer's own output failed to load: a bug, not the user's input.
-        std::cerr << "refraster reduce: internal error, the reduced scene is invalid: " << e.what()
-                  << "\n";
+        std::cerr << "refraster reduce: internal error, the reduced scene is invalid: "
+                  << harness::encode::terminal(e.what()) << "\n";
         return kExitBackendFailure;
     } catch (const std::exception& e) {
-        std::cerr << "refraster reduce: " << e.what() << "\n";
+        std::cerr << "refraster reduce: " << harness::encode::terminal(e.what()) << "\n";
         return kExitBadInput;
     }
 }

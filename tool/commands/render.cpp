@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "commands/commands.hpp"
+#include "harness/encode.hpp"
 #include "harness/image_io.hpp"
 
 namespace tool {
@@ -25,28 +26,30 @@ int run_render(const RenderArgs& a) {
     const std::filesystem::path out(a.output);
     const auto want_ext = harness::image_extension(scene->file.target.color);
     if (out.extension() != want_ext) {
-        std::cerr << a.output << ": the target is " << to_string(scene->file.target.color)
-                  << ", so the output must end in " << want_ext << "\n";
+        std::cerr << harness::encode::terminal(a.output) << ": the target is "
+                  << to_string(scene->file.target.color) << ", so the output must end in "
+                  << want_ext << "\n";
         return kExitBadInput;
     }
     const std::uint32_t samples = scene->file.target.samples;
     if (!a.samples_output.empty() && samples == 1) {
-        std::cerr << a.scene
+        std::cerr << harness::encode::terminal(a.scene)
                   << ": --samples-output needs a multisampled target; target.samples is 1\n";
         return kExitBadInput;
     }
     if (!a.samples_output.empty() &&
         (a.samples_output.back() == '/' || std::filesystem::is_directory(a.samples_output))) {
-        std::cerr << a.samples_output << ": --samples-output takes a file name prefix (PREFIX.s0"
-                  << want_ext << " ...), not a directory\n";
+        std::cerr << harness::encode::terminal(a.samples_output)
+                  << ": --samples-output takes a file name prefix (PREFIX.s0" << want_ext
+                  << " ...), not a directory\n";
         return kExitBadInput;
     }
     auto backend = backend_or_report(a.backend, a.scene);
     if (!backend) return kExitBackendFailure;
     const harness::RenderResult r = backend->render(*scene);
     if (r.status != harness::RenderStatus::Ok) {
-        std::cerr << a.scene << ": " << to_string(r.status) << " in " << backend->name() << ": "
-                  << r.message << "\n";
+        std::cerr << harness::encode::terminal(a.scene) << ": " << to_string(r.status) << " in "
+                  << backend->name() << ": " << harness::encode::terminal(r.message) << "\n";
         return exit_code_for(r.status);
     }
     // The image and every sample's, all or none.
@@ -56,8 +59,9 @@ int run_render(const RenderArgs& a) {
     if (!a.samples_output.empty()) {
         if (r.samples.samples != samples || r.samples.width != r.image.width ||
             r.samples.height != r.image.height) {
-            std::cerr << a.scene << ": " << backend->name() << " returned no samples of the "
-                      << samples << "x target, so --samples-output has nothing to write\n";
+            std::cerr << harness::encode::terminal(a.scene) << ": " << backend->name()
+                      << " returned no samples of the " << samples
+                      << "x target, so --samples-output has nothing to write\n";
             return kExitBackendFailure;
         }
         sample_paths =
@@ -71,7 +75,7 @@ int run_render(const RenderArgs& a) {
     try {
         harness::write_color_images(images);
     } catch (const std::exception& e) {
-        std::cerr << e.what() << "\n";
+        std::cerr << harness::encode::terminal(e.what()) << "\n";
         return kExitBadInput;
     }
     std::cout << "wrote " << out.string() << " (" << backend->name() << ", " << r.image.width << "x"

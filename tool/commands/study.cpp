@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "commands/commands.hpp"
+#include "harness/encode.hpp"
 #include "harness/files.hpp"
 
 namespace tool {
@@ -24,7 +25,8 @@ int run_study(const StudyArgs& a) {
     const std::filesystem::path dir(a.output);
     std::error_code ec;
     if (std::filesystem::exists(dir, ec) && !std::filesystem::is_directory(dir, ec)) {
-        std::cerr << a.output << ": --output names a file, not a directory\n";
+        std::cerr << harness::encode::terminal(a.output)
+                  << ": --output names a file, not a directory\n";
         return kExitBadInput;
     }
     harness::StudyOptions o;
@@ -35,7 +37,7 @@ int run_study(const StudyArgs& a) {
     try {
         out = harness::run_study(a.name, o);
     } catch (const harness::StudyError& e) {
-        std::cerr << "refraster study: " << e.what() << "\n";
+        std::cerr << "refraster study: " << harness::encode::terminal(e.what()) << "\n";
         return exit_code(e.exit_class());
     }
     std::string command = "refraster study " + a.name + " --output " + a.output;
@@ -48,7 +50,8 @@ int run_study(const StudyArgs& a) {
         harness::write_file_atomically(dir / "summary.md",
                                        harness::study_summary_markdown(out, command));
     } catch (const std::exception& e) {
-        std::cerr << a.output << ": " << e.what() << "\n";
+        std::cerr << harness::encode::terminal(a.output) << ": "
+                  << harness::encode::terminal(e.what()) << "\n";
         return kExitBadInput;
     }
     for (const std::string& line : out.summary) std::cout << line << "\n";

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "commands/commands.hpp"
+#include "harness/encode.hpp"
 #include "harness/files.hpp"
 #include "harness/image_io.hpp"
 #include "harness/teach_page.hpp"
@@ -48,7 +49,8 @@ int run_teach(TeachArgs a) {
     const auto scene = load_or_report(a.scene, a.scene_args);
     if (!scene) return kExitBadInput;
     if (scene->file.target.samples != 1) {
-        std::cerr << a.scene << ": target.samples: teach compares single-sample targets, got "
+        std::cerr << harness::encode::terminal(a.scene)
+                  << ": target.samples: teach compares single-sample targets, got "
                   << scene->file.target.samples << "\n";
         return kExitBadInput;
     }
@@ -59,15 +61,16 @@ int run_teach(TeachArgs a) {
     // colour equals the clear colour.
     const harness::RenderResult gl = backend->render_owners(*scene);
     if (gl.status != harness::RenderStatus::Ok) {
-        std::cerr << a.scene << ": " << to_string(gl.status) << " in " << backend->name() << ": "
-                  << gl.message << "\n";
+        std::cerr << harness::encode::terminal(a.scene) << ": " << to_string(gl.status) << " in "
+                  << backend->name() << ": " << harness::encode::terminal(gl.message) << "\n";
         return exit_code_for(gl.status);
     }
     harness::TeachResult r;
     try {
         r = harness::teach(*scene, a.algorithm, gl.image);
     } catch (const harness::TeachError& e) {
-        std::cerr << a.scene << ": " << e.what() << "\n";
+        std::cerr << harness::encode::terminal(a.scene) << ": "
+                  << harness::encode::terminal(e.what()) << "\n";
         return exit_code(e.exit_class());
     }
     const auto prov = [&](const char* key) {
@@ -122,7 +125,8 @@ int run_teach(TeachArgs a) {
         harness::write_file_atomically(dir / "teach.json", data.dump(1) + "\n");
         harness::write_file_atomically(dir / "index.html", harness::teach_page_html(data));
     } catch (const std::exception& e) {
-        std::cerr << a.output << ": " << e.what() << "\n";
+        std::cerr << harness::encode::terminal(a.output) << ": "
+                  << harness::encode::terminal(e.what()) << "\n";
         return kExitBadInput;
     }
     std::cout << r.title << " on " << scene->file.name << " against " << source << ": " << r.summary

@@ -6,8 +6,13 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include "conformance/records.hpp"
 #include "conformance/reports.hpp"
+#include "conformance/shard.hpp"
+#include "conformance/suite.hpp"
+#include "harness/encode.hpp"
 #include "harness/files.hpp"
+#include "record_check.hpp"
 
 namespace conformance {
 
@@ -24,101 +29,92 @@ struct ShardInput {
     std::map<std::string, std::string> identity;
 };
 
-// What must be equal for records to be one run: per side, the backend and the provenance
-// that decides pixels (not the host's CPU flags or timings).
-std::map<std::string, std::string> identity_of(const json& r) {
-    std::map<std::string, std::string> id;
-    for (const char* side : {"reference", "actual"}) {
-        if (!r.contains(side)) continue;
-        const json& s = r[side];
-        if (s.contains("backend")) id[std::string(side) + " backend"] = s["backend"].dump();
-        if (!s.contains("provenance")) continue;
-        for (const char* k : {"commit", "profile", "profile_rules", "renderer", "driver",
-                              "mesa_version", "gl_version", "fma"}) {
-            if (s["provenance"].contains(k))
-                id[std::string(side) + " " + k] = s["provenance"][k].dump();
-        }
-    }
-    return id;
+std::string shown(const fs::path& p) {
+    return harness::encode::terminal(p.string());
 }
 
 ShardInput read_shard(const fs::path& dir) {
     ShardInput in;
     in.dir = dir;
     const fs::path file = dir / "results.jsonl";
-    std::ifstream f(file, std::ios::binary);
-    if (!f) throw MergeError(file.string() + ": cannot read (not a conformance run's output)");
-    std::string line;
-    std::size_t n = 0;
-    bool first = true;
-    std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-    if (!text.empty() && text.back() != '\n')
-        throw MergeError(file.string() +
+    const std::string where = shown(file);
+    ResultLines lines;
+    try {
+        lines = read_result_lines(file);
+    } catch (const std::runtime_error& e) {
+        throw MergeError(e.what());
+    }
+    if (lines.torn_bytes > 0)
+        throw MergeError(where +
                          ": the last record is torn (a killed run: finish it with --resume)");
-    std::size_t pos = 0;
-    while (pos < text.size()) {
-        const std::size_t end = text.find('\n', pos);
-        line = text.substr(pos, end - pos);
-        pos = end + 1;
-        ++n;
-        if (line.empty()) continue;
+    bool first = true;
+    for (const ResultLine& l : lines.lines) {
+        const std::string at = where + ":" + std::to_string(l.number);
+        if (l.text.empty()) continue;
         json r;
         try {
-            r = json::parse(line);
+            r = json::parse(l.text);
         } catch (const json::exception&) {
-            throw MergeError(file.string() + ":" + std::to_string(n) + ": not a JSON record");
+            throw MergeError(at + ": not a JSON record");
         }
-        if (!r.contains("case") || !r["case"].is_string())
-            throw MergeError(file.string() + ":" + std::to_string(n) + ": a record without a case");
-        if (!r.contains("shard") || !r["shard"].contains("index") || !r["shard"].contains("count"))
-            throw MergeError(file.string() + ":" + std::to_string(n) +
+        if (const auto problem = record_problem(r)) throw MergeError(at + ": " + *problem);
+        if (!r.contains("shard"))
+            throw MergeError(at +
                              ": the record names no shard (written before shards were recorded: "
                              "run the shard again)");
         const int index = r["shard"]["index"].get<int>();
         const int count = r["shard"]["count"].get<int>();
+        if (count < 1 || count > kMaxShardCount)
+            throw MergeError(at + ": shard.count: " + std::to_string(count) + " is not in [1, " +
+                             std::to_string(kMaxShardCount) + "] (docs/limits.md)");
+        if (index < 0 || index >= count)
+            throw MergeError(at + ": shard.index: " + std::to_string(index) + " is not in [0, " +
+                             std::to_string(count) + ")");
         if (first) {
             in.index = index;
             in.count = count;
-            in.identity = identity_of(r);
             first = false;
         } else if (index != in.index || count != in.count) {
-            throw MergeError(file.string() + ":" + std::to_string(n) + ": shard " +
-                             std::to_string(index) + " of " + std::to_string(count) +
-                             " among records of shard " + std::to_string(in.index) + " of " +
-                             std::to_string(in.count));
-        } else if (identity_of(r) != in.identity) {
-            throw MergeError(file.string() + ":" + std::to_string(n) +
-                             ": a record of another run (commit, profile or driver) than the "
-                             "file's first");
+            throw MergeError(at + ": shard " + std::to_string(index) + " of " +
+                             std::to_string(count) + " among records of shard " +
+                             std::to_string(in.index) + " of " + std::to_string(in.count));
         }
-        in.records.emplace_back(r["case"].get<std::string>(), line);
+        // A case whose scene did not load rendered nothing and names no backend: it belongs to
+        // any run.
+        const auto id = identity_of(r);
+        if (in.identity.empty()) {
+            in.identity = id;
+        } else if (const auto d = first_difference(id, in.identity); !id.empty() && !d.empty()) {
+            throw MergeError(at + ": a record of another run than the file's first (" +
+                             harness::encode::terminal(d) + ")");
+        }
+        in.records.emplace_back(r["case"].get<std::string>(), l.text);
     }
-    if (in.records.empty()) throw MergeError(file.string() + ": no results");
+    if (in.records.empty()) throw MergeError(where + ": no results");
     return in;
 }
 
-// The first key whose values differ, as "actual renderer \"a\" here, \"b\" in DIR".
-std::string first_difference(const std::map<std::string, std::string>& a,
-                             const std::map<std::string, std::string>& b) {
-    std::set<std::string> keys;
-    for (const auto& [k, v] : a) keys.insert(k);
-    for (const auto& [k, v] : b) keys.insert(k);
-    for (const auto& k : keys) {
-        const auto ia = a.find(k), ib = b.find(k);
-        const std::string va = ia == a.end() ? "(none)" : ia->second;
-        const std::string vb = ib == b.end() ? "(none)" : ib->second;
-        if (va != vb) return k + " " + va + " against " + vb;
-    }
-    return "";
-}
-
-void copy_tree(const fs::path& from, const fs::path& to) {
-    if (!fs::is_directory(from)) return;
-    fs::create_directories(to);
+// The files of `sub` (images/, explain/) a shard holds for its own cases: regular files named
+// CASE.SOMETHING for a case of that shard. Anything else there was not written by the run and
+// is not carried over.
+std::vector<fs::path> case_files(const ShardInput& s, const char* sub) {
+    std::vector<fs::path> out;
+    const fs::path from = s.dir / sub;
+    std::error_code ec;
+    if (!fs::is_directory(fs::symlink_status(from, ec))) return out;
+    std::set<std::string> names;
+    for (const auto& [name, line] : s.records) names.insert(name);
     for (const auto& e : fs::directory_iterator(from)) {
-        if (e.is_regular_file())
-            fs::copy_file(e.path(), to / e.path().filename(), fs::copy_options::overwrite_existing);
+        if (!fs::is_regular_file(e.symlink_status())) continue;
+        const std::string file = e.path().filename().string();
+        for (auto dot = file.find('.'); dot != std::string::npos; dot = file.find('.', dot + 1)) {
+            if (names.count(file.substr(0, dot)) != 0) {
+                out.push_back(e.path());
+                break;
+            }
+        }
     }
+    return out;
 }
 
 }  // namespace
@@ -129,7 +125,7 @@ MergeSummary merge_shards(const std::vector<fs::path>& shards, const fs::path& o
     std::error_code ec;
     for (const auto& s : shards) {
         if (fs::exists(output, ec) && fs::equivalent(s, output, ec))
-            throw MergeError(output.string() + ": the output is one of the shards");
+            throw MergeError(shown(output) + ": the output is one of the shards");
     }
     std::vector<ShardInput> in;
     for (const auto& s : shards) in.push_back(read_shard(s));
@@ -138,20 +134,20 @@ MergeSummary merge_shards(const std::vector<fs::path>& shards, const fs::path& o
     for (const ShardInput& s : in) {
         const ShardInput& first = in.front();
         if (s.count != first.count)
-            throw MergeError(s.dir.string() + ": shard " + std::to_string(s.index) + " of " +
-                             std::to_string(s.count) + ", but " + first.dir.string() + " is of " +
+            throw MergeError(shown(s.dir) + ": shard " + std::to_string(s.index) + " of " +
+                             std::to_string(s.count) + ", but " + shown(first.dir) + " is of " +
                              std::to_string(first.count));
-        if (s.identity != first.identity)
-            throw MergeError(s.dir.string() + ": another run than " + first.dir.string() + ": " +
-                             first_difference(s.identity, first.identity));
+        if (!s.identity.empty() && !first.identity.empty() && s.identity != first.identity)
+            throw MergeError(
+                shown(s.dir) + ": another run than " + shown(first.dir) + ": " +
+                harness::encode::terminal(first_difference(s.identity, first.identity)));
         if (const auto [it, fresh] = by_index.emplace(s.index, &s); !fresh)
-            throw MergeError(s.dir.string() + " and " + it->second->dir.string() +
-                             " are both shard " + std::to_string(s.index) + " of " +
-                             std::to_string(s.count));
+            throw MergeError(shown(s.dir) + " and " + shown(it->second->dir) + " are both shard " +
+                             std::to_string(s.index) + " of " + std::to_string(s.count));
         for (const auto& rec : s.records) {
             if (const auto [it, fresh] = by_case.emplace(rec.first, &s); !fresh)
-                throw MergeError("case " + rec.first + " is in " + s.dir.string() + " and in " +
-                                 it->second->dir.string());
+                throw MergeError("case " + rec.first + " is in " + shown(s.dir) + " and in " +
+                                 shown(it->second->dir));
         }
     }
     MergeSummary summary;
@@ -160,28 +156,63 @@ MergeSummary merge_shards(const std::vector<fs::path>& shards, const fs::path& o
     for (int i = 0; i < summary.shard_count; ++i)
         if (by_index.count(i) == 0) summary.missing_shards.push_back(i);
 
-    // Everything checked: write. The records in case order, each line as its shard wrote it.
-    fs::create_directories(output);
+    // The records in case order, each line as its shard wrote it; the files each carries over.
     std::vector<std::pair<std::string, std::string>> all;
     for (const ShardInput& s : in) all.insert(all.end(), s.records.begin(), s.records.end());
     std::sort(all.begin(), all.end());
-    std::string lines;
-    for (const auto& [name, line] : all) lines += line + "\n";
-    harness::write_file_atomically(output / "results.jsonl", lines);
-    for (const ShardInput& s : in) {
-        copy_tree(s.dir / "images", output / "images");
-        copy_tree(s.dir / "explain", output / "explain");
+    std::string text;
+    std::vector<std::string> lines;
+    for (const auto& [name, line] : all) {
+        text += line + "\n";
+        lines.push_back(line);
     }
-    write_reports(output, summary.cases);
+    std::vector<std::pair<fs::path, fs::path>> copies;  // from, to
+    std::set<std::string> carried;                      // "images/NAME.ref.png"
+    for (const ShardInput& s : in) {
+        for (const char* sub : {"images", "explain"}) {
+            for (const fs::path& f : case_files(s, sub)) {
+                const std::string file = f.filename().string();
+                carried.insert(std::string(sub) + "/" + file);
+                copies.emplace_back(f, output_file(output, sub, file));
+            }
+        }
+    }
+    try {
+        check_output_folders(output);
+    } catch (const std::runtime_error& e) {
+        throw MergeError(e.what());
+    }
+    // Every report built before anything is written: a record the reports cannot read stops
+    // the merge here.
+    std::vector<ReportFile> reports;
+    try {
+        reports = build_reports(
+            lines, "merged records", summary.cases,
+            [&](const std::string& relative) { return carried.count(relative) != 0; });
+    } catch (const std::runtime_error& e) {
+        throw MergeError(e.what());
+    }
     std::string note = "merged " + std::to_string(in.size()) + " of " +
                        std::to_string(summary.shard_count) + " shards, " +
                        std::to_string(summary.cases) + " cases, from:\n";
     for (const ShardInput& s : in)
-        note += "  shard " + std::to_string(s.index) + ": " + s.dir.string() + "\n";
+        note += "  shard " + std::to_string(s.index) + ": " + shown(s.dir) + "\n";
     for (int i : summary.missing_shards)
         note += "missing: shard " + std::to_string(i) + " of " +
                 std::to_string(summary.shard_count) + " (its cases are not in this report)\n";
-    harness::write_file_atomically(output / "merge.txt", note);
+
+    // Everything checked: clear what an earlier run or merge left there, then write.
+    clear_run_output(output);
+    fs::create_directories(output);
+    harness::write_file_atomically(output_file(output, "", "results.jsonl"), text);
+    for (const auto& [from, to] : copies) {
+        fs::create_directories(to.parent_path());
+        harness::write_atomically(to, [&](const fs::path& partial) {
+            fs::copy_file(from, partial, fs::copy_options::overwrite_existing);
+        });
+    }
+    write_report_files(output, reports);
+    harness::write_file_atomically(output_file(output, "", "merge.txt"), note);
     console << note;
     return summary;
 }

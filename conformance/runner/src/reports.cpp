@@ -12,9 +12,12 @@
 #include <vector>
 
 #include "conformance/deqp_runner.hpp"
+#include "conformance/records.hpp"
 #include "harness/case_result.hpp"
+#include "harness/encode.hpp"
 #include "harness/files.hpp"
 #include "harness/markup.hpp"
+#include "record_check.hpp"
 
 namespace conformance {
 
@@ -32,10 +35,7 @@ std::string fixed(double v, int digits) {
     return o.str();
 }
 
-// A report is either whole or absent.
-void write_file(const std::filesystem::path& p, const std::string& text) {
-    harness::write_file_atomically(p, text);
-}
+namespace encode = harness::encode;
 
 double seconds(const json& r, const char* who) {
     return r.contains(who) ? r[who].value("seconds", 0.0) : 0.0;
@@ -232,7 +232,7 @@ const char* kTableScript = R"(</table><script>
 // A pixel's channel values as people read them: "0, 0, 0, 255" for an rgba8 target's bytes
 // (whole numbers, however the record stores them), the float values otherwise.
 std::string channel_values(const json& values) {
-    if (!values.is_array()) return markup::escape(values.dump());
+    if (!values.is_array()) return markup::escape(dump_text(values));
     std::ostringstream o;
     bool first = true;
     for (const auto& v : values) {
@@ -243,10 +243,10 @@ std::string channel_values(const json& values) {
             if (std::isfinite(d) && d == std::floor(d) && std::fabs(d) < 1e15) {
                 o << static_cast<long long>(d);
             } else {
-                o << v.dump();
+                o << dump_text(v);
             }
         } else {
-            o << markup::escape(v.dump());
+            o << markup::escape(dump_text(v));
         }
     }
     return "(" + o.str() + ")";
@@ -438,7 +438,7 @@ std::string chart(const std::vector<json>& results) {
     return s.str();
 }
 
-std::string case_page(const json& r, const std::filesystem::path& images) {
+std::string case_page(const json& r, const FileExists& exists) {
     const std::string name = r.value("case", "");
     const std::string st = r.value("status", "");
     std::ostringstream h;
@@ -461,7 +461,7 @@ std::string case_page(const json& r, const std::filesystem::path& images) {
          "pointer over an image: its pixel (x, y), y up from the bottom row as GL counts "
          "it</span></p><div class=\"imgs\">";
     const auto figure = [&](const std::string& file, const std::string& caption) {
-        if (!std::filesystem::exists(images / file)) return;
+        if (!exists("images/" + file)) return;
         h << "<figure><div class=\"frame\"><img class=\"zoomable pixels\" src=\"../images/"
           << markup::escape(file) << "\" alt=\"" << markup::escape(caption)
           << "\"><div class=\"cursor\"></div></div><figcaption>" << markup::escape(caption)
@@ -477,7 +477,7 @@ std::string case_page(const json& r, const std::filesystem::path& images) {
     figure(name + ".mask.png", "error mask (legend below)");
     // A 4x case's sample mask is 2W x 2H: shown at the size of the others, a sample a quarter
     // of a pixel.
-    if (std::filesystem::exists(images / (name + ".samples.png"))) {
+    if (exists("images/" + name + ".samples.png")) {
         const std::string caption =
             "sample mask: each pixel's four samples in their places (top: 2 3, bottom: 0 1), "
             "coloured as the error mask";
@@ -487,8 +487,7 @@ std::string case_page(const json& r, const std::filesystem::path& images) {
           << "\"><figcaption>" << markup::escape(caption) << "</figcaption></figure>";
     }
     h << "</div>";
-    if (std::filesystem::exists(images / (name + ".mask.png")) ||
-        std::filesystem::exists(images / (name + ".samples.png"))) {
+    if (exists("images/" + name + ".mask.png") || exists("images/" + name + ".samples.png")) {
         // Every class a mask pixel can have (harness::mask_color), with its colour.
         h << "<table id=\"mask-legend\"><tr><th colspan=\"2\">mask colours</th></tr>";
         const std::pair<harness::PixelClass, const char*> classes[] = {
@@ -505,7 +504,7 @@ std::string case_page(const json& r, const std::filesystem::path& images) {
         }
         h << "</table>";
     }
-    if (std::filesystem::exists(images.parent_path() / "explain" / (name + ".svg"))) {
+    if (exists("explain/" + name + ".svg")) {
         h << "<p id=\"explain-view\">The explain view of the pixel of largest difference: <a "
              "href=\"../explain/"
           << markup::escape(name) << ".svg\">picture</a>, <a href=\"../explain/"
@@ -607,7 +606,8 @@ std::string case_page(const json& r, const std::filesystem::path& images) {
         h << "<h2>" << title << "</h2><table>";
         for (const auto& [k, v] : r[who]["provenance"].items()) {
             h << "<tr><th>" << markup::escape(k) << "</th><td>"
-              << markup::escape(v.is_string() ? v.get<std::string>() : v.dump()) << "</td></tr>";
+              << markup::escape(v.is_string() ? v.get<std::string>() : dump_text(v))
+              << "</td></tr>";
         }
         h << "</table>";
     };
@@ -622,7 +622,7 @@ std::string case_page(const json& r, const std::filesystem::path& images) {
          "var readout = document.getElementById('pixel-readout');\n"
          "var command = document.getElementById('pixel-command');\n"
          "var template = "
-      << json(template_command).dump()
+      << encode::json_in_script(template_command)
       << ";\n"
          "var imgs = Array.prototype.slice.call(document.querySelectorAll('img.zoomable'));\n"
          "function apply() {\n"
@@ -668,13 +668,23 @@ std::string case_page(const json& r, const std::filesystem::path& images) {
 
 }  // namespace
 
-void write_reports(const std::filesystem::path& output, std::size_t selected_cases) {
+std::vector<ReportFile> build_reports(const std::vector<std::string>& lines,
+                                      const std::string& source, std::size_t selected_cases,
+                                      const FileExists& exists) {
+    std::vector<ReportFile> files;
     std::vector<json> results;
-    {
-        std::ifstream in(output / "results.jsonl");
-        for (std::string line; std::getline(in, line);) {
-            if (!line.empty()) results.push_back(json::parse(line));
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+        if (lines[i].empty()) continue;
+        const std::string where = source + ":" + std::to_string(i + 1);
+        json r;
+        try {
+            r = json::parse(lines[i]);
+        } catch (const json::exception&) {
+            throw std::runtime_error(where + ": not a JSON record");
         }
+        if (const auto problem = record_problem(r))
+            throw std::runtime_error(where + ": " + *problem);
+        results.push_back(std::move(r));
     }
     std::sort(results.begin(), results.end(), [](const json& a, const json& b) {
         return a.value("case", "") < b.value("case", "");
@@ -687,11 +697,12 @@ void write_reports(const std::filesystem::path& output, std::size_t selected_cas
     for (const auto& r : results) {
         const std::string word = deqp_status(r);
         const auto duration = static_cast<float>(seconds(r, "reference") + seconds(r, "actual"));
-        csv << r.value("case", "") << "," << word << "," << deqp_runner_duration(duration) << "\n";
-        if (!deqp_runner_is_success(word)) failures << r.value("case", "") << "," << word << "\n";
+        const std::string name = encode::csv_field(r.value("case", ""));
+        csv << name << "," << word << "," << deqp_runner_duration(duration) << "\n";
+        if (!deqp_runner_is_success(word)) failures << name << "," << word << "\n";
     }
-    write_file(output / "results.csv", csv.str());
-    write_file(output / "failures.csv", failures.str());
+    files.push_back({"results.csv", csv.str()});
+    files.push_back({"failures.csv", failures.str()});
 
     // The samples of 4x cases, which deqp-runner's three columns have no room for.
     std::ostringstream samples;
@@ -702,8 +713,9 @@ void write_reports(const std::filesystem::path& output, std::size_t selected_cas
     for (const auto& r : results) {
         if (!has_samples(r)) continue;
         const auto& c = r["comparison"];
-        samples << r.value("case", "") << "," << r.value("status", "") << "," << mismatched(r)
-                << "," << mismatched_samples(r) << ","
+        samples << encode::csv_field(r.value("case", "")) << ","
+                << encode::csv_field(r.value("status", "")) << "," << mismatched(r) << ","
+                << mismatched_samples(r) << ","
                 << c.value("pixels_with_mismatched_samples", std::uint64_t{0});
         for (std::size_t k = 0; k < 4; ++k) {
             samples << ",";
@@ -723,7 +735,7 @@ void write_reports(const std::filesystem::path& output, std::size_t selected_cas
         }
         samples << "\n";
     }
-    write_file(output / "samples.csv", samples.str());
+    files.push_back({"samples.csv", samples.str()});
 
     // Counts, overall and per area.
     std::map<std::string, std::size_t> counts;
@@ -737,7 +749,8 @@ void write_reports(const std::filesystem::path& output, std::size_t selected_cas
     doc["summary"] = {
         {"selected", selected_cases}, {"finished", results.size()}, {"statuses", counts}};
     doc["cases"] = results;
-    write_file(output / "results.json", doc.dump(1) + "\n");
+    files.push_back(
+        {"results.json", doc.dump(1, ' ', false, json::error_handler_t::replace) + "\n"});
 
     // JUnit.
     std::size_t nfail = 0, nskip = 0;
@@ -756,15 +769,16 @@ void write_reports(const std::filesystem::path& output, std::size_t selected_cas
         const std::string name = r.value("case", "");
         const auto dot = name.rfind('.');
         x << "  <testcase classname=\""
-          << markup::escape(dot == std::string::npos ? name : name.substr(0, dot)) << "\" name=\""
-          << markup::escape(dot == std::string::npos ? name : name.substr(dot + 1)) << "\" time=\""
-          << fixed(seconds(r, "reference") + seconds(r, "actual"), 6) << "\">";
+          << encode::xml_attribute(dot == std::string::npos ? name : name.substr(0, dot))
+          << "\" name=\""
+          << encode::xml_attribute(dot == std::string::npos ? name : name.substr(dot + 1))
+          << "\" time=\"" << fixed(seconds(r, "reference") + seconds(r, "actual"), 6) << "\">";
         const std::string st = r.value("status", "");
         if (st == "NotSupported") {
-            x << "<skipped message=\"" << markup::escape(r.value("message", "")) << "\"/>";
+            x << "<skipped message=\"" << encode::xml_attribute(r.value("message", "")) << "\"/>";
         } else if (failed(st)) {
-            x << "<failure type=\"" << markup::escape(st) << "\" message=\""
-              << markup::escape(r.value("message", st)) << "\"/>";
+            x << "<failure type=\"" << encode::xml_attribute(st) << "\" message=\""
+              << encode::xml_attribute(r.value("message", st)) << "\"/>";
         }
         // What a CI page shows beside the test: the verdict, the numbers, where to look.
         std::string out = st + ": " + std::to_string(mismatched(r)) + " mismatched pixels";
@@ -785,14 +799,13 @@ void write_reports(const std::filesystem::path& output, std::size_t selected_cas
             out += "\n" + r.value("message", "");  // why nothing was compared
         }
         out += "\ncase page: cases/" + name + ".html";
-        x << "<system-out>" << markup::escape(out) << "</system-out>";
+        x << "<system-out>" << encode::xml_text(out) << "</system-out>";
         x << "</testcase>\n";
     }
     x << "</testsuite></testsuites>\n";
-    write_file(output / "junit.xml", x.str());
+    files.push_back({"junit.xml", x.str()});
 
     // HTML.
-    std::filesystem::create_directories(output / "cases");
     std::ostringstream h;
     h << "<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>refraster conformance</title>"
       << kStyle << "</head><body><h1>refraster conformance run</h1>";
@@ -904,12 +917,41 @@ void write_reports(const std::filesystem::path& output, std::size_t selected_cas
           << "</td><td class=\"num\">" << maxc << "</td><td class=\"num\">"
           << fixed(seconds(r, "reference") * 1000, 3) << "</td><td class=\"num\">"
           << fixed(seconds(r, "actual") * 1000, 3) << "</td></tr>";
-        write_file(output / "cases" / (name + ".html"), case_page(r, output / "images"));
+        files.push_back({"cases/" + name + ".html", case_page(r, exists)});
     }
     h << "</tbody>";
     h << kTableScript;
     h << "</body></html>\n";
-    write_file(output / "index.html", h.str());
+    files.push_back({"index.html", h.str()});
+    return files;
+}
+
+void write_report_files(const std::filesystem::path& output, const std::vector<ReportFile>& files) {
+    // Every path checked before the first is written.
+    std::vector<std::filesystem::path> paths;
+    for (const ReportFile& f : files) {
+        const auto slash = f.path.find('/');
+        paths.push_back(slash == std::string::npos ? output_file(output, "", f.path)
+                                                   : output_file(output, f.path.substr(0, slash),
+                                                                 f.path.substr(slash + 1)));
+    }
+    for (std::size_t i = 0; i < files.size(); ++i) {
+        std::filesystem::create_directories(paths[i].parent_path());
+        harness::write_file_atomically(paths[i], files[i].text);
+    }
+}
+
+void write_reports(const std::filesystem::path& output, std::size_t selected_cases) {
+    const std::filesystem::path jsonl = output / "results.jsonl";
+    std::vector<std::string> lines;
+    for (auto& l : read_result_lines(jsonl).lines) lines.push_back(std::move(l.text));
+    const auto exists = [&](const std::string& relative) {
+        std::error_code ec;
+        return std::filesystem::is_regular_file(
+            std::filesystem::symlink_status(output / relative, ec));
+    };
+    write_report_files(
+        output, build_reports(lines, encode::terminal(jsonl.string()), selected_cases, exists));
 }
 
 }  // namespace conformance

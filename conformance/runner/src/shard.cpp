@@ -105,8 +105,9 @@ Shard resolve_shard(std::optional<int> index_flag, std::optional<int> count_flag
         if (index_flag && count_flag) s.source = "flags";
     }
     if (count < 1) throw ShardError("the shard count " + std::to_string(count) + " is below 1");
-    if (count > 1000000)
-        throw ShardError("the shard count " + std::to_string(count) + " is above 10^6");
+    if (count > kMaxShardCount)
+        throw ShardError("the shard count " + std::to_string(count) + " is above " +
+                         std::to_string(kMaxShardCount) + " (docs/limits.md)");
     if (index < 0 || index >= count)
         throw ShardError("the shard index " + std::to_string(index) + " is not in [0, " +
                          std::to_string(count) + ")" +

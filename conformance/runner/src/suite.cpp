@@ -14,12 +14,17 @@
 #include <stdexcept>
 
 #include "conformance/deqp_runner.hpp"
+#include "conformance/records.hpp"
 #include "conformance/reports.hpp"
+#include "conformance/shard.hpp"
 #include "harness/case_result.hpp"
+#include "harness/encode.hpp"
 #include "harness/explain.hpp"
 #include "harness/files.hpp"
 #include "harness/gl_verdict.hpp"
 #include "harness/image_io.hpp"
+#include "harness/profile_io.hpp"
+#include "record_check.hpp"
 
 namespace conformance {
 
@@ -36,14 +41,23 @@ std::vector<CaseFile> discover_cases(const std::filesystem::path& root) {
     std::vector<CaseFile> cases;
     for (const auto& e : std::filesystem::recursive_directory_iterator(root)) {
         if (!e.is_regular_file() || e.path().extension() != ".json") continue;
-        cases.push_back({case_name_for(root, e.path()), e.path()});
+        std::string name = case_name_for(root, e.path());
+        // Checked once, here: every file a run writes for the case is named after it.
+        if (const auto problem = case_name_problem(name)) {
+            throw std::runtime_error(harness::encode::terminal(e.path().string()) + ": " +
+                                     *problem + "; a scene's path below " +
+                                     harness::encode::terminal(root.string()) +
+                                     " is its case name");
+        }
+        cases.push_back({std::move(name), e.path()});
     }
     std::sort(cases.begin(), cases.end(),
               [](const auto& a, const auto& b) { return a.name < b.name; });
     for (std::size_t i = 1; i < cases.size(); ++i) {
         if (cases[i].name == cases[i - 1].name) {
             throw std::runtime_error("duplicate case name " + cases[i].name + ": " +
-                                     cases[i - 1].file.string() + " and " + cases[i].file.string());
+                                     harness::encode::terminal(cases[i - 1].file.string()) +
+                                     " and " + harness::encode::terminal(cases[i].file.string()));
         }
     }
     return cases;
@@ -165,88 +179,158 @@ bool apply_baseline(harness::CaseResult& r, const std::map<std::string, std::str
 
 namespace {
 
+using json = nlohmann::json;
+
+std::string shown(const std::filesystem::path& p) {
+    return harness::encode::terminal(p.string());
+}
+
+// FNV-1a 64 of a file's bytes, in hex: a run's baseline or flakes file, for its run.json.
+std::string file_hash(const std::filesystem::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    std::uint64_t h = 1469598103934665603ull;
+    for (char c; in.get(c);) {
+        h ^= static_cast<unsigned char>(c);
+        h *= 1099511628211ull;
+    }
+    std::ostringstream o;
+    o << std::hex << h;
+    return o.str();
+}
+
 // What a killed run left in results.jsonl. Records are appended one whole line at a time and
 // made durable before the next case starts, so a kill can leave at most one torn line, at the
-// end and without its newline. That line is cut off; every complete line stays byte for byte,
-// and the new records are appended after them. Anything else that does not parse (a complete
-// line that is not a record, a case recorded twice) means the file was not written by an
-// interrupted run: resuming refuses rather than guess which records to trust.
+// end and without its newline. That line is cut off (once every check has passed); every
+// complete line stays byte for byte, and the new records are appended after them. Anything
+// else that does not parse (a complete line that is not a record, a case recorded twice)
+// means the file was not written by an interrupted run: resuming refuses rather than guess
+// which records to trust.
 struct Recovered {
-    std::map<std::string, nlohmann::json> records;  // by case name
-    std::size_t torn_bytes = 0;                     // the torn last line that was cut off
+    std::map<std::string, json> records;  // by case name
+    std::size_t torn_bytes = 0;           // the torn last line to cut off
+    std::uint64_t size = 0;
+    std::map<std::string, std::string> identity;  // of every kept record that rendered
 };
 
-Recovered recover(const std::filesystem::path& jsonl) {
+// The keys of run.json that must be equal for a run to continue another.
+const char* const kSetupKeys[] = {"format",   "commit", "reference", "against",  "verdict",
+                                  "baseline", "flakes", "shard",     "selection"};
+
+Recovered recover(const std::filesystem::path& output, const json& setup,
+                  const std::set<std::string>& selected) {
     Recovered r;
-    if (!std::filesystem::exists(jsonl)) return r;
-    std::ifstream in(jsonl, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    in.close();
-    const std::string text = ss.str();
-    std::size_t start = 0;
-    std::size_t line_no = 0;
-    while (start < text.size()) {
-        const auto nl = text.find('\n', start);
-        if (nl == std::string::npos) {
-            r.torn_bytes = text.size() - start;
-            break;
-        }
-        ++line_no;
-        const auto where = jsonl.string() + ":" + std::to_string(line_no);
-        nlohmann::json j;
+    const auto header_path = output / "run.json";
+    const auto jsonl = output / "results.jsonl";
+    const std::string refuse = "; refusing to resume (run again without --resume)";
+    std::error_code ec;
+    if (!std::filesystem::exists(std::filesystem::symlink_status(header_path, ec))) {
+        if (!std::filesystem::exists(std::filesystem::symlink_status(jsonl, ec))) return r;
+        throw std::runtime_error(shown(header_path) +
+                                 ": missing: results.jsonl was written by an older refraster or "
+                                 "by a merge" +
+                                 refuse);
+    }
+    json header;
+    {
+        const ResultLines h = read_result_lines(header_path);
+        std::string text;
+        for (const auto& l : h.lines) text += l.text + "\n";
         try {
-            j = nlohmann::json::parse(text.substr(start, nl - start));
-        } catch (const nlohmann::json::exception&) {
+            header = json::parse(text);
+        } catch (const json::exception&) {
+            throw std::runtime_error(shown(header_path) + ": not a run's setup" + refuse);
+        }
+    }
+    for (const char* key : kSetupKeys) {
+        if (!header.is_object() || !header.contains(key) || header[key] != setup[key]) {
+            const std::string was =
+                header.is_object() && header.contains(key) ? dump_text(header[key]) : "(none)";
+            throw std::runtime_error(
+                shown(header_path) + ": " + key + ": the run in this directory had " +
+                harness::encode::terminal(was.substr(0, 300)) + ", this one has " +
+                harness::encode::terminal(dump_text(setup[key]).substr(0, 300)) + refuse);
+        }
+    }
+    if (!std::filesystem::exists(std::filesystem::symlink_status(jsonl, ec))) return r;
+    const ResultLines lines = read_result_lines(jsonl);
+    r.torn_bytes = lines.torn_bytes;
+    r.size = lines.size;
+    const std::string ref_backend = setup["reference"]["backend"].get<std::string>();
+    const std::string act_backend = setup["against"]["backend"].get<std::string>();
+    bool first = true;
+    for (const ResultLine& l : lines.lines) {
+        const auto where = shown(jsonl) + ":" + std::to_string(l.number);
+        json j;
+        try {
+            j = json::parse(l.text);
+        } catch (const json::exception&) {
             throw std::runtime_error(
                 where +
                 ": not a result record; refusing to resume (only a torn last line "
                 "is dropped)");
         }
-        if (!j.is_object() || !j.contains("case") || !j["case"].is_string()) {
-            throw std::runtime_error(where +
-                                     ": a record without a \"case\" name; refusing to resume");
-        }
+        if (const auto problem = record_problem(j))
+            throw std::runtime_error(where + ": " + *problem + "; refusing to resume");
         // The name is read before the record is moved into the map.
         std::string name = j["case"].get<std::string>();
         if (r.records.count(name) != 0) {
             throw std::runtime_error(where + ": case " + name +
                                      " is recorded twice; refusing to resume");
         }
-        r.records.emplace(std::move(name), std::move(j));
-        start = nl + 1;
-    }
-    if (r.torn_bytes > 0) std::filesystem::resize_file(jsonl, text.size() - r.torn_bytes);
-    return r;
-}
-
-// A kept record must come from the same comparison as the run that continues it: the same
-// reference (and profile) and the same backend and driver.
-void check_same_run(const std::map<std::string, nlohmann::json>& records,
-                    const std::string& reference, const std::string& profile,
-                    const std::string& actual, const std::filesystem::path& jsonl) {
-    for (const auto& [name, j] : records) {
-        // Records of cases that never rendered (a bad scene file) carry no backends.
-        const auto recorded = [&](const char* side, const char* key, const std::string& otherwise) {
-            if (!j.contains(side) || !j[side].is_object()) return otherwise;
-            const auto& s = j[side];
-            if (std::string(key) == "profile") {
-                return s.contains("provenance") && s["provenance"].is_object()
-                           ? s["provenance"].value("profile", otherwise)
-                           : otherwise;
-            }
-            return s.value(key, otherwise);
-        };
-        const std::string rec_ref = recorded("reference", "backend", reference);
-        const std::string rec_profile = recorded("reference", "profile", profile);
-        const std::string rec_actual = recorded("actual", "backend", actual);
-        if (rec_ref != reference || rec_profile != profile || rec_actual != actual) {
-            throw std::runtime_error(jsonl.string() + ": case " + name + " was run as " + rec_ref +
-                                     " (" + rec_profile + ") against " + rec_actual +
-                                     "; this run is " + reference + " (" + profile + ") against " +
-                                     actual + ": refusing to resume into it");
+        if (selected.count(name) == 0) {
+            throw std::runtime_error(where + ": case " + name +
+                                     " is not in this run's selection (or no longer in the "
+                                     "scenes)" +
+                                     refuse);
         }
+        const json shard = j.value("shard", json::object());
+        if (shard.value("index", -1) != setup["shard"]["index"] ||
+            shard.value("count", -1) != setup["shard"]["count"]) {
+            throw std::runtime_error(where + ": case " + name + " was run as shard " +
+                                     dump_text(shard.value("index", json())) + " of " +
+                                     dump_text(shard.value("count", json())) + refuse);
+        }
+        // A kept record must come from the same comparison as the run that continues it: the
+        // same commit, reference and profile, backend and driver. Records of cases that never
+        // rendered (a bad scene file) carry no sides.
+        const auto side = [&](const char* s, const char* key) -> std::string {
+            if (!j.contains(s)) return "";
+            if (std::string(key) == "backend") return j[s].value("backend", "");
+            return j[s].value("provenance", json::object()).value(key, "");
+        };
+        if (j.contains("reference")) {
+            const std::string commit = side("reference", "commit");
+            const std::string profile = side("reference", "profile");
+            const std::string rules = side("reference", "profile_rules");
+            const std::string rec_ref = side("reference", "backend");
+            const std::string rec_act = side("actual", "backend");
+            const json& ref = setup["reference"];
+            if (commit != setup["commit"] || profile != ref["profile"] ||
+                rules != ref["profile_rules"] || rec_ref != ref_backend ||
+                (j.contains("actual") && rec_act != act_backend)) {
+                throw std::runtime_error(
+                    where + ": case " + name + " was run as " +
+                    harness::encode::terminal(rec_ref + " (" + profile + ") against " + rec_act +
+                                              " at commit " + commit) +
+                    "; this run is " +
+                    harness::encode::terminal(
+                        ref_backend + " (" + ref["profile"].get<std::string>() + ") against " +
+                        act_backend + " at commit " + setup["commit"].get<std::string>()) +
+                    refuse);
+            }
+            const auto id = identity_of(j);
+            if (first) {
+                r.identity = id;
+                first = false;
+            } else if (const auto d = first_difference(id, r.identity); !d.empty()) {
+                throw std::runtime_error(where + ": case " + name +
+                                         " is of another run than the records before it (" +
+                                         harness::encode::terminal(d) + ")" + refuse);
+            }
+        }
+        r.records.emplace(std::move(name), std::move(j));
     }
+    return r;
 }
 
 harness::CaseResult run_one(const CaseFile& c, const harness::SceneLimits& limits,
@@ -297,34 +381,42 @@ harness::CaseResult run_one(const CaseFile& c, const harness::SceneLimits& limit
     }
 }
 
-void write_images(const harness::CaseResult& r, const std::filesystem::path& dir) {
+// The case's images and explain view, each path checked to lie inside the output
+// (records.hpp).
+void write_images(const harness::CaseResult& r, const std::filesystem::path& output) {
+    const auto image = [&](const std::string& suffix) {
+        const auto p = case_file(output, "images", r.name, suffix);
+        std::filesystem::create_directories(p.parent_path());
+        return p;
+    };
     const auto save = [&](const std::optional<harness::RenderResult>& rr, const std::string& who) {
         if (!rr || rr->status != harness::RenderStatus::Ok) return;
         harness::write_color_image(
-            rr->image, dir / (r.name + "." + who +
-                              std::string(harness::image_extension(rr->image.color_format))));
+            rr->image,
+            image("." + who + std::string(harness::image_extension(rr->image.color_format))));
     };
     save(r.reference, r.reference_name);
     save(r.actual, r.actual_name);
     if (r.comparison && r.comparison->mismatched_pixels > 0 && !r.comparison->size_mismatch) {
-        harness::write_color_image(r.comparison->mask, dir / (r.name + ".mask.png"));
+        harness::write_color_image(r.comparison->mask, image(".mask.png"));
     }
     // The explain view of an explained failure: explain/NAME.svg and NAME.txt beside images/.
     if (!r.explanation_svg.empty()) {
         // An aid, not a result: a view that cannot be written is left out (the case page
         // links it only where it exists).
         try {
-            const auto explain_dir = dir.parent_path() / "explain";
-            std::filesystem::create_directories(explain_dir);
-            harness::write_file_atomically(explain_dir / (r.name + ".svg"), r.explanation_svg);
-            harness::write_file_atomically(explain_dir / (r.name + ".txt"), r.explanation_text);
+            const auto svg = case_file(output, "explain", r.name, ".svg");
+            const auto txt = case_file(output, "explain", r.name, ".txt");
+            std::filesystem::create_directories(svg.parent_path());
+            harness::write_file_atomically(svg, r.explanation_svg);
+            harness::write_file_atomically(txt, r.explanation_text);
         } catch (const std::exception&) {
         }
     }
     // A 4x target's sample mask: each pixel a 2x2 block of its samples' classes.
     if (r.sample_comparison && r.sample_comparison->mismatched_samples > 0 &&
         !r.sample_comparison->size_mismatch) {
-        harness::write_color_image(r.sample_comparison->mask, dir / (r.name + ".samples.png"));
+        harness::write_color_image(r.sample_comparison->mask, image(".samples.png"));
     }
 }
 
@@ -358,9 +450,68 @@ std::string format_duration(double s) {
 
 }  // namespace
 
+void clear_run_output(const std::filesystem::path& output) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const auto present = [&](const fs::path& p) { return fs::exists(fs::symlink_status(p, ec)); };
+    const fs::path jsonl = output / "results.jsonl";
+    if (!present(jsonl) && !present(output / "run.json")) return;
+    // Nothing is removed through a link that leads out of the output.
+    check_output_folders(output);
+    // Which files are the earlier run's: read everything before removing anything.
+    std::vector<fs::path> owned;
+    for (const char* f : {"results.csv", "failures.csv", "samples.csv", "results.json", "junit.xml",
+                          "index.html", "merge.txt", "run.json", "results.jsonl"}) {
+        owned.push_back(output / f);
+    }
+    if (present(jsonl)) {
+        for (const ResultLine& l : read_result_lines(jsonl).lines) {
+            const auto where = shown(jsonl) + ":" + std::to_string(l.number);
+            json j;
+            try {
+                j = json::parse(l.text);
+            } catch (const json::exception&) {
+                throw std::runtime_error(where +
+                                         ": not a result record, so the files of the run there "
+                                         "are unknown: remove them or choose another --output");
+            }
+            if (!j.is_object() || !j.contains("case") || !j["case"].is_string() ||
+                case_name_problem(j["case"].get<std::string>())) {
+                throw std::runtime_error(where +
+                                         ": no case name, so the files of the run there are "
+                                         "unknown: remove them or choose another --output");
+            }
+            const std::string name = j["case"].get<std::string>();
+            owned.push_back(output / "cases" / (name + ".html"));
+            owned.push_back(output / "explain" / (name + ".svg"));
+            owned.push_back(output / "explain" / (name + ".txt"));
+            owned.push_back(output / "images" / (name + ".mask.png"));
+            owned.push_back(output / "images" / (name + ".samples.png"));
+            for (const char* side : {"reference", "actual"}) {
+                if (!j.contains(side) || !j[side].is_object() || !j[side].contains("backend") ||
+                    !j[side]["backend"].is_string())
+                    continue;
+                const std::string backend = j[side]["backend"].get<std::string>();
+                if (backend.empty() || backend.find('/') != std::string::npos) continue;
+                for (const char* ext : {".png", ".exr"})
+                    owned.push_back(output / "images" / (name + "." + backend + ext));
+            }
+        }
+    }
+    for (const fs::path& p : owned) {
+        const auto st = fs::symlink_status(p, ec);
+        // A file or a link of the run's name; never a directory.
+        if (fs::is_regular_file(st) || fs::is_symlink(st)) fs::remove(p, ec);
+    }
+    for (const char* d : {"cases", "images", "explain"}) {
+        if (fs::is_directory(fs::symlink_status(output / d, ec)) && fs::is_empty(output / d, ec))
+            fs::remove(output / d, ec);
+    }
+}
+
 RunSummary run_suite(const RunOptions& options, std::ostream& console) {
-    if (options.shard_count < 1 || options.shard_index < 0 ||
-        options.shard_index >= options.shard_count) {
+    if (options.shard_count < 1 || options.shard_count > kMaxShardCount ||
+        options.shard_index < 0 || options.shard_index >= options.shard_count) {
         throw std::runtime_error("shard index " + std::to_string(options.shard_index) +
                                  " is not in [0, " + std::to_string(options.shard_count) + ")");
     }
@@ -388,27 +539,64 @@ RunSummary run_suite(const RunOptions& options, std::ostream& console) {
     }
     if (cases.empty()) throw std::runtime_error("no scene matched the selection");
 
-    std::filesystem::create_directories(options.output / "images");
     const auto results_path = options.output / "results.jsonl";
     auto reference = harness::make_backend(options.reference);
     auto actual = harness::make_backend(options.against);
 
-    std::map<std::string, nlohmann::json> done;
+    // The run's setup, for run.json: what a resumed run must share with it.
+    json setup;
+    setup["format"] = 1;
+    setup["commit"] = harness::host_provenance()["commit"];
+    setup["reference"] = {{"backend", reference->name()},
+                          {"profile", options.reference.profile.name},
+                          {"profile_rules", harness::profile_rules(options.reference.profile)},
+                          {"profile_source", options.reference.profile_source},
+                          {"profile_overrides", options.reference.profile_overrides}};
+    setup["against"] = {{"backend", actual->name()},
+                        {"environment", options.against.environment},
+                        {"mesa_prefix", options.against.mesa_prefix.string()},
+                        {"egl_device", options.against.egl_device.value_or(-1)}};
+    setup["verdict"] = options.gl_verdict ? "gl" : "exact";
+    setup["baseline"] = options.baseline ? file_hash(*options.baseline) : "";
+    setup["flakes"] = json::array();
+    for (const auto& f : options.flakes) setup["flakes"].push_back(file_hash(f));
+    setup["shard"] = {{"index", options.shard_index}, {"count", options.shard_count}};
+    std::set<std::string> selected;
+    json names = json::array();
+    for (const auto& c : cases) {
+        selected.insert(c.name);
+        names.push_back(c.name);
+    }
+    setup["selection"] = {
+        {"cases", options.case_globs}, {"exclude", options.exclude_globs}, {"names", names}};
+
+    check_output_folders(options.output);
+    std::map<std::string, json> done;
+    std::map<std::string, std::string> kept_identity;
     if (options.resume) {
-        auto recovered = recover(results_path);
-        check_same_run(recovered.records, reference->name(), options.reference.profile.name,
-                       actual->name(), results_path);
+        // Every check before the first write: the torn line is cut only then.
+        auto recovered = recover(options.output, setup, selected);
+        if (recovered.torn_bytes > 0)
+            std::filesystem::resize_file(results_path, recovered.size - recovered.torn_bytes);
         done = std::move(recovered.records);
+        kept_identity = std::move(recovered.identity);
         console << "resume: kept " << done.size() << " finished case"
-                << (done.size() == 1 ? "" : "s") << " of " << results_path.string();
+                << (done.size() == 1 ? "" : "s") << " of " << shown(results_path);
         if (recovered.torn_bytes > 0)
             console << ", cut a torn last line of " << recovered.torn_bytes << " bytes";
         console << "\n" << std::flush;
+        std::filesystem::create_directories(options.output);
+        if (!std::filesystem::exists(options.output / "run.json"))
+            harness::write_file_atomically(output_file(options.output, "", "run.json"),
+                                           dump_text(setup) + "\n");
     } else {
-        std::ofstream(results_path, std::ios::trunc);
+        clear_run_output(options.output);
+        std::filesystem::create_directories(options.output);
+        harness::write_file_atomically(output_file(options.output, "", "run.json"),
+                                       dump_text(setup) + "\n");
+        harness::write_file_atomically(output_file(options.output, "", "results.jsonl"), "");
     }
-    if (!std::filesystem::exists(results_path))
-        throw std::runtime_error(results_path.string() + ": cannot write");
+    if (!std::filesystem::exists(results_path)) harness::write_file_atomically(results_path, "");
 
     RunSummary s;
     const auto count = [&](harness::CaseStatus st) {
@@ -459,8 +647,20 @@ RunSummary run_suite(const RunOptions& options, std::ostream& console) {
         }
         r.shard = std::array<int, 2>{options.shard_index, options.shard_count};
         r.shard_source = options.shard_source;
+        if (!kept_identity.empty() && r.reference) {
+            // The kept records and this run must be one comparison down to the driver's
+            // version, which only a render tells: checked before this case writes anything.
+            const auto d =
+                first_difference(identity_of(json::parse(harness::to_json_line(r))), kept_identity);
+            if (!d.empty())
+                throw std::runtime_error(shown(results_path) +
+                                         ": the kept records are of another run than this one (" +
+                                         harness::encode::terminal(d) +
+                                         "); refusing to resume (run again without --resume)");
+            kept_identity.clear();
+        }
         try {
-            write_images(r, options.output / "images");
+            write_images(r, options.output);
         } catch (const harness::ImageIoError& e) {
             if (!harness::counts_as_failure(r.status)) {
                 r.status = harness::CaseStatus::InternalError;
@@ -481,16 +681,18 @@ RunSummary run_suite(const RunOptions& options, std::ostream& console) {
         }
         if (harness::counts_as_failure(r.status) || !options.progress) {
             if (options.progress) console << "\r\033[K";
+            // The name is a checked case name; the message may quote a path or a scene's text.
             console << to_string(r.status) << " " << r.name;
-            if (!r.message.empty()) console << ": " << r.message;
-            if (!r.explanation_rule.empty()) console << " [" << r.explanation_rule << "]";
+            if (!r.message.empty()) console << ": " << harness::encode::terminal(r.message);
+            if (!r.explanation_rule.empty())
+                console << " [" << harness::encode::terminal(r.explanation_rule) << "]";
             console << '\n' << std::flush;
         }
     }
     if (options.progress) console << "\r\033[K";
     write_reports(options.output, cases.size());
-    console << "results: " << results_path.string()
-            << "; report: " << (options.output / "index.html").string() << "\n";
+    console << "results: " << shown(results_path)
+            << "; report: " << shown(options.output / "index.html") << "\n";
     console << s.passed << " passed, " << s.failed << " failed, " << s.skipped << " skipped\n";
     return s;
 }

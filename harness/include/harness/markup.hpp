@@ -19,7 +19,9 @@
 namespace harness::markup {
 
 // `text` with & < > " ' replaced by their character references, so that it reads as written
-// between tags and inside an attribute value quoted either way.
+// between tags and inside an attribute value quoted either way, and what XML 1.0 forbids
+// (controls but tab, newline and carriage return; bytes that are not UTF-8) as U+FFFD:
+// harness::encode::html_text (encode.hpp).
 std::string escape(std::string_view text);
 
 // One attribute of an element: its value is escaped when written.

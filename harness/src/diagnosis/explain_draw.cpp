@@ -155,7 +155,7 @@ std::string explanation_svg(const Explanation& e, int radius) {
                            {"font-family", "system-ui,sans-serif"},
                            {"font-size", "12"}})
       << "\n";
-    s << "<title>pixel (" << cx << ", " << cy << "): " << e.verdict << "</title>\n";
+    s << "<title>pixel (" << cx << ", " << cy << "): " << markup::escape(e.verdict) << "</title>\n";
     s << "<defs><pattern id=\"outside\" width=\"8\" height=\"8\" patternUnits=\"userSpaceOnUse\" "
          "patternTransform=\"rotate(45)\"><rect width=\"8\" height=\"8\" fill=\"#d7d7d7\"/>"
          "<line x1=\"0\" y1=\"0\" x2=\"0\" y2=\"8\" stroke=\"#9e9e9e\" stroke-width=\"3\"/>"
@@ -341,7 +341,9 @@ std::string explanation_svg(const Explanation& e, int radius) {
     for (auto& c : verdict) {
         if (c == '<' || c == '>' || c == '&') c = ' ';
     }
-    s << "<text x=\"4\" y=\"" << verdict_y << "\">" << verdict.substr(0, 160) << "</text>\n";
+    // Cut at 160 bytes, which may split a character: the escape makes that U+FFFD.
+    s << "<text x=\"4\" y=\"" << verdict_y << "\">" << markup::escape(verdict.substr(0, 160))
+      << "</text>\n";
     // The legend: every mark of the two panels.
     s << "<g id=\"legend\" transform=\"translate(8 " << legend_top << ")\">\n";
     struct Entry {

@@ -3,33 +3,12 @@
 
 #include <cmath>
 
+#include "harness/encode.hpp"
+
 namespace harness::markup {
 
 std::string escape(std::string_view text) {
-    std::string out;
-    out.reserve(text.size());
-    for (const char c : text) {
-        switch (c) {
-            case '&':
-                out += "&amp;";
-                break;
-            case '<':
-                out += "&lt;";
-                break;
-            case '>':
-                out += "&gt;";
-                break;
-            case '"':
-                out += "&quot;";
-                break;
-            case '\'':
-                out += "&#39;";
-                break;
-            default:
-                out += c;
-        }
-    }
-    return out;
+    return encode::html_text(text);
 }
 
 std::string svg_open(std::initializer_list<Attribute> attributes, std::string_view id) {

@@ -9,14 +9,43 @@
 // zoomable), its numbers, its provenance and its explanation. No network: CSS and script
 // inline, images by relative path.
 //
+// Every name, path and message a record holds reaches a page through the encoders of
+// harness/encode.hpp (HTML text and attributes, JSON inside the case page's script, CSV fields,
+// XML), and every report is built in memory before the first is written, so that a record the
+// reports cannot read leaves the directory as it was.
+//
 // Deliberately does not: render anything; everything comes from the records and images the
 // run wrote.
 #pragma once
 
 #include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
 
 namespace conformance {
 
+// One report: its path below the output directory ("index.html", "cases/NAME.html") and text.
+struct ReportFile {
+    std::string path;
+    std::string text;
+};
+
+// Whether the output holds a file ("images/NAME.ref.png", "explain/NAME.svg"), for the links
+// of the case pages.
+using FileExists = std::function<bool(const std::string& relative)>;
+
+// Every report of `lines` (results.jsonl's lines, in any order; empty ones skipped). Throws
+// std::runtime_error naming `source` and the line of a record that is not one (record_check).
+std::vector<ReportFile> build_reports(const std::vector<std::string>& lines,
+                                      const std::string& source, std::size_t selected_cases,
+                                      const FileExists& exists);
+
+// Writes each file atomically, every path checked to lie inside `output` (records.hpp) before
+// the first is written.
+void write_report_files(const std::filesystem::path& output, const std::vector<ReportFile>& files);
+
+// The reports of output/results.jsonl (read within the bounds of records.hpp), written.
 void write_reports(const std::filesystem::path& output, std::size_t selected_cases);
 
 }  // namespace conformance

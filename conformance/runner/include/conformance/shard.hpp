@@ -28,6 +28,10 @@
 
 namespace conformance {
 
+// The most shards a run may be split into (docs/limits.md): far more than there are machines
+// to run them, and small enough that a merge's list of missing shards stays short.
+inline constexpr int kMaxShardCount = 4096;
+
 struct Shard {
     int index = 0;
     int count = 1;

@@ -107,7 +107,28 @@ struct RunSummary {
 };
 
 // Runs the suite; throws std::runtime_error for a problem with the run itself (no scenes
-// matched, a bad case list or baseline, output not writable, backend unavailable).
+// matched, a bad case list or baseline, output not writable, backend unavailable, a results
+// directory that cannot be resumed), before writing anything.
+//
+// The run writes DIR/run.json, its setup (format, commit, both sides' backends, the reference
+// profile and its rules, the verdict, baseline and flakes files' contents as hashes, the shard
+// and the selected cases), before its first record. --resume refuses, naming the file and the
+// record or key at fault: a directory without run.json (written before it existed: rerun
+// without --resume), a run.json of another setup, and any record of a case outside the
+// selection, of another shard, commit, profile, backend or driver, or of another run than the
+// other records; the first case the resumed run renders must have the kept records' identity
+// (record_check.hpp), checked before it is written. Without --resume, what an earlier run or
+// merge wrote there is cleared first (clear_run_output).
 RunSummary run_suite(const RunOptions& options, std::ostream& console);
+
+// Removes what a run or merge wrote into `output` and nothing else: when `output` holds a
+// results.jsonl or run.json, the reports (results.jsonl, results.csv, failures.csv,
+// samples.csv, results.json, junit.xml, index.html, merge.txt, run.json) and, for every case
+// results.jsonl records, cases/NAME.html, images/NAME.BACKEND.png|exr (its two backends),
+// images/NAME.mask.png, images/NAME.samples.png, explain/NAME.svg and explain/NAME.txt; then
+// cases/, images/ and explain/ when that leaves them empty. Throws std::runtime_error naming
+// the line of a results.jsonl whose records cannot be read (a torn last line aside), leaving
+// everything in place.
+void clear_run_output(const std::filesystem::path& output);
 
 }  // namespace conformance
