@@ -2,6 +2,7 @@
 
 #include <exception>
 #include <iostream>
+#include <new>
 
 namespace tool {
 
@@ -24,6 +25,8 @@ std::unique_ptr<harness::Backend> backend_or_report(const BackendArgs& a,
         if (e.exit_class() == refraster::ExitClass::BadInput) throw;
         std::cerr << scene << ": backend " << a.backend << ": " << e.what() << "\n";
         return nullptr;
+    } catch (const std::bad_alloc&) {
+        throw;  // running out of memory: main reports it (exit 3)
     } catch (const std::exception& e) {
         std::cerr << scene << ": backend " << a.backend << ": " << e.what() << "\n";
         return nullptr;

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <new>
 #include <optional>
 #include <vector>
 
@@ -70,6 +71,8 @@ int run_conformance(const ConformanceArgs& a) {
         o.against = a.against.options();
         const auto s = conformance::run_suite(o, std::cout);
         return s.failed == 0 ? kExitOk : kExitMismatch;
+    } catch (const std::bad_alloc&) {
+        throw;  // running out of memory: main reports it (exit 3)
     } catch (const std::exception& e) {
         // Whatever stops a run before its verdict (a profile, a scene, a results directory
         // that cannot be resumed) is reported as the run's bad input.
@@ -91,6 +94,8 @@ int run_merge(const std::vector<std::string>& shards, const std::string& output)
     } catch (const conformance::MergeError& e) {
         std::cerr << "refraster conformance merge: " << e.what() << "\n";
         return exit_code(e.exit_class());
+    } catch (const std::bad_alloc&) {
+        throw;  // running out of memory: main reports it (exit 3)
     } catch (const std::exception& e) {
         std::cerr << "refraster conformance merge: " << output << ": " << e.what() << "\n";
         return kExitBadInput;
@@ -124,6 +129,8 @@ int run_hashes(const std::string& scenes, const ProfileArgs& profile) {
                       << "\n";
         }
         return kExitOk;
+    } catch (const std::bad_alloc&) {
+        throw;  // running out of memory: main reports it (exit 3)
     } catch (const std::exception& e) {
         std::cerr << "refraster conformance hashes: " << e.what() << "\n";
         return kExitBadInput;

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <new>
 
 #include "commands/commands.hpp"
 #include "harness/files.hpp"
@@ -47,6 +48,8 @@ int run_study(const StudyArgs& a) {
         harness::write_file_atomically(dir / "study.svg", out.svg);
         harness::write_file_atomically(dir / "summary.md",
                                        harness::study_summary_markdown(out, command));
+    } catch (const std::bad_alloc&) {
+        throw;  // running out of memory: main reports it (exit 3)
     } catch (const std::exception& e) {
         std::cerr << a.output << ": " << e.what() << "\n";
         return kExitBadInput;

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <fstream>
+#include <new>
 #include <nlohmann/json.hpp>
 #include <ostream>
 #include <set>
@@ -286,6 +287,8 @@ harness::CaseResult run_one(const CaseFile& c, harness::Backend& reference,
                     r.explanation_rule = e.rule;
                     r.explanation_text = harness::explanation_text(e);
                     r.explanation_svg = harness::explanation_svg(e);
+                } catch (const std::bad_alloc&) {
+                    throw;  // running out of memory: main reports it (exit 3)
                 } catch (const std::exception&) {
                     // The case's result stands without an explanation.
                 }
@@ -318,6 +321,8 @@ void write_images(const harness::CaseResult& r, const std::filesystem::path& dir
             std::filesystem::create_directories(explain_dir);
             harness::write_file_atomically(explain_dir / (r.name + ".svg"), r.explanation_svg);
             harness::write_file_atomically(explain_dir / (r.name + ".txt"), r.explanation_text);
+        } catch (const std::bad_alloc&) {
+            throw;  // running out of memory: main reports it (exit 3)
         } catch (const std::exception&) {
         }
     }

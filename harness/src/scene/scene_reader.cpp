@@ -14,6 +14,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <new>
 #include <system_error>
 
 #include "harness/front_end.hpp"
@@ -873,6 +874,8 @@ refraster::TextureImage read_texture_image(const Node& n, std::uint32_t level,
         image = reader(path, check_size);
     } catch (const SceneError&) {
         throw;
+    } catch (const std::bad_alloc&) {
+        throw;  // running out of memory: main reports it (exit 3)
     } catch (const std::exception& e) {
         file->fail(escape_for_message(e.what()));
     }
