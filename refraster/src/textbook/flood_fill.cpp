@@ -1,6 +1,9 @@
 #include "refraster/textbook/flood_fill.hpp"
 
+#include <algorithm>
 #include <array>
+#include <cmath>
+#include <cstdlib>
 #include <string>
 
 namespace refraster::textbook {
@@ -25,6 +28,88 @@ std::string describe_stack(const std::vector<PixelIndex>& stack) {
 }
 
 }  // namespace
+
+int winding_at_centre(const std::vector<Point2>& outline, int x, int y) {
+    const double cx = x + 0.5;
+    const double cy = y + 0.5;
+    int w = 0;
+    for (std::size_t k = 0; k < outline.size(); ++k) {
+        const Point2 a = outline[k];
+        const Point2 b = outline[(k + 1) % outline.size()];
+        if ((a.y > cy) == (b.y > cy)) continue;
+        const double xc = a.x + (cy - a.y) * (b.x - a.x) / (b.y - a.y);
+        if (xc <= cx) w += b.y > a.y ? 1 : -1;
+    }
+    return w;
+}
+
+std::optional<PixelIndex> seed_inside(const Raster& boundary, const std::vector<Point2>& outline,
+                                      std::size_t* examined) {
+    if (examined != nullptr) *examined = 0;
+    if (outline.empty() || boundary.width() == 0 || boundary.height() == 0) return std::nullopt;
+    double x_lo = outline[0].x, x_hi = x_lo, y_lo = outline[0].y, y_hi = y_lo;
+    double mx = 0.0, my = 0.0;
+    for (const Point2& p : outline) {
+        if (!std::isfinite(p.x) || !std::isfinite(p.y)) return std::nullopt;
+        x_lo = std::min(x_lo, p.x);
+        x_hi = std::max(x_hi, p.x);
+        y_lo = std::min(y_lo, p.y);
+        y_hi = std::max(y_hi, p.y);
+        mx += p.x;
+        my += p.y;
+    }
+    mx /= static_cast<double>(outline.size());
+    my /= static_cast<double>(outline.size());
+    // The pixels whose centres lie in the box, clipped to the raster (in double: the outline
+    // may reach far outside it).
+    const auto clip = [](double v, int lo, int hi) {
+        return static_cast<int>(std::clamp(v, static_cast<double>(lo), static_cast<double>(hi)));
+    };
+    const int w = boundary.width();
+    const int h = boundary.height();
+    const int bx0 = clip(std::ceil(x_lo - 0.5), 0, w);
+    const int bx1 = clip(std::floor(x_hi - 0.5), -1, w - 1);
+    const int by0 = clip(std::ceil(y_lo - 0.5), 0, h);
+    const int by1 = clip(std::floor(y_hi - 0.5), -1, h - 1);
+    if (bx0 > bx1 || by0 > by1) return std::nullopt;
+    // The centre of the rings, and the nearest and farthest rings that meet the box.
+    const int cx = clip(std::floor(mx), -1, w);
+    const int cy = clip(std::floor(my), -1, h);
+    const auto gap = [](int c, int lo, int hi) { return c < lo ? lo - c : c > hi ? c - hi : 0; };
+    const int r0 = std::max(gap(cx, bx0, bx1), gap(cy, by0, by1));
+    const int r1 =
+        std::max({std::abs(cx - bx0), std::abs(cx - bx1), std::abs(cy - by0), std::abs(cy - by1)});
+    std::size_t tested = 0;
+    const auto inside = [&](int x, int y) {
+        ++tested;
+        return !(boundary.at(x, y) > 0.0) && winding_at_centre(outline, x, y) != 0;
+    };
+    std::optional<PixelIndex> seed;
+    for (int r = r0; r <= r1 && !seed; ++r) {
+        const int x_first = std::max(cx - r, bx0);
+        const int x_last = std::min(cx + r, bx1);
+        const bool left = cx - r >= bx0 && cx - r <= bx1;
+        const bool right = r > 0 && cx + r >= bx0 && cx + r <= bx1;
+        const int y_first = std::max(cy - r, by0);
+        const int y_last = std::min(cy + r, by1);
+        for (int y = y_first; y <= y_last && !seed; ++y) {
+            if (y == cy - r || y == cy + r) {
+                // A whole row of the ring.
+                for (int x = x_first; x <= x_last && !seed; ++x)
+                    if (inside(x, y)) seed = PixelIndex{x, y};
+                continue;
+            }
+            if (!left && !right) {
+                y = y_last - (cy + r <= by1 ? 1 : 0);  // straight to the ring's top row
+                continue;
+            }
+            if (left && inside(cx - r, y)) seed = PixelIndex{cx - r, y};
+            if (!seed && right && inside(cx + r, y)) seed = PixelIndex{cx + r, y};
+        }
+    }
+    if (examined != nullptr) *examined = tested;
+    return seed;
+}
 
 FloodResult flood_fill(const Raster& boundary, PixelIndex seed, Connectivity connectivity,
                        Trace* trace) {

@@ -53,7 +53,20 @@ std::string format_pixel(int x, int y) {
     return "(" + std::to_string(x) + ", " + std::to_string(y) + ")";
 }
 
+bool Trace::recording() const {
+    const std::size_t pixels =
+        pixels_before_last + (steps.empty() ? 0 : steps.back().pixels.size());
+    return steps.size() < max_steps && pixels < max_pixels;
+}
+
 Step& add_step(Trace& trace, std::string title) {
+    if (!trace.recording()) {
+        ++trace.omitted;
+        trace.discarded = Step{};
+        trace.discarded.title = std::move(title);
+        return trace.discarded;
+    }
+    if (!trace.steps.empty()) trace.pixels_before_last += trace.steps.back().pixels.size();
     trace.steps.emplace_back();
     trace.steps.back().title = std::move(title);
     return trace.steps.back();

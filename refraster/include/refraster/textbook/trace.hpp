@@ -7,11 +7,19 @@
 // refraster::textbook takes an optional Trace* and appends to it; a null Trace* costs nothing
 // but the test.
 //
+// A Trace may be bounded (max_steps, max_pixels): once either is reached it stops recording,
+// add_step hands out a scratch step that the next call clears, and `omitted` counts the steps
+// not kept, so that an algorithm run on a large input keeps its first steps and the count of
+// the rest in memory of the bound's size. An algorithm that builds an expensive state for a
+// step asks recording() first.
+//
 // Deliberately does not: render, colour or lay out anything. A viewer reads the Steps; the
 // roles of Segments and the keys of state are plain strings so that the viewer needs no
 // knowledge of the algorithm that wrote them.
 #pragma once
 
+#include <cstddef>
+#include <limits>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -55,6 +63,18 @@ struct Trace {
     std::string algorithm;       // "Bresenham line", set by the algorithm that fills the trace
     std::vector<Segment> input;  // the input geometry, drawn under every step
     std::vector<Step> steps;
+    // The bounds: the most steps kept, and the most pixel marks in them (checked when a step is
+    // added, so the last step kept may pass it by its own pixels).
+    std::size_t max_steps = std::numeric_limits<std::size_t>::max();
+    std::size_t max_pixels = std::numeric_limits<std::size_t>::max();
+    std::size_t omitted = 0;  // steps added past a bound, not kept
+    // Whether the next add_step is kept.
+    bool recording() const;
+
+    // add_step's scratch step past a bound, and the pixel marks of the kept steps before the
+    // last one.
+    Step discarded;
+    std::size_t pixels_before_last = 0;
 };
 
 class Raster {
@@ -83,7 +103,8 @@ class Raster {
 };
 
 // Helpers for the algorithms that write traces: the shortest decimal that reads back as v
-// ("0.25", "-3", "1e+20"), and a step appended to a trace if there is one.
+// ("0.25", "-3", "1e+20"), and a step appended to a trace if there is one (or, past the
+// trace's bounds, a scratch step counted in `omitted`).
 std::string format_number(double v);
 std::string format_number(long long v);
 std::string format_pixel(int x, int y);  // "(3, 4)"
