@@ -60,6 +60,8 @@ std::optional<PixelIndex> seed_inside(const Raster& boundary, const std::vector<
     }
     mx /= static_cast<double>(outline.size());
     my /= static_cast<double>(outline.size());
+    if (!std::isfinite(mx)) mx = (x_lo + x_hi) / 2.0;  // the sum overflowed: the box's middle
+    if (!std::isfinite(my)) my = (y_lo + y_hi) / 2.0;
     // The pixels whose centres lie in the box, clipped to the raster (in double: the outline
     // may reach far outside it).
     const auto clip = [](double v, int lo, int hi) {
@@ -72,39 +74,48 @@ std::optional<PixelIndex> seed_inside(const Raster& boundary, const std::vector<
     const int by0 = clip(std::ceil(y_lo - 0.5), 0, h);
     const int by1 = clip(std::floor(y_hi - 0.5), -1, h - 1);
     if (bx0 > bx1 || by0 > by1) return std::nullopt;
-    // The centre of the rings, and the nearest and farthest rings that meet the box.
-    const int cx = clip(std::floor(mx), -1, w);
-    const int cy = clip(std::floor(my), -1, h);
-    const auto gap = [](int c, int lo, int hi) { return c < lo ? lo - c : c > hi ? c - hi : 0; };
-    const int r0 = std::max(gap(cx, bx0, bx1), gap(cy, by0, by1));
-    const int r1 =
-        std::max({std::abs(cx - bx0), std::abs(cx - bx1), std::abs(cy - by0), std::abs(cy - by1)});
+    // The centre of the rings (in 64 bits: the mean may lie far outside the raster; beyond 2^40
+    // pixels away it is clamped), and the nearest and farthest rings that meet the box.
+    using I = long long;
+    constexpr double kFar = 1099511627776.0;  // 2^40
+    const I cx = static_cast<I>(std::clamp(std::floor(mx), -kFar, kFar));
+    const I cy = static_cast<I>(std::clamp(std::floor(my), -kFar, kFar));
+    const I x0 = bx0, x1 = bx1, y0 = by0, y1 = by1;
+    const auto gap = [](I c, I lo, I hi) { return c < lo ? lo - c : c > hi ? c - hi : I{0}; };
+    const I r0 = std::max(gap(cx, x0, x1), gap(cy, y0, y1));
+    const I r1 = std::max(
+        {std::llabs(cx - x0), std::llabs(cx - x1), std::llabs(cy - y0), std::llabs(cy - y1)});
     std::size_t tested = 0;
-    const auto inside = [&](int x, int y) {
-        ++tested;
-        return !(boundary.at(x, y) > 0.0) && winding_at_centre(outline, x, y) != 0;
-    };
     std::optional<PixelIndex> seed;
-    for (int r = r0; r <= r1 && !seed; ++r) {
-        const int x_first = std::max(cx - r, bx0);
-        const int x_last = std::min(cx + r, bx1);
-        const bool left = cx - r >= bx0 && cx - r <= bx1;
-        const bool right = r > 0 && cx + r >= bx0 && cx + r <= bx1;
-        const int y_first = std::max(cy - r, by0);
-        const int y_last = std::min(cy + r, by1);
-        for (int y = y_first; y <= y_last && !seed; ++y) {
+    // Tests pixel (x, y) of the box; true when it is the seed.
+    const auto test = [&](I x, I y) {
+        ++tested;
+        const int px = static_cast<int>(x);
+        const int py = static_cast<int>(y);
+        if (boundary.at(px, py) > 0.0 || winding_at_centre(outline, px, py) == 0) return false;
+        seed = PixelIndex{px, py};
+        return true;
+    };
+    for (I r = r0; r <= r1 && !seed; ++r) {
+        const I x_first = std::max(cx - r, x0);
+        const I x_last = std::min(cx + r, x1);
+        const bool left = cx - r >= x0 && cx - r <= x1;
+        const bool right = r > 0 && cx + r >= x0 && cx + r <= x1;
+        const I y_first = std::max(cy - r, y0);
+        const I y_last = std::min(cy + r, y1);
+        for (I y = y_first; y <= y_last && !seed; ++y) {
             if (y == cy - r || y == cy + r) {
                 // A whole row of the ring.
-                for (int x = x_first; x <= x_last && !seed; ++x)
-                    if (inside(x, y)) seed = PixelIndex{x, y};
+                for (I x = x_first; x <= x_last && !test(x, y); ++x) {
+                }
                 continue;
             }
             if (!left && !right) {
-                y = y_last - (cy + r <= by1 ? 1 : 0);  // straight to the ring's top row
+                y = y_last - (cy + r <= y1 ? 1 : 0);  // straight to the ring's top row
                 continue;
             }
-            if (left && inside(cx - r, y)) seed = PixelIndex{cx - r, y};
-            if (!seed && right && inside(cx + r, y)) seed = PixelIndex{cx + r, y};
+            if (left && test(cx - r, y)) break;
+            if (right) test(cx + r, y);
         }
     }
     if (examined != nullptr) *examined = tested;
