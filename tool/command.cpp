@@ -2,6 +2,7 @@
 
 #include <exception>
 #include <iostream>
+#include <new>
 
 #include "harness/encode.hpp"
 
@@ -27,6 +28,8 @@ std::unique_ptr<harness::Backend> backend_or_report(const BackendArgs& a,
         std::cerr << harness::encode::terminal(scene) << ": backend " << a.backend << ": "
                   << harness::encode::terminal(e.what()) << "\n";
         return nullptr;
+    } catch (const std::bad_alloc&) {
+        throw;  // running out of memory: main reports it (exit 3)
     } catch (const std::exception& e) {
         std::cerr << harness::encode::terminal(scene) << ": backend " << a.backend << ": "
                   << harness::encode::terminal(e.what()) << "\n";

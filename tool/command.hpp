@@ -3,7 +3,7 @@
 //
 // Exit codes (README.md, "Exit codes"): 0 success, 1 images differ beyond `expect` (or a
 // conformance case failed), 2 bad input or usage, 3 backend failure (crash, timeout, internal
-// error), 4 NotSupported, 5 out of memory. 2 and 3 are the classes a refraster::Error carries.
+// error, out of memory), 4 NotSupported. 2 and 3 are the classes a refraster::Error carries.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -25,7 +25,8 @@ constexpr int kExitMismatch = 1;
 constexpr int kExitBadInput = static_cast<int>(refraster::ExitClass::BadInput);
 constexpr int kExitBackendFailure = static_cast<int>(refraster::ExitClass::BackendFailure);
 constexpr int kExitNotSupported = 4;
-constexpr int kExitOutOfMemory = 5;
+// Running out of memory is a run failure: the one line `refraster: out of memory` (main.cpp).
+constexpr int kExitOutOfMemory = kExitBackendFailure;
 
 // The exit code of an error's class: the class's value is the code.
 constexpr int exit_code(refraster::ExitClass c) {

@@ -3,6 +3,7 @@
 #include <charconv>
 #include <cstdlib>
 #include <iostream>
+#include <new>
 #include <sstream>
 
 #include "command.hpp"
@@ -104,6 +105,8 @@ std::optional<int> list_egl_devices_if_asked(int argc, char** argv) {
             return kExitOk;
         } catch (const harness::BackendOptionError&) {
             throw;  // bad input: main reports it
+        } catch (const std::bad_alloc&) {
+            throw;  // running out of memory: main reports it (exit 3)
         } catch (const std::exception& e) {
             std::cerr << "refraster: --egl-device list: " << harness::encode::terminal(e.what())
                       << "\n";

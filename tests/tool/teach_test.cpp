@@ -178,4 +178,145 @@ TEST(Teach, RefusesWhatItCannotTeach) {
     EXPECT_FALSE(std::filesystem::exists(out / "index.html"));
 }
 
+// A scene with one draw of `primitive` through `points` on a `w` x `h` target.
+std::string one_draw(int w, int h, const std::string& primitive,
+                     const std::vector<std::pair<double, double>>& points) {
+    json draw{{"primitive", primitive}, {"vertices", json::array()}};
+    for (const auto& [x, y] : points) draw["vertices"].push_back({{"position", {x, y}}});
+    json scene{{"format", "refraster-scene/1"},
+               {"target", {{"width", w}, {"height", h}}},
+               {"draws", json::array({draw})}};
+    if (primitive == "polygon") scene["requires"] = {"polygons"};
+    return scene.dump();
+}
+
+// A comb of `teeth` teeth across a `w` x `h` target (2 * teeth + 2 vertices).
+std::vector<std::pair<double, double>> comb(int teeth, int w, int h) {
+    const double step = (w - 2.0) / (2.0 * teeth);
+    std::vector<std::pair<double, double>> c = {{1, 1}, {1 + 2 * teeth * step, 1}};
+    for (int i = teeth; i > 0; --i) {
+        c.push_back({1 + 2 * i * step, h - 1.0});
+        c.push_back({1 + (2 * i - 1) * step, 2});
+    }
+    return c;
+}
+
+// Over a bound of docs/limits.md ("Teaching pages"): one line naming the scene and the JSON path
+// (or the option) and the limit, exit 2, before any work, and nothing written.
+TEST(Teach, RefusesInputsOverItsBounds) {
+    testutil::TempDir dir;
+    const auto out = dir.path() / "page";
+    const std::vector<std::pair<double, double>> tri = {{0, 0}, {8, 0}, {0, 8}};
+    struct Case {
+        std::string file, text, algorithm, expected;
+        std::vector<std::string> extra;
+    };
+    const std::vector<Case> cases{
+        {"wide.json",
+         one_draw(257, 256, "triangles", tri),
+         "half-space",
+         "wide.json: target: teach draws at most 65536 pixels",
+         {}},
+        {"sliver.json",
+         one_draw(16384, 64, "triangles", tri),
+         "flood4",
+         "sliver.json: target: teach draws at most 65536 pixels",
+         {}},
+        {"comb.json",
+         one_draw(256, 256, "polygon", comb(512, 256, 256)),
+         "ear-clipping",
+         "comb.json: draws[0]: \"ear-clipping\" takes at most 1024 vertices",
+         {}},
+        {"comb2.json",
+         one_draw(256, 256, "polygon", comb(2049, 256, 256)),
+         "scanline-evenodd",
+         "comb2.json: draws[0]: \"scanline-evenodd\" takes at most 4096 vertices",
+         {}},
+        {"zoom.json",
+         one_draw(256, 256, "triangles", tri),
+         "half-space",
+         "--zoom: 17 makes images of 4352 x 4352 = 18939904 pixels, over the limit of 16777216",
+         {"--zoom", "17"}},
+    };
+    for (const auto& c : cases) {
+        SCOPED_TRACE(c.file);
+        const auto scene = dir.write(c.file, c.text);
+        std::vector<std::string> args{"teach",     scene.string(), "--algorithm",
+                                      c.algorithm, "--output",     out.string()};
+        args.insert(args.end(), c.extra.begin(), c.extra.end());
+        const auto r = testutil::run_cli(args);
+        EXPECT_EQ(r.exit_code, 2) << r.err;
+        EXPECT_NE(r.err.find(c.expected), std::string::npos) << r.err;
+        EXPECT_EQ(testutil::count_lines(r.err), 1u) << r.err;
+        EXPECT_FALSE(std::filesystem::exists(out));
+    }
+    // At the bounds, each runs.
+    const auto comb_at =
+        dir.write("comb_at.json", one_draw(256, 256, "polygon", comb(511, 256, 256)));
+    const auto t = teach(comb_at, "ear-clipping", dir.path() / "at");
+    ASSERT_EQ(t.cli.exit_code, 0) << t.cli.err;
+    EXPECT_EQ(t.data["width"], 256);
+}
+
+// A sliver across the widest target teach takes: the flood fill's seed search tests the
+// sliver's box once (there is no pixel inside it, so no seed and no fill) and the run ends.
+TEST(Teach, AFloodFillOnASliverEnds) {
+    testutil::TempDir dir;
+    const auto scene = dir.write(
+        "sliver.json",
+        one_draw(16384, 4, "triangles", {{0.0, 0.0}, {16384.0, 4.0}, {16384.0, 4.00001}}));
+    const auto t = teach(scene, "flood4", dir.path() / "flood");
+    ASSERT_EQ(t.cli.exit_code, 0) << t.cli.err;
+    for (const auto& note : t.data["notes"])
+        EXPECT_EQ(note.get<std::string>().find("seed ("), std::string::npos) << note;
+}
+
+// A run with more steps than a page records keeps the first 10,000 and counts the rest in a last
+// step and a note; the images and differences are the whole run's.
+TEST(Teach, RecordsTheFirstStepsAndCountsTheRest) {
+    testutil::TempDir dir;
+    // Two triangles over a 256 x 256 target: a half-space step a pixel of each box (131,072+).
+    const auto scene = dir.write(
+        "full.json", one_draw(256, 256, "triangles",
+                              {{0, 0}, {256, 0}, {0, 256}, {256, 0}, {256, 256}, {0, 256}}));
+    const auto t = teach(scene, "half-space", dir.path() / "steps");
+    ASSERT_EQ(t.cli.exit_code, 0) << t.cli.err;
+    ASSERT_EQ(t.data["steps"].size(), 10'001u);
+    const std::size_t omitted = t.data["omitted_steps"];
+    EXPECT_GT(omitted, 256u * 256u);
+    EXPECT_EQ(t.data["steps"].back()["title"],
+              std::to_string(omitted) + " more steps not recorded");
+    EXPECT_NE(t.cli.out.find("(" + std::to_string(omitted) + " more not recorded)"),
+              std::string::npos)
+        << t.cli.out;
+    // The image is the whole run's: every pixel lit.
+    const auto& rgba = t.data["algorithm_rgba"];
+    for (std::size_t i = 0; i < rgba.size(); i += 4) ASSERT_EQ(rgba[i], 255) << i / 4;
+}
+
+// A recorded step is bounded whatever the input: the scanline fill of a 4,096-vertex comb lists
+// the active edges of each row, cut to 240 characters, and draws them, within the run's 65,536
+// overlay segments (the rows past them are counted, not recorded).
+TEST(Teach, BoundsEachStepsValuesAndTheOverlay) {
+    testutil::TempDir dir;
+    const auto scene = dir.write("comb.json", one_draw(256, 256, "polygon", comb(2047, 256, 256)));
+    const auto out = dir.path() / "scanline";
+    const auto t = teach(scene, "scanline-evenodd", out);
+    ASSERT_EQ(t.cli.exit_code, 0) << t.cli.err;
+    bool cut = false;
+    std::size_t segments = 0;
+    for (const auto& step : t.data["steps"]) {
+        ASSERT_LE(step["state"].size(), 24u);
+        for (const auto& kv : step["state"]) {
+            const std::string value = kv[1];
+            EXPECT_LE(value.size(), 240u + 40u) << value.substr(0, 80);
+            cut = cut || value.find(" more characters)") != std::string::npos;
+        }
+        segments += step["overlay"].size();
+    }
+    EXPECT_TRUE(cut);
+    EXPECT_LE(segments, 65'536u + 4'096u);  // the last step recorded may pass the bound
+    EXPECT_GT(t.data["omitted_steps"].get<std::size_t>(), 0u);
+}
+
 }  // namespace

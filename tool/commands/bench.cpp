@@ -5,6 +5,7 @@
 
 #include <iostream>
 #include <memory>
+#include <new>
 #include <stdexcept>
 
 #include "commands/commands.hpp"
@@ -48,6 +49,8 @@ int run_bench(const BenchArgs& a) {
     } catch (const std::invalid_argument& e) {
         std::cerr << "refraster bench: " << harness::encode::terminal(e.what()) << "\n";
         return kExitBadInput;
+    } catch (const std::bad_alloc&) {
+        throw;  // running out of memory: main reports it (exit 3)
     } catch (const std::exception& e) {
         std::cerr << "refraster bench: " << harness::encode::terminal(e.what()) << "\n";
         return kExitBackendFailure;
@@ -56,6 +59,8 @@ int run_bench(const BenchArgs& a) {
     if (!a.json.empty()) {
         try {
             harness::write_file_atomically(a.json, harness::bench_json(report));
+        } catch (const std::bad_alloc&) {
+            throw;  // running out of memory: main reports it (exit 3)
         } catch (const std::exception& e) {
             std::cerr << harness::encode::terminal(e.what()) << "\n";
             return kExitBadInput;

@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <new>
 #include <string_view>
 #include <utility>
 #include <vector>
@@ -73,6 +74,8 @@ int run_compare(CompareArgs a) {
         if (!a.diff.empty() && r.comparison && !r.comparison->size_mismatch) {
             write_diff_images(r, a.diff);
         }
+    } catch (const std::bad_alloc&) {
+        throw;  // running out of memory: main reports it (exit 3)
     } catch (const std::exception& e) {
         std::cerr << harness::encode::terminal(e.what()) << "\n";
         return kExitBadInput;

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <new>
 #include <optional>
 #include <vector>
 
@@ -73,6 +74,8 @@ int run_conformance(const ConformanceArgs& a) {
         o.against = a.against.options();
         const auto s = conformance::run_suite(o, std::cout);
         return s.failed == 0 ? kExitOk : kExitMismatch;
+    } catch (const std::bad_alloc&) {
+        throw;  // running out of memory: main reports it (exit 3)
     } catch (const std::exception& e) {
         // Whatever stops a run before its verdict (a profile, a scene, a results directory
         // that cannot be resumed) is reported as the run's bad input.
@@ -94,6 +97,8 @@ int run_merge(const std::vector<std::string>& shards, const std::string& output)
     } catch (const conformance::MergeError& e) {
         std::cerr << "refraster conformance merge: " << harness::encode::terminal(e.what()) << "\n";
         return exit_code(e.exit_class());
+    } catch (const std::bad_alloc&) {
+        throw;  // running out of memory: main reports it (exit 3)
     } catch (const std::exception& e) {
         std::cerr << "refraster conformance merge: " << harness::encode::terminal(output) << ": "
                   << harness::encode::terminal(e.what()) << "\n";
@@ -128,6 +133,8 @@ int run_hashes(const std::string& scenes, const SceneArgs& scene_args, const Pro
                       << "\n";
         }
         return kExitOk;
+    } catch (const std::bad_alloc&) {
+        throw;  // running out of memory: main reports it (exit 3)
     } catch (const std::exception& e) {
         std::cerr << "refraster conformance hashes: " << harness::encode::terminal(e.what())
                   << "\n";

@@ -5,6 +5,7 @@
 #include <array>
 #include <iostream>
 #include <memory>
+#include <new>
 
 #include "commands/commands.hpp"
 #include "harness/encode.hpp"
@@ -64,6 +65,8 @@ int run_explain(const ExplainArgs& a) {
         }
         if (!a.svg.empty()) harness::write_file_atomically(a.svg, harness::explanation_svg(e));
         return e.agree ? kExitOk : kExitMismatch;
+    } catch (const std::bad_alloc&) {
+        throw;  // running out of memory: main reports it (exit 3)
     } catch (const std::exception& ex) {
         std::cerr << harness::encode::terminal(a.scene) << ": "
                   << harness::encode::terminal(ex.what()) << "\n";

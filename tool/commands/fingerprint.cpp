@@ -6,6 +6,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <new>
 
 #include "commands/commands.hpp"
 #include "harness/encode.hpp"
@@ -27,6 +28,8 @@ int run_fingerprint(const FingerprintArgs& a) {
     try {
         r = harness::fingerprint(
             *backend, [](const std::string& s) { std::cerr << "fingerprint: " << s << "\n"; });
+    } catch (const std::bad_alloc&) {
+        throw;  // running out of memory: main reports it (exit 3)
     } catch (const std::exception& e) {
         std::cerr << "fingerprint: " << harness::encode::terminal(e.what()) << "\n";
         return kExitBackendFailure;

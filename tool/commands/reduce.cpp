@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <new>
 
 #include "commands/commands.hpp"
 #include "harness/encode.hpp"
@@ -71,6 +72,8 @@ int run_reduce(const ReduceArgs& a) {
         std::cerr << "refraster reduce: internal error, the reduced scene is invalid: "
                   << harness::encode::terminal(e.what()) << "\n";
         return kExitBackendFailure;
+    } catch (const std::bad_alloc&) {
+        throw;  // running out of memory: main reports it (exit 3)
     } catch (const std::exception& e) {
         std::cerr << "refraster reduce: " << harness::encode::terminal(e.what()) << "\n";
         return kExitBadInput;

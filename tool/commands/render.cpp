@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <new>
 #include <vector>
 
 #include "commands/commands.hpp"
@@ -74,6 +75,8 @@ int run_render(const RenderArgs& a) {
     }
     try {
         harness::write_color_images(images);
+    } catch (const std::bad_alloc&) {
+        throw;  // running out of memory: main reports it (exit 3)
     } catch (const std::exception& e) {
         std::cerr << harness::encode::terminal(e.what()) << "\n";
         return kExitBadInput;

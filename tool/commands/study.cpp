@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <new>
 
 #include "commands/commands.hpp"
 #include "harness/encode.hpp"
@@ -49,6 +50,8 @@ int run_study(const StudyArgs& a) {
         harness::write_file_atomically(dir / "study.svg", out.svg);
         harness::write_file_atomically(dir / "summary.md",
                                        harness::study_summary_markdown(out, command));
+    } catch (const std::bad_alloc&) {
+        throw;  // running out of memory: main reports it (exit 3)
     } catch (const std::exception& e) {
         std::cerr << harness::encode::terminal(a.output) << ": "
                   << harness::encode::terminal(e.what()) << "\n";

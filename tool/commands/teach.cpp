@@ -4,9 +4,11 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdint>
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <new>
 #include <vector>
 
 #include "commands/commands.hpp"
@@ -53,6 +55,26 @@ int run_teach(TeachArgs a) {
                   << ": target.samples: teach compares single-sample targets, got "
                   << scene->file.target.samples << "\n";
         return kExitBadInput;
+    }
+    // Every bound on the input before any work (docs/limits.md, "Teaching pages").
+    try {
+        harness::check_teach_input(*scene, a.algorithm);
+    } catch (const harness::TeachError& e) {
+        std::cerr << a.scene << ": " << e.what() << "\n";
+        return exit_code(e.exit_class());
+    }
+    {
+        const std::uint64_t zoomed =
+            std::uint64_t{scene->file.target.width} * scene->file.target.height *
+            static_cast<std::uint64_t>(a.zoom) * static_cast<std::uint64_t>(a.zoom);
+        if (zoomed > harness::TeachLimits::kMaxImagePixels) {
+            std::cerr << "--zoom: " << a.zoom << " makes images of "
+                      << scene->file.target.width * static_cast<std::uint64_t>(a.zoom) << " x "
+                      << scene->file.target.height * static_cast<std::uint64_t>(a.zoom) << " = "
+                      << zoomed << " pixels, over the limit of "
+                      << harness::TeachLimits::kMaxImagePixels << " (docs/limits.md)\n";
+            return kExitBadInput;
+        }
     }
     a.backend.backend = a.against == "gl" ? "osmesa" : a.against;
     auto backend = backend_or_report(a.backend, a.scene);
@@ -117,20 +139,37 @@ int run_teach(TeachArgs a) {
         return r.gl_lit[i] ? std::array<std::uint8_t, 4>{90, 90, 90, 255}
                            : std::array<std::uint8_t, 4>{40, 40, 40, 255};
     });
+    // The page's bytes, before anything is written.
+    const std::string json_text = data.dump(1) + "\n";
+    const std::string html = harness::teach_page_html(data);
+    for (const auto& [name, bytes] :
+         {std::pair<const char*, std::size_t>{"teach.json", json_text.size()},
+          std::pair<const char*, std::size_t>{"index.html", html.size()}}) {
+        if (bytes > harness::TeachLimits::kMaxPageBytes) {
+            std::cerr << a.scene << ": the page's " << name << " would take " << bytes
+                      << " bytes, over the limit of " << harness::TeachLimits::kMaxPageBytes
+                      << " (docs/limits.md); nothing written\n";
+            return kExitBadInput;
+        }
+    }
     try {
         std::filesystem::create_directories(dir);
         harness::write_color_images({{&algorithm_png, dir / "algorithm.png"},
                                      {&gl_png, dir / "gl.png"},
                                      {&mask_png, dir / "differences.png"}});
-        harness::write_file_atomically(dir / "teach.json", data.dump(1) + "\n");
-        harness::write_file_atomically(dir / "index.html", harness::teach_page_html(data));
+        harness::write_file_atomically(dir / "teach.json", json_text);
+        harness::write_file_atomically(dir / "index.html", html);
+    } catch (const std::bad_alloc&) {
+        throw;  // running out of memory: main reports it (exit 3)
     } catch (const std::exception& e) {
         std::cerr << harness::encode::terminal(a.output) << ": "
                   << harness::encode::terminal(e.what()) << "\n";
         return kExitBadInput;
     }
     std::cout << r.title << " on " << scene->file.name << " against " << source << ": " << r.summary
-              << "; " << r.steps.size() << " steps\n";
+              << "; " << r.steps.size() << " steps";
+    if (r.omitted_steps > 0) std::cout << " (" << r.omitted_steps << " more not recorded)";
+    std::cout << "\n";
     std::cout << "wrote " << (dir / "index.html").string() << "\n";
     return kExitOk;
 }

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <fstream>
+#include <new>
 #include <nlohmann/json.hpp>
 #include <ostream>
 #include <set>
@@ -370,6 +371,8 @@ harness::CaseResult run_one(const CaseFile& c, const harness::SceneLimits& limit
                     r.explanation_rule = e.rule;
                     r.explanation_text = harness::explanation_text(e);
                     r.explanation_svg = harness::explanation_svg(e);
+                } catch (const std::bad_alloc&) {
+                    throw;  // running out of memory: main reports it (exit 3)
                 } catch (const std::exception&) {
                     // The case's result stands without an explanation.
                 }
@@ -410,6 +413,8 @@ void write_images(const harness::CaseResult& r, const std::filesystem::path& out
             std::filesystem::create_directories(svg.parent_path());
             harness::write_file_atomically(svg, r.explanation_svg);
             harness::write_file_atomically(txt, r.explanation_text);
+        } catch (const std::bad_alloc&) {
+            throw;  // running out of memory: main reports it (exit 3)
         } catch (const std::exception&) {
         }
     }

@@ -15,6 +15,8 @@
 // coverage is known even where a colour equals the clear colour), or write files.
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
@@ -43,6 +45,44 @@ class TeachError : public refraster::Error {
         : refraster::Error(refraster::ExitClass::BadInput, message) {}
 };
 
+// The bounds of one teaching run (docs/limits.md, "Teaching pages"): a page shows every pixel
+// and every recorded step to a reader, so a run is bounded by what a page can show, and every
+// algorithm's work and memory by its input. The inputs are checked before any work
+// (check_teach_input, and the tool for --zoom); the steps past the step bounds are counted, not
+// kept; the page's bytes are checked before anything is written.
+struct TeachLimits {
+    // Target width x height: the images, the comparison and every per-pixel pass cost this
+    // many; each difference costs a reason of up to a few hundred bytes in the page.
+    static constexpr std::uint64_t kMaxPixels = 65'536;  // 256 x 256
+    // Vertices (elements: indices count) of the draws the algorithm takes, all draws together.
+    // The per-pixel passes (reasons, Bresenham outlines, the seed search) cost pixels times
+    // vertices.
+    static constexpr std::uint64_t kMaxVertices = 4'096;
+    // Vertices of the polygon draws ear clipping and the trapezoids take: ear clipping tests
+    // every remaining vertex against each candidate ear (cubic in the worst case), the
+    // trapezoids list every edge at every slab.
+    static constexpr std::uint64_t kMaxPolygonVertices = 1'024;
+    // Steps recorded, and pixel marks and overlay segments in them: the steps past any of these
+    // are counted and summarised in a last step (the first steps are what a reader steps
+    // through). An overlay segment costs about 100 bytes of page, a mark about 20.
+    static constexpr std::size_t kMaxSteps = 10'000;
+    static constexpr std::size_t kMaxStepPixels = 262'144;
+    static constexpr std::size_t kMaxStepSegments = 65'536;
+    // A recorded step's values: at most this many, each cut to this many characters.
+    static constexpr std::size_t kMaxStepValues = 24;
+    static constexpr std::size_t kMaxValueChars = 240;
+    // The zoomed PNG images (width x zoom x height x zoom pixels, RGBA8 in memory, three of
+    // them).
+    static constexpr std::uint64_t kMaxImagePixels = 16'777'216;  // 64 MiB each
+    // index.html and teach.json, each.
+    static constexpr std::uint64_t kMaxPageBytes = 64ull << 20;
+};
+
+// Refuses (TeachError, bad input) a scene over a TeachLimits bound for `algorithm`: the target
+// (JSON path `target`), or the vertices the algorithm takes (`draws[i]` of the draw that crosses
+// the bound). Runs before any rendering; teach() runs it too.
+void check_teach_input(const Scene& scene, std::string_view algorithm);
+
 struct TeachDifference {
     int x = 0;
     int y = 0;
@@ -62,6 +102,7 @@ struct TeachResult {
     std::vector<TeachDifference> differences;
     std::vector<refraster::textbook::Segment> input;
     std::vector<refraster::textbook::Step> steps;
+    std::size_t omitted_steps = 0;  // steps past TeachLimits' step bounds, not recorded
     std::vector<std::string> notes;
     std::string summary;
 };

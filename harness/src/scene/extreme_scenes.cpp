@@ -8,6 +8,7 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <new>
 #include <nlohmann/json.hpp>
 #include <ostream>
 #include <random>
@@ -964,6 +965,8 @@ int write_extreme_scenes(std::uint64_t seed, const std::filesystem::path& dir, s
         const auto path = dir / (kind + ".json");
         try {
             write_file_atomically(path, extreme_scene_json(extreme_scene(kind, seed)));
+        } catch (const std::bad_alloc&) {
+            throw;  // running out of memory: main reports it (exit 3)
         } catch (const std::exception& e) {
             err << "refraster generate extreme: " << e.what() << "\n";
             return 2;

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cstdio>
+#include <new>
 #include <nlohmann/json.hpp>
 
 #if defined(__SSE2__)
@@ -508,9 +509,8 @@ void parse_document(Document& doc, std::string_view text, bool padded,
     const std::size_t capacity = std::max<std::size_t>(text.size(), 64);
     if ((doc.parser.capacity() < capacity || doc.parser.max_depth() != depth) &&
         doc.parser.allocate(capacity, depth) != simdjson::SUCCESS) {
-        throw SceneError(
-            file_label, "",
-            "cannot allocate the memory to parse " + std::to_string(text.size()) + " bytes");
+        // Running out of memory is not the file's fault: the tool reports it as such (exit 3).
+        throw std::bad_alloc();
     }
     // Below two bytes a value no file can pass the limit, so only larger files need the count.
     doc.counts = count_in_text(text);
@@ -523,11 +523,7 @@ void parse_document(Document& doc, std::string_view text, bool padded,
         doc.root = first.value_unsafe();
         return;
     }
-    if (first.error() == simdjson::MEMALLOC) {
-        throw SceneError(
-            file_label, "",
-            "cannot allocate the memory to parse " + std::to_string(text.size()) + " bytes");
-    }
+    if (first.error() == simdjson::MEMALLOC) throw std::bad_alloc();
     // The refusal, with its path or position; or the normalized copy of a strict file that
     // simdjson could not hold.
     check_strictly(text, file_label, limits, &doc.normalized);

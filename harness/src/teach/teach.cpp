@@ -53,6 +53,61 @@ const std::vector<TeachAlgorithmInfo>& teach_algorithms() {
 
 namespace {
 
+// The draws an algorithm takes, and the bound on their vertices.
+struct TakenDraws {
+    bool (*takes)(refraster::PrimitiveType);
+    std::uint64_t max_vertices;
+    const char* what;
+};
+
+TakenDraws taken_draws(std::string_view algorithm) {
+    using P = refraster::PrimitiveType;
+    if (algorithm == "dda" || algorithm == "bresenham" || algorithm == "midpoint" ||
+        algorithm == "wu")
+        return {[](P p) { return p == P::Lines || p == P::LineStrip || p == P::LineLoop; },
+                TeachLimits::kMaxVertices, "line draws"};
+    if (algorithm == "circle")
+        return {[](P p) { return p == P::Points; }, TeachLimits::kMaxVertices, "point draws"};
+    if (algorithm == "ear-clipping" || algorithm == "trapezoids")
+        return {[](P p) { return p == P::Polygon; }, TeachLimits::kMaxPolygonVertices,
+                "polygon draws"};
+    if (algorithm == "painter" || algorithm == "homogeneous" || algorithm == "half-space")
+        return {[](P p) { return p >= P::Triangles && p != P::Polygon; }, TeachLimits::kMaxVertices,
+                "triangle draws"};
+    return {[](P p) { return p == P::Polygon || p == P::TriangleFan || p == P::Triangles; },
+            TeachLimits::kMaxVertices, "polygon, triangle_fan and triangle draws"};
+}
+
+}  // namespace
+
+void check_teach_input(const Scene& scene, std::string_view algorithm) {
+    const std::uint64_t w = scene.draw_list.target.width;
+    const std::uint64_t h = scene.draw_list.target.height;
+    if (w * h > TeachLimits::kMaxPixels) {
+        throw TeachError("target: teach draws at most " + std::to_string(TeachLimits::kMaxPixels) +
+                         " pixels (width x height; a page shows every pixel, docs/limits.md), "
+                         "this target has " +
+                         std::to_string(w) + " x " + std::to_string(h) + " = " +
+                         std::to_string(w * h));
+    }
+    const TakenDraws taken = taken_draws(algorithm);
+    std::uint64_t vertices = 0;
+    for (std::size_t d = 0; d < scene.draw_list.draws.size(); ++d) {
+        const auto& draw = scene.draw_list.draws[d];
+        if (!taken.takes(draw.primitive)) continue;
+        vertices += draw.element_count();
+        if (vertices > taken.max_vertices) {
+            throw TeachError("draws[" + std::to_string(d) + "]: \"" + std::string(algorithm) +
+                             "\" takes at most " + std::to_string(taken.max_vertices) +
+                             " vertices of the " + taken.what +
+                             " (docs/limits.md), this draw brings them to " +
+                             std::to_string(vertices));
+        }
+    }
+}
+
+namespace {
+
 // ---- what a scene holds --------------------------------------------------------------------
 
 // One draw's vertices in window coordinates, in element order (through its indices): the
@@ -184,9 +239,17 @@ bool on_outline(const std::vector<tb::Contour>& contours, int x, int y) {
 
 // How many of GL_POLYGON's fan triangles (v0, v[i-1], v[i]) of an outline cover the centre.
 int fan_cover(const tb::Contour& c, int x, int y) {
+    const double cx = x + 0.5;
+    const double cy = y + 0.5;
+    // winding_at of one triangle, without building it.
+    const auto crossing = [&](tb::Point2 a, tb::Point2 b) {
+        if ((a.y > cy) == (b.y > cy)) return 0;
+        const double xc = a.x + (cy - a.y) * (b.x - a.x) / (b.y - a.y);
+        return xc <= cx ? (b.y > a.y ? 1 : -1) : 0;
+    };
     int n = 0;
     for (std::size_t i = 2; i < c.size(); ++i) {
-        const int w = winding_at({{c[0], c[i - 1], c[i]}}, x, y);
+        const int w = crossing(c[0], c[i - 1]) + crossing(c[i - 1], c[i]) + crossing(c[i], c[0]);
         n += w != 0 ? 1 : 0;
     }
     return n;
@@ -225,13 +288,47 @@ struct Run {
     std::function<std::string(int, int, double, bool)> reason;
     // A difference besides coverage (the painter: another triangle is seen), if any.
     std::function<bool(int, int)> differs;
+    // The steps past the bounds (TeachLimits), and the pixel marks of the recorded ones.
+    std::size_t omitted = 0;
+    std::size_t marks = 0;
+    std::size_t segments = 0;
 };
+
+// Whether another step fits the run's bounds.
+bool room_for_step(const Run& run) {
+    return run.steps.size() < TeachLimits::kMaxSteps && run.marks < TeachLimits::kMaxStepPixels &&
+           run.segments < TeachLimits::kMaxStepSegments;
+}
+
+// A trace bounded by what the run may still record.
+tb::Trace bounded_trace(const Run& run) {
+    tb::Trace t;
+    t.max_steps = TeachLimits::kMaxSteps - std::min(run.steps.size(), TeachLimits::kMaxSteps);
+    t.max_pixels = TeachLimits::kMaxStepPixels - std::min(run.marks, TeachLimits::kMaxStepPixels);
+    t.max_segments =
+        TeachLimits::kMaxStepSegments - std::min(run.segments, TeachLimits::kMaxStepSegments);
+    t.max_values = TeachLimits::kMaxStepValues;
+    t.max_value_chars = TeachLimits::kMaxValueChars;
+    return t;
+}
+
+void add_step(Run& run, tb::Step step) {
+    if (!room_for_step(run)) {
+        ++run.omitted;
+        return;
+    }
+    tb::trim_step(step, TeachLimits::kMaxStepValues, TeachLimits::kMaxValueChars);
+    run.marks += step.pixels.size();
+    run.segments += step.overlay.size();
+    run.steps.push_back(std::move(step));
+}
 
 void append_trace(Run& run, tb::Trace& t, const std::string& prefix) {
     for (auto& s : t.steps) {
         if (!prefix.empty()) s.title = prefix + s.title;
-        run.steps.push_back(std::move(s));
+        add_step(run, std::move(s));
     }
+    run.omitted += t.omitted;
     for (auto& seg : t.input) run.input.push_back(std::move(seg));
 }
 
@@ -249,9 +346,8 @@ Run run_lines(const Scene& s, std::string_view name, int w, int h) {
     }
     Run run;
     run.raster = tb::Raster(w, h);
-    std::vector<tb::LineResult> paths;
     for (std::size_t k = 0; k < segments.size(); ++k) {
-        tb::Trace t;
+        tb::Trace t = bounded_trace(run);
         const auto& sg = segments[k];
         const std::string prefix =
             segments.size() > 1 ? "segment " + std::to_string(k) + ": " : std::string();
@@ -264,7 +360,6 @@ Run run_lines(const Scene& s, std::string_view name, int w, int h) {
                                ? tb::bresenham_line(sg.a, sg.b, w, h, tb::MinorTie::Step, &t)
                                : tb::midpoint_line(sg.a, sg.b, w, h, tb::MinorTie::Keep, &t);
             merge_max(run.raster, r.raster);
-            paths.push_back(r);
         }
         append_trace(run, t, prefix);
     }
@@ -365,7 +460,7 @@ Run run_circle(const Scene& s, int w, int h) {
     if (circles.empty())
         throw TeachError("the scene has no point draws; \"circle\" draws a circle for each point");
     for (std::size_t k = 0; k < circles.size(); ++k) {
-        tb::Trace t;
+        tb::Trace t = bounded_trace(run);
         const auto r = tb::midpoint_circle(circles[k].centre, circles[k].radius, w, h, &t);
         merge_max(run.raster, r.raster);
         append_trace(run, t, circles.size() > 1 ? "circle " + std::to_string(k) + ": " : "");
@@ -437,7 +532,7 @@ Run run_scanline(const Scene& s, tb::FillRule rule, int w, int h) {
     if (outlines.empty())
         throw TeachError("the scene has no polygon, triangle_fan or triangle draw to fill");
     Run run;
-    tb::Trace t;
+    tb::Trace t = bounded_trace(run);
     const auto r = tb::scanline_fill(outlines, rule, w, h, &t);
     run.raster = r.raster;
     append_trace(run, t, "");
@@ -509,7 +604,7 @@ Run run_triangulation(const Scene& s, bool ears, int w, int h) {
     Run run;
     std::vector<std::array<tb::Point2, 3>> tris;
     for (std::size_t k = 0; k < outlines.size(); ++k) {
-        tb::Trace t;
+        tb::Trace t = bounded_trace(run);
         const std::string prefix =
             outlines.size() > 1 ? "polygon " + std::to_string(k) + ": " : std::string();
         if (ears) {
@@ -556,28 +651,11 @@ Run run_flood(const Scene& s, bool eight, int w, int h) {
     }
     run.raster = boundary;
     for (std::size_t k = 0; k < outlines.size(); ++k) {
-        // The seed: the first pixel inside the outline, not on the boundary, scanning from the
-        // vertices' mean outwards.
-        double mx = 0, my = 0;
-        for (const auto& p : outlines[k]) {
-            mx += p.x;
-            my += p.y;
-        }
-        mx /= static_cast<double>(outlines[k].size());
-        my /= static_cast<double>(outlines[k].size());
-        std::optional<tb::PixelIndex> seed;
-        for (int ring = 0; ring < std::max(w, h) && !seed; ++ring) {
-            for (int dy = -ring; dy <= ring && !seed; ++dy) {
-                for (int dx = -ring; dx <= ring && !seed; ++dx) {
-                    const int x = static_cast<int>(std::floor(mx)) + dx;
-                    const int y = static_cast<int>(std::floor(my)) + dy;
-                    if (!boundary.contains(x, y) || boundary.at(x, y) > 0) continue;
-                    if (winding_at({outlines[k]}, x, y) != 0) seed = tb::PixelIndex{x, y};
-                }
-            }
-        }
+        // The seed: the first pixel inside the outline, not on the boundary, in rings from the
+        // vertices' mean outwards (flood_fill.hpp: each pixel of the outline's box once).
+        const std::optional<tb::PixelIndex> seed = tb::seed_inside(boundary, outlines[k]);
         if (!seed) continue;
-        tb::Trace t;
+        tb::Trace t = bounded_trace(run);
         const auto r = tb::flood_fill(boundary, *seed,
                                       eight ? tb::Connectivity::Eight : tb::Connectivity::Four, &t);
         merge_max(run.raster, r.raster);
@@ -659,7 +737,7 @@ Run run_painter(const Scene& s, const refraster::Framebuffer& gl, int w, int h) 
     std::vector<tb::DepthTriangle> dt;
     for (const auto& t : tris) dt.push_back(t.t);
     Run run;
-    tb::Trace t;
+    tb::Trace t = bounded_trace(run);
     const auto painted = tb::painter(dt, tb::PainterKey::FarthestVertex, w, h, &t);
     const auto zbuf = tb::z_buffer(dt, w, h);
     run.raster = painted.raster;
@@ -740,7 +818,7 @@ Run run_homogeneous(const Scene& s, int w, int h) {
         for (std::size_t i = 0; i < 3; ++i) ct[i] = {st.clip[i][0], st.clip[i][1], st.clip[i][3]};
         const auto& v = s.draw_list.draws[st.draw].state.viewport;
         const tb::Viewport vp{v.x, v.y, v.width, v.height};
-        tb::Trace t;
+        tb::Trace t = bounded_trace(run);
         merge_max(run.raster, tb::homogeneous_rasterize(ct, vp, w, h, true, &t));
         append_trace(run, t, tris.size() > 1 ? "triangle " + std::to_string(k) + ": " : "");
         inputs.push_back({ct, vp});
@@ -809,7 +887,7 @@ Run run_half_space(const Scene& s, int w, int h) {
             step.title = prefix +
                          "a vertex outside the view volume: GL clips this triangle "
                          "first, which this lecture version does not";
-            run.steps.push_back(step);
+            add_step(run, std::move(step));
             continue;
         }
         const std::int64_t area =
@@ -823,7 +901,7 @@ Run run_half_space(const Scene& s, int w, int h) {
                      std::to_string(area);
         if (area == 0) {
             head.title += ": zero area, nothing drawn";
-            run.steps.push_back(head);
+            add_step(run, std::move(head));
             continue;
         }
         if (area < 0) std::swap(v[0], v[1]);  // setup's orientation: counter-clockwise
@@ -837,7 +915,7 @@ Run run_half_space(const Scene& s, int w, int h) {
                                       " x + " + std::to_string(e[i].b) + " y" +
                                       (e[i].owns_ties ? " (owns its ties: +1 in c)" : "")});
         }
-        run.steps.push_back(head);
+        add_step(run, std::move(head));
         int x0 = std::numeric_limits<int>::max(), x1 = std::numeric_limits<int>::min();
         int y0 = x0, y1 = x1;
         for (const auto& p : v) {
@@ -848,13 +926,21 @@ Run run_half_space(const Scene& s, int w, int h) {
         }
         for (int y = std::max(0, y0); y <= std::min(h - 1, y1); ++y) {
             for (int x = std::max(0, x0); x <= std::min(w - 1, x1); ++x) {
-                tb::Step step;
                 bool in = true;
+                for (std::size_t i = 0; i < 3; ++i)
+                    in = in && e[i].at(x, y, rule.subpixel_bits) > 0;
+                if (in) run.raster.set(x, y, 1.0);
+                // The step, when the run still records: past the bounds only counted, so that
+                // a large box costs no memory.
+                if (!room_for_step(run)) {
+                    ++run.omitted;
+                    continue;
+                }
+                tb::Step step;
                 std::string ties;
                 for (std::size_t i = 0; i < 3; ++i) {
                     const std::int64_t value = e[i].at(x, y, rule.subpixel_bits);
                     const std::int64_t bare = value - (e[i].owns_ties ? 1 : 0);
-                    in = in && value > 0;
                     step.state.push_back({"E" + std::to_string(i), std::to_string(value)});
                     if (bare == 0) {
                         ties += " centre on edge " + std::to_string(i) + ", which " +
@@ -865,8 +951,7 @@ Run run_half_space(const Scene& s, int w, int h) {
                              (in ? "all three positive: covered" : "not covered") +
                              (ties.empty() ? "" : " (" + ties.substr(1, ties.size() - 2) + ")");
                 step.pixels.push_back({x, y, in ? 1.0 : 0.0});
-                if (in) run.raster.set(x, y, 1.0);
-                run.steps.push_back(std::move(step));
+                add_step(run, std::move(step));
             }
         }
     }
@@ -915,11 +1000,7 @@ TeachResult teach(const Scene& scene, std::string_view algorithm,
     if (info == all.end()) throw TeachError("unknown algorithm \"" + std::string(algorithm) + "\"");
     const int w = static_cast<int>(scene.draw_list.target.width);
     const int h = static_cast<int>(scene.draw_list.target.height);
-    if (static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h) > 1024u * 1024u)
-        throw TeachError(
-            "teach draws targets of at most 1024 x 1024 pixels (a page shows every "
-            "pixel); this one is " +
-            std::to_string(w) + " x " + std::to_string(h));
+    check_teach_input(scene, algorithm);
     Run run;
     if (algorithm == "dda" || algorithm == "bresenham" || algorithm == "midpoint" ||
         algorithm == "wu") {
@@ -984,6 +1065,25 @@ TeachResult teach(const Scene& scene, std::string_view algorithm,
             r.differences.push_back({x, y, a, lit, run.reason(x, y, a, lit)});
         }
     }
+    if (run.omitted > 0) {
+        // The record's end: what was not kept, in a last step (not counted in the bounds).
+        tb::Step last;
+        last.title = std::to_string(run.omitted) + " more step" + (run.omitted == 1 ? "" : "s") +
+                     " not recorded";
+        last.state.push_back({"recorded", std::to_string(run.steps.size()) + " steps"});
+        last.state.push_back({"bounds", std::to_string(TeachLimits::kMaxSteps) + " steps, " +
+                                            std::to_string(TeachLimits::kMaxStepPixels) +
+                                            " pixel marks, " +
+                                            std::to_string(TeachLimits::kMaxStepSegments) +
+                                            " overlay segments (docs/limits.md)"});
+        run.steps.push_back(std::move(last));
+        run.notes.push_back("The page records the first " + std::to_string(run.steps.size() - 1) +
+                            " steps of the algorithm and counts the " +
+                            std::to_string(run.omitted) +
+                            " after them (docs/limits.md, \"Teaching pages\"); the images and "
+                            "the differences are the whole run's.");
+    }
+    r.omitted_steps = run.omitted;
     r.input = std::move(run.input);
     r.steps = std::move(run.steps);
     r.notes = std::move(run.notes);
@@ -1041,6 +1141,7 @@ nlohmann::json teach_json(const TeachResult& r, const Scene& scene, const std::s
         steps.push_back(st);
     }
     j["steps"] = steps;
+    j["omitted_steps"] = r.omitted_steps;
     j["notes"] = r.notes;
     return j;
 }

@@ -10,7 +10,7 @@
 //
 // Deliberately does not: cover outcomes that are not errors (images that differ: 1; a renderer
 // that does not support a scene: 4), nor running out of memory (std::bad_alloc), which the tool
-// reports as such.
+// reports as such, with BackendFailure's code 3: a run that could not finish.
 #pragma once
 
 #include <stdexcept>
@@ -23,7 +23,8 @@ enum class ExitClass : int {
     // Bad input or usage: a scene, profile, option or output the user can fix. Nothing partial
     // is left behind.
     BadInput = 2,
-    // A backend failed: a worker crashed, timed out, or its stream broke.
+    // A backend failed: a worker crashed, timed out, or its stream broke. Also the tool's code
+    // for a run that ran out of memory.
     BackendFailure = 3,
 };
 

@@ -11,12 +11,17 @@ namespace {
 
 using detail::SnappedPoint;
 
+// A step shows the first kShown entries of a list and the count of the rest, so that a step
+// costs the same on any polygon and the trace grows linearly with its steps.
+constexpr std::size_t kShown = 24;
+
 std::string index_list(const std::vector<int>& v) {
     std::string s = "[";
-    for (std::size_t i = 0; i < v.size(); ++i) {
+    for (std::size_t i = 0; i < v.size() && i < kShown; ++i) {
         if (i > 0) s += ", ";
         s += "v" + std::to_string(v[i]);
     }
+    if (v.size() > kShown) s += ", ... " + std::to_string(v.size() - kShown) + " more";
     return s + "]";
 }
 
@@ -71,13 +76,16 @@ EarClipResult ear_clip(const std::vector<Point2>& polygon, Trace* trace) {
     while (remaining.size() > 3) {
         const std::size_t m = remaining.size();
         bool cut = false;
-        std::vector<std::string> rejected;
+        std::vector<std::string> rejected;  // the first kShown, when the step is recorded
+        std::size_t rejected_count = 0;
+        const bool recording = trace != nullptr && trace->recording();
         for (std::size_t step = 0; step < m; ++step) {
             const std::size_t k = (cursor + step) % m;
             int blocking_vertex = -1;
             const char* why = blocker(k, blocking_vertex);
             if (why != nullptr) {
-                if (trace != nullptr) {
+                ++rejected_count;
+                if (recording && rejected.size() < kShown) {
                     rejected.push_back("v" + std::to_string(remaining[k]) + ": " + why +
                                        (blocking_vertex >= 0
                                             ? " (v" + std::to_string(blocking_vertex) + ")"
@@ -96,6 +104,9 @@ EarClipResult ear_clip(const std::vector<Point2>& polygon, Trace* trace) {
                 s.state.push_back({"remaining", index_list(remaining)});
                 std::string skipped;
                 for (const std::string& r : rejected) skipped += (skipped.empty() ? "" : "; ") + r;
+                if (rejected_count > rejected.size())
+                    skipped +=
+                        "; ... " + std::to_string(rejected_count - rejected.size()) + " more";
                 s.state.push_back({"not ears before it", skipped});
                 const Point2 pu = polygon[static_cast<std::size_t>(u)];
                 const Point2 pv = polygon[static_cast<std::size_t>(v)];

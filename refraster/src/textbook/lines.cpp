@@ -45,8 +45,9 @@ const char* minor_name(const LineSetup& s) {
     return s.x_major ? "y" : "x";
 }
 
-void begin_trace(Trace* trace, const char* algorithm, Point2 a, Point2 b, const LineSetup& s) {
-    if (trace == nullptr) return;
+// The first step of a line's trace (valid until the next add_step), or null without a trace.
+Step* begin_trace(Trace* trace, const char* algorithm, Point2 a, Point2 b, const LineSetup& s) {
+    if (trace == nullptr) return nullptr;
     trace->algorithm = algorithm;
     trace->input.push_back({a.x, a.y, b.x, b.y, "line"});
     Step& step =
@@ -55,6 +56,7 @@ void begin_trace(Trace* trace, const char* algorithm, Point2 a, Point2 b, const 
     step.state.push_back({"dx", std::to_string(s.to.x - s.from.x)});
     step.state.push_back({"dy", std::to_string(s.to.y - s.from.y)});
     step.overlay.push_back({s.from.x + 0.5, s.from.y + 0.5, s.to.x + 0.5, s.to.y + 0.5, "line"});
+    return &step;
 }
 
 // Appends a path pixel and its step.
@@ -108,7 +110,7 @@ bool tie_takes_step(MinorTie tie, int minor_sign) {
 
 LineResult dda_line(Point2 a, Point2 b, int width, int height, Trace* trace) {
     const LineSetup s = setup_line(a, b);
-    begin_trace(trace, "DDA line", a, b, s);
+    Step* const first = begin_trace(trace, "DDA line", a, b, s);
     LineResult out{{}, Raster(width, height)};
     // The minor coordinate as the pixel index of the major axis' start plus the running sum
     // of slope increments, in double: the textbook's float accumulation.
@@ -116,7 +118,7 @@ LineResult dda_line(Point2 a, Point2 b, int width, int height, Trace* trace) {
     const double slope = s.major_length == 0
                              ? 0.0
                              : static_cast<double>(s.minor_sign * s.minor_length) / s.major_length;
-    if (trace != nullptr) trace->steps.back().state.push_back({"slope", format_number(slope)});
+    if (first != nullptr) first->state.push_back({"slope", format_number(slope)});
     double minor = minor_start;
     for (int i = 0; i <= s.major_length; ++i) {
         const int rounded = static_cast<int>(std::floor(minor + 0.5));

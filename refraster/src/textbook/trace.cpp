@@ -53,10 +53,44 @@ std::string format_pixel(int x, int y) {
     return "(" + std::to_string(x) + ", " + std::to_string(y) + ")";
 }
 
+bool Trace::recording() const {
+    const bool any = !steps.empty();
+    const std::size_t pixels = pixels_before_last + (any ? steps.back().pixels.size() : 0);
+    const std::size_t segments = segments_before_last + (any ? steps.back().overlay.size() : 0);
+    return steps.size() < max_steps && pixels < max_pixels && segments < max_segments;
+}
+
 Step& add_step(Trace& trace, std::string title) {
+    if (!trace.recording()) {
+        ++trace.omitted;
+        trace.discarded = Step{};
+        trace.discarded.title = std::move(title);
+        return trace.discarded;
+    }
+    if (!trace.steps.empty()) {
+        Step& last = trace.steps.back();
+        trim_step(last, trace.max_values, trace.max_value_chars);
+        trace.pixels_before_last += last.pixels.size();
+        trace.segments_before_last += last.overlay.size();
+    }
     trace.steps.emplace_back();
     trace.steps.back().title = std::move(title);
     return trace.steps.back();
+}
+
+void trim_step(Step& step, std::size_t max_values, std::size_t max_value_chars) {
+    if (max_values > 0 && step.state.size() > max_values) {
+        const std::size_t more = step.state.size() - (max_values - 1);
+        step.state.resize(max_values - 1);
+        step.state.push_back({"...", std::to_string(more) + " more values not shown"});
+    }
+    for (auto& [key, value] : step.state) {
+        if (value.size() <= max_value_chars) continue;
+        const std::size_t more = value.size() - max_value_chars;
+        value.resize(max_value_chars);
+        value.shrink_to_fit();
+        value += " ... (" + std::to_string(more) + " more characters)";
+    }
 }
 
 void add_outline(std::vector<Segment>& into, const std::vector<Point2>& polygon,

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 #include <set>
 #include <vector>
@@ -92,6 +93,53 @@ TEST(TextbookEarClipping, TraceHasOneStepPerEar) {
     ASSERT_EQ(trace.steps.size(), result.triangles.size());
     EXPECT_EQ(trace.steps[0].overlay.size(), 3u);
     EXPECT_EQ(trace.steps[0].overlay[2].role, "diagonal");
+}
+
+// A comb of `teeth` teeth: the bottom edge, then the teeth from right to left (2 * teeth + 2
+// vertices, counter-clockwise).
+std::vector<refraster::textbook::Point2> comb(int teeth) {
+    std::vector<refraster::textbook::Point2> c = {{0, 0}, {2.0 * teeth, 0}};
+    for (int i = teeth; i > 0; --i) {
+        c.push_back({2.0 * i, 10});
+        c.push_back({2.0 * i - 1, 1});
+    }
+    return c;
+}
+
+TEST(TextbookEarClipping, AStepCostsTheSameOnAnyPolygon) {
+    // Each step names the remaining vertices and the vertices rejected before the ear: the first
+    // few of each and the count of the rest, so the trace grows linearly with the steps, not
+    // with the steps times the vertices (quadratically).
+    for (const int teeth : {10, 1000}) {
+        refraster::textbook::Trace trace;
+        const auto poly = comb(teeth);
+        const auto result = refraster::textbook::ear_clip(poly, &trace);
+        ASSERT_TRUE(result.complete);
+        ASSERT_EQ(result.triangles.size(), poly.size() - 2);
+        ASSERT_EQ(trace.steps.size(), result.triangles.size());
+        std::size_t longest = 0;
+        for (const auto& step : trace.steps) {
+            std::size_t bytes = step.title.size();
+            for (const auto& [key, value] : step.state) bytes += key.size() + value.size();
+            longest = std::max(longest, bytes);
+        }
+        EXPECT_LE(longest, 2000u) << teeth << " teeth";
+    }
+    refraster::textbook::Trace trace;
+    refraster::textbook::ear_clip(comb(1000), &trace);
+    EXPECT_NE(trace.steps[0].state[0].second.find("... 1978 more]"), std::string::npos)
+        << trace.steps[0].state[0].second;
+}
+
+TEST(TextbookEarClipping, ABoundedTraceKeepsTheFirstStepsAndCountsTheRest) {
+    refraster::textbook::Trace trace;
+    trace.max_steps = 10;
+    const auto poly = comb(50);
+    const auto result = refraster::textbook::ear_clip(poly, &trace);
+    ASSERT_TRUE(result.complete);  // the bound changes the record, not the result
+    EXPECT_EQ(result.triangles.size(), poly.size() - 2);
+    EXPECT_EQ(trace.steps.size(), 10u);
+    EXPECT_EQ(trace.omitted, poly.size() - 2 - 10);
 }
 
 }  // namespace

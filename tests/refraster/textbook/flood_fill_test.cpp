@@ -6,7 +6,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <numeric>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -136,6 +140,79 @@ TEST(TextbookFloodFill, TraceHasOneStepPerPopWithTheStack) {
     EXPECT_EQ(trace.steps.size(), 33u);
     EXPECT_EQ(trace.steps.front().title, "pop (0, 0): fill, push its neighbours");
     EXPECT_EQ(trace.steps.front().state[0].second, "[(1, 0), (-1, 0), (0, 1), (0, -1)]");
+}
+
+// The seed by its definition: among the pixels that are not boundary pixels and whose centre
+// the outline winds around, the first by (Chebyshev distance from the pixel holding the
+// vertices' mean, row, column), found by testing every pixel of the raster.
+std::optional<PixelIndex> seed_by_definition(const Raster& boundary,
+                                             const std::vector<refraster::textbook::Point2>& o) {
+    double mx = 0, my = 0;
+    for (const auto& p : o) {
+        mx += p.x;
+        my += p.y;
+    }
+    const int cx = static_cast<int>(std::floor(mx / static_cast<double>(o.size())));
+    const int cy = static_cast<int>(std::floor(my / static_cast<double>(o.size())));
+    std::optional<PixelIndex> best;
+    int best_r = 0;
+    for (int y = 0; y < boundary.height(); ++y) {
+        for (int x = 0; x < boundary.width(); ++x) {
+            if (boundary.at(x, y) > 0.0) continue;
+            if (refraster::textbook::winding_at_centre(o, x, y) == 0) continue;
+            const int r = std::max(std::abs(x - cx), std::abs(y - cy));
+            if (!best || r < best_r) {  // row-major order breaks ties within a ring
+                best = PixelIndex{x, y};
+                best_r = r;
+            }
+        }
+    }
+    return best;
+}
+
+TEST(TextbookSeed, IsTheNearestInsidePixelAndTestsEachPixelOfTheBoxOnce) {
+    std::mt19937 rng(4242);
+    std::uniform_real_distribution<double> coord(-6.0, 26.0);
+    for (int n = 0; n < 400; ++n) {
+        const int w = 4 + n % 17;
+        const int h = 3 + n % 11;
+        std::vector<refraster::textbook::Point2> outline;
+        const int vertices = 3 + n % 6;
+        for (int k = 0; k < vertices; ++k) outline.push_back({coord(rng), coord(rng)});
+        Raster boundary(w, h);
+        for (int k = 0; k < vertices; ++k) {
+            const auto line = refraster::textbook::bresenham_line(
+                outline[static_cast<std::size_t>(k)],
+                outline[static_cast<std::size_t>((k + 1) % vertices)], w, h);
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x)
+                    if (line.raster.at(x, y) > 0.0) boundary.set(x, y, 1.0);
+        }
+        std::size_t examined = 0;
+        const auto seed = refraster::textbook::seed_inside(boundary, outline, &examined);
+        const auto expected = seed_by_definition(boundary, outline);
+        SCOPED_TRACE("outline " + std::to_string(n));
+        ASSERT_EQ(seed.has_value(), expected.has_value());
+        if (seed) {
+            EXPECT_EQ(seed->x, expected->x);
+            EXPECT_EQ(seed->y, expected->y);
+        }
+        EXPECT_LE(examined, static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
+    }
+}
+
+TEST(TextbookSeed, ASliverAcrossAWideRasterTestsOnlyItsBox) {
+    // A sliver along the diagonal of a 16384 x 4 raster, thinner than the distance from its
+    // spine to any pixel centre: no centre is inside, so the search tests every pixel of its box
+    // (the whole raster) once; a search over growing squares around the mean would test about
+    // 16384^3 pixels.
+    const Raster boundary(16384, 4);
+    const std::vector<refraster::textbook::Point2> sliver = {
+        {0.0, 0.0}, {16384.0, 4.0}, {16384.0, 4.00001}};
+    std::size_t examined = 0;
+    const auto seed = refraster::textbook::seed_inside(boundary, sliver, &examined);
+    EXPECT_FALSE(seed.has_value());
+    EXPECT_EQ(examined, 16384u * 4u);
 }
 
 }  // namespace

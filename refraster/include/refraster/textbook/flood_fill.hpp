@@ -13,11 +13,21 @@
 // The classic pairing: an 8-connected boundary (a Bresenham outline) holds a 4-connected fill,
 // but an 8-connected fill leaks through its diagonal steps; a 4-connected boundary holds both.
 //
+// The seed inside an outline (seed_inside): the first pixel that is not a boundary pixel and whose
+// centre the outline winds around (winding number not 0 at the centre nudged by (+e, +e^2), GL's
+// tie rule), in rings of growing Chebyshev distance from the pixel holding the mean of the
+// outline's vertices, each ring row by row from the bottom and left to right. Only pixels whose
+// centres lie in the outline's bounding box (clipped to the raster) can be inside, so only they
+// are tested, each at most once: the search examines at most the box's pixels, each at the cost
+// of one pass over the outline's edges.
+//
 // Deliberately does not: fill by spans (the scanline seed fill), fill by colour similarity
 // (flood fill proper: here the boundary alone stops the fill), or draw the boundary itself.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "refraster/textbook/lines.hpp"
@@ -31,6 +41,15 @@ struct FloodResult {
     std::vector<PixelIndex> order;  // the filled pixels, in fill order
     Raster raster;                  // weight 1 on filled pixels, the boundary's size
 };
+
+// The winding number of `outline` (closed: the last point joins the first) around the centre of
+// pixel (x, y) nudged by (+e, +e^2), from the crossings of the nudged horizontal line.
+int winding_at_centre(const std::vector<Point2>& outline, int x, int y);
+
+// The seed of `outline` in `boundary` (see above), or none when no pixel qualifies. `examined`,
+// when given, receives the number of pixels tested.
+std::optional<PixelIndex> seed_inside(const Raster& boundary, const std::vector<Point2>& outline,
+                                      std::size_t* examined = nullptr);
 
 FloodResult flood_fill(const Raster& boundary, PixelIndex seed, Connectivity connectivity,
                        Trace* trace = nullptr);

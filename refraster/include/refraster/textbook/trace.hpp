@@ -7,11 +7,18 @@
 // refraster::textbook takes an optional Trace* and appends to it; a null Trace* costs nothing
 // but the test.
 //
-// Deliberately does not: render, colour or lay out anything. A viewer reads the Steps; the
-// roles of Segments and the keys of state are plain strings so that the viewer needs no
-// knowledge of the algorithm that wrote them.
+// A Trace may be bounded: once it holds max_steps steps, or max_pixels pixel marks, or
+// max_segments overlay segments in them, it stops recording; add_step then hands out a scratch
+// step that the next call clears, and `omitted` counts the steps not kept. Each kept step is cut
+// to max_values values of at most max_value_chars characters (trim_step) when the next one is
+// added. So an algorithm run on a large input keeps its first steps and the count of the rest,
+// in memory of the bounds' size plus one step. An algorithm that builds an expensive state for a
+// step may ask recording() first.
+//
 #pragma once
 
+#include <cstddef>
+#include <limits>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -55,6 +62,23 @@ struct Trace {
     std::string algorithm;       // "Bresenham line", set by the algorithm that fills the trace
     std::vector<Segment> input;  // the input geometry, drawn under every step
     std::vector<Step> steps;
+    // The bounds: the most steps kept, and the most pixel marks and overlay segments in them
+    // (checked when a step is added, so the last step kept may pass them by its own); the most
+    // values a kept step shows, and the most characters of each.
+    std::size_t max_steps = std::numeric_limits<std::size_t>::max();
+    std::size_t max_pixels = std::numeric_limits<std::size_t>::max();
+    std::size_t max_segments = std::numeric_limits<std::size_t>::max();
+    std::size_t max_values = std::numeric_limits<std::size_t>::max();
+    std::size_t max_value_chars = std::numeric_limits<std::size_t>::max();
+    std::size_t omitted = 0;  // steps added past a bound, not kept
+    // Whether the next add_step is kept.
+    bool recording() const;
+
+    // add_step's scratch step past a bound, and the pixel marks and segments of the kept steps
+    // before the last one.
+    Step discarded;
+    std::size_t pixels_before_last = 0;
+    std::size_t segments_before_last = 0;
 };
 
 class Raster {
@@ -83,11 +107,15 @@ class Raster {
 };
 
 // Helpers for the algorithms that write traces: the shortest decimal that reads back as v
-// ("0.25", "-3", "1e+20"), and a step appended to a trace if there is one.
+// ("0.25", "-3", "1e+20"), and a step appended to a trace if there is one (or, past the
+// trace's bounds, a scratch step counted in `omitted`).
 std::string format_number(double v);
 std::string format_number(long long v);
 std::string format_pixel(int x, int y);  // "(3, 4)"
 Step& add_step(Trace& trace, std::string title);
+// Cuts `step` to `max_values` values (the last one kept says how many more there were) of at most
+// `max_value_chars` characters each (a cut value says how many characters it lost).
+void trim_step(Step& step, std::size_t max_values, std::size_t max_value_chars);
 // Appends the closed outline of `polygon` (point k to point k + 1, the last back to the first)
 // to `into` as segments of `role`.
 void add_outline(std::vector<Segment>& into, const std::vector<Point2>& polygon,
