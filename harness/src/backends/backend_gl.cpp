@@ -453,7 +453,8 @@ RenderResult GlWorkerBackend::render_frame(const Scene& scene, bool owners) {
     }
     RenderResult r;
     try {
-        r = wire::decode_result(payload);
+        // The payload is given up as the images are copied out of it.
+        r = wire::decode_result(std::move(payload));
     } catch (const wire::WireError& e) {
         kill_worker();
         return failure(RenderStatus::InternalError,
