@@ -1276,26 +1276,6 @@ void Renderer::Impl::detach_owners() {
     }
 }
 
-// glReadPixels of the whole target in strips of rows, tightly packed into `dst`: the driver
-// stages what it converts a call at a time, so a strip bounds that staging (a whole
-// 16384 x 4096 rgba32f image at once would cost another gigabyte). The bytes are the same.
-namespace {
-
-void read_rows(GLsizei w, GLsizei h, GLenum format, GLenum type, std::size_t pixel_bytes,
-               void* dst) {
-    constexpr GLsizei kStripRows = 256;
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glPixelStorei(GL_PACK_ROW_LENGTH, 0);
-    for (GLsizei y = 0; y < h; y += kStripRows) {
-        const GLsizei rows = std::min(kStripRows, h - y);
-        auto* at = static_cast<std::uint8_t*>(dst) +
-                   static_cast<std::size_t>(y) * static_cast<std::size_t>(w) * pixel_bytes;
-        glReadPixels(0, y, w, rows, format, type, at);
-    }
-}
-
-}  // namespace
-
 void Renderer::Impl::read_back(const refraster::Target& t, harness::RenderResult& r) {
     if (t.samples == 1) {
         r.image = read_single(t);
@@ -1315,9 +1295,9 @@ void Renderer::Impl::read_back(const refraster::Target& t, harness::RenderResult
     glBindFramebuffer(GL_READ_FRAMEBUFFER, target.fbo);
     glReadBuffer(GL_COLOR_ATTACHMENT0);
     if (t.color == ColorFormat::Rgba8) {
-        read_rows(w, h, GL_RGBA, GL_UNSIGNED_BYTE, 4, image.color8.data());
+        glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, image.color8.data());
     } else {
-        read_rows(w, h, GL_RGBA, GL_FLOAT, 16, image.color32f.data());
+        glReadPixels(0, 0, w, h, GL_RGBA, GL_FLOAT, image.color32f.data());
     }
     check_gl("reading the resolved colour");
 
@@ -1351,9 +1331,9 @@ refraster::Framebuffer Renderer::Impl::read_single(const refraster::Target& t) {
     glBindFramebuffer(GL_READ_FRAMEBUFFER, target.fbo);
     glReadBuffer(GL_COLOR_ATTACHMENT0);
     if (t.color == ColorFormat::Rgba8) {
-        read_rows(w, h, GL_RGBA, GL_UNSIGNED_BYTE, 4, fb.color8.data());
+        glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, fb.color8.data());
     } else {
-        read_rows(w, h, GL_RGBA, GL_FLOAT, 16, fb.color32f.data());
+        glReadPixels(0, 0, w, h, GL_RGBA, GL_FLOAT, fb.color32f.data());
     }
     check_gl("reading colour");
 
@@ -1362,20 +1342,21 @@ refraster::Framebuffer Renderer::Impl::read_single(const refraster::Target& t) {
             break;
         case DepthFormat::Z16: {
             std::vector<std::uint16_t> z(fb.pixel_count());
-            read_rows(w, h, GL_DEPTH_COMPONENT, GL_UNSIGNED_SHORT, 2, z.data());
+            glReadPixels(0, 0, w, h, GL_DEPTH_COMPONENT, GL_UNSIGNED_SHORT, z.data());
             std::copy(z.begin(), z.end(), fb.depth.begin());
             break;
         }
         case DepthFormat::Z24: {
             // GL scales to 32 bits; the top 24 are the stored value.
-            read_rows(w, h, GL_DEPTH_COMPONENT, GL_UNSIGNED_INT, 4, fb.depth.data());
+            glReadPixels(0, 0, w, h, GL_DEPTH_COMPONENT, GL_UNSIGNED_INT, fb.depth.data());
             for (auto& v : fb.depth) v >>= 8;
             break;
         }
         case DepthFormat::Z32f: {
-            // The floats' bits, read straight into the depth values.
-            static_assert(sizeof(float) == sizeof(std::uint32_t));
-            read_rows(w, h, GL_DEPTH_COMPONENT, GL_FLOAT, 4, fb.depth.data());
+            std::vector<float> z(fb.pixel_count());
+            glReadPixels(0, 0, w, h, GL_DEPTH_COMPONENT, GL_FLOAT, z.data());
+            std::transform(z.begin(), z.end(), fb.depth.begin(),
+                           [](float v) { return std::bit_cast<std::uint32_t>(v); });
             break;
         }
     }
@@ -1383,7 +1364,7 @@ refraster::Framebuffer Renderer::Impl::read_single(const refraster::Target& t) {
     if (owners) {
         fb.owner.assign(fb.pixel_count(), 0);
         glReadBuffer(GL_COLOR_ATTACHMENT1);
-        read_rows(w, h, GL_RED_INTEGER, GL_UNSIGNED_INT, 4, fb.owner.data());
+        glReadPixels(0, 0, w, h, GL_RED_INTEGER, GL_UNSIGNED_INT, fb.owner.data());
         glReadBuffer(GL_COLOR_ATTACHMENT0);
         check_gl("reading owners");
     }
