@@ -73,7 +73,9 @@ void add_driver_options(CLI::App* cmd, BackendArgs& a) {
     cmd->add_option("--driver", a.driver, "Mesa driver for osmesa and egl")
         ->check(CLI::IsMember({"llvmpipe", "softpipe"}))
         ->capture_default_str();
-    cmd->add_option("--timeout", a.timeout, "Seconds a GL backend may take for one scene")
+    cmd->add_option("--timeout", a.timeout,
+                    "Seconds a backend (the reference or a GL worker) may take for one scene; "
+                    "past it the scene is a Timeout (exit 3)")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
     cmd->add_option("--mesa-prefix", a.mesa_prefix,

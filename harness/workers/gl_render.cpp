@@ -1427,6 +1427,10 @@ void Renderer::add_provenance(const std::string& key, const std::string& value) 
     impl_->provenance[key] = value;
 }
 
+// Targets of this many samples or more are released after their scene (16,777,216: a
+// 4096 x 4096 single-sample target, 256 MiB of rgba32f).
+constexpr std::uint64_t kKeepTargetSamples = std::uint64_t{1} << 24;
+
 harness::RenderResult Renderer::render(const refraster::DrawList& list, bool owners) {
     const auto start = std::chrono::steady_clock::now();
     harness::RenderResult r;
@@ -1447,6 +1451,14 @@ harness::RenderResult Renderer::render(const refraster::DrawList& list, bool own
         impl_->release_textures();
         impl_->detach_owners();
         impl_->owners = false;
+        // A large target is not kept for the next scene: its GL storage (and the sample
+        // read-back targets of its size) would stay beside the images being encoded, over a
+        // gigabyte more at the target limit (docs/limits.md, "Memory at the target limit").
+        const auto& t = list.target;
+        if (std::uint64_t{t.width} * t.height * t.samples >= kKeepTargetSamples) {
+            impl_->target.release();
+            impl_->sample_reader.reset();
+        }
     } catch (const Unsupported& e) {
         r.status = harness::RenderStatus::NotSupported;
         r.message = e.what();
@@ -1530,7 +1542,9 @@ int run_worker(std::string_view backend, std::string_view mesa_package,
                         reply.message = std::string("bad request: ") + e.what();
                         reply.provenance = renderer->provenance();
                     }
-                    wire::write_frame(out, wire::FrameType::Reply, wire::encode_result(reply));
+                    // The images are given up as they are encoded.
+                    wire::write_frame(out, wire::FrameType::Reply,
+                                      wire::encode_result(std::move(reply)));
                     break;
                 }
                 case wire::FrameType::Crash: {

@@ -122,6 +122,8 @@ void shade_by_band(const DrawContext& ctx, const typename Model::List& list, con
         for (int b = static_cast<int>(t); b < bands; b += static_cast<int>(n)) {
             const auto bi = static_cast<std::size_t>(b);
             for (std::uint32_t k = bins.start[bi]; k < bins.start[bi + 1]; ++k) {
+                // A stopping render: every thread returns, and the caller throws.
+                if (ctx.stop_requested()) return;
                 const auto& prim = list.primitives[bins.index[k]];
                 Model::traverse_band(list, prim, masks, b * kBandRows, scratch,
                                      [&](const RowBlock& block) { on_block(prim, block); });
@@ -133,6 +135,7 @@ void shade_by_band(const DrawContext& ctx, const typename Model::List& list, con
     } else {
         ctx.workers->run([&](unsigned t) { run(t, ctx.workers->count()); });
     }
+    ctx.check_stop();
 }
 
 // The cover pass of a fill rule (polygon_draw.hpp): of each packet the pixels the mask still
@@ -202,9 +205,11 @@ std::uint64_t draw(const DrawContext& ctx, typename Model::RenderState& state, O
             }
         }
         for (std::size_t i = 0; i < list.primitives.size(); ++i) {
+            ctx.check_stop();
             const auto& prim = list.primitives[i];
             obs.before_fragments(i, list, prim, kernel, fb);
             Model::traverse(list, prim, [&](std::span<const QuadPacket> quads) {
+                ctx.check_stop();
                 if (ctx.fill != nullptr) quads = claim_fill_pixels(*ctx.fill, quads, claimed);
                 if (stop == RenderStage::Raster) {
                     fragments += static_cast<std::uint64_t>(covered_pixels(quads));

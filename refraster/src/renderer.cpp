@@ -9,6 +9,7 @@
 #include <optional>
 #include <thread>
 
+#include "common/stop.hpp"
 #include "models/llvmpipe/texture.hpp"
 #include "pipeline.hpp"
 #include "stages/observer.hpp"
@@ -185,6 +186,9 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
     unsigned threads =
         options.threads == 0 ? std::max(1u, std::thread::hardware_concurrency()) : options.threads;
     if (kernels == KernelPath::Model || options.stop_after != RenderStage::Fragment) threads = 1;
+    // Started before anything costly (the texture levels, the threads), so that it bounds them.
+    const detail::StopSignal stop(options.deadline, options.stop);
+    stop.throw_if_requested();
     std::optional<detail::BandWorkers> workers;
     if (threads > 1) workers.emplace(threads);
     detail::ModelStates states(list, options.profile, out);
@@ -192,6 +196,7 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
     for (std::size_t i = 0; i < list.draws.size(); ++i) {
         const Draw& d = list.draws[i];
         if (primitive_count(d.primitive, d.element_count()) == 0) continue;
+        stop.throw_if_requested();
         const CoverageModel model = detail::draw_model(options.profile, d);
         detail::DrawContext ctx{i,
                                 d,
@@ -203,6 +208,7 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
                                 kernels,
                                 workers ? &*workers : nullptr,
                                 model};
+        ctx.stop = &stop;
         // A fill rule: the stencil pass's pixels, taken by the cover pass (polygon_draw.hpp).
         std::optional<detail::FillMask> fill;
         if (d.state.fill_rule) {

@@ -9,6 +9,7 @@
 #include <regex>
 
 #include "harness/image_io.hpp"
+#include "layered_scene.hpp"
 #include "test_util.hpp"
 
 namespace {
@@ -905,6 +906,43 @@ TEST(ConformanceRun, ProgressLineOnATerminalOnly) {
     const auto index = testutil::read_text(dir.path() / "b" / "index.html");
     EXPECT_NE(index.find("data-y-scale=\"linear\""), std::string::npos);
     EXPECT_EQ(index.find("(log scale, 0 at the bottom)"), std::string::npos);
+}
+
+}  // namespace
+
+namespace {
+
+// --timeout bounds the reference's side of a case as it bounds the worker's: a scene that
+// would take the reference a minute is a Timeout after half a second, the reference's own status
+// says so, and the run goes on to the next case.
+TEST(ConformanceRun, SlowReferenceIsATimeoutAndTheRunGoesOn) {
+    testutil::TempDir dir;
+    const auto scenes = dir.path() / "scenes";
+    std::filesystem::create_directories(scenes / "slow");
+    {
+        // A scene is named after its path.
+        std::ofstream(scenes / "slow" / "a_layers.json")
+            << testutil::layered_scene(2048, 400, "slow.a_layers");
+        std::string tie = kTieScene;
+        const std::string name = R"("name": "tie")";
+        tie.replace(tie.find(name), name.size(), R"("name": "slow.b_tie")");
+        std::ofstream(scenes / "slow" / "b_tie.json") << tie;
+    }
+    const auto out = dir.path() / "run";
+    const auto r =
+        testutil::run_cli({"conformance", "run", "--scenes", scenes.string(), "--against", "osmesa",
+                           "--threads", "2", "--timeout", "0.5", "--output", out.string()});
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    const auto lines = read_jsonl(out / "results.jsonl");
+    ASSERT_EQ(lines.size(), 2u);
+    EXPECT_EQ(lines[0]["status"], "Timeout") << lines[0].dump();
+    EXPECT_EQ(lines[0]["reference"]["status"], "Timeout") << lines[0].dump();
+    EXPECT_NE(lines[0]["reference"]["message"].get<std::string>().find(
+                  "gave no answer within 0.500000 s"),
+              std::string::npos)
+        << lines[0].dump();
+    EXPECT_EQ(lines[1]["status"], "Pass") << lines[1].dump();  // the run went on
+    EXPECT_NE(testutil::read_text(out / "failures.csv").find(",Timeout"), std::string::npos);
 }
 
 }  // namespace

@@ -224,6 +224,30 @@ TEST(Wire, ResultRoundTrip) {
     EXPECT_EQ(fb.samples.samples, 4u);
 }
 
+// A result the caller gives up is encoded, and a payload it gives up decoded, a block at a time
+// while the pages already copied are given back: the bytes and the images are those of the
+// plain encode and decode, for images of several blocks (16 MiB each) and a tail.
+TEST(Wire, GivenUpResultsGiveTheSameBytes) {
+    harness::RenderResult r;
+    r.image = Framebuffer(1500, 1300, ColorFormat::Rgba32f, DepthFormat::Z32f);
+    r.image.owner.assign(r.image.pixel_count(), 0);
+    std::uint32_t x = 12345;
+    const auto next = [&] { return x = x * 1664525u + 1013904223u; };
+    for (auto& v : r.image.color32f) v = std::bit_cast<float>(next() & 0x7f7fffffu);
+    for (auto& v : r.image.depth) v = next();
+    for (auto& v : r.image.owner) v = next();
+    r.message = "m";
+    const auto plain = harness::wire::encode_result(r);
+    harness::RenderResult copy = r;
+    const auto given = harness::wire::encode_result(std::move(copy));
+    EXPECT_EQ(given, plain);
+    auto payload = plain;
+    const auto back = harness::wire::decode_result(std::move(payload));
+    EXPECT_EQ(back.image, r.image);
+    EXPECT_EQ(back.message, r.message);
+    EXPECT_EQ(harness::wire::decode_result(std::span<const std::uint8_t>(plain)).image, r.image);
+}
+
 TEST(Wire, SingleSampleResultHasEmptySamples) {
     harness::RenderResult r;
     r.image = Framebuffer(4, 4, ColorFormat::Rgba8, DepthFormat::None);

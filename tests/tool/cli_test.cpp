@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "harness/image_io.hpp"
+#include "layered_scene.hpp"
 #include "test_util.hpp"
 
 namespace {
@@ -353,6 +354,38 @@ TEST(Cli, EveryCommandThatLoadsScenesTakesTheTextureRoot) {
     const auto r = testutil::run_cli({"check", scene, "--texture-root", scene});
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_NE(r.err.find("--texture-root"), std::string::npos) << r.err;
+}
+
+}  // namespace
+
+namespace {
+
+// --timeout bounds the reference as it bounds a GL worker: a scene that would take the
+// reference many seconds (13 s on two threads of the development machine) ends after half a
+// second as a Timeout, in the GL workers' words ("... gave no answer within T s for SCENE"),
+// exit code 3 (a backend failure), nothing written.
+TEST(Cli, TimeoutStopsTheReference) {
+    testutil::TempDir dir;
+    const auto scene = dir.write("heavy.json", testutil::layered_scene(2048, 400)).string();
+    const auto out = dir.path() / "o.png";
+    const std::vector<std::vector<std::string>> commands{
+        {"render", scene, "--backend", "ref", "--threads", "2", "--timeout", "0.5", "-o",
+         out.string()},
+        {"compare", scene, "--reference", "ref", "--against", "ref", "--threads", "2", "--timeout",
+         "0.5", "--json", (dir.path() / "r.json").string()}};
+    for (const auto& args : commands) {
+        const auto r = testutil::run_cli(args);
+        EXPECT_EQ(r.exit_code, 3) << args[0] << ": " << r.err;
+        EXPECT_EQ(testutil::count_lines(r.err), 1u) << r.err;
+        EXPECT_NE(r.err.find("Timeout"), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find("gave no answer within 0.500000 s for " + scene + " (stopped)"),
+                  std::string::npos)
+            << r.err;
+        EXPECT_FALSE(std::filesystem::exists(out)) << args[0];
+    }
+    // The record names the reference's own status.
+    const auto rec = testutil::read_text(dir.path() / "r.json");
+    EXPECT_NE(rec.find(R"("status":"Timeout")"), std::string::npos) << rec;
 }
 
 }  // namespace

@@ -70,6 +70,7 @@ int run_conformance(const ConformanceArgs& a) {
         BackendArgs ref{"ref"};
         ref.profile = a.profile;
         ref.threads = a.threads;
+        ref.timeout = a.against.timeout;  // one limit a scene, for either side
         o.reference = ref.options();
         o.against = a.against.options();
         const auto s = conformance::run_suite(o, std::cout);

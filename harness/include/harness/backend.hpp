@@ -73,7 +73,10 @@ class Backend {
 struct BackendOptions {
     BackendKind kind = BackendKind::Ref;
     Driver driver = Driver::Llvmpipe;
-    double timeout_seconds = 60.0;  // per scene, GL backends only
+    // Per scene, every backend: a GL worker that has not answered by then is killed, a reference
+    // render still running is stopped (refraster::RenderOptions::deadline); either way the
+    // result is RenderStatus::Timeout. 0 or less: no limit.
+    double timeout_seconds = 60.0;
     // NAME=value variables for a GL worker's environment (LP_NUM_THREADS=0), recorded in its
     // provenance like the driver's own.
     std::vector<std::string> environment;

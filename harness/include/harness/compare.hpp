@@ -100,8 +100,9 @@ struct SampleComparison {
     std::uint64_t depth_only = 0;
     std::uint64_t coverage = 0;
     bool classified_by_owners = false;
-    // Sample s of every pixel compared as an image (its counts, its largest differences, its
-    // own mask); per_sample[s].mismatched_pixels counts the mismatched samples of index s.
+    // Sample s of every pixel compared as an image (its counts and its largest differences;
+    // no mask of its own: `mask` shows every sample); per_sample[s].mismatched_pixels counts
+    // the mismatched samples of index s.
     std::vector<Comparison> per_sample;
     // The largest colour and depth differences over all samples, with their pixel and sample
     // (the `sample` fields): among equals the lowest sample, then the first in row order.
@@ -130,6 +131,16 @@ class PixelClassifier {
     // copied.
     PixelClassifier(const refraster::Framebuffer& reference, const refraster::Framebuffer& actual,
                     const refraster::ClearValues& clear, const Expect& expect);
+    // Which values a pixel index reads: index i is slot i * stride + sample of the buffers (a
+    // 4x framebuffer's sample `sample` of pixel i with stride 4), and depth is ignored when
+    // `depth` is false (a resolved image, whose depth is sample 0's).
+    struct View {
+        std::uint32_t stride = 1;
+        std::uint32_t sample = 0;
+        bool depth = true;
+    };
+    PixelClassifier(const refraster::Framebuffer& reference, const refraster::Framebuffer& actual,
+                    const refraster::ClearValues& clear, const Expect& expect, View view);
 
     struct Pixel {
         PixelClass cls = PixelClass::Equal;
@@ -149,6 +160,8 @@ class PixelClassifier {
     const refraster::Framebuffer& ref_;
     const refraster::Framebuffer& act_;
     Expect expect_;
+    View view_;
+    bool depth_ = false;  // depth is compared
     bool owners_ = false;
     refraster::Framebuffer clear_;  // one pixel holding the clear as the reference stores it
 };

@@ -105,7 +105,8 @@ class Explainer {
 
     // Throws PixelOutsideTarget. With `full` false the verdict is the same but the pixel's
     // trace is rendered only when the decision needs it (explaining a whole image is then
-    // linear in its pixels), so the trace and the evidence in the verdict's text may be missing.
+    // linear in its pixels), so the trace and the evidence in the verdict's text may be missing,
+    // and Explanation::backend carries the backend's outcome without its images.
     Explanation explain(int x, int y, bool full = true);
 
     // The images compared: the resolved ones, or the planes of the sample asked for.

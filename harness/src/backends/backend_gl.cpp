@@ -19,6 +19,7 @@
 #include <thread>
 #include <vector>
 
+#include "no_answer.hpp"
 #include "wire.hpp"
 
 namespace harness {
@@ -94,12 +95,6 @@ int poll_timeout(const std::optional<std::chrono::steady_clock::time_point>& dea
     if (left <= std::chrono::steady_clock::duration::zero()) return 0;
     const auto ms = std::chrono::ceil<std::chrono::milliseconds>(left).count();
     return static_cast<int>(std::min<long long>(ms, 1 << 30));
-}
-
-std::string scene_label(const Scene& scene) {
-    if (!scene.path.empty()) return scene.path.string();
-    if (!scene.file.name.empty()) return "scene " + scene.file.name;
-    return "an unnamed scene";
 }
 
 // Child environment: ours, with GALLIUM_DRIVER replaced by the driver asked for and the
@@ -428,9 +423,8 @@ RenderResult GlWorkerBackend::render_frame(const Scene& scene, bool owners) {
     const Deadline deadline = deadline_after(options_.timeout_seconds);
     auto timed_out = [&] {
         kill_worker();
-        return failure(RenderStatus::Timeout, who + " gave no answer within " +
-                                                  std::to_string(options_.timeout_seconds) +
-                                                  " s for " + label + " (killed)");
+        return failure(RenderStatus::Timeout,
+                       no_answer_message(who, options_.timeout_seconds, label, "killed"));
     };
     auto died = [&](const std::string& detail) {
         const std::string how = reap_worker();
@@ -459,7 +453,8 @@ RenderResult GlWorkerBackend::render_frame(const Scene& scene, bool owners) {
     }
     RenderResult r;
     try {
-        r = wire::decode_result(payload);
+        // The payload is given up as the images are copied out of it.
+        r = wire::decode_result(std::move(payload));
     } catch (const wire::WireError& e) {
         kill_worker();
         return failure(RenderStatus::InternalError,

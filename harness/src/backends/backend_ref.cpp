@@ -3,6 +3,7 @@
 #include <chrono>
 
 #include "harness/profile_io.hpp"
+#include "no_answer.hpp"
 #include "refraster/renderer.hpp"
 
 namespace harness {
@@ -47,7 +48,25 @@ class RefBackend final : public Backend {
         ro.profile = options_.profile;
         ro.record_owners = owners;
         ro.threads = options_.threads;
-        const auto outcome = refraster::render(scene.draw_list, ro, r.image);
+        // The per-scene timeout, as a GL worker gets it: past it the render stops (every
+        // shading thread returns) and the scene is a Timeout in the same words.
+        // (A limit of more than 30 years cannot pass, and would overflow the clock's type.)
+        if (options_.timeout_seconds > 0.0 && options_.timeout_seconds < 1e9) {
+            ro.deadline = t0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                   std::chrono::duration<double>(options_.timeout_seconds));
+        }
+        refraster::RenderOutcome outcome;
+        try {
+            outcome = refraster::render(scene.draw_list, ro, r.image);
+        } catch (const refraster::RenderStopped&) {
+            r.seconds =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            r.status = RenderStatus::Timeout;
+            r.message = no_answer_message("the reference (" + options_.profile.name + ")",
+                                          options_.timeout_seconds, scene_label(scene), "stopped");
+            r.image = refraster::Framebuffer();
+            return r;
+        }
         r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         if (outcome.status == refraster::RenderStatus::NotSupported) {
             r.status = RenderStatus::NotSupported;

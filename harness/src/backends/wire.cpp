@@ -3,11 +3,13 @@
 #include "wire.hpp"
 
 #include <poll.h>
+#include <sys/mman.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <bit>
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <type_traits>
@@ -18,6 +20,20 @@ static_assert(std::endian::native == std::endian::little,
               "the wire format is little-endian and copied natively");
 
 namespace {
+
+// Blocks of this many bytes are copied between a message and its images, so that a side that
+// is given up can give its pages back as the copy goes (release_pages).
+constexpr std::size_t kCopyBlock = std::size_t{16} << 20;
+
+// Gives the whole pages inside [begin, end) back to the system: memory its owner never reads
+// again (it would read zeros). At the target limit an image is over a gigabyte, and without
+// this the encoder or decoder would hold it twice.
+void release_pages(const void* begin, const void* end) {
+    static const auto page = static_cast<std::uintptr_t>(::sysconf(_SC_PAGESIZE));
+    const std::uintptr_t from = (reinterpret_cast<std::uintptr_t>(begin) + page - 1) & ~(page - 1);
+    const std::uintptr_t to = reinterpret_cast<std::uintptr_t>(end) & ~(page - 1);
+    if (to > from) ::madvise(reinterpret_cast<void*>(from), to - from, MADV_DONTNEED);
+}
 
 class Encoder {
   public:
@@ -42,13 +58,20 @@ class Encoder {
         u64(s.size());
         out_.insert(out_.end(), s.begin(), s.end());
     }
-    // A counted array of trivially copyable elements, copied as one block.
+    // A counted array of trivially copyable elements, copied as one block; with `release`,
+    // a block at a time, each block's pages of `v` given back once copied (v is then read
+    // as zeros: the caller is done with it).
     template <typename T, typename A>
-    void array(const std::vector<T, A>& v) {
+    void array(const std::vector<T, A>& v, bool release = false) {
         static_assert(std::is_trivially_copyable_v<T>);
         u64(v.size());
         const auto* p = reinterpret_cast<const std::uint8_t*>(v.data());
-        out_.insert(out_.end(), p, p + v.size() * sizeof(T));
+        const std::size_t n = v.size() * sizeof(T);
+        for (std::size_t off = 0; off < n; off += kCopyBlock) {
+            const std::size_t m = std::min(kCopyBlock, n - off);
+            out_.insert(out_.end(), p + off, p + off + m);
+            if (release) release_pages(p + off, p + off + m);
+        }
     }
     void reserve(std::size_t n) { out_.reserve(n); }
     std::vector<std::uint8_t> take() { return std::move(out_); }
@@ -60,6 +83,9 @@ class Encoder {
 class Decoder {
   public:
     explicit Decoder(std::span<const std::uint8_t> in) : in_(in) {}
+    // A decoder that gives the pages of `in` back as its arrays are copied out (in is then
+    // read as zeros: the caller is done with it).
+    Decoder(std::span<std::uint8_t> in, bool release) : in_(in), release_(release) {}
 
     template <typename T>
     T get() {
@@ -107,8 +133,17 @@ class Decoder {
     std::vector<T, A> array() {
         static_assert(std::is_trivially_copyable_v<T>);
         const std::size_t n = count(sizeof(T));
-        std::vector<T, A> v(n);
-        if (n != 0) std::memcpy(v.data(), in_.data() + pos_, n * sizeof(T));
+        std::vector<T, A> v;
+        v.reserve(n);
+        // A block at a time, so that only the block being copied is held twice.
+        constexpr std::size_t kBlock = kCopyBlock / sizeof(T);
+        for (std::size_t done = 0; done < n; done += kBlock) {
+            const std::size_t m = std::min(kBlock, n - done);
+            v.resize(done + m);
+            const std::uint8_t* from = in_.data() + pos_ + done * sizeof(T);
+            std::memcpy(v.data() + done, from, m * sizeof(T));
+            if (release_) release_pages(from, from + m * sizeof(T));
+        }
         pos_ += n * sizeof(T);
         return v;
     }
@@ -134,6 +169,7 @@ class Decoder {
     }
     std::span<const std::uint8_t> in_;
     std::size_t pos_ = 0;
+    bool release_ = false;
 };
 
 void put_rect(Encoder& e, const refraster::Rect& r) {
@@ -265,16 +301,16 @@ refraster::Texture get_texture(Decoder& d) {
     return t;
 }
 
-void put_framebuffer(Encoder& e, const refraster::Framebuffer& fb) {
+void put_framebuffer(Encoder& e, const refraster::Framebuffer& fb, bool release) {
     e.u32(fb.width);
     e.u32(fb.height);
     e.enumeration(fb.color_format);
     e.enumeration(fb.depth_format);
     e.u32(fb.samples);
-    e.array(fb.color8);
-    e.array(fb.color32f);
-    e.array(fb.depth);
-    e.array(fb.owner);
+    e.array(fb.color8, release);
+    e.array(fb.color32f, release);
+    e.array(fb.depth, release);
+    e.array(fb.owner, release);
 }
 
 refraster::Framebuffer get_framebuffer(Decoder& d) {
@@ -388,7 +424,9 @@ refraster::DrawList decode_draw_list(std::span<const std::uint8_t> payload) {
     return list;
 }
 
-std::vector<std::uint8_t> encode_result(const harness::RenderResult& r) {
+namespace {
+
+std::vector<std::uint8_t> encode_result(const harness::RenderResult& r, bool release) {
     Encoder e;
     const auto bytes = [](const refraster::Framebuffer& fb) {
         return fb.color8.size() + (fb.color32f.size() + fb.depth.size() + fb.owner.size()) * 4;
@@ -396,8 +434,8 @@ std::vector<std::uint8_t> encode_result(const harness::RenderResult& r) {
     e.reserve(256 + r.message.size() + bytes(r.image) + bytes(r.samples));
     e.enumeration(r.status);
     e.string(r.message);
-    put_framebuffer(e, r.image);
-    put_framebuffer(e, r.samples);
+    put_framebuffer(e, r.image, release);
+    put_framebuffer(e, r.samples, release);
     e.u64(r.provenance.size());
     for (const auto& [k, v] : r.provenance) {
         e.string(k);
@@ -407,8 +445,7 @@ std::vector<std::uint8_t> encode_result(const harness::RenderResult& r) {
     return e.take();
 }
 
-harness::RenderResult decode_result(std::span<const std::uint8_t> payload) {
-    Decoder d(payload);
+harness::RenderResult decode_result(Decoder& d) {
     harness::RenderResult r;
     r.status = d.enumeration(harness::RenderStatus::InternalError);
     r.message = d.string();
@@ -425,6 +462,28 @@ harness::RenderResult decode_result(std::span<const std::uint8_t> payload) {
     return r;
 }
 
+}  // namespace
+
+std::vector<std::uint8_t> encode_result(const harness::RenderResult& r) {
+    return encode_result(r, false);
+}
+
+std::vector<std::uint8_t> encode_result(harness::RenderResult&& r) {
+    const harness::RenderResult given = std::move(r);
+    return encode_result(given, true);
+}
+
+harness::RenderResult decode_result(std::span<const std::uint8_t> payload) {
+    Decoder d(payload);
+    return decode_result(d);
+}
+
+harness::RenderResult decode_result(std::vector<std::uint8_t>&& payload) {
+    std::vector<std::uint8_t> given = std::move(payload);
+    Decoder d(std::span<std::uint8_t>(given), true);
+    return decode_result(d);
+}
+
 FrameReader::Progress FrameReader::read_some(int fd) {
     if (complete_) return Progress::Complete;
     std::uint8_t* dst = nullptr;
@@ -434,8 +493,12 @@ FrameReader::Progress FrameReader::read_some(int fd) {
         want = kHeaderBytes - header_got_;
     } else {
         // The payload grows as it arrives: a corrupt length on a dying stream must not cost
-        // its full size in memory before the truncation is noticed.
+        // its full size in memory before the truncation is noticed. Its whole length is
+        // reserved at once (address space, which costs nothing until written), so that growing
+        // never copies what has arrived.
         constexpr std::uint64_t kStep = std::uint64_t{64} << 20;
+        if (frame_.payload.capacity() < length_)
+            frame_.payload.reserve(static_cast<std::size_t>(length_));
         if (payload_got_ == frame_.payload.size()) {
             const std::uint64_t next = std::min(length_, payload_got_ + kStep);
             frame_.payload.resize(static_cast<std::size_t>(next));

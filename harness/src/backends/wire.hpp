@@ -72,6 +72,11 @@ std::vector<std::uint8_t> encode_draw_list(const refraster::DrawList& list);
 refraster::DrawList decode_draw_list(std::span<const std::uint8_t> payload);
 std::vector<std::uint8_t> encode_result(const harness::RenderResult& result);
 harness::RenderResult decode_result(std::span<const std::uint8_t> payload);
+// The same, for a result (or payload) the caller gives up: its pages are given back a block at
+// a time as they are copied, so that an image of a gigabyte is not held twice. The bytes are
+// the same.
+std::vector<std::uint8_t> encode_result(harness::RenderResult&& result);
+harness::RenderResult decode_result(std::vector<std::uint8_t>&& payload);
 
 // Collects one frame from a file descriptor, one read(2) per call.
 class FrameReader {

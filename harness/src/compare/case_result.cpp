@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <vector>
 
 namespace harness {
 
@@ -163,31 +165,40 @@ CaseResult run_case(const Scene& scene, const std::string& case_name, Backend& r
         // Class the mismatch by primitive: a second pass of each side reports which primitive
         // owns every pixel (of a 4x target: every sample). Where a side cannot tell, the
         // clear-colour classes stand.
-        auto ro = reference.render_owners(scene);
-        auto ao = actual.render_owners(scene);
-        const auto believable = [&](const RenderResult& owners, const RenderResult& plain) {
-            if (owners.status != RenderStatus::Ok) return false;
-            return multisampled ? owners_plausible(owners.samples.owner, plain.samples, clear)
-                                : owners_plausible(owners.image.owner, plain.image, clear);
+        // Only the owners of each pass are kept, and each pass's images are freed before the
+        // other side's pass runs: at the target limit an image is over a gigabyte. The first
+        // comparison's masks go first; it is made again below, with or without owners.
+        c.comparison.reset();
+        c.sample_comparison.reset();
+        const auto owners_of = [&](Backend& side, const RenderResult& plain) {
+            RenderResult pass = side.render_owners(scene);
+            std::optional<std::vector<std::uint32_t>> owners;
+            if (pass.status != RenderStatus::Ok) return owners;
+            auto& o = multisampled ? pass.samples.owner : pass.image.owner;
+            if (owners_plausible(o, multisampled ? plain.samples : plain.image, clear))
+                owners = std::move(o);
+            return owners;
         };
-        if (believable(ro, *c.reference) && believable(ao, *c.actual)) {
+        auto ro = owners_of(reference, *c.reference);
+        auto ao = ro ? owners_of(actual, *c.actual) : std::nullopt;
+        if (ro && ao) {
             for (auto [owners, plain] :
-                 {std::pair{&ro, &*c.reference}, std::pair{&ao, &*c.actual}}) {
+                 {std::pair{&*ro, &*c.reference}, std::pair{&*ao, &*c.actual}}) {
                 if (multisampled) {
                     // The resolved image's owners are sample 0's.
                     const std::size_t n = plain->samples.pixel_count();
                     const std::size_t k = plain->samples.samples;
                     plain->image.owner.resize(n);
                     for (std::size_t i = 0; i < n; ++i) {
-                        plain->image.owner[i] = owners->samples.owner[i * k];
+                        plain->image.owner[i] = (*owners)[i * k];
                     }
-                    plain->samples.owner = std::move(owners->samples.owner);
+                    plain->samples.owner = std::move(*owners);
                 } else {
-                    plain->image.owner = std::move(owners->image.owner);
+                    plain->image.owner = std::move(*owners);
                 }
             }
-            compare_all();
         }
+        compare_all();
     }
     const bool within =
         c.comparison->within_expect && (!c.sample_comparison || c.sample_comparison->within_expect);

@@ -60,11 +60,19 @@ std::array<std::uint8_t, 4> mask_color(PixelClass c) {
 PixelClassifier::PixelClassifier(const refraster::Framebuffer& reference,
                                  const refraster::Framebuffer& actual,
                                  const refraster::ClearValues& clear, const Expect& expect)
-    : ref_(reference), act_(actual), expect_(expect) {
+    : PixelClassifier(reference, actual, clear, expect, View{}) {}
+
+PixelClassifier::PixelClassifier(const refraster::Framebuffer& reference,
+                                 const refraster::Framebuffer& actual,
+                                 const refraster::ClearValues& clear, const Expect& expect,
+                                 View view)
+    : ref_(reference), act_(actual), expect_(expect), view_(view) {
     REFRASTER_ASSERT(ref_.width == act_.width && ref_.height == act_.height &&
                          ref_.color_format == act_.color_format &&
                          ref_.depth_format == act_.depth_format,
                      "two renders of the same target");
+    REFRASTER_ASSERT(view_.stride >= 1 && view_.sample < view_.stride, "a sample of the stride");
+    depth_ = view_.depth && ref_.depth_format != refraster::DepthFormat::None;
     owners_ = !ref_.owner.empty() && ref_.owner.size() == act_.owner.size();
     // The clear as the reference stores it (rgba8 clears quantise with Mesa's float_to_ubyte,
     // depth clears with their own rounding): a one-pixel render of no draws.
@@ -74,7 +82,8 @@ PixelClassifier::PixelClassifier(const refraster::Framebuffer& reference,
     (void)refraster::render(empty, refraster::RenderOptions{}, clear_);
 }
 
-bool PixelClassifier::untouched(const refraster::Framebuffer& fb, std::size_t i) const {
+bool PixelClassifier::untouched(const refraster::Framebuffer& fb, std::size_t index) const {
+    const std::size_t i = index * view_.stride + view_.sample;
     for (std::size_t k = 0; k < 4; ++k) {
         const bool same = fb.color_format == refraster::ColorFormat::Rgba8
                               ? fb.color8[4 * i + k] == clear_.color8[k]
@@ -82,10 +91,11 @@ bool PixelClassifier::untouched(const refraster::Framebuffer& fb, std::size_t i)
                                     std::bit_cast<std::uint32_t>(clear_.color32f[k]);
         if (!same) return false;
     }
-    return fb.depth_format == refraster::DepthFormat::None || fb.depth[i] == clear_.depth[0];
+    return !depth_ || fb.depth[i] == clear_.depth[0];
 }
 
-PixelClassifier::Pixel PixelClassifier::at(std::size_t i) const {
+PixelClassifier::Pixel PixelClassifier::at(std::size_t index) const {
+    const std::size_t i = index * view_.stride + view_.sample;
     Pixel p;
     const bool is8 = ref_.color_format == refraster::ColorFormat::Rgba8;
     for (std::uint32_t k = 0; k < 4; ++k) {
@@ -98,7 +108,7 @@ PixelClassifier::Pixel PixelClassifier::at(std::size_t i) const {
             p.channel = k;
         }
     }
-    if (ref_.depth_format != refraster::DepthFormat::None) {
+    if (depth_) {
         p.depth_difference = depth_distance(ref_.depth_format, ref_.depth[i], act_.depth[i]);
     }
     const bool color_differs = p.color_difference > expect_.color_tolerance;
@@ -107,10 +117,10 @@ PixelClassifier::Pixel PixelClassifier::at(std::size_t i) const {
         p.cls = ref_.owner[i] == 0   ? PixelClass::Extra
                 : act_.owner[i] == 0 ? PixelClass::Missing
                                      : PixelClass::Coverage;
-    } else if (untouched(act_, i) != untouched(ref_, i)) {
+    } else if (untouched(act_, index) != untouched(ref_, index)) {
         // Also with equal owners: an owner pass can draw what the plain render does not
         // (llvmpipe's nine-vertex analysis never sees an owner pass).
-        p.cls = untouched(act_, i) ? PixelClass::Missing : PixelClass::Extra;
+        p.cls = untouched(act_, index) ? PixelClass::Missing : PixelClass::Extra;
     } else {
         p.cls = color_differs ? PixelClass::ColorOnly : PixelClass::DepthOnly;
     }
@@ -139,27 +149,34 @@ bool owners_plausible(const std::vector<std::uint32_t>& owner, const refraster::
 
 namespace {
 
-// compare_images, also writing each pixel's class to `classes` (every `stride`-th entry from
-// `classes[0]`) when it is given.
+// compare_images of the values `view` selects (a sample plane of 4x framebuffers, or colour
+// alone), read in place, also writing each pixel's class to `classes` (every `stride`-th entry
+// from `classes[0]`) when it is given, and the mask only when `with_mask`.
 Comparison compare_classified(const refraster::Framebuffer& ref, const refraster::Framebuffer& act,
                               const refraster::ClearValues& clear, const Expect& expect,
-                              PixelClass* classes, std::size_t stride) {
+                              PixelClass* classes, std::size_t stride,
+                              PixelClassifier::View view = {}, bool with_mask = true) {
     Comparison c;
     if (ref.width != act.width || ref.height != act.height ||
-        ref.color_format != act.color_format || ref.depth_format != act.depth_format) {
+        ref.color_format != act.color_format ||
+        (view.depth && ref.depth_format != act.depth_format)) {
         c.size_mismatch = true;
         c.mismatched_pixels = std::max(ref.pixel_count(), act.pixel_count());
         return c;
     }
-    c.mask = refraster::Framebuffer(ref.width, ref.height, refraster::ColorFormat::Rgba8,
-                                    refraster::DepthFormat::None);
+    if (with_mask) {
+        c.mask = refraster::Framebuffer(ref.width, ref.height, refraster::ColorFormat::Rgba8,
+                                        refraster::DepthFormat::None);
+    }
     const bool is8 = ref.color_format == refraster::ColorFormat::Rgba8;
-    const PixelClassifier classify(ref, act, clear, expect);
+    // Depth formats that differ are compared as colour only (view.depth false).
+    const PixelClassifier classify(ref, act, clear, expect, view);
     c.classified_by_owners = classify.by_owners();
 
     for (std::uint32_t y = 0; y < ref.height; ++y) {
         for (std::uint32_t x = 0; x < ref.width; ++x) {
-            const std::size_t i = ref.index(x, y);
+            const std::size_t i = static_cast<std::size_t>(y) * ref.width + x;
+            const std::size_t slot = i * view.stride + view.sample;
             const auto px = classify.at(i);
             if (px.color_difference > 0 &&
                 (!c.max_color || px.color_difference > c.max_color->amount)) {
@@ -169,15 +186,16 @@ Comparison compare_classified(const refraster::Framebuffer& ref, const refraster
                 m.y = y;
                 m.channel = px.channel;
                 for (std::size_t k = 0; k < 4; ++k) {
-                    m.reference[k] = is8 ? ref.color8[4 * i + k] : double{ref.color32f[4 * i + k]};
-                    m.actual[k] = is8 ? act.color8[4 * i + k] : double{act.color32f[4 * i + k]};
+                    const std::size_t j = 4 * slot + k;
+                    m.reference[k] = is8 ? ref.color8[j] : double{ref.color32f[j]};
+                    m.actual[k] = is8 ? act.color8[j] : double{act.color32f[j]};
                 }
                 c.max_color = m;
             }
             if (px.depth_difference > 0 &&
                 (!c.max_depth || px.depth_difference > c.max_depth->amount)) {
                 c.max_depth =
-                    DepthDifference{px.depth_difference, x, y, ref.depth[i], act.depth[i]};
+                    DepthDifference{px.depth_difference, x, y, ref.depth[slot], act.depth[slot]};
             }
             switch (px.cls) {
                 case PixelClass::Equal:
@@ -200,9 +218,11 @@ Comparison compare_classified(const refraster::Framebuffer& ref, const refraster
             }
             if (px.cls != PixelClass::Equal) ++c.mismatched_pixels;
             if (classes != nullptr) classes[i * stride] = px.cls;
-            const auto mc = mask_color(px.cls);
-            std::copy(mc.begin(), mc.end(),
-                      c.mask.color8.begin() + static_cast<std::ptrdiff_t>(4 * i));
+            if (with_mask) {
+                const auto mc = mask_color(px.cls);
+                std::copy(mc.begin(), mc.end(),
+                          c.mask.color8.begin() + static_cast<std::ptrdiff_t>(4 * i));
+            }
         }
     }
     c.within_expect = c.mismatched_pixels <= expect.max_mismatched_pixels;
@@ -222,13 +242,10 @@ Comparison compare_resolved(const refraster::Framebuffer& ref, const refraster::
         act.depth_format == refraster::DepthFormat::None) {
         return compare_images(ref, act, clear, expect);
     }
-    const auto colour_only = [](const refraster::Framebuffer& fb) {
-        refraster::Framebuffer c = fb;
-        c.depth_format = refraster::DepthFormat::None;
-        c.depth.clear();
-        return c;
-    };
-    return compare_images(colour_only(ref), colour_only(act), clear, expect);
+    // Colour alone, read in place.
+    PixelClassifier::View colour_only;
+    colour_only.depth = false;
+    return compare_classified(ref, act, clear, expect, nullptr, 0, colour_only);
 }
 
 std::array<std::uint32_t, 2> sample_mask_pixel(std::uint32_t x, std::uint32_t y, std::uint32_t s) {
@@ -267,13 +284,12 @@ SampleComparison compare_samples(const refraster::Framebuffer& ref,
     const std::size_t n = ref.pixel_count();
     c.classes.assign(n * kSamples, PixelClass::Equal);
     for (std::uint32_t s = 0; s < kSamples; ++s) {
-        auto rp = refraster::sample_plane(ref, s);
-        auto ap = refraster::sample_plane(act, s);
-        if (!owners) {
-            rp.owner.clear();
-            ap.owner.clear();
-        }
-        Comparison k = compare_classified(rp, ap, clear, expect, c.classes.data() + s, kSamples);
+        // Sample s of every pixel, read in place; `mask` below shows every sample.
+        PixelClassifier::View plane;
+        plane.stride = kSamples;
+        plane.sample = s;
+        Comparison k = compare_classified(ref, act, clear, expect, c.classes.data() + s, kSamples,
+                                          plane, false);
         c.mismatched_samples += k.mismatched_pixels;
         c.missing += k.missing;
         c.extra += k.extra;

@@ -217,8 +217,9 @@ struct Explainer::Alternative {
     std::size_t reproduced = 0;  // mismatching pixels of the whole image it reproduces
     std::size_t broken = 0;      // agreeing pixels it makes differ
     long net() const { return static_cast<long>(reproduced) - static_cast<long>(broken); }
-    std::unique_ptr<refraster::Framebuffer> image;  // held apart: the classifier refers to it
-    std::unique_ptr<PixelClassifier> classifier;
+    // Each pixel's class against the backend: a byte a pixel, where the render itself would
+    // hold tens (a scene at the target limit has a dozen alternatives).
+    std::vector<PixelClass> classes;
 };
 
 namespace {
@@ -287,7 +288,14 @@ Explainer::Explainer(const Scene& scene, const refraster::Profile& profile, Back
     const auto r = render_reference(scene_.draw_list, profile_, with_owners, reference_samples_);
     if (r.status != refraster::RenderStatus::Ok)
         throw std::runtime_error("the reference cannot render it: " + r.message);
-    reference_ = view(reference_samples_);
+    // A single-sample render is its own view: moved, not copied (reference_samples_ holds
+    // only a 4x target's samples).
+    if (reference_samples_.samples == 1) {
+        reference_ = std::move(reference_samples_);
+        reference_samples_ = refraster::Framebuffer();
+    } else {
+        reference_ = view(reference_samples_);
+    }
     if (backend_result_) {
         classifier_ = std::make_unique<PixelClassifier>(reference_, backend_view_,
                                                         scene_.draw_list.clear, scene_.file.expect);
@@ -319,12 +327,14 @@ void Explainer::render_alternatives() {
             alternatives_.pop_back();
             continue;
         }
-        a.image = std::make_unique<refraster::Framebuffer>(view(rendered));
-        a.classifier = std::make_unique<PixelClassifier>(
-            *a.image, backend_view_, scene_.draw_list.clear, scene_.file.expect);
+        if (rendered.samples != 1) rendered = view(rendered);
+        const PixelClassifier classify(rendered, backend_view_, scene_.draw_list.clear,
+                                       scene_.file.expect);
+        a.classes.resize(reference_.pixel_count());
         for (std::size_t i = 0; i < reference_.pixel_count(); ++i) {
             const auto before = classifier_->at(i).cls;
-            const auto after = a.classifier->at(i).cls;
+            const auto after = classify.at(i).cls;
+            a.classes[i] = after;
             if (before != PixelClass::Equal && resolves(before, after)) ++a.reproduced;
             if (before == PixelClass::Equal && after != PixelClass::Equal) ++a.broken;
         }
@@ -427,7 +437,18 @@ Explanation Explainer::explain(int x, int y, bool full) {
         e.verdict = "reference only at " + px;
         return e;
     }
-    e.backend = *backend_result_;
+    if (full) {
+        e.backend = *backend_result_;
+    } else {
+        // Its outcome without its images: a copy of a whole image a pixel would make
+        // explaining every pixel quadratic (and hold the image twice).
+        RenderResult outcome;
+        outcome.status = backend_result_->status;
+        outcome.message = backend_result_->message;
+        outcome.provenance = backend_result_->provenance;
+        outcome.seconds = backend_result_->seconds;
+        e.backend = std::move(outcome);
+    }
     e.backend_color = color_at(backend_view_, x, y);
     e.backend_depth = depth_at(backend_view_, x, y);
     samples_of(backend_result_->samples, e.backend_samples, e.backend_sample_depths);
@@ -513,7 +534,7 @@ Explanation Explainer::explain(int x, int y, bool full) {
     };
     std::map<std::string, const Alternative*> chosen;  // the best alternative of each rule
     for (const auto& a : alternatives_) {
-        if (chosen.count(a.rule) == 0 && resolves(cls.cls, a.classifier->at(i).cls)) {
+        if (chosen.count(a.rule) == 0 && resolves(cls.cls, a.classes[i])) {
             e.candidates.emplace_back(a.rule, a.change);
             chosen[a.rule] = &a;
         }

@@ -16,11 +16,15 @@
 // scanline (softpipe) rules, which have none.
 #pragma once
 
+#include <atomic>
+#include <chrono>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 
 #include "refraster/draw.hpp"
+#include "refraster/error.hpp"
 #include "refraster/framebuffer.hpp"
 #include "refraster/profile.hpp"
 #include "refraster/trace.hpp"
@@ -75,6 +79,23 @@ struct RenderOptions {
     // are the same for any count); 0, the default: one per core. The model path and traced
     // renders use one.
     unsigned threads = 0;
+    // When set, a render still running at this time stops and render() throws RenderStopped.
+    // Neither the deadline nor the stop flag below changes a render that ends: they are read
+    // between draws, between primitives of setup and traversal, and between a band's
+    // primitives on every shading thread, never inside a pixel's arithmetic.
+    std::optional<std::chrono::steady_clock::time_point> deadline;
+    // When set, another thread may store true here to stop the render the same way.
+    const std::atomic<bool>* stop = nullptr;
+};
+
+// A render that stopped before its end (RenderOptions::deadline passed, or
+// RenderOptions::stop was set): the target holds a partial image, which the caller discards.
+// Every thread of the render has returned when it is thrown. A backend failure (exit code 3):
+// the scene was not wrong, the run was cut short.
+class RenderStopped : public Error {
+  public:
+    explicit RenderStopped(const std::string& message)
+        : Error(ExitClass::BackendFailure, message) {}
 };
 
 // Number of complete primitives a draw assembles under GL's rules (OpenGL 4.6 compatibility

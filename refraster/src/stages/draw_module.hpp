@@ -152,9 +152,10 @@ class DrawModule {
         list_.clear();
     }
 
-    // Starts the next API primitive: hands a full list on first.
+    // Starts the next API primitive: hands a full list on first. The render may stop here.
     template <class Observer>
     void next_primitive(std::size_t p, Observer& obs) {
+        ctx_.check_stop();
         owner_ = owner_id(ctx_.index, primitive_id(ctx_.draw, p));
         if (list_.full()) {
             (*sink_)(list_);

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "common/cpu.hpp"
+#include "common/stop.hpp"
 #include "refraster/assembly.hpp"
 #include "refraster/draw.hpp"
 #include "refraster/framebuffer.hpp"
@@ -56,6 +57,15 @@ struct DrawContext {
     // each cleared as the first of the polygon's triangles to reach it draws it, as the
     // stencil method's cover pass does (polygon_draw.hpp).
     FillMask* fill = nullptr;
+    // The render's stop signal (common/stop.hpp); null: the render cannot be stopped.
+    const StopSignal* stop = nullptr;
+
+    // Throws RenderStopped when the render must stop (the calling thread only; a shading
+    // thread tests stop_requested and returns instead).
+    void check_stop() const {
+        if (stop != nullptr) stop->throw_if_requested();
+    }
+    bool stop_requested() const { return stop != nullptr && stop->requested(); }
 
     VertexStageOptions vertex_options() const {
         return {fma, profile.gl.flush_denormals, profile.gl.clipping == Clipping::GuardBand,

@@ -114,6 +114,7 @@ void ExactModel::setup(VertexStage& stage, Observer& obs, const ListSink<List>& 
     const std::vector<bool> segment_clipped = clipped_segments(stage, d, tris);
     ExactList list;
     for (std::size_t p = 0; p < tris.size(); ++p) {
+        ctx_.check_stop();
         if (list.full()) {
             sink(list);
             obs.list_done();
