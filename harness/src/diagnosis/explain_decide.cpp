@@ -664,10 +664,9 @@ Explanation Explainer::explain(int x, int y, bool full) {
             ", because the coverage of a primitive drawn earlier differs (blending or the depth "
             "test shows it)";
     }
-    // A NaN depth that changes coverage does so through the depth test: a depth difference.
+    // A NaN depth that changes coverage does so through the depth test.
     if (e.difference == "coverage" && e.rule == kNanOffsetRule) {
-        e.difference = "depth";
-        what += ", because the fragment's depth differs (the depth test shows it)";
+        what += ", because the depth test sees another depth";
     }
     std::string also;
     for (const auto& [rule, change] : e.candidates) {
