@@ -279,6 +279,25 @@ def main():
         "The same twelve vertices under the non-zero rule.",
         [draw(rpts, {"fill_rule": "nonzero", "shade": "smooth"})]))
 
+    # A {13/5} star whose vertices sit 1/512 pixel right of and above half-pixel positions, in
+    # a viewport starting left of the target: an even-odd fill, then a blended non-zero fill
+    # over it. Under softpipe each fill's stencil clear writes the colour tiles back, so the
+    # blend reads the bytes of the clear and of the first fill, not their floats.
+    star13 = [[math.floor(x) + 0.5 + 1 / 512, math.floor(y) + 0.5 + 1 / 512]
+              for x, y in star(32, 32, 29.5, 13, 5, 7.0, 4096)]
+    scenes.append(scene(
+        "blend_over_fill_star",
+        "A blended non-zero {13/5} star over an even-odd one, vertices 1/512 pixel beside "
+        "half-pixel positions, in a viewport starting at x = -16: softpipe's stencil clear of "
+        "each fill writes its colour tiles back (the clear colour's included), so blending "
+        "reads bytes.",
+        [draw(star13, {"fill_rule": "evenodd", "viewport": [-16, 0, 128, 64]},
+              colours=[PALETTE[i % len(PALETTE)] for i in range(13)]),
+         draw(star13, {"fill_rule": "nonzero", "blend": "alpha", "viewport": [-16, 0, 128, 64]},
+              colours=[[0.2 + 0.05 * i, 0.9 - 0.06 * i, 0.35 + 0.04 * i, 0.3 + 0.05 * i]
+                       for i in range(13)])],
+        width=64, height=64, clear=(0.3, 0.6, 0.1, 1)))
+
     os.makedirs(OUT, exist_ok=True)
     for name, s in scenes:
         with open(os.path.join(OUT, name + ".json"), "w") as f:

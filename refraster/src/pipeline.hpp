@@ -225,11 +225,18 @@ std::uint64_t draw(const DrawContext& ctx, typename Model::RenderState& state, O
 
 // The model, chosen once per draw from the profile.
 // A draw of the other model's family than the render's tile cache (the profile's line or point
-// rule) finds that cache written back and leaves it empty.
+// rule) finds that cache written back and leaves it empty. So does a draw with a fill rule: its
+// stencil pass starts with a clear of the stencil alone, which in softpipe writes every colour
+// tile back (sp_clear.c softpipe_clear clears part of a combined depth-stencil buffer with
+// util_clear_depth_stencil, whose map of the surface, sp_texture.c softpipe_transfer_map, calls
+// sp_flush.c softpipe_flush_resource and so softpipe_flush), so blending over an earlier draw
+// then reads its quantised bytes, not its floats.
 template <class Observer>
 std::uint64_t run_draw(const DrawContext& ctx, ModelStates& states, Observer& obs, RenderStage stop,
                        Framebuffer& fb) {
-    if (ctx.model != CoverageModel::Scanline) states.softpipe.flush_shared_tiles();
+    if (ctx.model != CoverageModel::Scanline ||
+        (ctx.draw.state.fill_rule && ctx.profile.quirks.fill_clear_writes_tiles))
+        states.softpipe.flush_shared_tiles();
     switch (ctx.model) {
         case CoverageModel::Exact:
             return draw<ExactModel>(ctx, states.exact, obs, stop, fb);

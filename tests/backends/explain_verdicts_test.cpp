@@ -225,22 +225,55 @@ TEST_P(ExplainVerdictsMutated, EveryPixelNamesTheMutatedRule) {
     EXPECT_GT(t.pixels, 0u) << "the mutation changes no pixel of the suite";
 }
 
-INSTANTIATE_TEST_SUITE_P(Profiles, ExplainVerdictsMutated,
-                         ::testing::Values(Mutation{"tie_rule=right-top", "tie rule"},
-                                           Mutation{"tie_rule=left-top", "tie rule"},
-                                           Mutation{"tie_rule=right-bottom", "tie rule"},
-                                           Mutation{"snap_rounding=half-away", "snapping"},
-                                           Mutation{"subpixel_bits=4", "snapping"},
-                                           Mutation{"nine_vertex_quirk=false",
-                                                    "nine-vertex analysis"},
-                                           Mutation{"draw_pipeline_cull=false", "cull"},
-                                           Mutation{"viewport_fma=off", "fused arithmetic"},
-                                           Mutation{"wrapping_arithmetic=false", "integer widths"}),
-                         [](const auto& p) {
-                             std::string n = p.param.change;
-                             for (auto& c : n)
-                                 c = std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
-                             return n;
-                         });
+INSTANTIATE_TEST_SUITE_P(
+    Profiles, ExplainVerdictsMutated,
+    ::testing::Values(Mutation{"tie_rule=right-top", "tie rule"},
+                      Mutation{"tie_rule=left-top", "tie rule"},
+                      Mutation{"tie_rule=right-bottom", "tie rule"},
+                      Mutation{"snap_rounding=half-away", "snapping"},
+                      Mutation{"subpixel_bits=4", "snapping"},
+                      Mutation{"nine_vertex_quirk=false", "nine-vertex analysis"},
+                      Mutation{"draw_pipeline_cull=false", "cull"},
+                      Mutation{"viewport_fma=off", "fused arithmetic"},
+                      Mutation{"wrapping_arithmetic=false", "integer widths"},
+                      Mutation{"draw_offset_nan_to_zero=false", "NaN depth from polygon offset"}),
+    [](const auto& p) {
+        std::string n = p.param.change;
+        for (auto& c : n) c = std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+        return n;
+    });
+
+// softpipe under its own profile with one rule of its own mutated: the write-back of its
+// colour tiles by a fill rule's stencil clear. Only the scenes that blend at or after a
+// fill-rule draw change, and every pixel that does is put down to that rule.
+TEST(ExplainVerdicts, SoftpipeTileWriteBackIsNamed) {
+    auto backend = osmesa(harness::Driver::Softpipe);
+    auto profile = harness::load_profile("softpipe-22.3");
+    harness::apply_profile_overrides(profile, {"fill_clear_writes_tiles=false"});
+    Tally t;
+    check_every_pixel(*backend, profile, "tile write-back", t);
+    print("softpipe, fill_clear_writes_tiles=false", t);
+    EXPECT_GT(t.pixels, 0u) << "the mutation changes no pixel of the suite";
+    EXPECT_EQ(t.by_verdict["colour/tile write-back"], t.pixels);
+}
+
+// The two scenes of these rules against both drivers under their own profiles: byte for byte.
+TEST(ExplainVerdicts, NanOffsetAndTileWriteBackScenesMatch) {
+    const std::string root = std::string(REFRASTER_SOURCE_DIR) + "/conformance/scenes/";
+    for (const char* name :
+         {"points/polygon_mode_point_offset_nan.json", "polygons/blend_over_fill_star.json"}) {
+        const harness::Scene scene = harness::load_scene(root + name);
+        for (auto driver : {harness::Driver::Llvmpipe, harness::Driver::Softpipe}) {
+            auto backend = osmesa(driver);
+            const auto profile = harness::load_profile(
+                driver == harness::Driver::Llvmpipe ? "llvmpipe-22.3" : "softpipe-22.3");
+            harness::Explainer ex(scene, profile, backend.get(), -1);
+            const auto cmp = harness::compare_images(ex.reference_image(), ex.backend_image(),
+                                                     scene.draw_list.clear, scene.file.expect);
+            EXPECT_EQ(cmp.mismatched_pixels, 0u)
+                << name << (driver == harness::Driver::Llvmpipe ? " llvmpipe" : " softpipe");
+        }
+    }
+}
 
 }  // namespace

@@ -1,12 +1,15 @@
 // GL-free tests of rules the golden hashes alone covered: llvmpipe's unorm8 blending
-// arithmetic, line coverage (one fragment a column or row, width in whole pixels), and the
-// clipper's edge flags in polygon mode line.
+// arithmetic, line coverage (one fragment a column or row, width in whole pixels), the
+// clipper's edge flags in polygon mode line, the draw module's NaN polygon offset, and
+// softpipe's colour tiles written back by a fill rule's stencil clear.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <map>
+#include <string>
 
 #include "models/llvmpipe/fragment.hpp"
+#include "refraster/profile.hpp"
 #include "refraster/renderer.hpp"
 
 namespace {
@@ -168,6 +171,131 @@ TEST(ClipperEdgeFlags, EdgesMadeByTheClipperAreNotDrawn) {
     int filled = 0;
     for (std::uint32_t y = 0; y < 32; ++y) filled += fb.color8[4 * fb.index(31, y)] != 0;
     EXPECT_GE(filled, 8);
+}
+
+// A zero-area triangle of constant window z in polygon mode point or line, with polygon
+// offset: draw_pipe_offset.c do_offset_tri's slopes are 0 * (1 / det) = 0 * inf = NaN, so the
+// offset is NaN whatever the factor and units, and util/macros.h's SATURATE (CLAMP(z, 0, 1) =
+// z > 0 ? (z > 1 ? 1 : z) : 0) makes every vertex depth 0, the near end: the points pass the
+// depth test less against a cleared 0.5 and store 0. Measured with OSMesa llvmpipe and
+// softpipe (z24 and z32f; less, equal, greater, notequal, always). Kept NaN
+// (draw_offset_nan_to_zero=false), llvmpipe's fragment clamp makes it 1 and nothing is drawn.
+TEST(DrawModuleOffset, ANanOffsetSaturatesToTheNearEnd) {
+    for (const auto* profile_name : {"llvmpipe-22.3", "softpipe-22.3"}) {
+        for (auto mode : {refraster::PolygonMode::Point, refraster::PolygonMode::Line}) {
+            for (auto depth : {refraster::DepthFormat::Z32f, refraster::DepthFormat::Z24}) {
+                for (bool nan_to_zero : {true, false}) {
+                    // Kept NaN is llvmpipe's fragment clamp's to settle; softpipe's depth
+                    // conversions of a NaN are another matter.
+                    if (!nan_to_zero && std::string(profile_name) != "llvmpipe-22.3") continue;
+                    SCOPED_TRACE(std::string(profile_name) +
+                                 (mode == refraster::PolygonMode::Point ? " point" : " line") +
+                                 (depth == refraster::DepthFormat::Z24 ? " z24" : " z32f") +
+                                 (nan_to_zero ? "" : " kept NaN"));
+                    auto l = target(16, 16);
+                    l.target.depth = depth;
+                    l.clear.depth = 0.5f;
+                    // Collinear: det = (v0 - v2) x (v1 - v2) = (-9)(-4) - (-9)(-4) = 0 exactly.
+                    auto d = window_draw(PrimitiveType::Triangles, l.target,
+                                         {{3.5f, 3.5f}, {8.5f, 8.5f}, {12.5f, 12.5f}});
+                    d.state.polygon_mode = mode;
+                    d.state.depth_test = refraster::CompareFunc::Less;
+                    d.state.polygon_offset = refraster::PolygonOffset{3.4e38f, 1e30f};
+                    l.draws = {d};
+                    refraster::RenderOptions o;
+                    o.profile = refraster::builtin_profile(profile_name);
+                    o.profile.quirks.draw_offset_nan_to_zero = nan_to_zero;
+                    refraster::Framebuffer cleared;
+                    refraster::Framebuffer fb;
+                    ASSERT_EQ(refraster::render(l, o, fb).status, refraster::RenderStatus::Ok);
+                    l.draws.clear();
+                    ASSERT_EQ(refraster::render(l, o, cleared).status, refraster::RenderStatus::Ok);
+                    // The first vertex's pixel.
+                    const std::size_t i = fb.index(3, 3);
+                    if (nan_to_zero) {
+                        EXPECT_EQ(fb.color8[4 * i], 255);
+                        EXPECT_EQ(fb.depth[i], 0u);  // z32f +0.0f and z24 0 alike
+                    } else {
+                        EXPECT_EQ(fb.color8[4 * i], 0);
+                        EXPECT_EQ(fb.depth[i], cleared.depth[i]);
+                    }
+                }
+            }
+        }
+    }
+}
+
+// A square over the whole target in clip space, as one polygon with a fill rule and a
+// constant colour.
+refraster::Draw fill_square(const refraster::Target& t, refraster::FillRule rule,
+                            refraster::BlendPreset blend, std::array<float, 4> c) {
+    refraster::Draw d;
+    d.primitive = PrimitiveType::Polygon;
+    d.state.viewport = {0, 0, static_cast<std::int32_t>(t.width),
+                        static_cast<std::int32_t>(t.height)};
+    d.state.fill_rule = rule;
+    d.state.blend = blend;
+    d.vertices.attributes = {{"color", 4}};
+    for (const auto& p : {std::array<float, 2>{-1, -1}, {1, -1}, {1, 1}, {-1, 1}}) {
+        d.vertices.data.insert(d.vertices.data.end(), {p[0], p[1], 0, 1, c[0], c[1], c[2], c[3]});
+    }
+    return d;
+}
+
+// softpipe keeps colours as floats in its tile cache until a tile is written back
+// (softpipe_tiles.hpp). A draw with a fill rule starts with a clear of the stencil alone, which
+// softpipe does with util_clear_depth_stencil, whose map of the depth-stencil surface flushes
+// the context (sp_clear.c softpipe_clear, sp_texture.c softpipe_transfer_map, sp_flush.c
+// softpipe_flush_resource): every colour tile is written back as bytes, so a blend in or after
+// that draw reads byte * (1/255), not the raw clear colour or the earlier draw's floats.
+TEST(SoftpipeFillRule, TheStencilClearWritesTheColourTilesBack) {
+    const auto byte = [](float c) { return refraster::detail::color_to_unorm8(c); };
+    const auto reload = [&](float c) { return static_cast<float>(byte(c)) * (1.0f / 255.0f); };
+    // sp_quad_blend.c: src * a + dst * (1 - a) in float, then float_to_ubyte on write-back.
+    const auto alpha_blend = [&](float s, float a, float d) {
+        return byte(s * a + d * (1.0f - a));
+    };
+    const std::array<float, 4> clear{0.3f, 0.1f, 0.7f, 1.0f};
+    const std::array<float, 4> first{0.65f, 0.3f, 0.45f, 1.0f};
+    const std::array<float, 4> src{0.5f, 0.5f, 0.25f, 0.3f};
+    for (bool writes_back : {true, false}) {
+        SCOPED_TRACE(writes_back ? "written back" : "floats kept (fill_clear_writes_tiles=false)");
+        refraster::RenderOptions o;
+        o.profile = refraster::softpipe_22_3_profile();
+        o.profile.quirks.fill_clear_writes_tiles = writes_back;
+        // 1. Over the clear colour.
+        auto l = target(8, 8);
+        l.clear.color = clear;
+        l.draws = {fill_square(l.target, refraster::FillRule::NonZero,
+                               refraster::BlendPreset::Alpha, src)};
+        refraster::Framebuffer fb;
+        ASSERT_EQ(refraster::render(l, o, fb).status, refraster::RenderStatus::Ok);
+        int differ = 0;
+        for (std::size_t k = 0; k < 4; ++k) {
+            const auto bytes = alpha_blend(src[k], src[3], reload(clear[k]));
+            const auto floats = alpha_blend(src[k], src[3], clear[k]);
+            differ += bytes != floats;
+            EXPECT_EQ(fb.color8[4 * fb.index(5, 2) + k], writes_back ? bytes : floats)
+                << "channel " << k;
+        }
+        EXPECT_GT(differ, 0);  // the two rules differ here: 91 against 92 in red
+        // 2. Over an earlier fill's colour.
+        l.clear.color = {0, 0, 0, 1};
+        l.draws = {fill_square(l.target, refraster::FillRule::EvenOdd, refraster::BlendPreset::None,
+                               first),
+                   fill_square(l.target, refraster::FillRule::NonZero,
+                               refraster::BlendPreset::Alpha, src)};
+        ASSERT_EQ(refraster::render(l, o, fb).status, refraster::RenderStatus::Ok);
+        differ = 0;
+        for (std::size_t k = 0; k < 4; ++k) {
+            const auto bytes = alpha_blend(src[k], src[3], reload(first[k]));
+            const auto floats = alpha_blend(src[k], src[3], first[k]);
+            differ += bytes != floats;
+            EXPECT_EQ(fb.color8[4 * fb.index(2, 6) + k], writes_back ? bytes : floats)
+                << "channel " << k;
+        }
+        EXPECT_GT(differ, 0);  // green 91 against 92, blue 100 against 99
+    }
 }
 
 }  // namespace

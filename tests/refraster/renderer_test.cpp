@@ -282,3 +282,32 @@ TEST(Render, ExactProfileInterpolatesLikeTheSnappedOne) {
         EXPECT_GT(compared, 200);
     }
 }
+
+namespace {
+
+// A fill rule is decided on the snapped outline (docs/scene-format.md, "Fill rules"): a vertex
+// inside the view volume whose window position cannot be snapped (here x = 0 over a subnormal
+// w, so x / w is 0 * inf = NaN) is refused with the message the format documents, naming the
+// draw. Without the fill rule the same polygon is drawn.
+TEST(Render, AFillRuleVertexOutsideTheSnappedRangeIsNotSupported) {
+    auto l = cleared_list(refraster::DepthFormat::None, 1.0f);
+    l.target.width = 8;
+    l.target.height = 8;
+    refraster::Draw d;
+    d.primitive = PrimitiveType::Polygon;
+    d.state.viewport = {0, 0, 8, 8};
+    d.state.fill_rule = refraster::FillRule::EvenOdd;
+    d.vertices.attributes = {{"color", 4}};
+    d.vertices.data = {-1, -1, 0, 1,      1, 1, 1, 1,  //
+                       1,  -1, 0, 1,      1, 1, 1, 1,  //
+                       0,  0,  0, 1e-45f, 1, 1, 1, 1};
+    l.draws = {refraster::Draw{}, d};  // an empty draw first: the index is the draw's own
+    refraster::Framebuffer fb;
+    const auto r = refraster::render(l, fb);
+    EXPECT_EQ(r.status, refraster::RenderStatus::NotSupported);
+    EXPECT_EQ(r.message, "a fill rule's vertex outside the snapped range (draws[1])");
+    l.draws[1].state.fill_rule.reset();
+    EXPECT_EQ(refraster::render(l, fb).status, refraster::RenderStatus::Ok);
+}
+
+}  // namespace

@@ -17,9 +17,10 @@
 //   family's, which the fusion probe confirms); depth_rounding; depth_clear; color_rounding.
 //
 // Deliberately does not: infer the driver quirks (flush_denormals, draw_pipeline_cull,
-// draw_segment_vertices, nine_vertex_quirk, wrapping_arithmetic: the family's defaults are
-// kept and listed as not probed), blending, textures or multisampling, or rules the reference
-// cannot draw (a diamond-exit line rule other than llvmpipe's is reported undecided).
+// draw_segment_vertices, nine_vertex_quirk, wrapping_arithmetic, draw_offset_nan_to_zero,
+// fill_clear_writes_tiles: the family's defaults are kept and listed as not probed), blending,
+// textures or multisampling, or rules the reference cannot draw (a diamond-exit line rule other
+// than llvmpipe's is reported undecided).
 #pragma once
 
 #include <functional>

@@ -82,6 +82,7 @@ struct Evidence {
     std::string nine_vertex;
     std::string cull;
     std::string clipper;
+    std::string nan_offset;   // the draw module's polygon offset made a vertex depth NaN
     bool lines_only = true;   // every primitive reaching the pixel is a line
     bool points_only = true;  // ... a point
     bool any = false;
@@ -97,6 +98,10 @@ Evidence gather(const refraster::PixelTrace& t, const refraster::Profile& profil
             ev.nine_vertex = where(p) + " is in a draw that " +
                              p.note.substr(0, p.note.find(" by ")) +
                              " by llvmpipe's nine-vertex rectangle analysis";
+        }
+        if (ev.nan_offset.empty() &&
+            p.note.find("NaN depth from polygon offset") != std::string::npos) {
+            ev.nan_offset = where(p) + ": " + p.note.substr(p.note.find("the draw module"));
         }
         if (ev.cull.empty() && p.in_draw_pipeline && p.kind == "triangle") {
             ev.cull =
@@ -139,22 +144,67 @@ Evidence gather(const refraster::PixelTrace& t, const refraster::Profile& profil
     return ev;
 }
 
+// The draw module's SATURATE of a NaN polygon offset (draw_offset_nan_to_zero).
+constexpr const char* kNanOffsetRule = "NaN depth from polygon offset";
+
+// Whether some draw has a polygon offset the draw module applies (polygon mode line or point,
+// or any filled triangle under the scanline model), where a NaN offset can arise.
+bool draw_module_offsets(const refraster::DrawList& dl, const refraster::Profile& p) {
+    for (const auto& d : dl.draws) {
+        if (d.state.polygon_offset && (d.state.polygon_mode != refraster::PolygonMode::Fill ||
+                                       p.model == refraster::CoverageModel::Scanline))
+            return true;
+    }
+    return false;
+}
+
+// softpipe's colour tiles written back by a fill rule's stencil clear (fill_clear_writes_tiles).
+constexpr const char* kTileWriteBackRule = "tile write-back";
+
+// Whether a blended draw comes at or after a draw with a fill rule, where the write-back of
+// softpipe's colour tiles (the clear colour's included) can show.
+bool fill_rules_blend(const refraster::DrawList& dl) {
+    bool fill = false;
+    for (const auto& d : dl.draws) {
+        fill = fill || d.state.fill_rule.has_value();
+        if (fill && d.state.blend != refraster::BlendPreset::None) return true;
+    }
+    return false;
+}
+
 // The rules explain can try, in the order a tie between candidates is broken when the trace
 // gives no evidence for any of them: the draw module's decisions first, then coverage, then
 // arithmetic.
 const std::vector<std::string>& rule_order() {
-    static const std::vector<std::string> order{
-        "nine-vertex analysis", "cull",     "tie rule", "snapping", "clipper",
-        "fused arithmetic",     "denormals"};
+    static const std::vector<std::string> order{"nine-vertex analysis",
+                                                "cull",
+                                                kNanOffsetRule,
+                                                "tie rule",
+                                                "snapping",
+                                                "clipper",
+                                                kTileWriteBackRule,
+                                                "fused arithmetic",
+                                                "denormals"};
     return order;
 }
 
 // Every alternative of the profile's parameters, as (rule, key=value).
-std::vector<std::pair<std::string, std::string>> alternatives_of(const refraster::Profile& p) {
+std::vector<std::pair<std::string, std::string>> alternatives_of(const refraster::Profile& p,
+                                                                 const refraster::DrawList& dl) {
     std::vector<std::pair<std::string, std::string>> out;
     for (const char* r : {"left-bottom", "left-top", "right-bottom", "right-top"}) {
         if (refraster::to_string(p.gl.tie_rule) != r)
             out.emplace_back("tie rule", std::string("tie_rule=") + r);
+    }
+    if (p.model == refraster::CoverageModel::Scanline && fill_rules_blend(dl)) {
+        out.emplace_back(kTileWriteBackRule, p.quirks.fill_clear_writes_tiles
+                                                 ? "fill_clear_writes_tiles=false"
+                                                 : "fill_clear_writes_tiles=true");
+    }
+    if (p.model != refraster::CoverageModel::Exact && draw_module_offsets(dl, p)) {
+        out.emplace_back(kNanOffsetRule, p.quirks.draw_offset_nan_to_zero
+                                             ? "draw_offset_nan_to_zero=false"
+                                             : "draw_offset_nan_to_zero=true");
     }
     if (p.model != refraster::CoverageModel::Snapped)
         return out;  // the exact oracle has no other parameter
@@ -314,7 +364,7 @@ void Explainer::render_alternatives() {
     if (alternatives_ready_) return;
     alternatives_ready_ = true;
     const bool owners = !backend_view_.owner.empty();
-    for (const auto& [rule, change] : alternatives_of(profile_)) {
+    for (const auto& [rule, change] : alternatives_of(profile_, scene_.draw_list)) {
         auto& a = alternatives_.emplace_back();
         a.rule = rule;
         a.change = change;
@@ -568,6 +618,7 @@ Explanation Explainer::explain(int x, int y, bool full) {
         if (rule == "nine-vertex analysis") return ev_.nine_vertex;
         if (rule == "cull") return ev_.cull;
         if (rule == "clipper") return ev_.clipper;
+        if (rule == kNanOffsetRule) return ev_.nan_offset;
         return "";
     };
     std::string why;
@@ -633,6 +684,10 @@ Explanation Explainer::explain(int x, int y, bool full) {
         what +=
             ", because the coverage of a primitive drawn earlier differs (blending or the depth "
             "test shows it)";
+    }
+    // A NaN depth that changes coverage does so through the depth test.
+    if (e.difference == "coverage" && e.rule == kNanOffsetRule) {
+        what += ", because the depth test sees another depth";
     }
     std::string also;
     for (const auto& [rule, change] : e.candidates) {

@@ -718,8 +718,9 @@ FingerprintResult fingerprint(Backend& target, const FingerprintProgress& progre
             refraster::set_profile_parameter(base, "viewport_fma", "auto");
         }
     }
-    for (const char* key : {"flush_denormals", "draw_pipeline_cull", "draw_segment_vertices",
-                            "nine_vertex_quirk", "wrapping_arithmetic"}) {
+    for (const char* key :
+         {"flush_denormals", "draw_pipeline_cull", "draw_segment_vertices", "nine_vertex_quirk",
+          "wrapping_arithmetic", "draw_offset_nan_to_zero", "fill_clear_writes_tiles"}) {
         RuleFinding f;
         f.key = key;
         f.probed = false;

@@ -125,6 +125,15 @@ struct DriverQuirks {
     // tile walk wrap in 32 bits (lp_setup_tri.c, lp_rast_tri_tmp.h); false refuses such a
     // triangle and walks in-range triangles exactly.
     bool wrapping_arithmetic = true;
+    // Mesa's draw module, shared by both Mesa drivers: the polygon offset of polygon modes line
+    // and point saturates each vertex's z with util/macros.h's CLAMP, which turns a NaN (the
+    // offset of a zero-area triangle) into 0, the near end; false keeps the NaN, which the
+    // fragment's clamp then makes 1 (lp_build_depth_clamp).
+    bool draw_offset_nan_to_zero = true;
+    // softpipe, under the scanline model: a draw with a fill rule starts with a clear of the
+    // stencil alone, which writes softpipe's colour tile cache back (sp_clear.c); false keeps
+    // the tiles' float colours across it.
+    bool fill_clear_writes_tiles = true;
 
     friend bool operator==(const DriverQuirks&, const DriverQuirks&) = default;
 };

@@ -184,6 +184,8 @@ std::vector<std::pair<std::string, std::string>> profile_parameters(const Profil
         {"draw_segment_vertices", std::to_string(p.quirks.draw_segment_vertices)},
         {"nine_vertex_quirk", bool_text(p.quirks.nine_vertex_quirk)},
         {"wrapping_arithmetic", bool_text(p.quirks.wrapping_arithmetic)},
+        {"draw_offset_nan_to_zero", bool_text(p.quirks.draw_offset_nan_to_zero)},
+        {"fill_clear_writes_tiles", bool_text(p.quirks.fill_clear_writes_tiles)},
     };
 }
 
@@ -245,6 +247,10 @@ void set_profile_parameter(Profile& p, const std::string& key, const std::string
         p.quirks.nine_vertex_quirk = parse_bool(key, value);
     } else if (key == "wrapping_arithmetic") {
         p.quirks.wrapping_arithmetic = parse_bool(key, value);
+    } else if (key == "draw_offset_nan_to_zero") {
+        p.quirks.draw_offset_nan_to_zero = parse_bool(key, value);
+    } else if (key == "fill_clear_writes_tiles") {
+        p.quirks.fill_clear_writes_tiles = parse_bool(key, value);
     } else {
         std::string keys;
         for (const auto& [k, _] : profile_parameters(Profile{}))

@@ -79,16 +79,23 @@ std::vector<bool> pipeline_batches_flushed(const DrawContext& ctx, VertexStage& 
 // then draw_pipe_unfilled.c's edges (v2,v0), (v0,v1), (v1,v2) or points v0, v1, v2, each only
 // where the polygon's edge flag and the starting vertex's edge flag are set, so that clip-plane
 // edges and fan diagonals are not drawn. `line(a, b)` and `point(v)` draw them.
-template <class Line, class Point>
-void unfilled_stages(const DrawContext& ctx, VertexStage& stage, StageTriangle& t, Line&& line,
-                     Point&& point) {
+template <class Observer, class Line, class Point>
+void unfilled_stages(const DrawContext& ctx, VertexStage& stage, StageTriangle& t, Observer& obs,
+                     Line&& line, Point&& point) {
     const Draw& d = ctx.draw;
     const bool first = ctx.params.provoking_first;
     if (!passes_draw_cull(t, d.state.cull, ctx.params.front_ccw)) return;
     if (d.state.polygon_offset) {
-        apply_draw_offset(t, draw_determinant(t, ctx.profile.gl.flush_denormals),
-                          *d.state.polygon_offset, ctx.target.depth,
-                          ctx.profile.gl.flush_denormals);
+        const bool nan_to_zero = ctx.profile.quirks.draw_offset_nan_to_zero;
+        if (apply_draw_offset(t, draw_determinant(t, ctx.profile.gl.flush_denormals),
+                              *d.state.polygon_offset, ctx.target.depth,
+                              ctx.profile.gl.flush_denormals, nan_to_zero)) {
+            obs.note(nan_to_zero ? "NaN depth from polygon offset: the draw module's offset of "
+                                   "this zero-area triangle is NaN, and SATURATE makes every "
+                                   "vertex depth 0"
+                                 : "NaN depth from polygon offset: the draw module's offset of "
+                                   "this zero-area triangle is NaN, kept as the vertex depth");
+        }
     }
     if (d.state.shade == ShadeModel::Flat) {
         const StageVertex prov = t.v[first ? 0 : 2];
@@ -222,7 +229,7 @@ class DrawModule {
             stage.clip_triangle(idx, first, staged, nullptr, at.edge_flags);
             for (auto& t : staged) {
                 unfilled_stages(
-                    ctx_, stage, t,
+                    ctx_, stage, t, obs,
                     [&](const StageVertex& a, const StageVertex& b) {
                         driver().segment(stage, a, b, obs);
                     },

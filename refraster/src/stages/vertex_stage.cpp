@@ -371,8 +371,8 @@ float draw_determinant(const StageTriangle& t, bool flush_denormals) {
     return fp.sub(fp.mul(ex, fy), fp.mul(ey, fx));
 }
 
-void apply_draw_offset(StageTriangle& t, float det, const PolygonOffset& o, DepthFormat depth,
-                       bool flush_denormals) {
+bool apply_draw_offset(StageTriangle& t, float det, const PolygonOffset& o, DepthFormat depth,
+                       bool flush_denormals, bool nan_to_zero) {
     const Fp fp{flush_denormals};
     const float inv_det = fp.div(1.0f, det);
     const auto& v0 = t.v[0].window;
@@ -396,8 +396,13 @@ void apply_draw_offset(StageTriangle& t, float det, const PolygonOffset& o, Dept
     }
     for (auto& v : t.v) {
         const float z = fp.add(v.window[2], zoffset);
-        v.window[2] = z < 0.0f ? 0.0f : (z > 1.0f ? 1.0f : z);  // SATURATE
+        if (nan_to_zero) {
+            v.window[2] = z > 0.0f ? (z > 1.0f ? 1.0f : z) : 0.0f;  // SATURATE, util/macros.h CLAMP
+        } else {
+            v.window[2] = z < 0.0f ? 0.0f : (z > 1.0f ? 1.0f : z);  // a NaN passes on
+        }
     }
+    return std::isnan(zoffset);
 }
 
 bool passes_draw_cull(const std::array<const StageVertex*, 3>& v, CullMode cull, bool front_ccw) {

@@ -156,8 +156,12 @@ float draw_determinant(const StageTriangle& t, bool flush_denormals);
 
 // draw_pipe_offset.c do_offset_tri: adds the polygon offset computed from `det` to each
 // vertex's window z and saturates it to [0, 1] (used for polygon modes line and point, where
-// the draw module, not llvmpipe, applies the offset).
-void apply_draw_offset(StageTriangle& t, float det, const PolygonOffset& o, DepthFormat depth,
-                       bool flush_denormals);
+// the draw module, not llvmpipe, applies the offset). SATURATE is util/macros.h's
+// CLAMP(z, 0, 1) = z > 0 ? (z > 1 ? 1 : z) : 0, which turns a NaN into 0 (and -0 into +0);
+// with `nan_to_zero` false a NaN z is kept (the quirk draw_offset_nan_to_zero=false). A
+// degenerate triangle (det == 0, so 1/det is infinite) has NaN slopes whenever its z does not
+// vary, and so a NaN offset. Returns whether the offset was NaN.
+bool apply_draw_offset(StageTriangle& t, float det, const PolygonOffset& o, DepthFormat depth,
+                       bool flush_denormals, bool nan_to_zero = true);
 
 }  // namespace refraster::detail

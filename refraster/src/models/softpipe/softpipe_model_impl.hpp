@@ -120,7 +120,8 @@ void SoftpipeModel::triangles(VertexStage& stage, Observer& obs) {
             if (offset) {
                 apply_draw_offset(t, draw_determinant(t, ctx_.profile.gl.flush_denormals),
                                   *d.state.polygon_offset, ctx_.target.depth,
-                                  ctx_.profile.gl.flush_denormals);
+                                  ctx_.profile.gl.flush_denormals,
+                                  ctx_.profile.quirks.draw_offset_nan_to_zero);
             }
             const std::size_t before = list_.primitives.size();
             triangle(stage, {&t.v[0], &t.v[1], &t.v[2]}, t.clipped, false, obs);
