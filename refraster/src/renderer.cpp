@@ -143,8 +143,10 @@ void note_fill_rule(const detail::DrawContext& ctx, PixelTrace& trace, std::size
 
 }  // namespace
 
-std::vector<TextureImage> texture_levels(const Texture& texture) {
-    return detail::resolve_levels(texture);
+std::vector<TextureImage> texture_levels(const Texture& texture, const Profile& profile) {
+    const FmaMode m = profile.gl.viewport_fma;
+    return detail::resolve_levels(texture,
+                                  m == FmaMode::On || (m == FmaMode::Auto && host_has_fma()));
 }
 
 RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebuffer& out) {

@@ -7,6 +7,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -48,7 +49,7 @@ TEST(Texture, AByteComesBackFromItsFloat) {
 
 TEST(Texture, EvenMipmapsAreCascadedAveragesOfTwoByTwoBlocks) {
     const TextureImage base = random_image(16, 8, 7);
-    const auto levels = generate_mipmaps(base);
+    const auto levels = generate_mipmaps(base, true);
     ASSERT_EQ(levels.size(), 4u);  // 8x4, 4x2, 2x1, 1x1
     const TextureImage* src = &base;
     for (const auto& l : levels) {
@@ -79,9 +80,40 @@ TEST(Texture, AnOddLevelIsNotABoxFilter) {
     for (int x = 0; x < 7; ++x) {
         for (int c = 0; c < 4; ++c) base.rgba.push_back(static_cast<std::uint8_t>(x * 30 + c));
     }
-    const auto levels = generate_mipmaps(base);
+    const auto levels = generate_mipmaps(base, true);
     ASSERT_EQ(levels.front().width, 3u);
     EXPECT_EQ(texel(levels.front(), 1, 0, 0), texel(base, 3, 0, 0));
+}
+
+// glGenerateMipmap's blit interpolates its texture coordinates from the planes of the
+// triangle a pixel lies in (the rectangle's fan split along its diagonal, each triangle's
+// planes anchored at its first vertex after setup's swap), not at the exact texel centre
+// (i + 0.5) / w'. The texels below were measured against llvmpipe (gl_mipmap_probe_test.cpp);
+// the centre rule reads row 1492 with weight 255/256 and column 0 with weight 129/256.
+TEST(Texture, GeneratedLevelsSampleWhereTheBlitInterpolates) {
+    // 1x2999 -> 1x1499, row 746 (the lower triangle, anchored at t = 0): the blit's t is
+    // on texel 1493 exactly (weight 0); the centre rule's is 1/256 texel below it.
+    TextureImage tall;
+    tall.width = 1;
+    tall.height = 2999;
+    tall.rgba.assign(std::size_t{2999} * 4, 0);
+    for (std::size_t c = 0; c < 4; ++c) tall.rgba[4 * 1493 + c] = 255;
+    for (const bool fma : {true, false}) {
+        const TextureImage l1 = blit_level(tall, fma);
+        ASSERT_EQ(l1.height, 1499u);
+        EXPECT_EQ(texel(l1, 0, 746, 0), 255) << "fma " << fma;
+    }
+    // 511x1 -> 255x1, column 0 (the upper triangle, anchored at s = 1): weight 128 between
+    // texels 0 and 1, so 255 and 0 give 255 + ((128 * -255 + 128) >> 8) = 128; the centre
+    // rule's weight 129 gives 127.
+    TextureImage wide;
+    wide.width = 511;
+    wide.height = 1;
+    wide.rgba.assign(std::size_t{511} * 4, 0);
+    for (std::size_t c = 0; c < 4; ++c) wide.rgba[c] = 255;
+    const TextureImage w1 = blit_level(wide, true);
+    ASSERT_EQ(w1.width, 255u);
+    EXPECT_EQ(texel(w1, 0, 0, 0), 128);
 }
 
 TEST(Texture, BilinearWeightsRoundToNearestEvenOnTheGrid) {
@@ -169,6 +201,45 @@ TEST(Texture, ClampToBorderReadsTheBorderColourOutside) {
     EXPECT_EQ(to_byte(in[0]), texel(img, 2, 2, 0));
 }
 
+// The border colour is clamped under DAZ (lp_build_clamp_border_color in the rasterizer's
+// float mode): a denormal channel reads as +0, a normal one keeps its bits; without the
+// profile's flush the denormal passes through the clamp unchanged.
+TEST(Texture, ADenormalBorderColourReadsAsZero) {
+    const std::vector<TextureImage> levels{random_image(2, 2, 6)};
+    TextureState st;
+    st.min_filter = st.mag_filter = TextureFilter::Nearest;
+    st.wrap_s = st.wrap_t = TextureWrap::ClampToBorder;
+    const float tiny = std::numeric_limits<float>::denorm_min();
+    const float smallest_normal = std::numeric_limits<float>::min();
+    st.border_color = {tiny, smallest_normal, -tiny, 1.0f};
+    TextureUnit u = make_texture_unit(st, levels);
+    ASSERT_TRUE(u.flush_border);
+    const auto out = sample_one(u, 2.5f, 2.5f);
+    EXPECT_EQ(std::bit_cast<std::uint32_t>(out[0]), 0u);
+    EXPECT_EQ(out[1], smallest_normal);
+    EXPECT_EQ(std::bit_cast<std::uint32_t>(out[2]), 0u);
+    u.flush_border = false;
+    const auto kept = sample_one(u, 2.5f, 2.5f);
+    EXPECT_EQ(kept[0], tiny);
+}
+
+// A NaN coordinate on a repeat axis whose base size is not a power of two: the nearest
+// texel comes from lp_build_fract_safe, whose min with 1 - 2^-24 returns that bound for a NaN
+// fraction (minps' second operand), so the last texel is read; a power-of-two axis masks
+// floor's INT32_MIN to texel 0.
+TEST(Texture, ANanCoordinateReadsTheLastTexelOfANpotRepeatAxis) {
+    const TextureImage img = random_image(2, 7, 8);
+    const std::vector<TextureImage> levels{img};
+    TextureState st;
+    st.min_filter = st.mag_filter = TextureFilter::Nearest;
+    st.wrap_s = st.wrap_t = TextureWrap::Repeat;
+    const TextureUnit u = make_texture_unit(st, levels);
+    ASSERT_TRUE(u.aos);
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const auto c = sample_one(u, nan, nan);
+    for (std::size_t k = 0; k < 4; ++k) EXPECT_EQ(to_byte(c[k]), texel(img, 0, 6, k)) << k;
+}
+
 // A quad whose pixel steps along x and y are `d` in s and t: rho = d * W.
 std::array<std::array<float, 4>, 4> sample_with_step(const TextureUnit& u, float d,
                                                      TexelSample* tr) {
@@ -181,7 +252,7 @@ std::array<std::array<float, 4>, 4> sample_with_step(const TextureUnit& u, float
 TEST(Texture, NearestMipLevelIsRoundedLog2OfRho) {
     TextureImage base = random_image(64, 64, 9);
     std::vector<TextureImage> levels{base};
-    for (auto& l : generate_mipmaps(base)) levels.push_back(std::move(l));
+    for (auto& l : generate_mipmaps(base, true)) levels.push_back(std::move(l));
     TextureState st;
     st.min_filter = TextureFilter::NearestMipmapNearest;
     st.mag_filter = TextureFilter::Nearest;
@@ -206,7 +277,7 @@ TEST(Texture, NearestMipLevelIsRoundedLog2OfRho) {
 TEST(Texture, TrilinearLodIsNeverAboveTheTrueOneAndAtMost0043Below) {
     TextureImage base = random_image(64, 64, 10);
     std::vector<TextureImage> levels{base};
-    for (auto& l : generate_mipmaps(base)) levels.push_back(std::move(l));
+    for (auto& l : generate_mipmaps(base, true)) levels.push_back(std::move(l));
     TextureState st;
     st.min_filter = TextureFilter::LinearMipmapLinear;
     const TextureUnit u = make_texture_unit(st, levels);

@@ -404,7 +404,8 @@ namespace {
 // The texels around the last textured fragment of the trace: a window of up to 8x8 texels of
 // the level it read first, centred on the sampled coordinate.
 std::optional<Explanation::TexelWindow> texel_window(const refraster::DrawList& list,
-                                                     const refraster::PixelTrace& trace) {
+                                                     const refraster::PixelTrace& trace,
+                                                     const refraster::Profile& profile) {
     std::optional<Explanation::TexelWindow> out;
     for (const auto& p : trace.primitives) {
         for (const auto& st : p.setups) {
@@ -419,7 +420,7 @@ std::optional<Explanation::TexelWindow> texel_window(const refraster::DrawList& 
     }
     if (!out) return out;
     const auto& tex = list.textures[list.draws[out->draw].state.texture->texture];
-    const auto levels = refraster::texture_levels(tex);
+    const auto levels = refraster::texture_levels(tex, profile);
     const auto level = std::min<std::size_t>(out->sample.level0, levels.size() - 1);
     const auto& img = levels[level];
     out->level_width = img.width;
@@ -467,7 +468,7 @@ Explanation Explainer::explain(int x, int y, bool full) {
     };
     if (full) {
         trace();
-        e.texels = texel_window(scene_.draw_list, e.trace);
+        e.texels = texel_window(scene_.draw_list, e.trace, profile_);
     }
     e.reference_color = color_at(reference_, x, y);
     e.reference_depth = depth_at(reference_, x, y);

@@ -108,8 +108,9 @@ bool host_has_fma();
 RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebuffer& out);
 
 // The levels the reference samples a texture from: the given ones, or the base level and the
-// levels glGenerateMipmap makes (docs/precision.md, "Textures").
-std::vector<TextureImage> texture_levels(const Texture& texture);
+// levels glGenerateMipmap makes under `profile` (its viewport_fma decides whether the blit's
+// interpolation fuses; docs/precision.md, "Generated mipmaps").
+std::vector<TextureImage> texture_levels(const Texture& texture, const Profile& profile = {});
 inline RenderOutcome render(const DrawList& list, Framebuffer& out) {
     return render(list, RenderOptions{}, out);
 }

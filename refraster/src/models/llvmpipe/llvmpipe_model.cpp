@@ -4,14 +4,20 @@
 
 #include "models/llvmpipe/llvmpipe_model_impl.hpp"
 #include "refraster/assert.hpp"
+#include "refraster/renderer.hpp"
 
 namespace refraster::detail {
 
-LlvmpipeModel::RenderState::RenderState(const DrawList& list, const Profile&, Framebuffer&)
+LlvmpipeModel::RenderState::RenderState(const DrawList& list, const Profile& profile, Framebuffer&)
     : generated_(list.textures.size()) {
+    // The blit that makes generated levels interpolates as the shaders do: fused when the
+    // profile's viewport_fma says so.
+    const FmaMode m = profile.gl.viewport_fma;
+    const bool fma = m == FmaMode::On || (m == FmaMode::Auto && host_has_fma());
     levels_.reserve(list.textures.size());
     for (std::size_t t = 0; t < list.textures.size(); ++t) {
-        if (list.textures[t].generate_mipmaps) generated_[t] = resolve_levels(list.textures[t]);
+        if (list.textures[t].generate_mipmaps)
+            generated_[t] = resolve_levels(list.textures[t], fma);
         levels_.push_back(list.textures[t].generate_mipmaps ? &generated_[t]
                                                             : &list.textures[t].levels);
     }
@@ -29,6 +35,7 @@ LlvmpipeModel::LlvmpipeModel(const DrawContext& ctx, RenderState& state) : DrawM
                              VertexArray::kPositionComponents + 8,
                          "colour and texture coordinates in a textured draw's vertices");
         unit_ = make_texture_unit(*d.state.texture, state.levels(d.state.texture->texture));
+        unit_->flush_border = ctx.profile.gl.flush_denormals;
     }
 }
 

@@ -86,7 +86,11 @@ std::int32_t nearest_repeat_or_edge(float u, std::int32_t n, bool pot, TextureWr
     const float nf = static_cast<float>(n);
     if (wrap == TextureWrap::Repeat) {
         if (pot) return ifloor(u * nf) & (n - 1);
-        const float f = std::min(u - std::floor(u), kBelowOne);
+        // lp_build_fract_safe: the fraction, then lp_build_min_ext with
+        // GALLIVM_NAN_RETURN_OTHER (minps(f, 1 - 2^-24)): a NaN fraction becomes 1 - 2^-24,
+        // the last texel.
+        const float f0 = u - std::floor(u);
+        const float f = f0 < kBelowOne ? f0 : kBelowOne;
         return itrunc(f * nf);
     }
     return std::clamp(ifloor(u * nf), 0, n - 1);
@@ -271,7 +275,14 @@ std::array<float, 4> sample_level_soa(const TextureUnit& u, const LevelView& lv,
     const auto fetch = [&](std::int32_t x, std::int32_t y, bool border) {
         std::array<float, 4> v{};
         if (border) {
-            for (std::size_t c = 0; c < 4; ++c) v[c] = std::clamp(st.border_color[c], 0.0f, 1.0f);
+            for (std::size_t c = 0; c < 4; ++c) {
+                const float b =
+                    u.flush_border ? flush_denormal(st.border_color[c]) : st.border_color[c];
+                // maxps(b, 0) then minps(., 1): the second operand unless the first compares
+                // greater (smaller), so -0 becomes +0.
+                const float lo = b > 0.0f ? b : 0.0f;
+                v[c] = lo < 1.0f ? lo : 1.0f;
+            }
             return v;
         }
         const std::uint8_t* p = lv.texel(x, y);
@@ -506,43 +517,121 @@ void sample_quad(const TextureUnit& u, const std::array<float, 4>& s, const std:
     sample_quad_body(u, s, t, fma, out, pair_linear, trace, trace_pixel);
 }
 
-std::vector<TextureImage> generate_mipmaps(const TextureImage& base) {
-    // util_gen_mipmap: each level a linear blit of the one above (st_gen_mipmap.c); the blit
-    // samples the source with the 8-bit path, clamp-to-edge, at the destination texel's centre
-    // u = (i + 0.5) / new_width (docs/precision.md, "Generated mipmaps").
+namespace {
+
+// One attribute plane of the blit's rectangle (lp_state_setup.c, calc_coef4, unfused): the
+// value at pixel (0, 0)'s centre and the steps along x and y.
+struct BlitPlane {
+    float a0 = 0.0f;
+    float dadx = 0.0f;
+    float dady = 0.0f;
+};
+
+// The planes of one triangle of the blit for the attribute values a[0..2] at window
+// positions p[0..2] (setup's order), as lp_state_setup.c's init_args and calc_coef4 compute
+// them: x0c = x0 - 0.5, ooa = 1 / (dx01 * dy20 - dy01 * dx20), the deltas times ooa, then
+// dadx = da01 * dy20o - da20 * dy01o, dady = da20 * dx01o - da01 * dx20o,
+// A0 = a0 - (dadx * x0c + dady * y0c).
+BlitPlane blit_plane(const std::array<std::array<float, 2>, 3>& p, const std::array<float, 3>& a) {
+    const float dx01 = p[0][0] - p[1][0];
+    const float dy01 = p[0][1] - p[1][1];
+    const float dx20 = p[2][0] - p[0][0];
+    const float dy20 = p[2][1] - p[0][1];
+    const float e = dx01 * dy20;
+    const float f = dy01 * dx20;
+    const float ooa = 1.0f / (e - f);
+    const float dx20o = dx20 * ooa;
+    const float dy20o = dy20 * ooa;
+    const float dx01o = dx01 * ooa;
+    const float dy01o = dy01 * ooa;
+    const float da01 = a[0] - a[1];
+    const float da20 = a[2] - a[0];
+    BlitPlane out;
+    out.dadx = da01 * dy20o - da20 * dy01o;
+    out.dady = da20 * dx01o - da01 * dx20o;
+    const float x0c = p[0][0] - 0.5f;
+    const float y0c = p[0][1] - 0.5f;
+    out.a0 = a[0] - (out.dadx * x0c + out.dady * y0c);
+    return out;
+}
+
+// lp_bld_interp.c, attribs_update_simple: fmuladd(dady, py, fmuladd(dadx, px, A0)).
+float blit_eval(const BlitPlane& p, float px, float py, bool fma) {
+    if (fma) return fused_multiply_add(p.dady, py, fused_multiply_add(p.dadx, px, p.a0));
+    return p.dady * py + (p.dadx * px + p.a0);
+}
+
+}  // namespace
+
+TextureImage blit_level(const TextureImage& src, bool fma) {
+    // util_gen_mipmap (gallium/auxiliary/util/u_gen_mipmap.c): each level a pipe->blit of
+    // the one above with a linear filter. llvmpipe's blit is util_blitter_blit (u_blitter.c):
+    // blitter_set_rectangle draws the destination as a triangle fan v0 (0, 0), v1 (w, 0),
+    // v2 (w, h), v3 (0, h) (NDC x / w * 2 - 1 and the viewport 0.5 * w map it back exactly),
+    // get_texcoords gives the source box's x / w_src and y / h_src: 0 and 1 here. Its fragment
+    // shader samples the source level with an explicit LOD of 0, clamp-to-edge, through the
+    // 8-bit path, at coordinates interpolated from the triangles' planes (docs/precision.md,
+    // "Generated mipmaps").
+    TextureImage next;
+    next.width = std::max(1u, src.width / 2);
+    next.height = std::max(1u, src.height / 2);
+    next.rgba.resize(std::size_t{next.width} * next.height * 4);
+    TextureUnit u;
+    u.state.wrap_s = u.state.wrap_t = TextureWrap::ClampToEdge;
+    const LevelView lv{&src, static_cast<std::int32_t>(src.width),
+                       static_cast<std::int32_t>(src.height)};
+    const float w = static_cast<float>(next.width);
+    const float h = static_cast<float>(next.height);
+    // lp_setup_vbuf.c, lp_setup_draw_arrays: a four-vertex fan goes to setup->rect, which
+    // for this shader (no linear rasterizer: its sampler takes BGRA formats only,
+    // lp_linear_check_sampler) falls back to the triangles (v0, v1, v2) and (v0, v2, v3).
+    // Both are clockwise in gallium's window space, so triangle_both swaps their first two
+    // vertices (the last-vertex convention's rotation, setup.cpp swap_to_ccw): A = (v1, v0, v2)
+    // and B = (v2, v0, v3). Each plane is anchored at its first vertex, so A and B give
+    // slightly different coordinates to the pixels on either side of the diagonal v0-v2.
+    const std::array<std::array<float, 2>, 3> pa = {{{w, 0.0f}, {0.0f, 0.0f}, {w, h}}};
+    const std::array<std::array<float, 2>, 3> pb = {{{w, h}, {0.0f, 0.0f}, {0.0f, h}}};
+    const BlitPlane sa = blit_plane(pa, {1.0f, 0.0f, 1.0f});
+    const BlitPlane ta = blit_plane(pa, {0.0f, 0.0f, 1.0f});
+    const BlitPlane sb = blit_plane(pb, {1.0f, 0.0f, 0.0f});
+    const BlitPlane tb = blit_plane(pb, {1.0f, 0.0f, 1.0f});
+    for (std::uint32_t j = 0; j < next.height; ++j) {
+        for (std::uint32_t i = 0; i < next.width; ++i) {
+            // A holds the centres with x / w > y / h; a centre exactly on the diagonal is
+            // A's too: the diagonal is A's left edge and B's right one, and the fill rule
+            // owns left edges.
+            const std::uint64_t lhs = (2 * std::uint64_t{i} + 1) * next.height;
+            const std::uint64_t rhs = (2 * std::uint64_t{j} + 1) * next.width;
+            const bool in_a = lhs >= rhs;
+            const float px = static_cast<float>(i);
+            const float py = static_cast<float>(j);
+            const float uu = blit_eval(in_a ? sa : sb, px, py, fma);
+            const float v = blit_eval(in_a ? ta : tb, px, py, fma);
+            const auto c = sample_level_aos(u, lv, uu, v, true, nullptr, 0);
+            std::copy(c.begin(), c.end(),
+                      next.rgba.begin() +
+                          static_cast<std::ptrdiff_t>(4 * (std::size_t{j} * next.width + i)));
+        }
+    }
+    return next;
+}
+
+std::vector<TextureImage> generate_mipmaps(const TextureImage& base, bool fma) {
     std::vector<TextureImage> out;
     const TextureImage* src = &base;
     while (src->width > 1 || src->height > 1) {
-        TextureImage next;
-        next.width = std::max(1u, src->width / 2);
-        next.height = std::max(1u, src->height / 2);
-        next.rgba.resize(std::size_t{next.width} * next.height * 4);
-        TextureUnit u;
-        u.state.wrap_s = u.state.wrap_t = TextureWrap::ClampToEdge;
-        const LevelView lv{src, static_cast<std::int32_t>(src->width),
-                           static_cast<std::int32_t>(src->height)};
-        for (std::uint32_t j = 0; j < next.height; ++j) {
-            const float v = (static_cast<float>(j) + 0.5f) / static_cast<float>(next.height);
-            for (std::uint32_t i = 0; i < next.width; ++i) {
-                const float uu = (static_cast<float>(i) + 0.5f) / static_cast<float>(next.width);
-                const auto c = sample_level_aos(u, lv, uu, v, true, nullptr, 0);
-                std::copy(c.begin(), c.end(),
-                          next.rgba.begin() +
-                              static_cast<std::ptrdiff_t>(4 * (std::size_t{j} * next.width + i)));
-            }
-        }
-        out.push_back(std::move(next));
+        out.push_back(blit_level(*src, fma));
         src = &out.back();
     }
     return out;
 }
 
-std::vector<TextureImage> resolve_levels(const Texture& texture) {
+std::vector<TextureImage> resolve_levels(const Texture& texture, bool fma) {
     REFRASTER_ASSERT(!texture.levels.empty(), "a texture with a base level");
     std::vector<TextureImage> levels;
     if (!texture.generate_mipmaps) return texture.levels;
     levels.push_back(texture.levels.front());
-    for (auto& l : generate_mipmaps(texture.levels.front())) levels.push_back(std::move(l));
+    for (auto& l : generate_mipmaps(texture.levels.front(), fma)) levels.push_back(std::move(l));
     return levels;
 }
 

@@ -10,8 +10,9 @@
 //  - per axis: nearest and bilinear texel coordinates and weights for repeat (power-of-two and
 //    not), clamp-to-edge, mirrored repeat and clamp-to-border, in 8.8 fixed point (AoS) or
 //    float (SoA), and the lerps: byte lerps (pmulhrsw rounding) or fused float ones;
-//  - glGenerateMipmap's levels (util_gen_mipmap's linear blit: each texel the AoS bilinear,
-//    clamp-to-edge sample of the level above at its centre).
+//  - glGenerateMipmap's levels (util_gen_mipmap's linear blit through util_blitter: each
+//    texel the AoS bilinear, clamp-to-edge sample of the level above at the coordinates the
+//    blit's two triangles interpolate, fused as the shaders fuse).
 //
 // Deliberately does not: other formats, 1D/3D/cube textures, LOD bias or LOD clamps,
 // anisotropy, shadow compares, texelFetch, or GALLIVM_PERF's approximations.
@@ -48,15 +49,24 @@ struct TextureUnit {
     bool soa_nearest_as_linear = false;
     float base_width = 1.0f;
     float base_height = 1.0f;
+    // The border colour is clamped to [0, 1] in the shader (lp_bld_sample.c,
+    // lp_build_clamp_border_color: maxps, minps), which runs under the rasterizer's DAZ
+    // (lp_rast.c, util_fpstate_set_denorms_to_zero): a denormal channel reads as 0. The
+    // profile's flush_denormals decides.
+    bool flush_border = true;
 };
 
 TextureUnit make_texture_unit(const TextureState& state, const std::vector<TextureImage>& levels);
 
+// One level of glGenerateMipmap: the blit of `src` to half its size (at least 1x1); `fma`
+// says whether the blit's interpolation fuses.
+TextureImage blit_level(const TextureImage& src, bool fma);
+
 // glGenerateMipmap of `base`: levels 1 to the 1x1 level.
-std::vector<TextureImage> generate_mipmaps(const TextureImage& base);
+std::vector<TextureImage> generate_mipmaps(const TextureImage& base, bool fma);
 
 // The levels a texture is sampled from: the given ones, or the base and generated ones.
-std::vector<TextureImage> resolve_levels(const Texture& texture);
+std::vector<TextureImage> resolve_levels(const Texture& texture, bool fma);
 
 // What sampling decided for one pixel (trace.hpp), for `explain`.
 using TexelSample = TextureTrace;
