@@ -263,6 +263,8 @@ void ScanlineKernel::shade(const ScanlineList& list, const ScanlinePrimitive& p,
 
 FragmentTrace ScanlineKernel::trace(const ScanlineList& list, const ScanlinePrimitive& p, int x,
                                     int y, unsigned, const Framebuffer& fb) const {
+    // The batch's float mode, as shade sets it (the border colour's clamp reads it).
+    const ScopedDenormalMode plain(flush_ && !p.flush, false);
     FragmentTrace t;
     const ScanlinePlane* planes = list.planes.data() + p.planes;
     const auto& zp = planes[kScanlineZPlane];

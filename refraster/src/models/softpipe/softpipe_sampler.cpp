@@ -547,9 +547,8 @@ SoftpipeSampler::SoftpipeSampler(const TextureState& state, const std::vector<Te
     }
     REFRASTER_ASSERT(!uses_mipmaps(state.mag_filter), "the mag filter is nearest or linear");
     mag_ = state.mag_filter == TextureFilter::Nearest ? ImageFilter::Nearest : ImageFilter::Linear;
-    // sp_tgsi_get_samples: a unorm view clamps the border colour to [0, 1].
-    for (std::size_t c = 0; c < 4; ++c)
-        border_[c] = clamp_as_mesa(state.border_color[c], 0.0f, 1.0f);
+    // Clamped at each sample (sample_quad), under the batch's floating-point mode.
+    border_ = state.border_color;
 
     const TextureImage& base = images_.front();
     base_width_ = static_cast<float>(base.width);
@@ -562,7 +561,8 @@ SoftpipeSampler::SoftpipeSampler(const TextureState& state, const std::vector<Te
                      mag_ == ImageFilter::Linear;
 }
 
-void SoftpipeSampler::nearest(std::uint32_t level, float s, float t, float* rgba) const {
+void SoftpipeSampler::nearest(std::uint32_t level, float s, float t, const float* border,
+                              float* rgba) const {
     const TextureImage& image = images_[level];
     const LevelRef l{texels_[level].data(), static_cast<std::int32_t>(image.width),
                      static_cast<std::int32_t>(image.height), level};
@@ -578,18 +578,19 @@ void SoftpipeSampler::nearest(std::uint32_t level, float s, float t, float* rgba
         p = texel_at(l, x, y);
     } else {
         // img_filter_2d_nearest.
-        p = texel_or_border(l, border_.data(), wrap_nearest(wrap_s_, s, image.width),
+        p = texel_or_border(l, border, wrap_nearest(wrap_s_, s, image.width),
                             wrap_nearest(wrap_t_, t, image.height));
     }
     std::copy(p, p + 4, rgba);
 }
 
-void SoftpipeSampler::linear(std::uint32_t level, float s, float t, float* rgba) const {
+void SoftpipeSampler::linear(std::uint32_t level, float s, float t, const float* border,
+                             float* rgba) const {
     const TextureImage& image = images_[level];
     const LevelRef l{texels_[level].data(), static_cast<std::int32_t>(image.width),
                      static_cast<std::int32_t>(image.height), level};
     if (!pot_repeat_) {
-        linear_generic(l, wrap_s_, wrap_t_, border_.data(), s, t, rgba);
+        linear_generic(l, wrap_s_, wrap_t_, border, s, t, rgba);
         return;
     }
     // img_filter_2d_linear_repeat_POT: the weights from the unmasked floor.
@@ -615,25 +616,31 @@ void SoftpipeSampler::linear(std::uint32_t level, float s, float t, float* rgba)
     } else {  // get_texel_quad_2d_no_border
         const auto x1 = static_cast<std::int32_t>(static_cast<std::uint32_t>(x0 + 1) & xmask);
         const auto y1 = static_cast<std::int32_t>(static_cast<std::uint32_t>(y0 + 1) & ymask);
-        tx = fetch_quad(l, border_.data(), {x0, x1, x0, x1}, {y0, y0, y1, y1});
+        tx = fetch_quad(l, border, {x0, x1, x0, x1}, {y0, y0, y1, y1});
     }
     bilinear(tx, xw, yw, rgba);
 }
 
 void SoftpipeSampler::filter(ImageFilter f, std::uint32_t level, float s, float t,
-                             float* rgba) const {
+                             const float* border, float* rgba) const {
     if (f == ImageFilter::Nearest) {
-        nearest(level, s, t, rgba);
+        nearest(level, s, t, border, rgba);
     } else {
-        linear(level, s, t, rgba);
+        linear(level, s, t, border, rgba);
     }
 }
 
 void SoftpipeSampler::sample_quad(const std::array<float, 4>& s, const std::array<float, 4>& t,
                                   std::array<std::array<float, 4>, 4>& out) const {
+    // sp_tgsi_get_samples: a unorm view clamps the border colour to [0, 1] at every call, so
+    // under the batch's DAZ (draw_vbo's, "Whether the driver sets up each output triangle")
+    // CLAMP's compares read a denormal as zero and give 0: textures.border_color_denormal.
+    std::array<float, 4> clamped{};
+    for (std::size_t c = 0; c < 4; ++c) clamped[c] = clamp_as_mesa(border_[c], 0.0f, 1.0f);
+    const float* border = clamped.data();
     if (mip_ == MipFilter::None && min_ == mag_) {
         // mip_filter_none_no_filter_select: the mag filter on the base, no LOD.
-        for (std::size_t k = 0; k < 4; ++k) filter(mag_, 0, s[k], t[k], out[k].data());
+        for (std::size_t k = 0; k < 4; ++k) filter(mag_, 0, s[k], t[k], border, out[k].data());
         return;
     }
     // The LOD is never NaN (util_fast_log2 of a NaN is finite) and lies in [0, 1000].
@@ -642,33 +649,33 @@ void SoftpipeSampler::sample_quad(const std::array<float, 4>& s, const std::arra
         float* rgba = out[k].data();
         switch (mip_) {
             case MipFilter::None:  // mip_filter_none
-                filter(lod <= 0.0f ? mag_ : min_, 0, s[k], t[k], rgba);
+                filter(lod <= 0.0f ? mag_ : min_, 0, s[k], t[k], border, rgba);
                 break;
             case MipFilter::Nearest: {  // mip_filter_nearest
                 if (lod <= 0.0f) {
-                    filter(mag_, 0, s[k], t[k], rgba);
+                    filter(mag_, 0, s[k], t[k], border, rgba);
                     break;
                 }
                 const auto level = static_cast<std::uint32_t>(lod + 0.5f);
-                filter(min_, std::min(level, last_), s[k], t[k], rgba);
+                filter(min_, std::min(level, last_), s[k], t[k], border, rgba);
                 break;
             }
             case MipFilter::Linear: {
                 const auto level0 = static_cast<std::uint32_t>(lod);
                 if (!pot_trilinear_ && lod <= 0.0f) {  // mip_filter_linear's mag test
-                    filter(mag_, 0, s[k], t[k], rgba);
+                    filter(mag_, 0, s[k], t[k], border, rgba);
                 } else if (level0 >= last_) {
                     // mip_filter_linear and mip_filter_linear_2d_linear_repeat_POT: the last
                     // level alone.
-                    filter(min_, last_, s[k], t[k], rgba);
+                    filter(min_, last_, s[k], t[k], border, rgba);
                 } else {
                     // Both levels, blended by frac(lod); the POT path does this at lod 0 too,
                     // where the weight 0 leaves the base's value.
                     const float blend = frac(lod);
                     std::array<float, 4> c0{};
                     std::array<float, 4> c1{};
-                    filter(min_, level0, s[k], t[k], c0.data());
-                    filter(min_, level0 + 1, s[k], t[k], c1.data());
+                    filter(min_, level0, s[k], t[k], border, c0.data());
+                    filter(min_, level0 + 1, s[k], t[k], border, c1.data());
                     for (std::size_t c = 0; c < 4; ++c) rgba[c] = lerp(blend, c0[c], c1[c]);
                 }
                 break;

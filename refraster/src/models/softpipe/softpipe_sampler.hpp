@@ -97,9 +97,10 @@ class SoftpipeSampler {
     enum class MipFilter : std::uint8_t { None, Nearest, Linear };
 
     // The filtered texel of one level at (s, t), for one pixel.
-    void filter(ImageFilter f, std::uint32_t level, float s, float t, float* rgba) const;
-    void nearest(std::uint32_t level, float s, float t, float* rgba) const;
-    void linear(std::uint32_t level, float s, float t, float* rgba) const;
+    void filter(ImageFilter f, std::uint32_t level, float s, float t, const float* border,
+                float* rgba) const;
+    void nearest(std::uint32_t level, float s, float t, const float* border, float* rgba) const;
+    void linear(std::uint32_t level, float s, float t, const float* border, float* rgba) const;
 
     std::vector<TextureImage> images_;
     std::vector<std::vector<float>> texels_;  // each level's channels as the tile cache holds them
@@ -108,7 +109,7 @@ class SoftpipeSampler {
     ImageFilter min_ = ImageFilter::Linear;
     ImageFilter mag_ = ImageFilter::Linear;
     MipFilter mip_ = MipFilter::None;
-    std::array<float, 4> border_{};  // clamped to [0, 1]
+    std::array<float, 4> border_{};  // as given (sample_quad clamps it)
     // The base level is a power of two in both directions and both wraps are repeat: the
     // image filters take the _repeat_POT paths.
     bool pot_repeat_ = false;
