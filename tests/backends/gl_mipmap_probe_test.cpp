@@ -26,44 +26,14 @@
 #include <vector>
 
 #include "models/llvmpipe/texture.hpp"
+#include "osmesa_llvmpipe_fixture.hpp"
 #include "refraster/renderer.hpp"
 
 namespace {
 
 using refraster::TextureImage;
 
-class MipmapProbe : public ::testing::Test {
-  protected:
-    static void SetUpTestSuite() {
-        ::setenv("GALLIUM_DRIVER", "llvmpipe", 0);
-        const int attribs[] = {OSMESA_FORMAT,
-                               OSMESA_RGBA,
-                               OSMESA_DEPTH_BITS,
-                               0,
-                               OSMESA_STENCIL_BITS,
-                               0,
-                               OSMESA_PROFILE,
-                               OSMESA_COMPAT_PROFILE,
-                               0};
-        context_ = OSMesaCreateContextAttribs(attribs, nullptr);
-        ASSERT_NE(context_, nullptr);
-        ASSERT_TRUE(OSMesaMakeCurrent(context_, pixel_.data(), GL_UNSIGNED_BYTE, 1, 1));
-    }
-    static void TearDownTestSuite() {
-        if (context_) OSMesaDestroyContext(context_);
-        context_ = nullptr;
-    }
-    void SetUp() override {
-        const std::string renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
-        ASSERT_NE(renderer.find("llvmpipe"), std::string::npos) << renderer;
-        while (glGetError() != GL_NO_ERROR) {
-        }
-    }
-    void TearDown() override { EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR)); }
-
-    static inline OSMesaContext context_ = nullptr;
-    static inline std::array<unsigned char, 4> pixel_{};
-};
+using MipmapProbe = OsmesaLlvmpipeTest;
 
 // llvmpipe's levels 1.. of `base`, read back.
 std::vector<TextureImage> llvmpipe_levels(const TextureImage& base) {

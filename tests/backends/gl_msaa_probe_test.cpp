@@ -32,6 +32,7 @@
 #include <vector>
 
 #include "gl_render.hpp"
+#include "osmesa_llvmpipe_fixture.hpp"
 #include "refraster/framebuffer.hpp"
 
 namespace {
@@ -177,37 +178,17 @@ std::vector<std::uint32_t> read_depth_pixels(DepthFormat f, std::uint32_t w, std
     return out;
 }
 
-class MsaaProbe : public ::testing::Test {
+class MsaaProbe : public OsmesaLlvmpipeTest {
   protected:
     static void SetUpTestSuite() {
-        ::setenv("GALLIUM_DRIVER", "llvmpipe", 0);
-        const int attribs[] = {OSMESA_FORMAT,
-                               OSMESA_RGBA,
-                               OSMESA_DEPTH_BITS,
-                               0,
-                               OSMESA_STENCIL_BITS,
-                               0,
-                               OSMESA_PROFILE,
-                               OSMESA_COMPAT_PROFILE,
-                               0};
-        context_ = OSMesaCreateContextAttribs(attribs, nullptr);
-        ASSERT_NE(context_, nullptr);
-        ASSERT_TRUE(OSMesaMakeCurrent(context_, pixel_.data(), GL_UNSIGNED_BYTE, 1, 1));
+        OsmesaLlvmpipeTest::SetUpTestSuite();
         reader_ = new harness::gl::SampleReader();
     }
     static void TearDownTestSuite() {
         delete reader_;
         reader_ = nullptr;
-        if (context_) OSMesaDestroyContext(context_);
-        context_ = nullptr;
+        OsmesaLlvmpipeTest::TearDownTestSuite();
     }
-    void SetUp() override {
-        const std::string renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
-        ASSERT_NE(renderer.find("llvmpipe"), std::string::npos) << renderer;
-        while (glGetError() != GL_NO_ERROR) {
-        }
-    }
-    void TearDown() override { EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR)); }
 
     static harness::gl::SampleReader& reader() { return *reader_; }
 
@@ -240,8 +221,6 @@ class MsaaProbe : public ::testing::Test {
         return t;
     }
 
-    static inline OSMesaContext context_ = nullptr;
-    static inline std::array<unsigned char, 4> pixel_{};
     static inline harness::gl::SampleReader* reader_ = nullptr;
 };
 

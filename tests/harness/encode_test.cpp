@@ -36,6 +36,15 @@ TEST(Encode, JsonInScriptCannotCloseTheScript) {
     EXPECT_EQ(encode::json_in_script(""), "\"\"");
 }
 
+// The one JSON string encoder: the scene reader's normalized copy and the pages' scripts both
+// use it; a page's embedded document (teach) goes through script_safe_json alone.
+TEST(Encode, JsonStringAndScriptSafeDocument) {
+    EXPECT_EQ(encode::json_string("a\"b\\c\n\x1f\x7f\xE2\x80\xA8"),
+              "\"a\\\"b\\\\c\\n\\u001F\\u007F\xE2\x80\xA8\"");
+    EXPECT_EQ(encode::script_safe_json("{\"k\":\"</script>\xE2\x80\xA9&\"}"),
+              "{\"k\":\"\\u003C/script\\u003E\\u2029\\u0026\"}");
+}
+
 TEST(Encode, CsvFieldsQuoteAsRfc4180Says) {
     EXPECT_EQ(encode::csv_field("smoke.triangles"), "smoke.triangles");
     EXPECT_EQ(encode::csv_field("a,b"), "\"a,b\"");

@@ -69,10 +69,28 @@ struct CliResult {
     std::string err;
 };
 
-// Runs build/bin/refraster with `args`, capturing its exit code, stdout and stderr.
-inline CliResult run_cli(const std::vector<std::string>& args) {
+// The refraster binary the CLI tests run: build/bin/refraster, or the one
+// REFRASTER_TEST_CLI names (an older build, to see a test fail there).
+inline std::string refraster_bin() {
+    if (const char* other = std::getenv("REFRASTER_TEST_CLI")) return other;
+    return std::string(REFRASTER_BIN_DIR) + "/refraster";
+}
+
+// A command prefix that unsets every variable a CI engine or GoogleTest sets to shard a run,
+// so that a conformance run started by a test is the whole run whatever the test's own
+// environment holds.
+inline const std::string kUnsetShardVariables =
+    "env -u GTEST_SHARD_INDEX -u GTEST_TOTAL_SHARDS -u CI_NODE_INDEX -u CI_NODE_TOTAL "
+    "-u JOB_COMPLETION_INDEX -u REFRASTER_SHARD_COUNT -u SLURM_ARRAY_TASK_ID "
+    "-u SLURM_ARRAY_TASK_MIN -u SLURM_ARRAY_TASK_MAX -u SLURM_ARRAY_TASK_STEP "
+    "-u SLURM_ARRAY_TASK_COUNT ";
+
+// Runs the refraster binary with `args` after `prefix` (e.g. kUnsetShardVariables, or
+// "timeout 60 " to bound a command that might block), capturing its exit code (128 + the
+// signal when one ended it), stdout and stderr.
+inline CliResult run_cli(const std::vector<std::string>& args, const std::string& prefix = "") {
     TempDir io("cli");
-    std::string cmd = shell_quote(std::string(REFRASTER_BIN_DIR) + "/refraster");
+    std::string cmd = prefix + shell_quote(refraster_bin());
     for (const auto& a : args) cmd += " " + shell_quote(a);
     cmd += " > " + shell_quote((io.path() / "out").string()) + " 2> " +
            shell_quote((io.path() / "err").string()) + " < /dev/null";

@@ -4,8 +4,8 @@
 // are devices or FIFOs, and a used output folder. The reference runs against itself (a tie
 // rule flipped so that a case fails), so no GL is needed.
 //
-// REFRASTER_TEST_CLI, when set, names another refraster binary to run these against (an
-// older build, to see them fail there).
+// REFRASTER_TEST_CLI, when set, names another refraster binary to run these against
+// (test_util.hpp, refraster_bin).
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sys/stat.h>
@@ -21,29 +21,10 @@ namespace {
 using json = nlohmann::json;
 namespace fs = std::filesystem;
 
-const std::string kClean =
-    "env -u GTEST_SHARD_INDEX -u GTEST_TOTAL_SHARDS -u CI_NODE_INDEX -u CI_NODE_TOTAL "
-    "-u JOB_COMPLETION_INDEX -u REFRASTER_SHARD_COUNT -u SLURM_ARRAY_TASK_ID ";
-
-std::string bin() {
-    if (const char* other = std::getenv("REFRASTER_TEST_CLI")) return other;
-    return std::string(REFRASTER_BIN_DIR) + "/refraster";
-}
-
 // A run of the CLI, ended after 60 s: a command that would block without bound (a FIFO read
 // by an older build) fails the test instead of hanging it.
 testutil::CliResult cli(const std::vector<std::string>& args) {
-    testutil::TempDir io("hostile");
-    std::string cmd = kClean + "timeout 60 " + testutil::shell_quote(bin());
-    for (const auto& a : args) cmd += " " + testutil::shell_quote(a);
-    cmd += " > " + testutil::shell_quote((io.path() / "out").string()) + " 2> " +
-           testutil::shell_quote((io.path() / "err").string()) + " < /dev/null";
-    const int status = std::system(("bash -c " + testutil::shell_quote(cmd)).c_str());
-    testutil::CliResult r;
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    r.out = testutil::read_text(io.path() / "out");
-    r.err = testutil::read_text(io.path() / "err");
-    return r;
+    return testutil::run_cli(args, testutil::kUnsetShardVariables + "timeout 60 ");
 }
 
 const char* kTie =

@@ -14,12 +14,10 @@ namespace {
 using json = nlohmann::json;
 namespace fs = std::filesystem;
 
-const std::string kClean =
-    "env -u GTEST_SHARD_INDEX -u GTEST_TOTAL_SHARDS -u CI_NODE_INDEX -u CI_NODE_TOTAL "
-    "-u JOB_COMPLETION_INDEX -u REFRASTER_SHARD_COUNT -u SLURM_ARRAY_TASK_ID ";
+const std::string kClean = testutil::kUnsetShardVariables;
 
 std::string bin() {
-    return testutil::shell_quote(std::string(REFRASTER_BIN_DIR) + "/refraster");
+    return testutil::shell_quote(testutil::refraster_bin());
 }
 
 // A run of the smoke cases with the reference's tie rule flipped, so that some fail and leave

@@ -16,11 +16,7 @@ namespace {
 const std::filesystem::path kSource = REFRASTER_SOURCE_DIR;
 
 // Every variable an engine might have left in the test's own environment, unset.
-const std::string kClean =
-    "env -u GTEST_SHARD_INDEX -u GTEST_TOTAL_SHARDS -u CI_NODE_INDEX -u CI_NODE_TOTAL "
-    "-u JOB_COMPLETION_INDEX -u REFRASTER_SHARD_COUNT -u SLURM_ARRAY_TASK_ID "
-    "-u SLURM_ARRAY_TASK_MIN -u SLURM_ARRAY_TASK_MAX -u SLURM_ARRAY_TASK_STEP "
-    "-u SLURM_ARRAY_TASK_COUNT ";
+const std::string kClean = testutil::kUnsetShardVariables;
 
 struct Record {
     std::string status;
@@ -28,8 +24,7 @@ struct Record {
 };
 
 std::map<std::string, Record> run(const std::string& vars, const std::filesystem::path& out) {
-    const std::string cmd = kClean + vars + " " +
-                            testutil::shell_quote(std::string(REFRASTER_BIN_DIR) + "/refraster") +
+    const std::string cmd = kClean + vars + " " + testutil::shell_quote(testutil::refraster_bin()) +
                             " conformance run --cases 'smoke.*' --against ref --output " +
                             testutil::shell_quote(out.string()) + " > /dev/null 2>&1";
     EXPECT_EQ(std::system(cmd.c_str()) >> 8, 0) << cmd;
@@ -146,7 +141,7 @@ TEST(ShardEngines, GoogleTestVariables) {
 TEST(ShardEngines, BadVariablesAreRefused) {
     testutil::TempDir dir;
     const std::string cmd = kClean + "JOB_COMPLETION_INDEX=1 " +
-                            testutil::shell_quote(std::string(REFRASTER_BIN_DIR) + "/refraster") +
+                            testutil::shell_quote(testutil::refraster_bin()) +
                             " conformance run --cases 'smoke.*' --against ref --output " +
                             testutil::shell_quote((dir.path() / "o").string()) + " 2>&1";
     const std::string out = testutil::command_output(cmd);

@@ -9,10 +9,14 @@
 //   junit.xml stays well-formed; in attribute values tab, newline and carriage return are
 //   written as references too, which attribute-value normalisation would otherwise turn into
 //   spaces.
-// - json_in_script: a JSON string literal, quotes included, safe inside an HTML <script>
-//   element: < > & as \u003c \u003e \u0026 (no "</script>" or "<!--" can appear), U+2028 and
-//   U+2029 as \u2028 \u2029 (line terminators in older JavaScript), controls as \u00XX, bytes
-//   that are not UTF-8 as \ufffd.
+// - json_string: a JSON string literal, quotes included: " and \\ escaped with a backslash,
+//   newline, carriage return and tab as \n \r \t, the other C0 controls and DEL as \u00XX;
+//   every other byte as it is (valid UTF-8 stays valid).
+// - script_safe_json: JSON text made safe inside an HTML <script> element: < > & as \u003c
+//   \u003e \u0026 (no "</script>" or "<!--" can appear), U+2028 and U+2029 as \u2028 \u2029
+//   (line terminators in older JavaScript), bytes that are not UTF-8 as \ufffd. These
+//   characters occur in JSON text only inside strings, where the escapes mean the same.
+// - json_in_script: script_safe_json(json_string(text)).
 // - csv_field: RFC 4180: a field holding a comma, a double quote, CR or LF is quoted, its
 //   quotes doubled; any other field is written as it is.
 // - terminal: what a terminal shows as written and nothing else: printable ASCII and UTF-8
@@ -34,6 +38,8 @@ std::string html_text(std::string_view text);
 std::string html_attribute(std::string_view text);
 std::string xml_text(std::string_view text);
 std::string xml_attribute(std::string_view text);
+std::string json_string(std::string_view text);
+std::string script_safe_json(std::string_view json_text);
 std::string json_in_script(std::string_view text);
 std::string csv_field(std::string_view text);
 std::string terminal(std::string_view text);

@@ -109,49 +109,52 @@ std::string xml_attribute(std::string_view text) {
     return markup(text, true);
 }
 
-std::string json_in_script(std::string_view text) {
+std::string json_string(std::string_view text) {
     std::string out = "\"";
-    for (std::size_t i = 0; i < text.size();) {
+    out.reserve(text.size() + 2);
+    for (const char c : text) {
+        const auto u = static_cast<unsigned char>(c);
+        if (c == '"' || c == '\\') {
+            out += '\\';
+            out += c;
+        } else if (c == '\n') {
+            out += "\\n";
+        } else if (c == '\r') {
+            out += "\\r";
+        } else if (c == '\t') {
+            out += "\\t";
+        } else if (u < 0x20 || u == 0x7F) {
+            out += "\\u" + hex(u, 4);
+        } else {
+            out += c;
+        }
+    }
+    return out + "\"";
+}
+
+std::string script_safe_json(std::string_view json_text) {
+    std::string out;
+    out.reserve(json_text.size() + json_text.size() / 16);
+    for (std::size_t i = 0; i < json_text.size();) {
         char32_t c = 0;
-        const std::size_t n = utf8_char(text.substr(i), c);
+        const std::size_t n = utf8_char(json_text.substr(i), c);
         if (n == 0) {
             out += "\\ufffd";
             ++i;
             continue;
         }
-        switch (c) {
-            case '"':
-                out += "\\\"";
-                break;
-            case '\\':
-                out += "\\\\";
-                break;
-            case '\n':
-                out += "\\n";
-                break;
-            case '\r':
-                out += "\\r";
-                break;
-            case '\t':
-                out += "\\t";
-                break;
-            case '<':
-            case '>':
-            case '&':
-            case 0x2028:
-            case 0x2029:
-                out += "\\u" + hex(c, 4);
-                break;
-            default:
-                if (c < 0x20 || c == 0x7F) {
-                    out += "\\u" + hex(c, 4);
-                } else {
-                    out.append(text.substr(i, n));
-                }
+        if (c == '<' || c == '>' || c == '&' || c == 0x2028 || c == 0x2029) {
+            out += "\\u" + hex(c, 4);
+        } else {
+            out.append(json_text.substr(i, n));
         }
         i += n;
     }
-    return out + "\"";
+    return out;
+}
+
+std::string json_in_script(std::string_view text) {
+    return script_safe_json(json_string(text));
 }
 
 std::string csv_field(std::string_view text) {

@@ -9,6 +9,8 @@
 #include <new>
 #include <nlohmann/json.hpp>
 
+#include "harness/encode.hpp"
+
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -115,24 +117,10 @@ class JsonPath {
     std::vector<std::string> parts_;
 };
 
-// A JSON string literal for the normalized copy below: quotes, backslashes and control
-// characters escaped; every other byte (valid UTF-8, checked by the parser) as it is.
+// A JSON string literal for the normalized copy below (every byte of valid UTF-8, which the
+// parser has checked, as it is).
 void append_json_string(std::string& out, std::string_view s) {
-    out += '"';
-    for (const char c : s) {
-        const auto u = static_cast<unsigned char>(c);
-        if (c == '"' || c == '\\') {
-            out += '\\';
-            out += c;
-        } else if (u < 0x20) {
-            char buf[8];
-            std::snprintf(buf, sizeof buf, "\\u%04x", u);
-            out += buf;
-        } else {
-            out += c;
-        }
-    }
-    out += '"';
+    out += encode::json_string(s);
 }
 
 // The strict rules, applied while nlohmann's SAX parser reads the text: duplicate keys,

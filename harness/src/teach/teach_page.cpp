@@ -20,6 +20,7 @@
 #include <sstream>
 #include <string_view>
 
+#include "harness/encode.hpp"
 #include "harness/markup.hpp"
 
 namespace harness {
@@ -72,28 +73,9 @@ std::string shell_word(const std::string& s) {
     return q + "'";
 }
 
-// The document as JSON text safe inside a <script> element: '<', '>' and '&' occur in JSON
-// text only inside strings, where their \u escapes mean the same characters.
+// The document as JSON text safe inside a <script> element (encode.hpp, script_safe_json).
 std::string embedded_json(const json& data) {
-    const std::string text = data.dump(-1, ' ', false, json::error_handler_t::replace);
-    std::string out;
-    out.reserve(text.size() + text.size() / 16);
-    for (char c : text) {
-        switch (c) {
-            case '<':
-                out += "\\u003c";
-                break;
-            case '>':
-                out += "\\u003e";
-                break;
-            case '&':
-                out += "\\u0026";
-                break;
-            default:
-                out += c;
-        }
-    }
-    return out;
+    return encode::script_safe_json(data.dump(-1, ' ', false, json::error_handler_t::replace));
 }
 
 bool lit(const json& v) {
