@@ -30,7 +30,7 @@ TEST(Encode, HtmlAndXmlEscapeAndReplaceWhatXmlForbids) {
 TEST(Encode, JsonInScriptCannotCloseTheScript) {
     const std::string s = encode::json_in_script("</script><!-- & \"q\" \\ \n\x01\xE2\x80\xA8\xff");
     EXPECT_EQ(s,
-              "\"\\u003C/script\\u003E\\u003C!-- \\u0026 \\\"q\\\" \\\\ \\n\\u0001\\u2028"
+              "\"\\u003c/script\\u003e\\u003c!-- \\u0026 \\\"q\\\" \\\\ \\n\\u0001\\u2028"
               "\\ufffd\"");
     EXPECT_EQ(s.find('<'), std::string::npos);
     EXPECT_EQ(encode::json_in_script(""), "\"\"");
@@ -40,9 +40,9 @@ TEST(Encode, JsonInScriptCannotCloseTheScript) {
 // use it; a page's embedded document (teach) goes through script_safe_json alone.
 TEST(Encode, JsonStringAndScriptSafeDocument) {
     EXPECT_EQ(encode::json_string("a\"b\\c\n\x1f\x7f\xE2\x80\xA8"),
-              "\"a\\\"b\\\\c\\n\\u001F\\u007F\xE2\x80\xA8\"");
+              "\"a\\\"b\\\\c\\n\\u001f\\u007f\xE2\x80\xA8\"");
     EXPECT_EQ(encode::script_safe_json("{\"k\":\"</script>\xE2\x80\xA9&\"}"),
-              "{\"k\":\"\\u003C/script\\u003E\\u2029\\u0026\"}");
+              "{\"k\":\"\\u003c/script\\u003e\\u2029\\u0026\"}");
 }
 
 TEST(Encode, CsvFieldsQuoteAsRfc4180Says) {

@@ -15,6 +15,13 @@ std::string hex(unsigned value, int digits) {
     return buf;
 }
 
+// JSON's \u escapes in lower case, as JSON writers usually give them.
+std::string lower_hex(unsigned value, int digits) {
+    char buf[16];
+    std::snprintf(buf, sizeof buf, "%0*x", digits, value);
+    return buf;
+}
+
 // XML 1.0's Char production: tab, newline, carriage return and U+0020 up, but the
 // surrogates (never decoded) and U+FFFE, U+FFFF.
 bool xml_allows(char32_t c) {
@@ -124,7 +131,7 @@ std::string json_string(std::string_view text) {
         } else if (c == '\t') {
             out += "\\t";
         } else if (u < 0x20 || u == 0x7F) {
-            out += "\\u" + hex(u, 4);
+            out += "\\u" + lower_hex(u, 4);
         } else {
             out += c;
         }
@@ -144,7 +151,7 @@ std::string script_safe_json(std::string_view json_text) {
             continue;
         }
         if (c == '<' || c == '>' || c == '&' || c == 0x2028 || c == 0x2029) {
-            out += "\\u" + hex(c, 4);
+            out += "\\u" + lower_hex(c, 4);
         } else {
             out.append(json_text.substr(i, n));
         }
