@@ -336,4 +336,10 @@ INSTANTIATE_TEST_SUITE_P(Seeds, RandomTextures,
                          ::testing::Values(std::uint64_t{1}, std::uint64_t{2},
                                            testscenes::ci_seed()));
 
+// Seeds that once failed (NaN texture coordinates of noperspective triangles clipped twice),
+// kept whole: label slow (tests/CMakeLists.txt).
+INSTANTIATE_TEST_SUITE_P(FailedSeeds, RandomTextures,
+                         ::testing::Values(std::uint64_t{987435486}, std::uint64_t{1477990071},
+                                           std::uint64_t{603449310}, std::uint64_t{1796318408}));
+
 }  // namespace
