@@ -9,16 +9,11 @@ namespace {
 
 constexpr std::string_view kReplacement = "\xEF\xBF\xBD";  // U+FFFD
 
-std::string hex(unsigned value, int digits) {
+// Upper case for the terminal's escapes; lower case for JSON's \u escapes, as JSON writers
+// usually give them.
+std::string hex(unsigned value, int digits, bool lower = false) {
     char buf[16];
-    std::snprintf(buf, sizeof buf, "%0*X", digits, value);
-    return buf;
-}
-
-// JSON's \u escapes in lower case, as JSON writers usually give them.
-std::string lower_hex(unsigned value, int digits) {
-    char buf[16];
-    std::snprintf(buf, sizeof buf, "%0*x", digits, value);
+    std::snprintf(buf, sizeof buf, lower ? "%0*x" : "%0*X", digits, value);
     return buf;
 }
 
@@ -131,7 +126,7 @@ std::string json_string(std::string_view text) {
         } else if (c == '\t') {
             out += "\\t";
         } else if (u < 0x20 || u == 0x7F) {
-            out += "\\u" + lower_hex(u, 4);
+            out += "\\u" + hex(u, 4, true);
         } else {
             out += c;
         }
@@ -151,7 +146,7 @@ std::string script_safe_json(std::string_view json_text) {
             continue;
         }
         if (c == '<' || c == '>' || c == '&' || c == 0x2028 || c == 0x2029) {
-            out += "\\u" + lower_hex(c, 4);
+            out += "\\u" + hex(c, 4, true);
         } else {
             out.append(json_text.substr(i, n));
         }
