@@ -667,6 +667,22 @@ TEST(Reduce, KeepsTheChosenPixelAndIsNamedAfterItsFile) {
     EXPECT_NE(r.err.find("outside the 32x16 target"), std::string::npos) << r.err;
 }
 
+// A backend that runs out of --timeout ends the reduction as a backend failure (exit 3, the
+// backend's Timeout message), not as "the scene matches the backend" (exit 2); nothing is
+// written. (The reference's own renders are bounded the same way: Cli.TimeoutStopsTheReference*.)
+TEST(Reduce, ATimeoutIsABackendFailure) {
+    testutil::TempDir dir;
+    const auto in = dir.write("heavy.json", testutil::layered_scene(2048, 400));
+    const auto out = dir.path() / "min.json";
+    const auto r =
+        testutil::run_cli({"reduce", in.string(), "--timeout", "0.5", "-o", out.string()});
+    EXPECT_EQ(r.exit_code, 3) << r.err << r.out;
+    EXPECT_EQ(testutil::count_lines(r.err), 1u) << r.err;
+    EXPECT_NE(r.err.find("gave no answer within 0.500000 s for " + in.string()), std::string::npos)
+        << r.err;
+    EXPECT_FALSE(std::filesystem::exists(out));
+}
+
 }  // namespace
 
 namespace {

@@ -11,6 +11,7 @@
 
 #include "harness/profile_io.hpp"
 #include "harness/scene.hpp"
+#include "layered_scene.hpp"
 #include "refraster/renderer.hpp"
 
 namespace {
@@ -109,6 +110,32 @@ TEST(GlVerdict, APixelFarFromEveryPrimitiveIsOutsideEveryLegalCoverage) {
     EXPECT_EQ(v.violations, 1u);
     EXPECT_TRUE(has_finding(v, "outside every legal coverage", false)) << v.summary();
     EXPECT_NE(v.at_pixel.find("violation"), std::string::npos) << v.at_pixel;
+}
+
+// Each variation's render is bounded by the timeout: on a scene that takes the reference
+// many seconds a render (13 s on two threads of the development machine), every variation
+// stops within its 0.05 s and, since a variation that could not be rendered might have
+// reproduced the pixel, nothing is called a violation: the pixel is unexplained, and the
+// summary says why.
+TEST(GlVerdict, VariationsStopAtTheTimeoutAndProveNothing) {
+    const auto s = harness::load_scene_text(testutil::layered_scene(2048, 400), "layers.json");
+    harness::Scene cleared = s;
+    cleared.draw_list.draws.clear();
+    const auto ref = render(cleared, refraster::llvmpipe_22_3_profile());
+    auto stray = ref;
+    const std::size_t i = stray.index(5, 5);
+    for (std::size_t k = 0; k < 4; ++k) stray.color8[4 * i + k] = 200;
+    const auto v = harness::gl_verdict(s, refraster::llvmpipe_22_3_profile(), ref, stray,
+                                       std::array{5, 5}, 0.05);
+    EXPECT_EQ(v.differing, 1u);
+    EXPECT_GT(v.variations, 0u);
+    EXPECT_GE(v.stopped, v.variations) << v.summary();  // each variation (the clear may finish)
+    EXPECT_EQ(v.violations, 0u) << v.summary();
+    EXPECT_EQ(v.unexplained, 1u) << v.summary();
+    EXPECT_NE(v.at_pixel.find("stopped at the timeout"), std::string::npos) << v.at_pixel;
+    EXPECT_NE(v.summary().find("variations stopped at the timeout, so no violation is claimed"),
+              std::string::npos)
+        << v.summary();
 }
 
 }  // namespace

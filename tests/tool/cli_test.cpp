@@ -388,4 +388,21 @@ TEST(Cli, TimeoutStopsTheReference) {
     EXPECT_NE(rec.find(R"("status":"Timeout")"), std::string::npos) << rec;
 }
 
+// explain renders the reference itself (the plain render, its alternatives, the trace); each
+// render is bounded by --timeout as render's is: the same one-line Timeout message, exit 3,
+// no SVG written.
+TEST(Cli, TimeoutStopsTheReferenceInExplain) {
+    testutil::TempDir dir;
+    const auto scene = dir.write("heavy.json", testutil::layered_scene(2048, 400)).string();
+    const auto svg = dir.path() / "p.svg";
+    const auto r = testutil::run_cli({"explain", scene, "--pixel", "5,5", "--no-backend",
+                                      "--timeout", "0.5", "--svg", svg.string()});
+    EXPECT_EQ(r.exit_code, 3) << r.err << r.out;
+    EXPECT_EQ(testutil::count_lines(r.err), 1u) << r.err;
+    EXPECT_NE(r.err.find("gave no answer within 0.500000 s for " + scene + " (stopped)"),
+              std::string::npos)
+        << r.err;
+    EXPECT_FALSE(std::filesystem::exists(svg));
+}
+
 }  // namespace

@@ -11,6 +11,7 @@
 #include "harness/encode.hpp"
 #include "harness/files.hpp"
 #include "harness/gl_verdict.hpp"
+#include "refraster/renderer.hpp"
 
 namespace tool {
 namespace {
@@ -55,18 +56,23 @@ int run_explain(const ExplainArgs& a) {
     if (const auto rc = profile_and_backend(a.against, a.scene, !a.no_backend, profile, backend))
         return *rc;
     try {
-        const auto e = harness::explain_pixel(*scene, profile, x, y, backend.get(), a.sample);
+        const auto e = harness::explain_pixel(*scene, profile, x, y, backend.get(), a.sample,
+                                              a.against.timeout);
         std::cout << (a.json ? harness::explanation_json(e) + "\n" : harness::explanation_text(e));
         // Whether GL allows the backend's pixel (gl_verdict.hpp), for a differing pixel.
         if (!a.json && !e.agree && e.backend && e.backend->status == harness::RenderStatus::Ok) {
             const auto v = harness::gl_verdict(*scene, profile, e.reference_image, e.backend->image,
-                                               std::array<int, 2>{x, y});
+                                               std::array<int, 2>{x, y}, a.against.timeout);
             std::cout << "GL: " << v.at_pixel << "\n";
         }
         if (!a.svg.empty()) harness::write_file_atomically(a.svg, harness::explanation_svg(e));
         return e.agree ? kExitOk : kExitMismatch;
     } catch (const std::bad_alloc&) {
         throw;  // running out of memory: main reports it (exit 3)
+    } catch (const refraster::RenderStopped& ex) {
+        // The reference ran out of --timeout (its message names the scene).
+        std::cerr << "refraster explain: " << harness::encode::terminal(ex.what()) << "\n";
+        return kExitBackendFailure;
     } catch (const std::exception& ex) {
         std::cerr << harness::encode::terminal(a.scene) << ": "
                   << harness::encode::terminal(ex.what()) << "\n";

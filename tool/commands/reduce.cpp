@@ -11,6 +11,7 @@
 #include "harness/encode.hpp"
 #include "harness/files.hpp"
 #include "harness/scene_text.hpp"
+#include "refraster/renderer.hpp"
 
 namespace tool {
 namespace {
@@ -48,8 +49,8 @@ int run_reduce(const ReduceArgs& a) {
     std::unique_ptr<harness::Backend> backend;
     if (const auto rc = profile_and_backend(a.against, a.scene, true, profile, backend)) return *rc;
     try {
-        const auto r =
-            harness::reduce_scene(scene->file, a.scene, profile, *backend, std::cout, keep);
+        const auto r = harness::reduce_scene(scene->file, a.scene, profile, *backend, std::cout,
+                                             keep, a.against.timeout);
         auto reduced = r.scene;
         // The reduced scene is a scene of its own: named after its file, as a scene under
         // conformance/scenes is named after its path.
@@ -74,6 +75,10 @@ int run_reduce(const ReduceArgs& a) {
         return kExitBackendFailure;
     } catch (const std::bad_alloc&) {
         throw;  // running out of memory: main reports it (exit 3)
+    } catch (const refraster::RenderStopped& e) {
+        // The reference ran out of --timeout: the run was cut short, as for a GL backend.
+        std::cerr << "refraster reduce: " << harness::encode::terminal(e.what()) << "\n";
+        return kExitBackendFailure;
     } catch (const std::exception& e) {
         std::cerr << "refraster reduce: " << harness::encode::terminal(e.what()) << "\n";
         return kExitBadInput;

@@ -26,6 +26,7 @@
 #include "harness/image_io.hpp"
 #include "harness/profile_io.hpp"
 #include "record_check.hpp"
+#include "refraster/renderer.hpp"
 
 namespace conformance {
 
@@ -336,7 +337,8 @@ Recovered recover(const std::filesystem::path& output, const json& setup,
 
 harness::CaseResult run_one(const CaseFile& c, const harness::SceneLimits& limits,
                             harness::Backend& reference, harness::Backend& actual,
-                            const refraster::Profile& profile, bool gl_verdict) {
+                            const refraster::Profile& profile, bool gl_verdict,
+                            double timeout_seconds) {
     try {
         const harness::Scene scene = harness::load_scene(c.file, limits);
         auto r = harness::run_case(scene, c.name, reference, actual);
@@ -345,10 +347,13 @@ harness::CaseResult run_one(const CaseFile& c, const harness::SceneLimits& limit
             r.message = c.file.string() + ": name \"" + scene.file.name +
                         "\" does not match its path (expected \"" + c.name + "\")";
         }
-        // GL verdicts: differences GL allows pass, violations fail naming the rule.
+        // GL verdicts: differences GL allows pass, violations fail naming the rule. Each render
+        // of the diagnosis below (a variation, the explanation's alternatives) gets the
+        // scene's timeout of its own, so that a case's time stays bounded.
         if (gl_verdict && r.status == harness::CaseStatus::Fail && r.comparison &&
             reference.kind() == harness::BackendKind::Ref && r.reference && r.actual) {
-            const auto v = harness::gl_verdict(scene, profile, r.reference->image, r.actual->image);
+            const auto v = harness::gl_verdict(scene, profile, r.reference->image, r.actual->image,
+                                               std::nullopt, timeout_seconds);
             r.gl_verdict = v.summary();
             if (v.passes() && v.differing > 0) {
                 r.status = harness::CaseStatus::Pass;
@@ -364,7 +369,8 @@ harness::CaseResult run_one(const CaseFile& c, const harness::SceneLimits& limit
                 const int x = (*at)[0];
                 const int y = (*at)[1];
                 try {
-                    const auto e = harness::explain_pixel(scene, profile, x, y, &actual);
+                    const auto e =
+                        harness::explain_pixel(scene, profile, x, y, &actual, -1, timeout_seconds);
                     r.explained_pixel = std::array<int, 2>{x, y};
                     r.explanation = e.verdict;
                     r.explanation_difference = e.difference;
@@ -373,6 +379,10 @@ harness::CaseResult run_one(const CaseFile& c, const harness::SceneLimits& limit
                     r.explanation_svg = harness::explanation_svg(e);
                 } catch (const std::bad_alloc&) {
                     throw;  // running out of memory: main reports it (exit 3)
+                } catch (const refraster::RenderStopped& e) {
+                    // The case's result stands; the message says why it is not explained.
+                    r.message +=
+                        std::string(r.message.empty() ? "" : "; ") + "not explained: " + e.what();
                 } catch (const std::exception&) {
                     // The case's result stands without an explanation.
                 }
@@ -625,8 +635,9 @@ RunSummary run_suite(const RunOptions& options, std::ostream& console) {
     const std::size_t resumed = finished;
     for (const auto& c : cases) {
         if (done.count(c.name) != 0) continue;
-        harness::CaseResult r = run_one(c, options.scene_limits, *reference, *actual,
-                                        options.reference.profile, options.gl_verdict);
+        harness::CaseResult r =
+            run_one(c, options.scene_limits, *reference, *actual, options.reference.profile,
+                    options.gl_verdict, options.reference.timeout_seconds);
         const bool failed = apply_baseline(r, options.baseline ? &baseline : nullptr);
         const auto known_flake = failed ? flakes.match(c.name) : std::nullopt;
         if (known_flake) {
@@ -640,8 +651,9 @@ RunSummary run_suite(const RunOptions& options, std::ostream& console) {
             // An unexpected result runs once more: the same again is the result, anything
             // else was a flake.
             const std::string first(harness::to_string(r.raw_status.value_or(r.status)));
-            harness::CaseResult again = run_one(c, options.scene_limits, *reference, *actual,
-                                                options.reference.profile, options.gl_verdict);
+            harness::CaseResult again =
+                run_one(c, options.scene_limits, *reference, *actual, options.reference.profile,
+                        options.gl_verdict, options.reference.timeout_seconds);
             if (std::string(harness::to_string(again.status)) != first) {
                 r.raw_status = r.raw_status.value_or(r.status);
                 r.status = harness::CaseStatus::Flake;

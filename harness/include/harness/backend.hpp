@@ -18,6 +18,11 @@
 #include "refraster/framebuffer.hpp"
 #include "refraster/profile.hpp"
 
+namespace refraster {
+struct RenderOptions;  // refraster/renderer.hpp
+struct RenderOutcome;
+}  // namespace refraster
+
 namespace harness {
 
 enum class BackendKind : std::uint8_t { Ref, OSMesa, Egl };
@@ -133,5 +138,16 @@ std::unique_ptr<Backend> make_backend(const BackendOptions& options);
 
 // Provenance common to every backend: the project's commit and the CPU's FMA/AVX2 flags.
 Provenance host_provenance();
+
+// One render of the reference for `scene` under a timeout of its own, as the reference backend
+// renders under BackendOptions::timeout_seconds: `options` with a deadline `timeout_seconds`
+// from now (none for 0 or less). explain, reduce and the GL verdict render the reference this
+// way, each render timed on its own. Past the deadline every shading thread returns and this
+// throws refraster::RenderStopped whose message is a backend's Timeout message ("the reference
+// (PROFILE) gave no answer within S s for SCENE (stopped)").
+refraster::RenderOutcome render_reference_within(const Scene& scene,
+                                                 refraster::RenderOptions options,
+                                                 double timeout_seconds,
+                                                 refraster::Framebuffer& out);
 
 }  // namespace harness

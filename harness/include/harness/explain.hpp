@@ -96,9 +96,13 @@ class Explainer {
     // owners where the backend can report them believably). Throws std::runtime_error when the
     // reference or the backend cannot render the scene. `sample` (0..3, a 4x target only)
     // compares that sample of every pixel instead of the resolved image; std::invalid_argument
-    // when the target has no such sample.
+    // when the target has no such sample. Every render of the reference here (the plain one,
+    // its owners, each alternative rule, each pixel's trace) gets `timeout_seconds` of its own
+    // (0 or less: no limit); past it, the render stops and refraster::RenderStopped is thrown
+    // with the reference's Timeout message (render_reference_within, backend.hpp). A backend
+    // that times out (its own BackendOptions::timeout_seconds) throws RenderStopped the same way.
     Explainer(const Scene& scene, const refraster::Profile& profile, Backend* backend,
-              int sample = -1);
+              int sample = -1, double timeout_seconds = 0.0);
     ~Explainer();
     Explainer(const Explainer&) = delete;
     Explainer& operator=(const Explainer&) = delete;
@@ -128,6 +132,7 @@ class Explainer {
     const Scene& scene_;
     refraster::Profile profile_;
     int sample_ = -1;
+    double timeout_seconds_ = 0.0;
     refraster::Framebuffer reference_samples_;  // every sample of a 4x target
     refraster::Framebuffer reference_;
     refraster::Framebuffer backend_view_;
@@ -140,7 +145,7 @@ class Explainer {
 
 // One pixel: an Explainer used once.
 Explanation explain_pixel(const Scene& scene, const refraster::Profile& profile, int x, int y,
-                          Backend* backend, int sample = -1);
+                          Backend* backend, int sample = -1, double timeout_seconds = 0.0);
 
 std::string explanation_text(const Explanation& e);
 std::string explanation_json(const Explanation& e);

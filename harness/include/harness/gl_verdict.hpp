@@ -48,6 +48,11 @@ struct GlVerdict {
     std::uint64_t legal = 0;
     std::uint64_t violations = 0;
     std::uint64_t unexplained = 0;
+    // Renders of the variations that stopped at the timeout (the cleared target counts as
+    // one), out of `variations`. When any did, no pixel is called a violation: the others are
+    // unexplained.
+    std::uint64_t stopped = 0;
+    std::uint64_t variations = 0;
     std::vector<GlFinding> findings;  // by rule, in the order first met
     // The verdict at the pixel asked for (gl_verdict's `at`): "same as the reference", or
     // "legal: <freedom> (<setting> reproduces the backend)", or "violation: <rule> (...)".
@@ -59,9 +64,11 @@ struct GlVerdict {
 };
 
 // Judges every pixel where `backend` differs from `reference` (the scene rendered under
-// `profile`). Both images must have the scene's target size.
+// `profile`). Both images must have the scene's target size. Each variation's render gets
+// `timeout_seconds` of its own (0 or less: no limit; render_reference_within, backend.hpp).
 GlVerdict gl_verdict(const Scene& scene, const refraster::Profile& profile,
                      const refraster::Framebuffer& reference, const refraster::Framebuffer& backend,
-                     std::optional<std::array<int, 2>> at = std::nullopt);
+                     std::optional<std::array<int, 2>> at = std::nullopt,
+                     double timeout_seconds = 0.0);
 
 }  // namespace harness

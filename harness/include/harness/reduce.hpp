@@ -36,9 +36,11 @@ struct ReduceResult {
     int renders = 0;
 };
 
-// Throws std::runtime_error when the scene does not mismatch to begin with.
+// Throws std::runtime_error when the scene does not mismatch to begin with. Every render of the
+// reference gets `timeout_seconds` of its own (0 or less: no limit); one that runs out of it
+// ends the reduction with refraster::RenderStopped.
 ReduceResult reduce_scene(const SceneFile& scene, const std::string& label,
                           const refraster::Profile& profile, Backend& backend, std::ostream& log,
-                          const MismatchToKeep& keep = {});
+                          const MismatchToKeep& keep = {}, double timeout_seconds = 0.0);
 
 }  // namespace harness

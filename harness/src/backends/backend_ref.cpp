@@ -1,6 +1,7 @@
 #include "backend_ref.hpp"
 
 #include <chrono>
+#include <optional>
 
 #include "harness/profile_io.hpp"
 #include "no_answer.hpp"
@@ -8,6 +9,15 @@
 
 namespace harness {
 namespace {
+
+// The deadline of a render that starts at `t0` and may take `seconds`: none for 0 or less, or
+// for a limit of more than 30 years, which cannot pass and would overflow the clock's type.
+std::optional<std::chrono::steady_clock::time_point> deadline_after(
+    std::chrono::steady_clock::time_point t0, double seconds) {
+    if (!(seconds > 0.0 && seconds < 1e9)) return std::nullopt;
+    return t0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                    std::chrono::duration<double>(seconds));
+}
 
 class RefBackend final : public Backend {
   public:
@@ -50,11 +60,7 @@ class RefBackend final : public Backend {
         ro.threads = options_.threads;
         // The per-scene timeout, as a GL worker gets it: past it the render stops (every
         // shading thread returns) and the scene is a Timeout in the same words.
-        // (A limit of more than 30 years cannot pass, and would overflow the clock's type.)
-        if (options_.timeout_seconds > 0.0 && options_.timeout_seconds < 1e9) {
-            ro.deadline = t0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                   std::chrono::duration<double>(options_.timeout_seconds));
-        }
+        ro.deadline = deadline_after(t0, options_.timeout_seconds);
         refraster::RenderOutcome outcome;
         try {
             outcome = refraster::render(scene.draw_list, ro, r.image);
@@ -89,6 +95,20 @@ class RefBackend final : public Backend {
 
 std::unique_ptr<Backend> make_ref_backend(const BackendOptions& options) {
     return std::make_unique<RefBackend>(options);
+}
+
+refraster::RenderOutcome render_reference_within(const Scene& scene,
+                                                 refraster::RenderOptions options,
+                                                 double timeout_seconds,
+                                                 refraster::Framebuffer& out) {
+    options.deadline = deadline_after(std::chrono::steady_clock::now(), timeout_seconds);
+    try {
+        return refraster::render(scene.draw_list, options, out);
+    } catch (const refraster::RenderStopped&) {
+        throw refraster::RenderStopped(
+            no_answer_message("the reference (" + options.profile.name + ")", timeout_seconds,
+                              scene_label(scene), "stopped"));
+    }
 }
 
 }  // namespace harness

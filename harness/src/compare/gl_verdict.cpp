@@ -6,6 +6,7 @@
 #include <limits>
 #include <map>
 
+#include "harness/backend.hpp"
 #include "harness/profile_io.hpp"
 #include "refraster/renderer.hpp"
 
@@ -89,12 +90,21 @@ double depth_number(const Framebuffer& fb, std::size_t i) {
     return static_cast<double>(fb.depth[i]);
 }
 
-std::optional<Framebuffer> render(const Scene& scene, const Profile& p) {
+// The scene under one variation, within the timeout (each render on its own); nothing when it
+// cannot be rendered or stopped at the timeout (counted in `stopped`).
+std::optional<Framebuffer> render(const Scene& scene, const Profile& p, double timeout_seconds,
+                                  std::uint64_t& stopped) {
     refraster::RenderOptions o;
     o.profile = p;
     Framebuffer fb;
-    if (refraster::render(scene.draw_list, o, fb).status != refraster::RenderStatus::Ok)
+    try {
+        if (render_reference_within(scene, o, timeout_seconds, fb).status !=
+            refraster::RenderStatus::Ok)
+            return std::nullopt;
+    } catch (const refraster::RenderStopped&) {
+        ++stopped;
         return std::nullopt;
+    }
     return fb;
 }
 
@@ -116,11 +126,15 @@ std::string GlVerdict::summary() const {
              " unexplained";
         if (!bad_text.empty()) s += " (" + bad_text + ")";
     }
+    if (stopped > 0)
+        s += "; " + std::to_string(stopped) + " of " + std::to_string(variations) +
+             " variations stopped at the timeout, so no violation is claimed";
     return s;
 }
 
 GlVerdict gl_verdict(const Scene& scene, const Profile& profile, const Framebuffer& reference,
-                     const Framebuffer& backend, std::optional<std::array<int, 2>> at) {
+                     const Framebuffer& backend, std::optional<std::array<int, 2>> at,
+                     double timeout_seconds) {
     GlVerdict v;
     v.at_pixel = "same as the reference";
     const auto at_index = [&]() -> std::optional<std::size_t> {
@@ -143,9 +157,10 @@ GlVerdict gl_verdict(const Scene& scene, const Profile& profile, const Framebuff
     // The cleared target: what "untouched" looks like.
     Scene cleared = scene;
     cleared.draw_list.draws.clear();
-    const auto clear = render(cleared, profile);
+    const auto clear = render(cleared, profile, timeout_seconds, v.stopped);
 
     const auto vars = variations(profile);
+    v.variations = vars.size();
     const std::size_t n = pixels.size();
     std::vector<int> legal_match(n, -1), illegal_match(n, -1);
     std::vector<char> all_legal_draw(n, 1), any_legal_draw(n, 0);
@@ -163,7 +178,7 @@ GlVerdict gl_verdict(const Scene& scene, const Profile& profile, const Framebuff
         if (!reference.depth.empty() && d) zmin[k] = zmax[k] = depth_number(reference, i);
     }
     for (std::size_t vi = 0; vi < vars.size(); ++vi) {
-        const auto fb = render(scene, vars[vi].profile);
+        const auto fb = render(scene, vars[vi].profile, timeout_seconds, v.stopped);
         if (!fb) continue;
         for (std::size_t k = 0; k < n; ++k) {
             const std::size_t i = pixels[k];
@@ -229,12 +244,20 @@ GlVerdict gl_verdict(const Scene& scene, const Profile& profile, const Framebuff
             detail = "depth " + std::to_string(depth_number(backend, i)) + " outside [" +
                      std::to_string(zmin[k]) + ", " + std::to_string(zmax[k]) + "]";
         }
-        if (!rule.empty()) {
+        // A variation that stopped might have reproduced the pixel (or widened the legal
+        // coverage and depth range): without every one, nothing is proven.
+        if (!rule.empty() && v.stopped == 0) {
             ++v.violations;
             count(rule, false, i, detail);
             if (at_index == i) v.at_pixel = "violation: " + rule + " (" + detail + ")";
         } else {
             ++v.unexplained;
+            if (v.stopped > 0) {
+                count("unexplained (a variation stopped at the timeout)", false, i,
+                      "not every legal variation could be rendered in time");
+                if (at_index == i) v.at_pixel = "unexplained: a variation stopped at the timeout";
+                continue;
+            }
             count("unexplained (no legal rule reproduces it)", false, i,
                   "neither a legal variation nor a proven violation");
             if (at_index == i) v.at_pixel = "unexplained: no legal rule reproduces it";

@@ -276,17 +276,18 @@ namespace {
 
 // The plain render, and with `owners` the primitive owners from a second pass: recording
 // owners changes what llvmpipe's nine-vertex analysis does (an owner pass is never analysed),
-// so the pixels always come from the plain render, as for the GL backends.
-refraster::RenderOutcome render_reference(const refraster::DrawList& dl,
-                                          const refraster::Profile& profile, bool owners,
+// so the pixels always come from the plain render, as for the GL backends. Each pass gets the
+// timeout on its own.
+refraster::RenderOutcome render_reference(const Scene& scene, const refraster::Profile& profile,
+                                          bool owners, double timeout_seconds,
                                           refraster::Framebuffer& out) {
     refraster::RenderOptions o;
     o.profile = profile;
-    const auto r = refraster::render(dl, o, out);
+    const auto r = render_reference_within(scene, o, timeout_seconds, out);
     if (r.status != refraster::RenderStatus::Ok || !owners) return r;
     refraster::Framebuffer with_owners;
     o.record_owners = true;
-    const auto w = refraster::render(dl, o, with_owners);
+    const auto w = render_reference_within(scene, o, timeout_seconds, with_owners);
     if (w.status == refraster::RenderStatus::Ok) out.owner = std::move(with_owners.owner);
     return w;
 }
@@ -294,8 +295,8 @@ refraster::RenderOutcome render_reference(const refraster::DrawList& dl,
 }  // namespace
 
 Explainer::Explainer(const Scene& scene, const refraster::Profile& profile, Backend* backend,
-                     int sample)
-    : scene_(scene), profile_(profile), sample_(sample) {
+                     int sample, double timeout_seconds)
+    : scene_(scene), profile_(profile), sample_(sample), timeout_seconds_(timeout_seconds) {
     const auto& target = scene_.draw_list.target;
     if (sample_ >= 0 && (target.samples != 4 || sample_ > 3)) {
         throw std::invalid_argument("sample " + std::to_string(sample_) + " of a target of " +
@@ -308,6 +309,9 @@ Explainer::Explainer(const Scene& scene, const refraster::Profile& profile, Back
     // is judged by the clear values on both sides.
     if (backend != nullptr) {
         backend_result_ = backend->render(scene_);
+        // Out of time on the GL side is what it is on the reference's: the run was cut short.
+        if (backend_result_->status == RenderStatus::Timeout)
+            throw refraster::RenderStopped(backend->name() + ": " + backend_result_->message);
         if (backend_result_->status != RenderStatus::Ok) {
             throw std::runtime_error(backend->name() + ": " +
                                      std::string(to_string(backend_result_->status)) + ": " +
@@ -335,7 +339,8 @@ Explainer::Explainer(const Scene& scene, const refraster::Profile& profile, Back
         }
     }
     const bool with_owners = backend_result_ && !backend_view_.owner.empty();
-    const auto r = render_reference(scene_.draw_list, profile_, with_owners, reference_samples_);
+    const auto r =
+        render_reference(scene_, profile_, with_owners, timeout_seconds_, reference_samples_);
     if (r.status != refraster::RenderStatus::Ok)
         throw std::runtime_error("the reference cannot render it: " + r.message);
     // A single-sample render is its own view: moved, not copied (reference_samples_ holds
@@ -372,7 +377,7 @@ void Explainer::render_alternatives() {
         refraster::set_profile_parameter(p, change.substr(0, change.find('=')),
                                          change.substr(change.find('=') + 1));
         refraster::Framebuffer rendered;
-        if (render_reference(scene_.draw_list, p, owners, rendered).status !=
+        if (render_reference(scene_, p, owners, timeout_seconds_, rendered).status !=
             refraster::RenderStatus::Ok) {
             alternatives_.pop_back();
             continue;
@@ -463,7 +468,7 @@ Explanation Explainer::explain(int x, int y, bool full) {
         o.profile = profile_;
         o.trace = &e.trace;
         refraster::Framebuffer rendered;
-        (void)refraster::render(scene_.draw_list, o, rendered);
+        (void)render_reference_within(scene_, o, timeout_seconds_, rendered);
         e.reference_image = view(rendered);
     };
     if (full) {
@@ -700,9 +705,9 @@ Explanation Explainer::explain(int x, int y, bool full) {
 }
 
 Explanation explain_pixel(const Scene& scene, const refraster::Profile& profile, int x, int y,
-                          Backend* backend, int sample) {
+                          Backend* backend, int sample, double timeout_seconds) {
     require_inside(scene.draw_list.target, x, y);  // before the backend renders anything
-    Explainer ex(scene, profile, backend, sample);
+    Explainer ex(scene, profile, backend, sample, timeout_seconds);
     return ex.explain(x, y);
 }
 

@@ -81,8 +81,8 @@ SceneFile assemble(const SceneFile& base, const std::vector<Piece>& pieces) {
 class Oracle {
   public:
     Oracle(const refraster::Profile& p, Backend& b, const std::string& label,
-           const MismatchToKeep& keep)
-        : profile_(p), backend_(b), label_(label), keep_(keep) {}
+           const MismatchToKeep& keep, double timeout_seconds)
+        : profile_(p), backend_(b), label_(label), keep_(keep), timeout_seconds_(timeout_seconds) {}
 
     // The mismatch signature, "class: rule", or "" when the scene has no mismatch of the kind
     // kept (or cannot be rendered).
@@ -97,7 +97,7 @@ class Oracle {
             return "";
         }
         try {
-            Explainer ex(scene, profile_, &backend_);
+            Explainer ex(scene, profile_, &backend_, -1, timeout_seconds_);
             const auto& ref = ex.reference_image();
             std::optional<std::array<int, 2>> at = keep_.pixel;
             if (at) {
@@ -124,6 +124,8 @@ class Oracle {
             const auto e = ex.explain((*at)[0], (*at)[1]);
             if (!keep_.difference.empty() && e.difference != keep_.difference) return "";
             return e.difference + ": " + e.rule;
+        } catch (const refraster::RenderStopped&) {
+            throw;  // the reference ran out of time: the reduction ends (a backend failure)
         } catch (const std::runtime_error&) {
             return "";
         }
@@ -144,14 +146,15 @@ class Oracle {
     Backend& backend_;
     std::string label_;
     MismatchToKeep keep_;
+    double timeout_seconds_ = 0.0;
 };
 
 }  // namespace
 
 ReduceResult reduce_scene(const SceneFile& scene, const std::string& label,
                           const refraster::Profile& profile, Backend& backend, std::ostream& log,
-                          const MismatchToKeep& keep) {
-    Oracle oracle(profile, backend, label, keep);
+                          const MismatchToKeep& keep, double timeout_seconds) {
+    Oracle oracle(profile, backend, label, keep, timeout_seconds);
     ReduceResult r;
     r.signature = oracle.signature(scene);
     if (r.signature.empty()) {
