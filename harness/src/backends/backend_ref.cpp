@@ -60,16 +60,14 @@ class RefBackend final : public Backend {
         ro.threads = options_.threads;
         // The per-scene timeout, as a GL worker gets it: past it the render stops (every
         // shading thread returns) and the scene is a Timeout in the same words.
-        ro.deadline = deadline_after(t0, options_.timeout_seconds);
         refraster::RenderOutcome outcome;
         try {
-            outcome = refraster::render(scene.draw_list, ro, r.image);
-        } catch (const refraster::RenderStopped&) {
+            outcome = render_reference_within(scene, ro, options_.timeout_seconds, r.image);
+        } catch (const refraster::RenderStopped& e) {
             r.seconds =
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
             r.status = RenderStatus::Timeout;
-            r.message = no_answer_message("the reference (" + options_.profile.name + ")",
-                                          options_.timeout_seconds, scene_label(scene), "stopped");
+            r.message = e.what();
             r.image = refraster::Framebuffer();
             return r;
         }

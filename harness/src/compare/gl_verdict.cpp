@@ -252,15 +252,12 @@ GlVerdict gl_verdict(const Scene& scene, const Profile& profile, const Framebuff
             if (at_index == i) v.at_pixel = "violation: " + rule + " (" + detail + ")";
         } else {
             ++v.unexplained;
-            if (v.stopped > 0) {
-                count("unexplained (a variation stopped at the timeout)", false, i,
-                      "not every legal variation could be rendered in time");
-                if (at_index == i) v.at_pixel = "unexplained: a variation stopped at the timeout";
-                continue;
-            }
-            count("unexplained (no legal rule reproduces it)", false, i,
-                  "neither a legal variation nor a proven violation");
-            if (at_index == i) v.at_pixel = "unexplained: no legal rule reproduces it";
+            const std::string why = v.stopped > 0 ? "a variation stopped at the timeout"
+                                                  : "no legal rule reproduces it";
+            count("unexplained (" + why + ")", false, i,
+                  v.stopped > 0 ? "not every legal variation could be rendered in time"
+                                : "neither a legal variation nor a proven violation");
+            if (at_index == i) v.at_pixel = "unexplained: " + why;
         }
     }
     return v;
