@@ -29,6 +29,8 @@ packages=(
   libpng-dev
   # Mesa: OSMesa, and EGL surfaceless with the llvmpipe/softpipe DRI driver
   libosmesa6-dev libegl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri
+  # zink (--driver zink: GL on Vulkan) runs on lavapipe, Mesa's software Vulkan driver
+  mesa-vulkan-drivers
   # the HTML report test opens the report in headless Chromium
   chromium
 )

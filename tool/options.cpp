@@ -1,5 +1,7 @@
 #include "options.hpp"
 
+#include <unistd.h>
+
 #include <charconv>
 #include <cstdlib>
 #include <iostream>
@@ -47,7 +49,13 @@ harness::BackendOptions BackendArgs::options() const {
     o.kind = backend == "osmesa" ? harness::BackendKind::OSMesa
              : backend == "egl"  ? harness::BackendKind::Egl
                                  : harness::BackendKind::Ref;
-    o.driver = driver == "softpipe" ? harness::Driver::Softpipe : harness::Driver::Llvmpipe;
+    if (driver.empty()) {
+        std::vector<std::string> env;
+        for (char** e = environ; e && *e; ++e) env.emplace_back(*e);
+        o.driver = harness::driver_from_environment(o.kind, env);
+    } else {
+        o.driver = harness::Driver(driver);
+    }
     o.timeout_seconds = timeout;
     o.mesa_prefix = mesa_prefix;
     if (!egl_device.empty() && egl_device != "list") {
@@ -70,9 +78,10 @@ void add_backend_option(CLI::App* cmd, const std::string& name, std::string& bac
 }
 
 void add_driver_options(CLI::App* cmd, BackendArgs& a) {
-    cmd->add_option("--driver", a.driver, "Mesa driver for osmesa and egl")
-        ->check(CLI::IsMember({"llvmpipe", "softpipe"}))
-        ->capture_default_str();
+    cmd->add_option("--driver", a.driver,
+                    "Mesa driver for osmesa and egl: llvmpipe, softpipe, or (egl) any DRI driver "
+                    "this system has, zink included (default: MESA_LOADER_DRIVER_OVERRIDE or "
+                    "GALLIUM_DRIVER, else llvmpipe)");
     cmd->add_option("--timeout", a.timeout,
                     "Seconds a backend (the reference or a GL worker) may take for one scene; "
                     "past it the scene is a Timeout (exit 3)")

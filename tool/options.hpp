@@ -36,7 +36,7 @@ void add_threads_option(CLI::App* cmd, unsigned& threads);
 struct BackendArgs {
     explicit BackendArgs(std::string b) : backend(std::move(b)) {}
     std::string backend;
-    std::string driver = "llvmpipe";
+    std::string driver;  // empty: the environment's choice (harness::driver_from_environment)
     double timeout = 60.0;
     std::string mesa_prefix;  // a Mesa build of one's own (GL backends)
     std::string egl_device;   // egl: a device index, or "list"

@@ -7,15 +7,12 @@
 #include <fstream>
 #include <vector>
 
+#include "backends/driver_env.hpp"
+
 namespace harness::gl {
 
 std::string mesa_environment() {
-    std::vector<std::string> vars;
-    for (char** e = environ; e && *e; ++e) {
-        const std::string_view kv(*e);
-        if (kv.starts_with("LP_") || kv.starts_with("GALLIUM_")) vars.emplace_back(kv);
-    }
-    std::sort(vars.begin(), vars.end());
+    const auto vars = driver_env::driver_variables(driver_env::process_environment());
     std::string out;
     for (const auto& v : vars) {
         if (!out.empty()) out += ';';
@@ -35,7 +32,7 @@ std::string loaded_gl_libraries() {
         const bool gl = name.starts_with("libOSMesa") || name.starts_with("libEGL") ||
                         name.starts_with("libGL") || name.starts_with("libOpenGL") ||
                         name.starts_with("libglapi") || name.starts_with("libgallium") ||
-                        name.find("_dri.so") != std::string::npos;
+                        name.starts_with("libvulkan_") || name.find("_dri.so") != std::string::npos;
         if (gl && std::find(seen.begin(), seen.end(), path) == seen.end()) seen.push_back(path);
     }
     std::string out;

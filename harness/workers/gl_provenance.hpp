@@ -7,12 +7,14 @@
 
 namespace harness::gl {
 
-// "K=V;K=V" for every LP_* and GALLIUM_* variable, sorted so that equal environments give
-// equal strings.
+// "K=V;K=V" for every variable that chooses the driver or changes its results
+// (driver_env::selects_or_changes_driver), sorted so that equal environments give equal
+// strings.
 std::string mesa_environment();
 
-// The Mesa and GL libraries this process has mapped (/proc/self/maps), ';'-separated, in the
-// order first mapped: which build the worker really loaded, whatever the environment asked.
+// The Mesa, GL and Vulkan driver libraries this process has mapped (/proc/self/maps),
+// ';'-separated, in the order first mapped: which build the worker really loaded, whatever the
+// environment asked.
 std::string loaded_gl_libraries();
 
 // "22.3.6" from a GL_VERSION such as "4.5 (Core Profile) Mesa 22.3.6"; empty without "Mesa ".

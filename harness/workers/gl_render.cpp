@@ -25,6 +25,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "backends/driver_env.hpp"
 #include "backends/wire.hpp"
 #include "gl_enums.hpp"
 #include "gl_provenance.hpp"
@@ -1376,13 +1377,18 @@ Renderer::Renderer(std::string_view backend, std::string_view mesa_package)
     auto& p = impl_->provenance;
     p["backend"] = std::string(backend);
     p["renderer"] = gl_string(GL_RENDERER);
+    p["gl_vendor"] = gl_string(GL_VENDOR);
     p["gl_version"] = gl_string(GL_VERSION);
     p["glsl_version"] = gl_string(GL_SHADING_LANGUAGE_VERSION);
-    const char* driver = std::getenv("GALLIUM_DRIVER");
-    p["driver"] = driver && *driver ? driver : "llvmpipe";
     p["env"] = mesa_environment();
     p["mesa_version"] = debian_package_version(mesa_package);
     p["libraries"] = loaded_gl_libraries();
+    // The driver that really runs, whatever the environment asked for: the harness refuses a
+    // worker whose driver is not the one --driver names.
+    p["driver"] = driver_env::loaded_driver(p["renderer"], p["libraries"]);
+    if (auto vk = driver_env::vulkan_driver(p["renderer"]); !vk.empty()) {
+        p["vulkan_driver"] = std::move(vk);
+    }
     // A Mesa build of one's own (--mesa-prefix): its version is the one GL reports, not the
     // system package's.
     if (const char* prefix = std::getenv("REFRASTER_MESA_PREFIX"); prefix && *prefix) {
@@ -1505,6 +1511,11 @@ int run_worker(std::string_view backend, std::string_view mesa_package,
     unsigned long hang_at = 0;
     if (const char* k = std::getenv("REFRASTER_WORKER_HANG_AT"))
         hang_at = std::strtoul(k, nullptr, 10);
+    // And for order dependence: answer the Nth scene with its first pixel's first channel
+    // changed, as a driver whose state an earlier scene left stale would draw it.
+    unsigned long stale_at = 0;
+    if (const char* k = std::getenv("REFRASTER_WORKER_STALE_AT"))
+        stale_at = std::strtoul(k, nullptr, 10);
     unsigned long scenes = 0;
 
     try {
@@ -1541,6 +1552,11 @@ int run_worker(std::string_view backend, std::string_view mesa_package,
                         reply.status = harness::RenderStatus::InternalError;
                         reply.message = std::string("bad request: ") + e.what();
                         reply.provenance = renderer->provenance();
+                    }
+                    if (scenes == stale_at && reply.status == harness::RenderStatus::Ok) {
+                        auto& img = reply.image;
+                        if (!img.color8.empty()) img.color8[0] ^= 0xFF;
+                        if (!img.color32f.empty()) img.color32f[0] = 0.5f - img.color32f[0];
                     }
                     // The images are given up as they are encoded.
                     wire::write_frame(out, wire::FrameType::Reply,

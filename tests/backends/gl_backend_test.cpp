@@ -940,8 +940,54 @@ TEST_P(GlBackend, EglAndOsmesaAgreeBitForBit) {
 #endif
 
 std::string driver_label(const ::testing::TestParamInfo<Driver>& p) {
-    return p.param == Driver::Llvmpipe ? "llvmpipe" : "softpipe";
+    return p.param.name();
 }
+
+#if REFRASTER_TEST_EGL
+// zink (GL on Vulkan, here on lavapipe) through --driver zink: the loader override chooses it,
+// and the provenance names zink, its Vulkan driver and the variables that chose them.
+TEST(GlBackendZink, NamesZinkItsVulkanDriverAndTheVariablesThatChoseThem) {
+    ::setenv("REFRASTER_WORKER_DIR", REFRASTER_TEST_WORKER_DIR, 0);
+    harness::BackendOptions o;
+    o.kind = harness::BackendKind::Egl;
+    o.driver = Driver::Zink;
+    harness::GlWorkerBackend b(o);
+    EXPECT_EQ(b.name(), "egl-zink");
+    DrawList list;
+    list.target = Target{8, 8, ColorFormat::Rgba8, DepthFormat::None, 1};
+    list.draws.push_back(
+        lower_left_triangle(list.target, {1, 0, 0, 1}, {1, 0, 0, 1}, {1, 0, 0, 1}));
+    const auto r = b.render(make_scene("zink-triangle", list));
+    ASSERT_EQ(r.status, RenderStatus::Ok) << r.message;
+    EXPECT_EQ(r.provenance.at("driver"), "zink");
+    EXPECT_EQ(r.provenance.at("renderer").rfind("zink", 0), 0u) << r.provenance.at("renderer");
+    EXPECT_NE(r.provenance.at("vulkan_driver").find("lavapipe"), std::string::npos);
+    EXPECT_FALSE(r.provenance.at("gl_vendor").empty());
+    const std::string env = r.provenance.at("env");
+    EXPECT_NE(env.find("MESA_LOADER_DRIVER_OVERRIDE=zink"), std::string::npos) << env;
+    EXPECT_NE(env.find("LIBGL_ALWAYS_SOFTWARE=1"), std::string::npos) << env;
+    EXPECT_EQ(env.find("GALLIUM_DRIVER="), std::string::npos) << env;
+    EXPECT_EQ(pixel(r.image, 0, 0), (Rgba{255, 0, 0, 255}));
+    EXPECT_EQ(pixel(r.image, 7, 7), kTransparent);
+}
+
+// A worker whose GL runs another driver than the one asked for is refused, never labelled
+// with the name asked for.
+TEST(GlBackendZink, AWorkerRunningAnotherDriverThanAskedIsRefused) {
+    ::setenv("REFRASTER_WORKER_DIR", REFRASTER_TEST_WORKER_DIR, 0);
+    harness::BackendOptions o;
+    o.kind = harness::BackendKind::Egl;
+    o.driver = Driver::Llvmpipe;
+    o.environment = {"MESA_LOADER_DRIVER_OVERRIDE=zink"};
+    harness::GlWorkerBackend b(o);
+    DrawList list;
+    list.target = Target{4, 4, ColorFormat::Rgba8, DepthFormat::None, 1};
+    const auto r = b.render(make_scene("wrong-driver", list));
+    EXPECT_EQ(r.status, RenderStatus::InternalError);
+    EXPECT_NE(r.message.find("asked for llvmpipe but Mesa loaded zink"), std::string::npos)
+        << r.message;
+}
+#endif
 
 INSTANTIATE_TEST_SUITE_P(Drivers, GlBackend, ::testing::Values(Driver::Llvmpipe, Driver::Softpipe),
                          driver_label);

@@ -156,6 +156,39 @@ TEST(ConformanceRun, KilledWorkerIsACrashAndTheRunGoesOn) {
     EXPECT_EQ(crashes, 1);
 }
 
+// A failure that depends on what the worker drew before: the worker answers its 3rd scene with
+// one pixel changed, as stale state would. Run alone in a fresh worker the case passes, so it is
+// a Flake saying so, and its explanation is the failing render's (a later render of the same
+// worker agrees with the reference, and explaining from it would say so).
+TEST(ConformanceRun, AFailureThatPassesAloneIsAnOrderDependentFlake) {
+    testutil::TempDir dir;
+    const auto out = dir.path() / "run";
+    const std::string cmd = "REFRASTER_WORKER_STALE_AT=3 " +
+                            testutil::shell_quote(std::string(REFRASTER_BIN_DIR) + "/refraster") +
+                            " conformance run --cases 'smoke.*' --against osmesa --output " +
+                            testutil::shell_quote(out.string()) + " > /dev/null 2>&1";
+    const int status = std::system(cmd.c_str());
+    EXPECT_EQ(WEXITSTATUS(status), 0);  // a Flake counts as passed
+    const auto lines = read_jsonl(out / "results.jsonl");
+    ASSERT_EQ(lines.size(), 8u);
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+        if (i != 2) {
+            EXPECT_EQ(lines[i]["status"], "Pass") << lines[i].dump();
+            continue;
+        }
+        const json& l = lines[i];
+        EXPECT_EQ(l["status"], "Flake") << l.dump();
+        EXPECT_EQ(l.value("raw_status", ""), "Fail") << l.dump();
+        EXPECT_EQ(l["alone"]["status"], "Pass") << l.dump();
+        EXPECT_EQ(l["alone"]["mismatched_pixels"], 0) << l.dump();
+        EXPECT_NE(l["message"].get<std::string>().find("order dependent"), std::string::npos);
+        ASSERT_TRUE(l.contains("explanation")) << l.dump();
+        EXPECT_EQ(l["explanation"]["pixel"], json::array({0, 0})) << l.dump();
+        EXPECT_EQ(l["explanation"]["verdict"].get<std::string>().find("agree"), std::string::npos)
+            << l.dump();
+    }
+}
+
 TEST(ConformanceRun, NoMatchingCaseIsAUsageError) {
     testutil::TempDir dir;
     const auto r = testutil::run_cli(
@@ -259,6 +292,36 @@ TEST(ConformanceRun, ResumeRefusesAFileNoKillCouldLeave) {
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_NE(r.err.find("refusing to resume"), std::string::npos) << r.err;
     EXPECT_EQ(testutil::read_text(out / "results.jsonl"), good);
+}
+
+// A run's records name their implementation: resuming under another driver, or under a
+// variable that changes the driver's results (GALLIVM_PERF changes texture results), is
+// refused before anything is written.
+TEST(ConformanceRun, ResumeRefusesAnotherDriverOrDriverEnvironment) {
+    testutil::TempDir dir;
+    const auto out = dir.path() / "out";
+    const std::vector<std::string> run{"conformance",     "run",      "--cases",
+                                       "smoke.triangles", "--output", out.string()};
+    ASSERT_EQ(testutil::run_cli(run, "env -u GALLIVM_PERF ").exit_code, 0);
+    const auto good = testutil::read_text(out / "results.jsonl");
+    // Drop the record, as a kill before its case finished would.
+    std::ofstream(out / "results.jsonl", std::ios::trunc) << "";
+    auto resume = run;
+    resume.push_back("--resume");
+    auto r = testutil::run_cli(resume, "env GALLIVM_PERF=nopt ");
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("GALLIVM_PERF=nopt"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("refusing to resume"), std::string::npos) << r.err;
+    auto softpipe = resume;
+    softpipe.insert(softpipe.end(), {"--driver", "softpipe"});
+    r = testutil::run_cli(softpipe, "env -u GALLIVM_PERF ");
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("osmesa-softpipe"), std::string::npos) << r.err;
+    EXPECT_EQ(testutil::read_text(out / "results.jsonl"), "");
+    // The same implementation resumes.
+    r = testutil::run_cli(resume, "env -u GALLIVM_PERF ");
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_FALSE(good.empty());
 }
 
 // Scenes of our own under DIR/scenes/t: one the reference gets wrong under tie_rule=right-top,

@@ -12,9 +12,14 @@ TEST(ProfileIo, SavedProfileLoadsBackEqual) {
     testutil::TempDir dir;
     for (const auto& name : refraster::builtin_profile_names()) {
         auto p = refraster::builtin_profile(name);
-        harness::apply_profile_overrides(
-            p, {"tie_rule=right-top", "viewport_fma=off", "subpixel_bits=4",
-                "snap_rounding=half-away", "pixel_center_offset=0.25"});
+        for (const auto& [k, v] :
+             std::vector<std::pair<std::string, std::string>>{{"tie_rule", "right-top"},
+                                                              {"viewport_fma", "off"},
+                                                              {"subpixel_bits", "4"},
+                                                              {"snap_rounding", "half-away"},
+                                                              {"pixel_center_offset", "0.25"}})
+            refraster::set_profile_parameter(p, k, v);
+        harness::name_by_rules(p);
         const auto file = dir.write(name + ".json", harness::profile_to_json(p));
         EXPECT_EQ(harness::load_profile(file.string()), p) << name;
     }
@@ -45,6 +50,37 @@ TEST(ProfileIo, BadInputNamesFileAndKey) {
     refraster::Profile p;
     EXPECT_THROW(harness::apply_profile_overrides(p, {"subpixel_bits=9"}), refraster::ProfileError);
     EXPECT_THROW(harness::apply_profile_overrides(p, {"novalue"}), refraster::ProfileError);
+}
+
+// An override the profile's model does not read would rename the profile and change no pixel:
+// refused, naming the override and why; the same key is accepted where a route reads it.
+TEST(ProfileIo, OverridesTheModelDoesNotReadAreRefused) {
+    const auto refused = [](const std::string& profile, std::vector<std::string> overrides) {
+        auto p = refraster::builtin_profile(profile);
+        try {
+            harness::apply_profile_overrides(p, overrides);
+        } catch (const refraster::ProfileError& e) {
+            EXPECT_NE(std::string(e.what()).find(overrides.front()), std::string::npos) << e.what();
+            return true;
+        }
+        return false;
+    };
+    for (const char* o :
+         {"tie_rule=left-top", "subpixel_bits=4", "snap_rounding=half-away",
+          "pixel_center_offset=0.25", "nine_vertex_quirk=false", "wrapping_arithmetic=false"})
+        EXPECT_TRUE(refused("softpipe-22.3", {o})) << o;
+    // Lines drawn by llvmpipe's rules read the snapped keys under the scanline model too.
+    EXPECT_FALSE(refused("softpipe-22.3", {"tie_rule=left-top", "line_rule=parallelogram"}));
+    EXPECT_FALSE(refused("softpipe-22.3", {"depth_rounding=truncate"}));
+    for (const char* o : {"subpixel_bits=4", "clipping=guard-band", "line_rule=bresenham",
+                          "tie_rule=none", "color_rounding=truncate"})
+        EXPECT_TRUE(refused("gl-exact", {o})) << o;
+    EXPECT_FALSE(refused("gl-exact", {"tie_rule=right-top"}));
+    EXPECT_TRUE(refused("llvmpipe-22.3", {"fill_clear_writes_tiles=false"}));
+    EXPECT_TRUE(refused("llvmpipe-22.3", {"wrapping_arithmetic=false", "subpixel_bits=4"}));
+    for (const char* o : {"tie_rule=left-top", "subpixel_bits=4", "snap_rounding=half-away",
+                          "clipping=guard-band", "line_rule=bresenham", "tie_rule=none"})
+        EXPECT_FALSE(refused("llvmpipe-22.3", {o})) << o;
 }
 
 TEST(ProfileIo, CliRecordsProfileAndOverrides) {

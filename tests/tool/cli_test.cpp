@@ -28,7 +28,10 @@ TEST(Cli, BadInputErrorsAreOneLineWithExitTwo) {
         {"fingerprint", "--against", "ref", "-o", out, "--profile", "no-such-profile"},
         {"profile", "no-such-profile"},
         {"bench", "--no-gl", "--profile", "no-such-profile"},
-        {"render", scene, "-o", out, "--backend", "egl", "--egl-device", "no-index"}};
+        {"render", scene, "-o", out, "--backend", "egl", "--egl-device", "no-index"},
+        {"render", scene, "-o", out, "--backend", "egl", "--driver", "no_such_driver"},
+        {"render", scene, "-o", out, "--backend", "egl", "--driver", "zink;rm"},
+        {"compare", scene, "--against", "osmesa", "--driver", "zink"}};
     for (const auto& args : commands) {
         const auto r = testutil::run_cli(args);
         EXPECT_EQ(r.exit_code, 2) << args[0] << ": " << r.err;

@@ -342,6 +342,10 @@ std::optional<std::string> record_problem(const json& r) {
         k.number(r["expect"], "color_tolerance", "expect.");
         k.number(r["expect"], "max_mismatched_pixels", "expect.");
     }
+    if (k.object(r, "alone", "")) {
+        k.status(r["alone"], "status", "alone.", true);
+        k.count(r["alone"], "mismatched_pixels", "alone.");
+    }
     k.side(r, "reference");
     k.side(r, "actual");
     k.comparison(r);

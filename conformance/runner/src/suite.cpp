@@ -335,10 +335,33 @@ Recovered recover(const std::filesystem::path& output, const json& setup,
     return r;
 }
 
+// The GL verdict of a failing case (gl_verdict.hpp): true when every difference is a variation
+// GL allows, and the case then passes with the verdict as its message.
+bool judge_by_gl(harness::CaseResult& r, const harness::Scene& scene,
+                 const harness::Backend& reference, const refraster::Profile& profile,
+                 double timeout_seconds) {
+    if (r.status != harness::CaseStatus::Fail || !r.comparison ||
+        reference.kind() != harness::BackendKind::Ref || !r.reference || !r.actual)
+        return false;
+    const auto v = harness::gl_verdict(scene, profile, r.reference->image, r.actual->image,
+                                       std::nullopt, timeout_seconds);
+    r.gl_verdict = v.summary();
+    if (v.passes() && v.differing > 0) {
+        r.status = harness::CaseStatus::Pass;
+        r.message = r.gl_verdict;
+        return true;
+    }
+    r.message += "; " + r.gl_verdict;
+    return false;
+}
+
+// `alone`: the options of a backend like `actual`; a failure is run again by a backend made
+// from them (a fresh worker that drew nothing before), to tell a failure of the case from one
+// that depends on the cases before it.
 harness::CaseResult run_one(const CaseFile& c, const harness::SceneLimits& limits,
                             harness::Backend& reference, harness::Backend& actual,
                             const refraster::Profile& profile, bool gl_verdict,
-                            double timeout_seconds) {
+                            double timeout_seconds, const harness::BackendOptions* alone) {
     try {
         const harness::Scene scene = harness::load_scene(c.file, limits);
         auto r = harness::run_case(scene, c.name, reference, actual);
@@ -348,21 +371,23 @@ harness::CaseResult run_one(const CaseFile& c, const harness::SceneLimits& limit
                         "\" does not match its path (expected \"" + c.name + "\")";
         }
         // GL verdicts: differences GL allows pass, violations fail naming the rule. Each render
-        // of the diagnosis below (a variation, the explanation's alternatives) gets the
-        // scene's timeout of its own, so that a case's time stays bounded.
-        if (gl_verdict && r.status == harness::CaseStatus::Fail && r.comparison &&
-            reference.kind() == harness::BackendKind::Ref && r.reference && r.actual) {
-            const auto v = harness::gl_verdict(scene, profile, r.reference->image, r.actual->image,
-                                               std::nullopt, timeout_seconds);
-            r.gl_verdict = v.summary();
-            if (v.passes() && v.differing > 0) {
-                r.status = harness::CaseStatus::Pass;
-                r.message = r.gl_verdict;
-                return r;
-            }
-            r.message += "; " + r.gl_verdict;
+        // of the diagnosis below (a variation, the explanation's alternatives, the run alone)
+        // gets the scene's timeout of its own, so that a case's time stays bounded.
+        if (gl_verdict && judge_by_gl(r, scene, reference, profile, timeout_seconds)) return r;
+        if (alone != nullptr && r.status == harness::CaseStatus::Fail && r.comparison) {
+            // The workers' test hooks are the run's first worker's alone.
+            harness::BackendOptions fresh_options = *alone;
+            for (const char* hook : {"REFRASTER_WORKER_KILL_AT=0", "REFRASTER_WORKER_HANG_AT=0",
+                                     "REFRASTER_WORKER_STALE_AT=0"})
+                fresh_options.environment.emplace_back(hook);
+            auto fresh = harness::make_backend(fresh_options);
+            auto again = harness::run_case(scene, c.name, reference, *fresh);
+            if (gl_verdict) judge_by_gl(again, scene, reference, profile, timeout_seconds);
+            r.alone_status = again.status;
+            r.alone_mismatched_pixels = again.comparison ? again.comparison->mismatched_pixels : 0;
         }
-        // A failure is explained at its pixel of largest difference (explain.hpp).
+        // A failure is explained at its pixel of largest difference (explain.hpp), from the
+        // render that failed.
         if (r.status == harness::CaseStatus::Fail && r.comparison &&
             reference.kind() == harness::BackendKind::Ref) {
             if (const auto at = harness::pixel_of_largest_difference(r)) {
@@ -370,7 +395,8 @@ harness::CaseResult run_one(const CaseFile& c, const harness::SceneLimits& limit
                 const int y = (*at)[1];
                 try {
                     const auto e =
-                        harness::explain_pixel(scene, profile, x, y, &actual, -1, timeout_seconds);
+                        harness::explain_pixel(scene, profile, x, y, &actual, -1, timeout_seconds,
+                                               r.actual ? &*r.actual : nullptr);
                     r.explained_pixel = std::array<int, 2>{x, y};
                     r.explanation = e.verdict;
                     r.explanation_difference = e.difference;
@@ -387,6 +413,14 @@ harness::CaseResult run_one(const CaseFile& c, const harness::SceneLimits& limit
                     // The case's result stands without an explanation.
                 }
             }
+        }
+        if (r.alone_status == harness::CaseStatus::Pass) {
+            r.raw_status = r.status;
+            r.status = harness::CaseStatus::Flake;
+            r.message =
+                "order dependent: fails after the cases before it in the same worker, "
+                "passes alone in a fresh worker; " +
+                r.message;
         }
         return r;
     } catch (const harness::SceneError& e) {
@@ -569,6 +603,7 @@ RunSummary run_suite(const RunOptions& options, std::ostream& console) {
                           {"profile_overrides", options.reference.profile_overrides}};
     setup["against"] = {{"backend", actual->name()},
                         {"environment", options.against.environment},
+                        {"driver_environment", harness::worker_driver_variables(options.against)},
                         {"mesa_prefix", options.against.mesa_prefix.string()},
                         {"egl_device", options.against.egl_device.value_or(-1)}};
     setup["verdict"] = options.gl_verdict ? "gl" : "exact";
@@ -637,8 +672,10 @@ RunSummary run_suite(const RunOptions& options, std::ostream& console) {
         if (done.count(c.name) != 0) continue;
         harness::CaseResult r =
             run_one(c, options.scene_limits, *reference, *actual, options.reference.profile,
-                    options.gl_verdict, options.reference.timeout_seconds);
-        const bool failed = apply_baseline(r, options.baseline ? &baseline : nullptr);
+                    options.gl_verdict, options.reference.timeout_seconds, &options.against);
+        // An order-dependent failure is a Flake whatever the baseline lists.
+        const bool failed = r.status != harness::CaseStatus::Flake &&
+                            apply_baseline(r, options.baseline ? &baseline : nullptr);
         const auto known_flake = failed ? flakes.match(c.name) : std::nullopt;
         if (known_flake) {
             // A failure of a case the flakes files list is a KnownFlake, as deqp-runner's
@@ -653,7 +690,7 @@ RunSummary run_suite(const RunOptions& options, std::ostream& console) {
             const std::string first(harness::to_string(r.raw_status.value_or(r.status)));
             harness::CaseResult again =
                 run_one(c, options.scene_limits, *reference, *actual, options.reference.profile,
-                        options.gl_verdict, options.reference.timeout_seconds);
+                        options.gl_verdict, options.reference.timeout_seconds, nullptr);
             if (std::string(harness::to_string(again.status)) != first) {
                 r.raw_status = r.raw_status.value_or(r.status);
                 r.status = harness::CaseStatus::Flake;

@@ -6,12 +6,15 @@
 // Deliberately does not: compare images or write files.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "harness/scene.hpp"
 #include "refraster/error.hpp"
@@ -26,7 +29,31 @@ struct RenderOutcome;
 namespace harness {
 
 enum class BackendKind : std::uint8_t { Ref, OSMesa, Egl };
-enum class Driver : std::uint8_t { Llvmpipe, Softpipe };
+
+// The Mesa driver a GL backend renders with, by name. Two kinds, chosen two ways
+// (docs/conformance.md, "Choosing the driver"):
+//  - a Gallium software driver inside Mesa's swrast DRI driver and OSMesa, chosen with
+//    GALLIUM_DRIVER: llvmpipe, softpipe;
+//  - any other DRI driver, chosen by Mesa's loader with MESA_LOADER_DRIVER_OVERRIDE (egl only):
+//    zink (GL on Vulkan; on lavapipe when LIBGL_ALWAYS_SOFTWARE=1), iris, radeonsi, ...
+// Driver::Llvmpipe and the other known names convert implicitly, so a Driver reads like the
+// enumeration it was.
+class Driver {
+  public:
+    enum Known : std::uint8_t { Llvmpipe, Softpipe, Zink };
+    Driver() : Driver(Llvmpipe) {}
+    Driver(Known k);  // NOLINT(google-explicit-constructor): Driver d = Driver::Softpipe
+    // Any name; whether this system has it is checked where a worker starts
+    // (check_driver_available).
+    explicit Driver(std::string name) : name_(std::move(name)) {}
+    const std::string& name() const { return name_; }
+    // llvmpipe or softpipe: chosen with GALLIUM_DRIVER, and the only drivers OSMesa has.
+    bool gallium_software() const { return name_ == "llvmpipe" || name_ == "softpipe"; }
+    friend bool operator==(const Driver&, const Driver&) = default;
+
+  private:
+    std::string name_;
+};
 
 enum class RenderStatus : std::uint8_t {
     Ok,
@@ -37,7 +64,7 @@ enum class RenderStatus : std::uint8_t {
 };
 
 std::string_view to_string(BackendKind k);
-std::string_view to_string(Driver d);
+const std::string& to_string(const Driver& d);
 std::string_view to_string(RenderStatus s);
 
 // Where a result came from. Keys are stable names (renderer, gl_version, mesa_version,
@@ -133,7 +160,30 @@ std::vector<std::string> list_egl_devices(const BackendOptions& options);
 std::vector<std::string> mesa_prefix_environment(const std::filesystem::path& prefix,
                                                  const std::string& current_ld_library_path);
 
-// Throws std::runtime_error when the backend was not built into this binary.
+// The environment a GL worker rendering with `driver` starts with: `base` (NAME=value) without
+// the variables that choose a driver (GALLIUM_DRIVER, MESA_LOADER_DRIVER_OVERRIDE) or that
+// `extra` sets; then the driver's choice: GALLIUM_DRIVER=llvmpipe or softpipe,
+// MESA_LOADER_DRIVER_OVERRIDE=<name> for any other; then LIBGL_ALWAYS_SOFTWARE=1 unless base or
+// extra set it (the software drivers, and zink on lavapipe, even where a GPU is); then `extra`.
+std::vector<std::string> gl_worker_environment(const Driver& driver,
+                                               const std::vector<std::string>& base,
+                                               const std::vector<std::string>& extra);
+
+// What a GL backend's workers will start with (gl_worker_environment of this process's
+// environment and options.environment) among the variables that choose a driver or change its
+// results: MESA_*, LIBGL_*, GALLIUM_*, GALLIVM_*, LP_*, SOFTPIPE_*, VK_*, ZINK_*, glvnd's
+// vendor choice (__EGL_VENDOR_LIBRARY_*, __GLX_VENDOR_LIBRARY_*) and EGL_PLATFORM; sorted.
+// Empty for the reference.
+std::vector<std::string> worker_driver_variables(const BackendOptions& options);
+
+// The driver the environment (NAME=value) chooses for a backend of `kind` when none is named:
+// egl: MESA_LOADER_DRIVER_OVERRIDE (unless it names the swrast loader), else GALLIUM_DRIVER;
+// osmesa: GALLIUM_DRIVER; llvmpipe when neither is set, or empty.
+Driver driver_from_environment(BackendKind kind, const std::vector<std::string>& environment);
+
+// Throws std::runtime_error when the backend was not built into this binary, and
+// BackendOptionError for a driver the backend cannot load (a DRI driver the system lacks, or
+// any but llvmpipe and softpipe under OSMesa).
 std::unique_ptr<Backend> make_backend(const BackendOptions& options);
 
 // Provenance common to every backend: the project's commit and the CPU's FMA/AVX2 flags.

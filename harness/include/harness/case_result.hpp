@@ -70,6 +70,12 @@ struct CaseResult {
     // decided them ("gitlab", "flags", ...); empty outside a conformance run.
     std::optional<std::array<int, 2>> shard;
     std::string shard_source;
+    // A failure run again alone, by a backend of its own (a fresh worker), in a conformance
+    // run: that run's status and differing pixels. A case that fails after other cases but
+    // passes alone depends on what its worker drew before: its status is Flake (raw_status the
+    // failure), and its explanation is the failing render's.
+    std::optional<CaseStatus> alone_status;
+    std::size_t alone_mismatched_pixels = 0;
 };
 
 // Renders `scene` through both backends and compares actual against reference: the image, and

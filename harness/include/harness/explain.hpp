@@ -101,8 +101,14 @@ class Explainer {
     // (0 or less: no limit); past it, the render stops and refraster::RenderStopped is thrown
     // with the reference's Timeout message (render_reference_within, backend.hpp). A backend
     // that times out (its own BackendOptions::timeout_seconds) throws RenderStopped the same way.
+    // With `rendered` (a render of this scene by `backend`, the one a case failed with), the
+    // backend's side is that render and is not rendered again: a failure that depends on what
+    // the worker drew before is explained from the render that failed. The backend then
+    // renders only the owners, which are used only when that render's colours (and samples)
+    // equal `rendered`'s.
     Explainer(const Scene& scene, const refraster::Profile& profile, Backend* backend,
-              int sample = -1, double timeout_seconds = 0.0);
+              int sample = -1, double timeout_seconds = 0.0,
+              const RenderResult* rendered = nullptr);
     ~Explainer();
     Explainer(const Explainer&) = delete;
     Explainer& operator=(const Explainer&) = delete;
@@ -145,7 +151,8 @@ class Explainer {
 
 // One pixel: an Explainer used once.
 Explanation explain_pixel(const Scene& scene, const refraster::Profile& profile, int x, int y,
-                          Backend* backend, int sample = -1, double timeout_seconds = 0.0);
+                          Backend* backend, int sample = -1, double timeout_seconds = 0.0,
+                          const RenderResult* rendered = nullptr);
 
 std::string explanation_text(const Explanation& e);
 std::string explanation_json(const Explanation& e);

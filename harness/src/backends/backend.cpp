@@ -25,8 +25,10 @@ std::string_view to_string(BackendKind k) {
     return "?";
 }
 
-std::string_view to_string(Driver d) {
-    return d == Driver::Llvmpipe ? "llvmpipe" : "softpipe";
+Driver::Driver(Known k) : name_(k == Llvmpipe ? "llvmpipe" : k == Softpipe ? "softpipe" : "zink") {}
+
+const std::string& to_string(const Driver& d) {
+    return d.name();
 }
 
 std::string_view to_string(RenderStatus s) {

@@ -14,11 +14,14 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <map>
 #include <stdexcept>
+#include <string_view>
 #include <system_error>
 #include <thread>
 #include <vector>
 
+#include "driver_env.hpp"
 #include "no_answer.hpp"
 #include "wire.hpp"
 
@@ -45,8 +48,8 @@ const char* worker_name(BackendKind kind) {
     throw std::invalid_argument("the reference renderer has no GL worker");
 }
 
-const char* driver_name(Driver d) {
-    return d == Driver::Softpipe ? "softpipe" : "llvmpipe";
+const char* driver_name(const Driver& d) {
+    return d.name().c_str();
 }
 
 const char* kind_name(BackendKind k) {
@@ -97,35 +100,124 @@ int poll_timeout(const std::optional<std::chrono::steady_clock::time_point>& dea
     return static_cast<int>(std::min<long long>(ms, 1 << 30));
 }
 
-// Child environment: ours, with GALLIUM_DRIVER replaced by the driver asked for and the
-// options' own variables (LP_NUM_THREADS=0, ...) replacing ours. The REFRASTER_WORKER_KILL_AT
-// and REFRASTER_WORKER_HANG_AT test hooks reach only the first worker, so that a run sees
-// exactly the one crash or hang it asked for, not one per replacement.
-std::vector<std::string> worker_environment(Driver driver, const std::vector<std::string>& extra,
-                                            bool first_worker) {
-    std::vector<std::string> env;
-    const auto overridden = [&](std::string_view kv) {
-        for (const auto& x : extra) {
-            const auto name = x.substr(0, x.find('=') + 1);
-            if (kv.starts_with(name)) return true;
+// The DRI driver files this system (or the --mesa-prefix build) has, by driver name: every
+// <name>_dri.so in LIBGL_DRIVERS_PATH when set, else in the usual Debian and FHS folders.
+std::map<std::string, std::filesystem::path> dri_drivers(const std::vector<std::string>& env) {
+    std::vector<std::filesystem::path> dirs;
+    for (const auto& kv : env) {
+        if (!kv.starts_with("LIBGL_DRIVERS_PATH=")) continue;
+        std::string_view list(kv);
+        list.remove_prefix(std::string_view("LIBGL_DRIVERS_PATH=").size());
+        while (!list.empty()) {
+            const auto end = list.find(':');
+            if (end != 0) dirs.emplace_back(std::string(list.substr(0, end)));
+            if (end == std::string_view::npos) break;
+            list.remove_prefix(end + 1);
         }
-        return false;
-    };
-    for (char** e = environ; e && *e; ++e) {
-        const std::string_view kv(*e);
-        if (kv.starts_with("GALLIUM_DRIVER=") || overridden(kv)) continue;
-        if (!first_worker && (kv.starts_with("REFRASTER_WORKER_KILL_AT=") ||
-                              kv.starts_with("REFRASTER_WORKER_HANG_AT="))) {
-            continue;
-        }
-        env.emplace_back(kv);
     }
-    env.push_back(std::string("GALLIUM_DRIVER=") + driver_name(driver));
-    env.insert(env.end(), extra.begin(), extra.end());
-    return env;
+    if (dirs.empty()) {
+        std::error_code ec;
+        for (const auto& e : std::filesystem::directory_iterator("/usr/lib", ec)) {
+            if (e.is_directory(ec) && std::filesystem::is_directory(e.path() / "dri", ec))
+                dirs.push_back(e.path() / "dri");
+        }
+        dirs.insert(dirs.end(), {"/usr/lib/dri", "/usr/lib64/dri", "/usr/local/lib/dri"});
+    }
+    std::map<std::string, std::filesystem::path> found;
+    for (const auto& dir : dirs) {
+        std::error_code ec;
+        for (const auto& e : std::filesystem::directory_iterator(dir, ec)) {
+            const std::string file = e.path().filename().string();
+            if (!file.ends_with("_dri.so")) continue;
+            found.emplace(file.substr(0, file.size() - 7), e.path());
+        }
+    }
+    return found;
+}
+
+bool valid_driver_name(const std::string& name) {
+    return !name.empty() && name.size() <= 64 && std::all_of(name.begin(), name.end(), [](char c) {
+        return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_';
+    });
+}
+
+// Refuses, as bad input, a driver this backend cannot load: a name that is no driver name, a
+// driver other than llvmpipe and softpipe under OSMesa, a DRI driver this system lacks.
+void check_driver_available(const BackendOptions& options) {
+    const std::string& name = options.driver.name();
+    if (!valid_driver_name(name))
+        throw BackendOptionError("--driver " + name +
+                                 ": not a driver name (lower-case letters, digits and _)");
+    if (options.driver.gallium_software()) return;
+    if (options.kind == BackendKind::OSMesa)
+        throw BackendOptionError("--driver " + name +
+                                 ": OSMesa renders with llvmpipe or softpipe only; " + name +
+                                 " needs --against egl");
+    auto env = driver_env::process_environment();
+    env.insert(env.end(), options.environment.begin(), options.environment.end());
+    const auto drivers = dri_drivers(env);
+    if (drivers.count(name) != 0) return;
+    std::string have = "llvmpipe, softpipe";
+    for (const auto& [n, path] : drivers)
+        if (n != "swrast" && n != "kms_swrast") have += ", " + n;
+    throw BackendOptionError("--driver " + name + ": this system has no Mesa DRI driver " + name +
+                             "_dri.so (drivers here: " + have + ")");
 }
 
 }  // namespace
+
+std::vector<std::string> worker_driver_variables(const BackendOptions& options) {
+    if (options.kind == BackendKind::Ref) return {};
+    return driver_env::driver_variables(gl_worker_environment(
+        options.driver, driver_env::process_environment(), options.environment));
+}
+
+Driver driver_from_environment(BackendKind kind, const std::vector<std::string>& environment) {
+    const auto value = [&](std::string_view name) -> std::string {
+        for (const auto& kv : environment)
+            if (kv.size() > name.size() && kv.starts_with(name) && kv[name.size()] == '=')
+                return kv.substr(name.size() + 1);
+        return {};
+    };
+    if (kind == BackendKind::Egl) {
+        const std::string loader = value("MESA_LOADER_DRIVER_OVERRIDE");
+        if (!loader.empty() && loader != "swrast" && loader != "kms_swrast") return Driver(loader);
+    }
+    const std::string gallium = value("GALLIUM_DRIVER");
+    return gallium.empty() ? Driver(Driver::Llvmpipe) : Driver(gallium);
+}
+
+std::vector<std::string> gl_worker_environment(const Driver& driver,
+                                               const std::vector<std::string>& base,
+                                               const std::vector<std::string>& extra) {
+    const auto set_by = [](const std::vector<std::string>& list, std::string_view name) {
+        return std::any_of(list.begin(), list.end(), [&](const std::string& kv) {
+            return kv.size() > name.size() && kv.starts_with(name) && kv[name.size()] == '=';
+        });
+    };
+    const auto name_of = [](const std::string& kv) { return kv.substr(0, kv.find('=')); };
+    std::vector<std::string> env;
+    for (const auto& kv : base) {
+        const std::string name = name_of(kv);
+        if (name == "GALLIUM_DRIVER" || name == "MESA_LOADER_DRIVER_OVERRIDE" ||
+            set_by(extra, name))
+            continue;
+        env.push_back(kv);
+    }
+    if (driver.gallium_software()) {
+        env.push_back("GALLIUM_DRIVER=" + driver.name());
+    } else {
+        env.push_back("MESA_LOADER_DRIVER_OVERRIDE=" + driver.name());
+    }
+    // Without it, EGL's loader takes a GPU's driver where there is one (whatever
+    // GALLIUM_DRIVER says), and zink finds no Vulkan device on a machine without one; with it,
+    // the software drivers run, and zink runs on lavapipe. LIBGL_ALWAYS_SOFTWARE=0 in the
+    // environment keeps zink on a GPU.
+    if (!set_by(base, "LIBGL_ALWAYS_SOFTWARE") && !set_by(extra, "LIBGL_ALWAYS_SOFTWARE"))
+        env.emplace_back("LIBGL_ALWAYS_SOFTWARE=1");
+    env.insert(env.end(), extra.begin(), extra.end());
+    return env;
+}
 
 std::filesystem::path gl_worker_path(BackendKind kind, const std::filesystem::path& worker_dir) {
     const char* name = worker_name(kind);
@@ -148,6 +240,7 @@ std::filesystem::path gl_worker_path(BackendKind kind, const std::filesystem::pa
 
 GlWorkerBackend::GlWorkerBackend(const BackendOptions& options)
     : options_(options), worker_path_(gl_worker_path(options.kind, options.worker_dir)) {
+    check_driver_available(options_);
     if (::access(worker_path_.c_str(), X_OK) != 0) {
         throw std::runtime_error("GL worker " + worker_path_.string() +
                                  " is not an executable file (set " + kWorkerDirVariable +
@@ -276,8 +369,19 @@ std::optional<RenderResult> GlWorkerBackend::ensure_worker() {
 
         std::string program = worker_path_.string();
         std::vector<char*> argv{program.data(), nullptr};
+        // The REFRASTER_WORKER_KILL_AT, _HANG_AT and _STALE_AT test hooks reach only the first
+        // worker, so that a run sees exactly the one crash, hang or stale answer it asked for,
+        // not one per replacement.
+        std::vector<std::string> base = driver_env::process_environment();
+        if (workers_started_ != 0) {
+            std::erase_if(base, [](const std::string& kv) {
+                return kv.starts_with("REFRASTER_WORKER_KILL_AT=") ||
+                       kv.starts_with("REFRASTER_WORKER_HANG_AT=") ||
+                       kv.starts_with("REFRASTER_WORKER_STALE_AT=");
+            });
+        }
         std::vector<std::string> env =
-            worker_environment(options_.driver, options_.environment, workers_started_ == 0);
+            gl_worker_environment(options_.driver, base, options_.environment);
         std::vector<char*> envp;
         envp.reserve(env.size() + 1);
         for (auto& e : env) envp.push_back(e.data());
@@ -342,6 +446,17 @@ std::optional<RenderResult> GlWorkerBackend::ensure_worker() {
         reap_worker();
         startup_failure_ = who + " (" + driver_name(options_.driver) +
                            ") cannot create its context: " + hello.message;
+        return failure(RenderStatus::InternalError, *startup_failure_);
+    }
+    // A label must name the driver that rendered: a worker whose GL runs another driver than
+    // the one asked for (the loader fell back, a GPU's driver was taken) is refused.
+    const auto loaded = hello.provenance.find("driver");
+    if (loaded != hello.provenance.end() && loaded->second != options_.driver.name()) {
+        kill_worker();
+        const auto renderer = hello.provenance.find("renderer");
+        startup_failure_ = who + " was asked for " + options_.driver.name() + " but Mesa loaded " +
+                           loaded->second + " (GL_RENDERER \"" +
+                           (renderer == hello.provenance.end() ? "" : renderer->second) + "\")";
         return failure(RenderStatus::InternalError, *startup_failure_);
     }
     worker_provenance_ = std::move(hello.provenance);

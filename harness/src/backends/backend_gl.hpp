@@ -1,7 +1,8 @@
 // backend_gl.hpp: the OSMesa and EGL backends, each a persistent worker process.
 //
 // Implements: GlWorkerBackend, which starts refraster-worker-osmesa or refraster-worker-egl
-// (with GALLIUM_DRIVER set for the chosen driver), keeps it for every later scene, and speaks
+// (its environment choosing the driver: gl_worker_environment, backend.hpp), refuses a worker
+// whose GL runs another driver than the one asked for, keeps it for every later scene, and speaks
 // the frame protocol of wire.hpp over two pipes. A worker that dies is reported as
 // RenderStatus::Crash naming the scene and the signal; one that does not answer within
 // BackendOptions::timeout_seconds is killed and reported as RenderStatus::Timeout. Either way

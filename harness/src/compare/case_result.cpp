@@ -247,6 +247,9 @@ std::string to_json_line(const CaseResult& r) {
             {"index", (*r.shard)[0]}, {"count", (*r.shard)[1]}, {"source", r.shard_source}};
     j["expect"] = {{"color_tolerance", r.expect.color_tolerance},
                    {"max_mismatched_pixels", r.expect.max_mismatched_pixels}};
+    if (r.alone_status)
+        j["alone"] = {{"status", to_string(*r.alone_status)},
+                      {"mismatched_pixels", r.alone_mismatched_pixels}};
     if (r.reference) j["reference"] = render_json(r.reference_name, *r.reference);
     if (r.actual) j["actual"] = render_json(r.actual_name, *r.actual);
     if (r.comparison) {

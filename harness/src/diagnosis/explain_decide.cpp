@@ -295,7 +295,7 @@ refraster::RenderOutcome render_reference(const Scene& scene, const refraster::P
 }  // namespace
 
 Explainer::Explainer(const Scene& scene, const refraster::Profile& profile, Backend* backend,
-                     int sample, double timeout_seconds)
+                     int sample, double timeout_seconds, const RenderResult* rendered)
     : scene_(scene), profile_(profile), sample_(sample), timeout_seconds_(timeout_seconds) {
     const auto& target = scene_.draw_list.target;
     if (sample_ >= 0 && (target.samples != 4 || sample_ > 3)) {
@@ -308,7 +308,7 @@ Explainer::Explainer(const Scene& scene, const refraster::Profile& profile, Back
     // Owners are wanted only when the backend can report them believably; otherwise coverage
     // is judged by the clear values on both sides.
     if (backend != nullptr) {
-        backend_result_ = backend->render(scene_);
+        backend_result_ = rendered != nullptr ? *rendered : backend->render(scene_);
         // Out of time on the GL side is what it is on the reference's: the run was cut short.
         if (backend_result_->status == RenderStatus::Timeout)
             throw refraster::RenderStopped(backend->name() + ": " + backend_result_->message);
@@ -323,7 +323,15 @@ Explainer::Explainer(const Scene& scene, const refraster::Profile& profile, Back
         }
         auto owners = backend->render_owners(scene_);
         auto& into = multisampled ? backend_result_->samples : backend_result_->image;
-        if (owners.status == RenderStatus::Ok) {
+        // Owners of another render than the one explained would not be its owners.
+        const auto same_colours = [](const refraster::Framebuffer& a,
+                                     const refraster::Framebuffer& b) {
+            return a.color8 == b.color8 && a.color32f == b.color32f;
+        };
+        const bool owners_of_this_render =
+            rendered == nullptr || (same_colours(owners.image, rendered->image) &&
+                                    same_colours(owners.samples, rendered->samples));
+        if (owners.status == RenderStatus::Ok && owners_of_this_render) {
             into.owner = std::move(multisampled ? owners.samples.owner : owners.image.owner);
         }
         // The resolved image is the backend's own resolve; its owners are sample 0's.
@@ -705,9 +713,10 @@ Explanation Explainer::explain(int x, int y, bool full) {
 }
 
 Explanation explain_pixel(const Scene& scene, const refraster::Profile& profile, int x, int y,
-                          Backend* backend, int sample, double timeout_seconds) {
+                          Backend* backend, int sample, double timeout_seconds,
+                          const RenderResult* rendered) {
     require_inside(scene.draw_list.target, x, y);  // before the backend renders anything
-    Explainer ex(scene, profile, backend, sample, timeout_seconds);
+    Explainer ex(scene, profile, backend, sample, timeout_seconds, rendered);
     return ex.explain(x, y);
 }
 

@@ -77,6 +77,14 @@ void apply_profile_overrides(refraster::Profile& p, const std::vector<std::strin
         refraster::set_profile_parameter(p, o.substr(0, eq), o.substr(eq + 1));
         named = named || o.substr(0, eq) == "name";
     }
+    // A rule the model does not read would rename the profile and change no pixel: refused,
+    // judged on the profile with every override applied (one may open the route another uses).
+    for (const auto& o : overrides) {
+        const std::string key = o.substr(0, o.find('='));
+        if (const auto why = refraster::unread_parameter(p, key))
+            throw refraster::ProfileError("--profile-set " + o + ": not read under profile " +
+                                          p.name + ": " + *why);
+    }
     if (!named) name_by_rules(p);
 }
 

@@ -18,6 +18,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -165,6 +166,15 @@ std::vector<std::string> builtin_profile_names();
 std::vector<std::pair<std::string, std::string>> profile_parameters(const Profile& p);
 // Sets one parameter from text; throws ProfileError naming the key and the accepted values.
 void set_profile_parameter(Profile& p, const std::string& key, const std::string& value);
+
+// Why no scene renders differently when `key` changes under this profile, or nullopt when some
+// can: the model does not read it (the scanline model does not snap; the exact model has no
+// clipper, snapping or conversion rules), or reads it only through a route this profile does
+// not take (the scanline model reads tie_rule only for lines and points drawn by llvmpipe's
+// rules, line_rule=parallelogram or point_rule=square), or does not model that value (the exact
+// model has no tie_rule none or all). The table and its evidence: docs/precision.md, "What each
+// model reads". "name" and "coverage" are always read.
+std::optional<std::string> unread_parameter(const Profile& p, const std::string& key);
 
 std::string to_string(TieRule r);
 std::string to_string(SnapRounding r);

@@ -1,6 +1,8 @@
 #include "refraster/profile.hpp"
 
+#include <algorithm>
 #include <charconv>
+#include <initializer_list>
 
 namespace refraster {
 
@@ -257,6 +259,48 @@ void set_profile_parameter(Profile& p, const std::string& key, const std::string
             keys += (keys.empty() ? "" : ", ") + k;
         throw ProfileError("unknown profile parameter \"" + key + "\" (known: " + keys + ")");
     }
+}
+
+std::optional<std::string> unread_parameter(const Profile& p, const std::string& key) {
+    const auto is = [&](std::initializer_list<const char*> keys) {
+        return std::any_of(keys.begin(), keys.end(), [&](const char* k) { return key == k; });
+    };
+    switch (p.model) {
+        case CoverageModel::Snapped:
+            // softpipe's tile cache: no such cache in the snapped model (softpipe_model.cpp).
+            if (key == "fill_clear_writes_tiles")
+                return "the snapped model keeps no softpipe tile cache";
+            // setup.cpp, setup_triangle: the wrapping path exists for llvmpipe's own 24.8 grid.
+            if (key == "wrapping_arithmetic" &&
+                (p.gl.subpixel_bits != 8 || p.gl.snap_rounding != SnapRounding::NearestEven))
+                return "the snapped model wraps only on llvmpipe's own grid (subpixel_bits=8, "
+                       "snap_rounding=nearest-even)";
+            return std::nullopt;
+        case CoverageModel::Scanline: {
+            // softpipe's triangles use float window coordinates (scanline_setup.cpp); its own
+            // lines and points likewise. Only draws routed to llvmpipe's rules snap.
+            const bool snapped_route =
+                p.gl.line_rule == LineRule::Parallelogram || p.gl.point_rule == PointRule::Square;
+            if (is({"snap_rounding", "nine_vertex_quirk", "wrapping_arithmetic"}))
+                return "the scanline model does not snap and has none of llvmpipe's setup quirks";
+            if (is({"subpixel_bits", "pixel_center_offset", "tie_rule"}) && !snapped_route)
+                return "the scanline model draws from float window coordinates; it reads " + key +
+                       " only for lines or points drawn by llvmpipe's rules (line_rule="
+                       "parallelogram or point_rule=square)";
+            return std::nullopt;
+        }
+        case CoverageModel::Exact:
+            if (is({"name", "coverage", "flush_denormals", "depth_clear"})) return std::nullopt;
+            if (key == "tie_rule") {
+                if (p.gl.tie_rule == TieRule::None || p.gl.tie_rule == TieRule::All)
+                    return "the exact model's ownership test has no tie_rule=" +
+                           to_string(p.gl.tie_rule);
+                return std::nullopt;
+            }
+            return "the exact model has no clipper, snapping, conversion rounding, line or point "
+                   "rules or driver quirks";
+    }
+    return std::nullopt;
 }
 
 }  // namespace refraster
