@@ -236,7 +236,8 @@ INSTANTIATE_TEST_SUITE_P(
                       Mutation{"draw_pipeline_cull=false", "cull"},
                       Mutation{"viewport_fma=off", "fused arithmetic"},
                       Mutation{"wrapping_arithmetic=false", "integer widths"},
-                      Mutation{"draw_offset_nan_to_zero=false", "NaN depth from polygon offset"}),
+                      Mutation{"draw_offset_nan_to_zero=false", "NaN depth from polygon offset"},
+                      Mutation{"offset_units_scale=2", "polygon offset r"}),
     [](const auto& p) {
         std::string n = p.param.change;
         for (auto& c : n) c = std::isalnum(static_cast<unsigned char>(c)) ? c : '_';

@@ -86,7 +86,8 @@ INSTANTIATE_TEST_SUITE_P(Llvmpipe, FingerprintMutation,
                                            Mutation{"llvmpipe-22.3", "depth_clear=float"},
                                            Mutation{"llvmpipe-22.3", "color_rounding=truncate"},
                                            Mutation{"llvmpipe-22.3", "line_rule=bresenham"},
-                                           Mutation{"llvmpipe-22.3", "point_rule=two-triangles"}),
+                                           Mutation{"llvmpipe-22.3", "point_rule=two-triangles"},
+                                           Mutation{"llvmpipe-22.3", "offset_units_scale=2"}),
                          mutation_name);
 
 INSTANTIATE_TEST_SUITE_P(Softpipe, FingerprintMutation,
@@ -96,7 +97,8 @@ INSTANTIATE_TEST_SUITE_P(Softpipe, FingerprintMutation,
                                            Mutation{"softpipe-22.3", "depth_clear=float"},
                                            Mutation{"softpipe-22.3", "color_rounding=truncate"},
                                            Mutation{"softpipe-22.3", "line_rule=parallelogram"},
-                                           Mutation{"softpipe-22.3", "point_rule=square"}),
+                                           Mutation{"softpipe-22.3", "point_rule=square"},
+                                           Mutation{"softpipe-22.3", "offset_units_scale=0.5"}),
                          mutation_name);
 
 TEST(Fingerprint, BuiltInProfilesComeBackUnchanged) {

@@ -55,6 +55,23 @@ TEST(GlVerdict, AnotherConsistentTieRuleIsLegal) {
     EXPECT_TRUE(has_finding(v, "tie rule", true)) << v.summary();
 }
 
+// OpenGL 4.6, 14.6.5 leaves polygon offset's minimum resolvable difference r to the
+// implementation: a backend with twice Mesa's r (zink on lavapipe) differs in depth only, and
+// legally. Without the variation the depths fall outside the legal range: non-monotonic.
+TEST(GlVerdict, AnotherPolygonOffsetResolutionIsLegal) {
+    for (const char* scene : {"triangles/attributes/polygon_offset_z24_f0_um2.json",
+                              "triangles/attributes/polygon_offset_z16_f2_u4.json"}) {
+        SCOPED_TRACE(scene);
+        const auto s = suite_scene(scene);
+        const auto ref = render(s, refraster::llvmpipe_22_3_profile());
+        const auto other = render(s, llvmpipe_with("offset_units_scale=2"));
+        const auto v = harness::gl_verdict(s, refraster::llvmpipe_22_3_profile(), ref, other);
+        EXPECT_GT(v.differing, 0u);
+        EXPECT_TRUE(v.passes()) << v.summary();
+        EXPECT_TRUE(has_finding(v, "polygon offset", true)) << v.summary();
+    }
+}
+
 TEST(GlVerdict, CentresOnSharedEdgesWithoutOwnerAreHoles) {
     const auto s = suite_scene(kSharedEdges);
     const auto ref = render(s, refraster::llvmpipe_22_3_profile());

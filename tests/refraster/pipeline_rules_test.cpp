@@ -225,6 +225,60 @@ TEST(DrawModuleOffset, ANanOffsetSaturatesToTheNearEnd) {
     }
 }
 
+// offset_units_scale states another implementation's minimum resolvable difference r
+// (OpenGL 4.6, 14.6.5) as a power of two times Mesa's: scale 2 with units u renders exactly as
+// scale 1 with units 2u, in every model and through both offset paths (llvmpipe's setup for
+// filled triangles, the draw module's stage for polygon mode line and under softpipe).
+TEST(PolygonOffsetScale, ScaleTwoIsUnitsDoubled) {
+    for (const auto* profile_name : {"llvmpipe-22.3", "softpipe-22.3", "gl-exact"}) {
+        for (auto mode : {refraster::PolygonMode::Fill, refraster::PolygonMode::Line}) {
+            if (mode == refraster::PolygonMode::Line && std::string(profile_name) == "gl-exact")
+                continue;  // the exact model draws no polygon mode line
+            for (auto depth : {refraster::DepthFormat::Z24, refraster::DepthFormat::Z16,
+                               refraster::DepthFormat::Z32f}) {
+                SCOPED_TRACE(std::string(profile_name) +
+                             (mode == refraster::PolygonMode::Fill ? " fill " : " line ") +
+                             std::to_string(static_cast<int>(depth)));
+                const auto rendered = [&](float units, float scale) {
+                    auto l = target(16, 16);
+                    l.target.depth = depth;
+                    auto d = window_draw(PrimitiveType::Triangles, l.target,
+                                         {{1.5f, 1.5f}, {14.5f, 2.5f}, {3.5f, 13.5f}});
+                    // A sloped depth: z = 0.25 + 0.01 x in clip space, so the factor term counts.
+                    for (std::size_t v = 0; v < 3; ++v)
+                        d.vertices.data[v * 8 + 2] = 0.25f + 0.01f * d.vertices.data[v * 8];
+                    d.state.polygon_mode = mode;
+                    d.state.depth_test = refraster::CompareFunc::Always;
+                    d.state.polygon_offset = refraster::PolygonOffset{0.5f, units};
+                    l.draws = {d};
+                    refraster::RenderOptions o;
+                    o.profile = refraster::builtin_profile(profile_name);
+                    o.profile.gl.offset_units_scale = scale;
+                    refraster::Framebuffer fb;
+                    EXPECT_EQ(refraster::render(l, o, fb).status, refraster::RenderStatus::Ok);
+                    return fb.depth;
+                };
+                const auto doubled = rendered(6.0f, 1.0f);
+                EXPECT_EQ(rendered(3.0f, 2.0f), doubled);
+                EXPECT_EQ(rendered(12.0f, 0.5f), doubled);
+                EXPECT_NE(rendered(3.0f, 1.0f), doubled);  // the scale is read at all
+            }
+        }
+    }
+}
+
+TEST(PolygonOffsetScale, OnlyPowersOfTwoFromASixteenthToSixteen) {
+    refraster::Profile p = refraster::llvmpipe_22_3_profile();
+    for (const char* ok : {"0.0625", "0.5", "1", "2", "16"}) {
+        refraster::set_profile_parameter(p, "offset_units_scale", ok);
+        EXPECT_EQ(p.gl.offset_units_scale, std::stof(ok)) << ok;
+    }
+    for (const char* bad : {"3", "0", "-2", "32", "0.03125", "nan", "inf", "2x", ""})
+        EXPECT_THROW(refraster::set_profile_parameter(p, "offset_units_scale", bad),
+                     refraster::ProfileError)
+            << bad;
+}
+
 // A square over the whole target in clip space, as one polygon with a fill rule and a
 // constant colour.
 refraster::Draw fill_square(const refraster::Target& t, refraster::FillRule rule,

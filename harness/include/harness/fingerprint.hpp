@@ -14,7 +14,8 @@
 //   coverage, subpixel_bits, snap_rounding, pixel_center_offset, tie_rule  (jointly)
 //   line_rule; line width rounding (a finding from the same probe, implied by the line rule)
 //   point_rule; clipping; viewport_fma, and the attribute setup order (a finding: the coverage
-//   family's, which the fusion probe confirms); depth_rounding; depth_clear; color_rounding.
+//   family's, which the fusion probe confirms); depth_rounding; offset_units_scale; depth_clear;
+//   color_rounding.
 //
 // Deliberately does not: infer the driver quirks (flush_denormals, draw_pipeline_cull,
 // draw_segment_vertices, nine_vertex_quirk, wrapping_arithmetic, draw_offset_nan_to_zero,

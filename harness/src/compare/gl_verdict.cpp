@@ -24,7 +24,7 @@ struct Variation {
     bool legal = true;
 };
 
-std::vector<Variation> variations(const Profile& p) {
+std::vector<Variation> variations(const Profile& p, const refraster::DrawList& dl) {
     std::vector<Variation> out;
     const auto add = [&](const std::string& freedom, const std::string& key,
                          const std::string& value, bool legal = true,
@@ -57,6 +57,15 @@ std::vector<Variation> variations(const Profile& p) {
         add("colour conversion precision", "color_rounding", r);
     }
     for (const char* c : {"double", "float"}) add("depth conversion precision", "depth_clear", c);
+    // Polygon offset's r is the implementation's (OpenGL 4.6, 14.6.5): only where a draw uses it.
+    const bool offsets = std::any_of(dl.draws.begin(), dl.draws.end(), [](const auto& d) {
+        return d.state.polygon_offset.has_value();
+    });
+    if (offsets) {
+        for (const char* k : {"0.5", "1", "2", "4"})
+            add("polygon offset's minimum resolvable difference r (14.6.5)", "offset_units_scale",
+                k);
+    }
     for (const auto& name : {"llvmpipe-22.3", "softpipe-22.3"}) {
         const Profile b = refraster::builtin_profile(name);
         if (profile_rules(b) != profile_rules(p))
@@ -159,7 +168,7 @@ GlVerdict gl_verdict(const Scene& scene, const Profile& profile, const Framebuff
     cleared.draw_list.draws.clear();
     const auto clear = render(cleared, profile, timeout_seconds, v.stopped);
 
-    const auto vars = variations(profile);
+    const auto vars = variations(profile, scene.draw_list);
     v.variations = vars.size();
     const std::size_t n = pixels.size();
     std::vector<int> legal_match(n, -1), illegal_match(n, -1);

@@ -158,6 +158,9 @@ bool draw_module_offsets(const refraster::DrawList& dl, const refraster::Profile
     return false;
 }
 
+// Polygon offset's minimum resolvable difference r (offset_units_scale, OpenGL 4.6 14.6.5).
+constexpr const char* kOffsetScaleRule = "polygon offset r";
+
 // softpipe's colour tiles written back by a fill rule's stencil clear (fill_clear_writes_tiles).
 constexpr const char* kTileWriteBackRule = "tile write-back";
 
@@ -179,6 +182,7 @@ const std::vector<std::string>& rule_order() {
     static const std::vector<std::string> order{"nine-vertex analysis",
                                                 "cull",
                                                 kNanOffsetRule,
+                                                kOffsetScaleRule,
                                                 "tie rule",
                                                 "snapping",
                                                 "clipper",
@@ -205,6 +209,15 @@ std::vector<std::pair<std::string, std::string>> alternatives_of(const refraster
         out.emplace_back(kNanOffsetRule, p.quirks.draw_offset_nan_to_zero
                                              ? "draw_offset_nan_to_zero=false"
                                              : "draw_offset_nan_to_zero=true");
+    }
+    if (std::any_of(dl.draws.begin(), dl.draws.end(),
+                    [](const auto& d) { return d.state.polygon_offset.has_value(); })) {
+        const std::pair<float, const char*> scales[] = {
+            {0.5f, "0.5"}, {1.0f, "1"}, {2.0f, "2"}, {4.0f, "4"}};
+        for (const auto& [scale, text] : scales) {
+            if (p.gl.offset_units_scale != scale)
+                out.emplace_back(kOffsetScaleRule, std::string("offset_units_scale=") + text);
+        }
     }
     if (p.model != refraster::CoverageModel::Snapped)
         return out;  // the exact oracle has no other parameter
@@ -699,8 +712,8 @@ Explanation Explainer::explain(int x, int y, bool full) {
             ", because the coverage of a primitive drawn earlier differs (blending or the depth "
             "test shows it)";
     }
-    // A NaN depth that changes coverage does so through the depth test.
-    if (e.difference == "coverage" && e.rule == kNanOffsetRule) {
+    // A NaN or offset depth that changes coverage does so through the depth test.
+    if (e.difference == "coverage" && (e.rule == kNanOffsetRule || e.rule == kOffsetScaleRule)) {
         what += ", because the depth test sees another depth";
     }
     std::string also;

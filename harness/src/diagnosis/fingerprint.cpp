@@ -276,6 +276,30 @@ Probe depth_probe() {
     return p;
 }
 
+// Polygon offset's units term (offset_units_scale): flat triangles on z24 and z16 with units
+// 1, 3 and 7 and no slope term, written with depth test always, so the stored depth is
+// z + units * r * scale and each power of two of the scale gives other depth values.
+std::vector<Probe> offset_probes() {
+    std::vector<Probe> out;
+    for (auto f : {refraster::DepthFormat::Z24, refraster::DepthFormat::Z16}) {
+        const std::string name = "offset_" + std::string(refraster::to_string(f));
+        Probe p{name, make_scene(name, 48, 16, refraster::ColorFormat::Rgba8, f),
+                Probe::Compare::Depth};
+        const float units[] = {1.0f, 3.0f, 7.0f};
+        for (int i = 0; i < 3; ++i) {
+            const float x = 16.0f * static_cast<float>(i);
+            Draw d = window_draw(refraster::PrimitiveType::Triangles,
+                                 {{x, 0.0f, 0.25f}, {x + 16.0f, 0.0f, 0.25f}, {x, 16.0f, 0.25f}},
+                                 {kWhite}, 48, 16);
+            d.state.depth_test = refraster::CompareFunc::Always;
+            d.state.polygon_offset = refraster::PolygonOffset{0.0f, units[i]};
+            p.scene.draw_list.draws.push_back(d);
+        }
+        out.push_back(std::move(p));
+    }
+    return out;
+}
+
 // Clears of z16 and z24 targets to values whose quantisation in double and in float differ.
 std::vector<Probe> clear_probes() {
     std::vector<Probe> out;
@@ -705,6 +729,7 @@ FingerprintResult fingerprint(Backend& target, const FingerprintProgress& progre
     stage({fusion}, "viewport_fma", {"on", "off"});
     r.rules.push_back(setup_order_finding(search, fusion, base, family));
     stage({depth_probe()}, "depth_rounding", {"nearest", "truncate"});
+    stage(offset_probes(), "offset_units_scale", {"0.25", "0.5", "1", "2", "4"});
     stage(clear_probes(), "depth_clear", {"double", "float"});
     stage({color_probe()}, "color_rounding", {"nearest", "truncate"});
 

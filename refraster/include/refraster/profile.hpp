@@ -107,6 +107,12 @@ struct GlRules {
     // (its setup, planes and fragment stage) for those draws.
     LineRule line_rule = LineRule::Parallelogram;
     PointRule point_rule = PointRule::Square;
+    // Polygon offset's minimum resolvable difference r as a multiple of Mesa's (OpenGL 4.6,
+    // 14.6.5 leaves r to the implementation, as long as it is applied consistently): the units
+    // term, units * 2 * mrd for z16 and z24 and units * 2^(e - 23) for z32f, is computed from
+    // units * offset_units_scale. A power of two from 1/16 to 16, so the product is exact: zink
+    // on lavapipe applies twice llvmpipe's term (docs/precision.md, "Polygon offset").
+    float offset_units_scale = 1.0f;
 
     friend bool operator==(const GlRules&, const GlRules&) = default;
 };

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <initializer_list>
 
 namespace refraster {
@@ -164,6 +165,21 @@ float parse_float(const std::string& key, const std::string& value) {
     return v;
 }
 
+// A power of two 2^lo to 2^hi, written as text: "1", "2", "0.5", "0.0625".
+float parse_power_of_two(const std::string& key, const std::string& value, int lo, int hi) {
+    float v = 0;
+    const auto r = std::from_chars(value.data(), value.data() + value.size(), v);
+    int e = 0;
+    const bool power = r.ec == std::errc() && r.ptr == value.data() + value.size() && v > 0.0f &&
+                       std::frexp(v, &e) == 0.5f && e - 1 >= lo && e - 1 <= hi;
+    if (!power) {
+        bad(key, value,
+            "a power of two from " + float_text(std::ldexp(1.0f, lo)) + " to " +
+                float_text(std::ldexp(1.0f, hi)));
+    }
+    return v;
+}
+
 }  // namespace
 
 std::vector<std::pair<std::string, std::string>> profile_parameters(const Profile& p) {
@@ -182,6 +198,7 @@ std::vector<std::pair<std::string, std::string>> profile_parameters(const Profil
         {"depth_clear", to_string(p.gl.depth_clear)},
         {"line_rule", to_string(p.gl.line_rule)},
         {"point_rule", to_string(p.gl.point_rule)},
+        {"offset_units_scale", float_text(p.gl.offset_units_scale)},
         {"draw_pipeline_cull", bool_text(p.quirks.draw_pipeline_cull)},
         {"draw_segment_vertices", std::to_string(p.quirks.draw_segment_vertices)},
         {"nine_vertex_quirk", bool_text(p.quirks.nine_vertex_quirk)},
@@ -241,6 +258,8 @@ void set_profile_parameter(Profile& p, const std::string& key, const std::string
         p.gl.point_rule = pick<PointRule>(
             key, value,
             {{"square", PointRule::Square}, {"two-triangles", PointRule::TwoTriangles}});
+    } else if (key == "offset_units_scale") {
+        p.gl.offset_units_scale = parse_power_of_two(key, value, -4, 4);
     } else if (key == "draw_pipeline_cull") {
         p.quirks.draw_pipeline_cull = parse_bool(key, value);
     } else if (key == "draw_segment_vertices") {
@@ -290,7 +309,8 @@ std::optional<std::string> unread_parameter(const Profile& p, const std::string&
             return std::nullopt;
         }
         case CoverageModel::Exact:
-            if (is({"name", "coverage", "flush_denormals", "depth_clear"})) return std::nullopt;
+            if (is({"name", "coverage", "flush_denormals", "depth_clear", "offset_units_scale"}))
+                return std::nullopt;
             if (key == "tie_rule") {
                 if (p.gl.tie_rule == TieRule::None || p.gl.tie_rule == TieRule::All)
                     return "the exact model's ownership test has no tie_rule=" +

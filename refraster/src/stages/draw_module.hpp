@@ -89,7 +89,8 @@ void unfilled_stages(const DrawContext& ctx, VertexStage& stage, StageTriangle& 
         const bool nan_to_zero = ctx.profile.quirks.draw_offset_nan_to_zero;
         if (apply_draw_offset(t, draw_determinant(t, ctx.profile.gl.flush_denormals),
                               *d.state.polygon_offset, ctx.target.depth,
-                              ctx.profile.gl.flush_denormals, nan_to_zero)) {
+                              ctx.profile.gl.flush_denormals, nan_to_zero,
+                              ctx.profile.gl.offset_units_scale)) {
             obs.note(nan_to_zero ? "NaN depth from polygon offset: the draw module's offset of "
                                    "this zero-area triangle is NaN, and SATURATE makes every "
                                    "vertex depth 0"

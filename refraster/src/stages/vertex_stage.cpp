@@ -372,7 +372,7 @@ float draw_determinant(const StageTriangle& t, bool flush_denormals) {
 }
 
 bool apply_draw_offset(StageTriangle& t, float det, const PolygonOffset& o, DepthFormat depth,
-                       bool flush_denormals, bool nan_to_zero) {
+                       bool flush_denormals, bool nan_to_zero, float units_scale) {
     const Fp fp{flush_denormals};
     const float inv_det = fp.div(1.0f, det);
     const auto& v0 = t.v[0].window;
@@ -385,14 +385,15 @@ bool apply_draw_offset(StageTriangle& t, float det, const PolygonOffset& o, Dept
     const float dzdx = std::fabs(fp.mul(a, inv_det));
     const float dzdy = std::fabs(fp.mul(b, inv_det));
     const float mult = fp.mul(dzdx > dzdy ? dzdx : dzdy, o.factor);  // MAX2
+    const float units = o.units * units_scale;  // exact: a power of two (offset_units_scale)
     float zoffset = 0.0f;
     if (depth == DepthFormat::Z32f) {
         const float maxz = std::max(std::max(std::fabs(v0[2]), std::fabs(v1[2])), std::fabs(v2[2]));
-        zoffset = fp.add(fp.mul(o.units, z32f_offset_scale(maxz)), mult);
+        zoffset = fp.add(fp.mul(units, z32f_offset_scale(maxz)), mult);
     } else {
         // Without a depth buffer z is never read; z24's step stands in.
         const DepthFormat fixed = depth == DepthFormat::Z16 ? DepthFormat::Z16 : DepthFormat::Z24;
-        zoffset = fp.add(fixed_depth_offset_units(o.units, fixed), mult);
+        zoffset = fp.add(fixed_depth_offset_units(units, fixed), mult);
     }
     for (auto& v : t.v) {
         const float z = fp.add(v.window[2], zoffset);

@@ -160,8 +160,9 @@ float draw_determinant(const StageTriangle& t, bool flush_denormals);
 // CLAMP(z, 0, 1) = z > 0 ? (z > 1 ? 1 : z) : 0, which turns a NaN into 0 (and -0 into +0);
 // with `nan_to_zero` false a NaN z is kept (the quirk draw_offset_nan_to_zero=false). A
 // degenerate triangle (det == 0, so 1/det is infinite) has NaN slopes whenever its z does not
-// vary, and so a NaN offset. Returns whether the offset was NaN.
+// vary, and so a NaN offset. The units are multiplied by `units_scale` (the profile's
+// offset_units_scale, a power of two) first. Returns whether the offset was NaN.
 bool apply_draw_offset(StageTriangle& t, float det, const PolygonOffset& o, DepthFormat depth,
-                       bool flush_denormals, bool nan_to_zero = true);
+                       bool flush_denormals, bool nan_to_zero, float units_scale);
 
 }  // namespace refraster::detail

@@ -146,7 +146,7 @@ void ExactModel::setup(VertexStage& stage, Observer& obs, const ListSink<List>& 
             *ex,
             std::array<StageVertex, 3>{stage.vertex(idx[0]), stage.vertex(idx[1]),
                                        stage.vertex(idx[2])},
-            stage, d, ctx_.target, first);
+            stage, d, ctx_.target, first, ctx_.profile.gl.offset_units_scale);
         prim.coverage = std::move(ex);
         prim.owner = owner_id(ctx_.index, primitive_id(ctx_.draw, p));
         obs.exact_setup(*prim.coverage);

@@ -12,7 +12,7 @@ namespace refraster::detail {
 
 ExactShader::ExactShader(const ExactCoverage& coverage, const std::array<StageVertex, 3>& v,
                          const VertexStage& stage, const Draw& draw, const Target& target,
-                         bool provoking_first)
+                         bool provoking_first, double offset_units_scale)
     : coverage_(coverage),
       v_(v),
       stage_(stage),
@@ -48,7 +48,7 @@ ExactShader::ExactShader(const ExactCoverage& coverage, const std::array<StageVe
             r = depth_mrd(target.depth);
         }
         offset_ = m * double{draw.state.polygon_offset->factor} +
-                  r * double{draw.state.polygon_offset->units};
+                  r * offset_units_scale * double{draw.state.polygon_offset->units};
     }
 }
 

@@ -27,7 +27,7 @@ class ExactShader {
   public:
     ExactShader(const ExactCoverage& coverage, const std::array<StageVertex, 3>& v,
                 const VertexStage& stage, const Draw& draw, const Target& target,
-                bool provoking_first);
+                bool provoking_first, double offset_units_scale);
     void shade(int x, int y, Framebuffer& fb, std::uint32_t owner = 0) const;
 
   private:

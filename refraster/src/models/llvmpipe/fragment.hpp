@@ -57,6 +57,8 @@ struct FragmentOptions {
     // renderer chooses it for such profiles).
     bool depth_truncate = false;
     bool color_truncate = false;
+    // The profile's offset_units_scale: polygon offset's units are multiplied by it first.
+    float offset_units_scale = 1.0f;
 };
 
 // The draw's state as a fragment kernel reads it at run time.

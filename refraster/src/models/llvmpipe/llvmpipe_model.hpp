@@ -37,7 +37,8 @@ inline FragmentOptions fragment_options(const DrawContext& ctx) {
             ctx.params.multisample,
             ctx.kernels,
             ctx.profile.gl.depth_rounding == Rounding::Truncate,
-            ctx.profile.gl.color_rounding == Rounding::Truncate};
+            ctx.profile.gl.color_rounding == Rounding::Truncate,
+            ctx.profile.gl.offset_units_scale};
 }
 
 class LlvmpipeModel : public DrawModule<LlvmpipeModel, SetupList> {

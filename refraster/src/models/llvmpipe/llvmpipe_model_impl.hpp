@@ -176,7 +176,8 @@ void LlvmpipeModel::snapped_triangle(const VertexStage& stage,
     llvmpipe_setup::copy_coverage(t, prim, list_);
     prim.owner = owner_;
     const FragmentOptions fo = fragment_options(ctx_);
-    FragmentOptions setup_fo{fo.fma, fo.flush_denormals && setup_ftz, fo.multisample, fo.kernels};
+    FragmentOptions setup_fo = fo;
+    setup_fo.flush_denormals = fo.flush_denormals && setup_ftz;
     // Under the CPU's flush modes the planes' operations run plain (the CPU flushes them); a
     // triangle the model sets up without flushing runs with the modes cleared.
     if (cpu_flushes_ && setup_ftz) setup_fo.flush_denormals = false;

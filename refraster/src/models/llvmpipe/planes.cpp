@@ -58,7 +58,9 @@ void triangle_planes(const std::array<const StageVertex*, 3>& v, const VertexSta
         // LLVMRealUGT: unordered or greater picks dzdx.
         const float max_slope = (dzdx > dzdy || std::isnan(dzdx) || std::isnan(dzdy)) ? dzdx : dzdy;
         const float mult = fp.mul(max_slope, draw.state.polygon_offset->factor);
-        const float units = draw.state.polygon_offset->units;
+        // The implementation's r as a power-of-two multiple of llvmpipe's (offset_units_scale,
+        // exact: 1 reproduces llvmpipe).
+        const float units = draw.state.polygon_offset->units * options.offset_units_scale;
         if (target.depth == DepthFormat::Z32f) {
             // units * 2^(exponent(max |z_i|) - 23).
             const float maxz =

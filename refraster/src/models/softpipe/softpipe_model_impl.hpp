@@ -121,7 +121,8 @@ void SoftpipeModel::triangles(VertexStage& stage, Observer& obs) {
                 apply_draw_offset(t, draw_determinant(t, ctx_.profile.gl.flush_denormals),
                                   *d.state.polygon_offset, ctx_.target.depth,
                                   ctx_.profile.gl.flush_denormals,
-                                  ctx_.profile.quirks.draw_offset_nan_to_zero);
+                                  ctx_.profile.quirks.draw_offset_nan_to_zero,
+                                  ctx_.profile.gl.offset_units_scale);
             }
             const std::size_t before = list_.primitives.size();
             triangle(stage, {&t.v[0], &t.v[1], &t.v[2]}, t.clipped, false, obs);
