@@ -87,7 +87,8 @@ INSTANTIATE_TEST_SUITE_P(Llvmpipe, FingerprintMutation,
                                            Mutation{"llvmpipe-22.3", "color_rounding=truncate"},
                                            Mutation{"llvmpipe-22.3", "line_rule=bresenham"},
                                            Mutation{"llvmpipe-22.3", "point_rule=two-triangles"},
-                                           Mutation{"llvmpipe-22.3", "offset_units_scale=2"}),
+                                           Mutation{"llvmpipe-22.3", "offset_units_scale=2"},
+                                           Mutation{"llvmpipe-22.3", "point_line_clipping=pixels"}),
                          mutation_name);
 
 INSTANTIATE_TEST_SUITE_P(Softpipe, FingerprintMutation,
@@ -98,7 +99,8 @@ INSTANTIATE_TEST_SUITE_P(Softpipe, FingerprintMutation,
                                            Mutation{"softpipe-22.3", "color_rounding=truncate"},
                                            Mutation{"softpipe-22.3", "line_rule=parallelogram"},
                                            Mutation{"softpipe-22.3", "point_rule=square"},
-                                           Mutation{"softpipe-22.3", "offset_units_scale=0.5"}),
+                                           Mutation{"softpipe-22.3", "offset_units_scale=0.5"},
+                                           Mutation{"softpipe-22.3", "point_line_clipping=pixels"}),
                          mutation_name);
 
 TEST(Fingerprint, BuiltInProfilesComeBackUnchanged) {

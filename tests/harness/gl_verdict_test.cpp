@@ -6,9 +6,13 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
+#include <memory>
 #include <string>
 
+#include "harness/backend.hpp"
+#include "harness/explain.hpp"
 #include "harness/profile_io.hpp"
 #include "harness/scene.hpp"
 #include "layered_scene.hpp"
@@ -70,6 +74,101 @@ TEST(GlVerdict, AnotherPolygonOffsetResolutionIsLegal) {
         EXPECT_TRUE(v.passes()) << v.summary();
         EXPECT_TRUE(has_finding(v, "polygon offset", true)) << v.summary();
     }
+}
+
+// OpenGL 4.6, 2.3.4.1: NaN, infinite and huge (beyond 2^32) colours give unspecified results.
+// A backend that converts them otherwise (here: as if they were 0, so the pixels look like
+// the clear colour) differs legally, never by a "hole".
+TEST(GlVerdict, ColoursBeyondGlRangeAreUnspecifiedNeverHoles) {
+    for (const char* scene :
+         {"extreme/colour_extreme_rgba8.json", "extreme/colour_overflow_rgba8_alpha.json"}) {
+        SCOPED_TRACE(scene);
+        const auto s = suite_scene(scene);
+        auto zeroed = s;
+        for (auto& d : zeroed.draw_list.draws) {
+            const std::size_t stride = d.vertices.stride();
+            for (std::size_t i = 0; i < d.vertices.data.size(); ++i) {
+                float& v = d.vertices.data[i];
+                if (i % stride >= 4 && (!std::isfinite(v) || std::fabs(v) > 0x1p32f)) v = 0.0f;
+            }
+        }
+        const auto ref = render(s, refraster::llvmpipe_22_3_profile());
+        const auto other = render(zeroed, refraster::llvmpipe_22_3_profile());
+        const auto v = harness::gl_verdict(s, refraster::llvmpipe_22_3_profile(), ref, other);
+        EXPECT_GT(v.differing, 0u);
+        EXPECT_TRUE(v.passes()) << v.summary();
+        EXPECT_TRUE(has_finding(v, "unspecified", true)) << v.summary();
+    }
+}
+
+// A 4x target is judged sample by sample: polygon offset's depth differs at samples whose
+// resolved pixel agrees (the resolve keeps sample 0's depth), and every such sample is legal.
+TEST(GlVerdict, MultisampledTargetsAreJudgedSampleBySample) {
+    const auto s = suite_scene("msaa/polygon_offset_z24_units_coplanar.json");
+    ASSERT_EQ(s.draw_list.target.samples, 4u);
+    const auto ref = render(s, refraster::llvmpipe_22_3_profile());
+    const auto other = render(s, llvmpipe_with("offset_units_scale=2"));
+    ASSERT_EQ(ref.samples, 4u);
+    const auto v = harness::gl_verdict(s, refraster::llvmpipe_22_3_profile(), ref, other);
+    EXPECT_EQ(v.unit, "samples");
+    EXPECT_GT(v.differing, 0u);
+    EXPECT_TRUE(v.passes()) << v.summary();
+    EXPECT_TRUE(has_finding(v, "polygon offset", true)) << v.summary();
+}
+
+// Draw state a backend ignores is a violation named by the requirement and its section:
+// GL_MULTISAMPLE disabled on a 4x target (14.3.1), and a polygon's edge flags in polygon
+// mode line (its internal edges drawn).
+TEST(GlVerdict, IgnoredStateIsNamedByTheRequirement) {
+    {
+        const auto s = suite_scene("msaa/multisample_off_triangles.json");
+        auto on = s;
+        for (auto& d : on.draw_list.draws) d.state.multisample = true;
+        const auto v = harness::gl_verdict(s, refraster::llvmpipe_22_3_profile(),
+                                           render(s, refraster::llvmpipe_22_3_profile()),
+                                           render(on, refraster::llvmpipe_22_3_profile()));
+        EXPECT_GT(v.violations, 0u) << v.summary();
+        EXPECT_TRUE(has_finding(v, "GL_MULTISAMPLE disabled is ignored (14.3.1", false))
+            << v.summary();
+    }
+    {
+        const auto s = suite_scene("polygons/outline_polygon_mode_line_first.json");
+        auto fan = s;
+        for (auto& d : fan.draw_list.draws)
+            if (d.primitive == refraster::PrimitiveType::Polygon)
+                d.primitive = refraster::PrimitiveType::TriangleFan;
+        const auto v = harness::gl_verdict(s, refraster::llvmpipe_22_3_profile(),
+                                           render(s, refraster::llvmpipe_22_3_profile()),
+                                           render(fan, refraster::llvmpipe_22_3_profile()));
+        EXPECT_GT(v.violations, 0u) << v.summary();
+        EXPECT_TRUE(has_finding(v, "edge flags ignored", false)) << v.summary();
+    }
+}
+
+// One answer: the rule explain names at a pixel is the freedom the GL verdict names there.
+// smoke.depth against a backend that truncates depth: explain's alternatives include the
+// conversions, so it names depth rounding, never "undecided", and the verdict agrees.
+TEST(GlVerdict, ExplainAndVerdictNameTheSameRule) {
+    const auto s = suite_scene("smoke/depth.json");
+    auto truncating = llvmpipe_with("depth_rounding=truncate");
+    harness::BackendOptions o;
+    o.kind = harness::BackendKind::Ref;
+    o.profile = truncating;
+    o.threads = 1;
+    auto backend = harness::make_backend(o);
+    const auto e =
+        harness::explain_pixel(s, refraster::llvmpipe_22_3_profile(), 0, 0, backend.get());
+    ASSERT_FALSE(e.agree);
+    EXPECT_EQ(e.rule, "depth rounding") << e.verdict;
+    std::string preferred;
+    for (const auto& [rule, change] : e.candidates)
+        if (rule == e.rule) preferred = change;
+    EXPECT_EQ(preferred, "depth_rounding=truncate");
+    const auto v =
+        harness::gl_verdict(s, refraster::llvmpipe_22_3_profile(), e.reference_image,
+                            e.backend->image, std::array<int, 2>{0, 0}, 0.0, 0, preferred);
+    EXPECT_NE(v.at_pixel.find("legal: "), std::string::npos) << v.at_pixel;
+    EXPECT_NE(v.at_pixel.find(preferred), std::string::npos) << v.at_pixel;
 }
 
 TEST(GlVerdict, CentresOnSharedEdgesWithoutOwnerAreHoles) {

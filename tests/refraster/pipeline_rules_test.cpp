@@ -279,6 +279,51 @@ TEST(PolygonOffsetScale, OnlyPowersOfTwoFromASixteenthToSixteen) {
             << bad;
 }
 
+// point_line_clipping=pixels (Vulkan's rule, zink on lavapipe): a point whose centre is just
+// outside the viewport still lights the pixels of it inside; no point lights a pixel outside
+// the viewport. Under the default (GL's 13.7, by vertices) the first is dropped whole and a
+// point inside near the edge lights pixels beyond it. Triangles keep their clipping.
+TEST(PointLineClipping, PixelsClipsPointsToTheViewport) {
+    const auto draw_points = [](const char* policy) {
+        auto l = target(32, 32);
+        refraster::Draw d;
+        d.primitive = PrimitiveType::Points;
+        d.state.viewport = {8, 8, 16, 16};
+        d.state.point_size = 6.0f;
+        d.vertices.attributes = {{"color", 4}};
+        // Window (6.5, 16) is outside the viewport (x < 8); (9.5, 20) inside near its edge.
+        for (const auto& p : {std::array<float, 2>{6.5f, 16.0f}, {9.5f, 20.0f}}) {
+            const float x = (p[0] - 16.0f) / 8.0f;
+            const float y = (p[1] - 16.0f) / 8.0f;
+            d.vertices.data.insert(d.vertices.data.end(), {x, y, 0, 1, 1, 1, 1, 1});
+        }
+        l.draws = {d};
+        refraster::RenderOptions o;
+        o.profile = refraster::llvmpipe_22_3_profile();
+        refraster::set_profile_parameter(o.profile, "point_line_clipping", policy);
+        refraster::Framebuffer fb;
+        EXPECT_EQ(refraster::render(l, o, fb).status, refraster::RenderStatus::Ok);
+        return fb;
+    };
+    const auto lit = [](const refraster::Framebuffer& fb, std::uint32_t x, std::uint32_t y) {
+        return fb.color8[4 * fb.index(x, y)] == 255;
+    };
+    const auto vertices = draw_points("vertices");
+    const auto pixels = draw_points("pixels");
+    // The outside point: dropped by its vertex, drawn inside the viewport by its pixels.
+    EXPECT_FALSE(lit(vertices, 8, 16));
+    EXPECT_TRUE(lit(pixels, 8, 16));
+    // The inside point near the edge: beyond the viewport only by its vertex.
+    EXPECT_TRUE(lit(vertices, 7, 20));
+    EXPECT_FALSE(lit(pixels, 7, 20));
+    EXPECT_TRUE(lit(pixels, 9, 20));
+    for (std::uint32_t y = 0; y < 32; ++y)
+        for (std::uint32_t x = 0; x < 8; ++x) EXPECT_FALSE(lit(pixels, x, y)) << x << "," << y;
+    // The exact model has no clipper to apply it to.
+    refraster::Profile exact = refraster::builtin_profile("gl-exact");
+    EXPECT_TRUE(refraster::unread_parameter(exact, "point_line_clipping").has_value());
+}
+
 // A square over the whole target in clip space, as one polygon with a fill rule and a
 // constant colour.
 refraster::Draw fill_square(const refraster::Target& t, refraster::FillRule rule,

@@ -2,12 +2,14 @@
 // of it), beside the backend's bytes, as text, JSON or an SVG of its neighbourhood.
 #include "harness/explain.hpp"
 
+#include <algorithm>
 #include <array>
 #include <iostream>
 #include <memory>
 #include <new>
 
 #include "commands/commands.hpp"
+#include "harness/backend.hpp"
 #include "harness/encode.hpp"
 #include "harness/files.hpp"
 #include "harness/gl_verdict.hpp"
@@ -60,9 +62,24 @@ int run_explain(const ExplainArgs& a) {
                                               a.against.timeout);
         std::cout << (a.json ? harness::explanation_json(e) + "\n" : harness::explanation_text(e));
         // Whether GL allows the backend's pixel (gl_verdict.hpp), for a differing pixel.
+        // A 4x target is judged sample by sample (the reference's samples rendered again), at
+        // the sample explained or sample 0; the explanation's rule is the variation preferred.
         if (!a.json && !e.agree && e.backend && e.backend->status == harness::RenderStatus::Ok) {
-            const auto v = harness::gl_verdict(*scene, profile, e.reference_image, e.backend->image,
-                                               std::array<int, 2>{x, y}, a.against.timeout);
+            std::string preferred;
+            for (const auto& [rule, change] : e.candidates)
+                if (rule == e.rule) preferred = change;
+            const bool multisampled = e.backend->samples.width > 0;
+            refraster::Framebuffer reference_samples;
+            if (multisampled) {
+                refraster::RenderOptions o;
+                o.profile = profile;
+                (void)harness::render_reference_within(*scene, o, a.against.timeout,
+                                                       reference_samples);
+            }
+            const auto v = harness::gl_verdict(
+                *scene, profile, multisampled ? reference_samples : e.reference_image,
+                multisampled ? e.backend->samples : e.backend->image, std::array<int, 2>{x, y},
+                a.against.timeout, std::max(a.sample, 0), preferred);
             std::cout << "GL: " << v.at_pixel << "\n";
         }
         if (!a.svg.empty()) harness::write_file_atomically(a.svg, harness::explanation_svg(e));

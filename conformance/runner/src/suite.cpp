@@ -343,8 +343,11 @@ bool judge_by_gl(harness::CaseResult& r, const harness::Scene& scene,
     if (r.status != harness::CaseStatus::Fail || !r.comparison ||
         reference.kind() != harness::BackendKind::Ref || !r.reference || !r.actual)
         return false;
-    const auto v = harness::gl_verdict(scene, profile, r.reference->image, r.actual->image,
-                                       std::nullopt, timeout_seconds);
+    // A multisampled target sample by sample; otherwise its image.
+    const bool multisampled = r.reference->samples.width > 0 && r.actual->samples.width > 0;
+    const auto v = harness::gl_verdict(
+        scene, profile, multisampled ? r.reference->samples : r.reference->image,
+        multisampled ? r.actual->samples : r.actual->image, std::nullopt, timeout_seconds);
     r.gl_verdict = v.summary();
     if (v.passes() && v.differing > 0) {
         r.status = harness::CaseStatus::Pass;

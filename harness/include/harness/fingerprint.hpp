@@ -13,8 +13,9 @@
 // Rules, in the order they are decided (profile keys, docs/precision.md):
 //   coverage, subpixel_bits, snap_rounding, pixel_center_offset, tie_rule  (jointly)
 //   line_rule; line width rounding (a finding from the same probe, implied by the line rule)
-//   point_rule; clipping; viewport_fma, and the attribute setup order (a finding: the coverage
-//   family's, which the fusion probe confirms); depth_rounding; offset_units_scale; depth_clear;
+//   point_rule; point_line_clipping (points and wide lines); viewport_fma, and the attribute
+//   setup order (a finding: the coverage family's, which the fusion probe confirms); clipping
+//   (triangles, from their float colours); depth_rounding; offset_units_scale; depth_clear;
 //   color_rounding.
 //
 // Deliberately does not: infer the driver quirks (flush_denormals, draw_pipeline_cull,

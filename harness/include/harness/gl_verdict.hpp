@@ -17,10 +17,15 @@
 //  - a pixel outside every legal coverage: drawn where no legal rule draws it;
 //  - non-monotonic depth: a depth outside the range the legal rules give at the pixel;
 // and otherwise reported as unexplained (neither certified legal nor proven a violation).
+// Pixels reached by a draw whose attributes are beyond GL's floating-point range (NaN,
+// infinity, a magnitude above 2^32: 2.3.4.1 leaves their results unspecified) are legal
+// whatever colour the backend gives them, as long as the depth agrees.
 //
-// Deliberately does not: judge multisampled targets sample by sample (their resolved image is
-// judged), textures' filtering freedoms (a texel difference is unexplained unless a variation
-// reproduces it), or blending arithmetic.
+// A multisampled target is judged sample by sample: pass the framebuffers of every sample
+// (RenderResult::samples).
+//
+// Deliberately does not: textures' filtering freedoms (a texel difference is unexplained unless a
+// variation reproduces it), or blending arithmetic.
 #pragma once
 
 #include <array>
@@ -40,10 +45,14 @@ struct GlFinding {
     bool legal = true;
     std::uint64_t pixels = 0;
     int x = -1, y = -1;  // the first such pixel
+    int sample = -1;     // its sample, on a multisampled target
     std::string detail;  // which variation reproduces it, or why it violates
 };
 
 struct GlVerdict {
+    // What is counted: "pixels", or "samples" on a multisampled target (judged sample by
+    // sample).
+    std::string unit = "pixels";
     std::uint64_t differing = 0;
     std::uint64_t legal = 0;
     std::uint64_t violations = 0;
@@ -63,12 +72,16 @@ struct GlVerdict {
     std::string summary() const;
 };
 
+// `at_sample` picks the sample of `at` on a multisampled target. `preferred` (a setting, e.g.
+// "tie_rule=right-top", the one an explanation named) is the variation named at `at` when it
+// reproduces the backend there, so that the two never name different freedoms.
 // Judges every pixel where `backend` differs from `reference` (the scene rendered under
 // `profile`). Both images must have the scene's target size. Each variation's render gets
 // `timeout_seconds` of its own (0 or less: no limit; render_reference_within, backend.hpp).
 GlVerdict gl_verdict(const Scene& scene, const refraster::Profile& profile,
                      const refraster::Framebuffer& reference, const refraster::Framebuffer& backend,
                      std::optional<std::array<int, 2>> at = std::nullopt,
-                     double timeout_seconds = 0.0);
+                     double timeout_seconds = 0.0, int at_sample = 0,
+                     const std::string& preferred = "");
 
 }  // namespace harness

@@ -3,8 +3,10 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <limits>
 #include <map>
+#include <memory>
 
 #include "harness/backend.hpp"
 #include "harness/profile_io.hpp"
@@ -22,9 +24,42 @@ struct Variation {
     std::string setting;  // what differs from the profile
     Profile profile;
     bool legal = true;
+    // A requirement broken in the scene's state rather than in a rule: the scene as such an
+    // implementation draws it (null: the scene itself).
+    std::shared_ptr<const Scene> scene;
 };
 
-std::vector<Variation> variations(const Profile& p, const refraster::DrawList& dl) {
+// The scene with GL_MULTISAMPLE disabled ignored (every draw multisampled), or nothing when no
+// draw of a 4x target disables it.
+std::shared_ptr<const Scene> multisample_enable_ignored(const Scene& scene) {
+    if (scene.draw_list.target.samples < 2) return nullptr;
+    auto out = std::make_shared<Scene>(scene);
+    bool any = false;
+    for (auto& d : out->draw_list.draws) {
+        any = any || !d.state.multisample;
+        d.state.multisample = true;
+    }
+    return any ? out : nullptr;
+}
+
+// The scene with edge flags ignored: each GL_POLYGON outlined or drawn as points (polygon mode
+// line or point, no fill rule) drawn as the triangle fan it is split into, whose internal
+// edges then show; nothing when no draw is such a polygon.
+std::shared_ptr<const Scene> edge_flags_ignored(const Scene& scene) {
+    auto out = std::make_shared<Scene>(scene);
+    bool any = false;
+    for (auto& d : out->draw_list.draws) {
+        if (d.primitive == refraster::PrimitiveType::Polygon && !d.state.fill_rule &&
+            d.state.polygon_mode != refraster::PolygonMode::Fill) {
+            d.primitive = refraster::PrimitiveType::TriangleFan;
+            any = true;
+        }
+    }
+    return any ? out : nullptr;
+}
+
+std::vector<Variation> variations(const Profile& p, const Scene& scene) {
+    const refraster::DrawList& dl = scene.draw_list;
     std::vector<Variation> out;
     const auto add = [&](const std::string& freedom, const std::string& key,
                          const std::string& value, bool legal = true,
@@ -33,7 +68,7 @@ std::vector<Variation> variations(const Profile& p, const refraster::DrawList& d
         for (const auto& [k, cur] : refraster::profile_parameters(v))
             if (k == key && cur == value) return;
         refraster::set_profile_parameter(v, key, value);
-        out.push_back({freedom, key + "=" + value, v, legal});
+        out.push_back({freedom, key + "=" + value, v, legal, nullptr});
     };
     const bool snapped = p.model == refraster::CoverageModel::Snapped;
     if (snapped) {
@@ -48,6 +83,11 @@ std::vector<Variation> variations(const Profile& p, const refraster::DrawList& d
     }
     for (const char* c : {"view-volume", "guard-band"})
         add("clipping or guard band", "clipping", c);
+    // Points and lines clipped by their pixels (a guard band, the viewport as a scissor) instead
+    // of by their vertices (13.7): the rule of Vulkan and of GL drivers layered on it.
+    for (const char* c : {"vertices", "pixels"})
+        add("point and line clipping policy (13.7 by vertices, or by pixels as Vulkan does)",
+            "point_line_clipping", c);
     for (const char* l : {"parallelogram", "bresenham"})
         add("line rasterisation within the diamond-exit tolerance", "line_rule", l);
     for (const char* r : {"square", "two-triangles"}) add("point rasterisation", "point_rule", r);
@@ -69,7 +109,7 @@ std::vector<Variation> variations(const Profile& p, const refraster::DrawList& d
     for (const auto& name : {"llvmpipe-22.3", "softpipe-22.3"}) {
         const Profile b = refraster::builtin_profile(name);
         if (profile_rules(b) != profile_rules(p))
-            out.push_back({"another conforming implementation's rules", name, b, true});
+            out.push_back({"another conforming implementation's rules", name, b, true, nullptr});
     }
     // The single-owner requirement broken both ways, on a snapped rule set.
     const Profile snapped_base = snapped ? p : refraster::llvmpipe_22_3_profile();
@@ -77,6 +117,19 @@ std::vector<Variation> variations(const Profile& p, const refraster::DrawList& d
         &snapped_base);
     add("double hit on a shared edge (two owners for a centre on it)", "tie_rule", "all", false,
         &snapped_base);
+    // Requirements of the draw state, broken by ignoring it.
+    if (auto s = multisample_enable_ignored(scene)) {
+        out.push_back(
+            {"GL_MULTISAMPLE disabled is ignored (14.3.1: single-sample rasterization "
+             "when it is off)",
+             "multisample enable ignored", p, false, std::move(s)});
+    }
+    if (auto s = edge_flags_ignored(scene)) {
+        out.push_back(
+            {"edge flags ignored: a polygon's internal edges are drawn (14.6.4, polygon "
+             "mode)",
+             "edge flags ignored", p, false, std::move(s)});
+    }
     return out;
 }
 
@@ -117,18 +170,71 @@ std::optional<Framebuffer> render(const Scene& scene, const Profile& p, double t
     return fb;
 }
 
+// OpenGL 4.6, 2.3.4.1: a value that is not a floating-point number (infinity, NaN) gives
+// unspecified results, and the GL need represent magnitudes up to 2^32 only. An attribute
+// beyond that makes the colours of the pixels its draw reaches unspecified.
+constexpr float kGlMinimumMagnitude = 4294967296.0f;  // 2^32
+static_assert(kGlMinimumMagnitude == 0x1p32f);
+
+bool beyond_gl_range(const refraster::Draw& d) {
+    const std::size_t stride = d.vertices.stride();
+    for (std::size_t i = 0; i < d.vertices.data.size(); ++i) {
+        if (i % stride < refraster::VertexArray::kPositionComponents) continue;
+        const float v = d.vertices.data[i];
+        if (!std::isfinite(v) || std::fabs(v) > kGlMinimumMagnitude) return true;
+    }
+    return false;
+}
+
+// The pixels reached by a draw with attributes beyond GL's range: those draws alone, their
+// attributes made 1 and their state made to write (no depth test, stencil-free, no blending)
+// over a target cleared to 0, so that every pixel they cover differs from the clear. Empty
+// when no draw has such attributes (or the render failed: then nothing is excused).
+std::vector<char> unspecified_pixels(const Scene& scene, const Profile& profile,
+                                     double timeout_seconds, std::uint64_t& stopped) {
+    Scene only = scene;
+    only.draw_list.draws.clear();
+    for (const auto& d : scene.draw_list.draws) {
+        if (!beyond_gl_range(d)) continue;
+        refraster::Draw w = d;
+        const std::size_t stride = w.vertices.stride();
+        for (std::size_t i = 0; i < w.vertices.data.size(); ++i)
+            if (i % stride >= refraster::VertexArray::kPositionComponents)
+                w.vertices.data[i] = 1.0f;
+        w.state.depth_test.reset();
+        w.state.blend = refraster::BlendPreset::None;
+        w.state.texture.reset();
+        w.state.polygon_offset.reset();
+        only.draw_list.draws.push_back(std::move(w));
+    }
+    if (only.draw_list.draws.empty()) return {};
+    only.draw_list.clear.color = {0.0f, 0.0f, 0.0f, 0.0f};
+    Scene cleared = only;
+    cleared.draw_list.draws.clear();
+    const auto fb = render(only, profile, timeout_seconds, stopped);
+    const auto empty = render(cleared, profile, timeout_seconds, stopped);
+    if (!fb || !empty) return {};
+    std::vector<char> mask(fb->pixel_count() * fb->samples, 0);
+    for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = !same_pixel(*fb, *empty, i);
+    return mask;
+}
+
 }  // namespace
 
 std::string GlVerdict::summary() const {
     std::string legal_text, bad_text;
     for (const auto& f : findings) {
         std::string& t = f.legal ? legal_text : bad_text;
-        t += (t.empty() ? "" : ", ") + f.rule + " " + std::to_string(f.pixels) + " px";
-        if (!f.legal && f.x >= 0)
-            t += " first at (" + std::to_string(f.x) + ", " + std::to_string(f.y) + ")";
+        const bool samples = unit == "samples";
+        t += (t.empty() ? "" : ", ") + f.rule + " " + std::to_string(f.pixels) +
+             (samples ? " samples" : " px");
+        if (!f.legal && f.x >= 0) {
+            t += " first at (" + std::to_string(f.x) + ", " + std::to_string(f.y) +
+                 (samples ? ", sample " + std::to_string(f.sample) : "") + ")";
+        }
     }
     std::string s = "GL verdict: " + std::to_string(legal) + " of " + std::to_string(differing) +
-                    " differing pixels legal";
+                    " differing " + unit + " legal";
     if (!legal_text.empty()) s += " (" + legal_text + ")";
     if (violations + unexplained > 0) {
         s += "; " + std::to_string(violations) + " violate GL, " + std::to_string(unexplained) +
@@ -143,7 +249,7 @@ std::string GlVerdict::summary() const {
 
 GlVerdict gl_verdict(const Scene& scene, const Profile& profile, const Framebuffer& reference,
                      const Framebuffer& backend, std::optional<std::array<int, 2>> at,
-                     double timeout_seconds) {
+                     double timeout_seconds, int at_sample, const std::string& preferred) {
     GlVerdict v;
     v.at_pixel = "same as the reference";
     const auto at_index = [&]() -> std::optional<std::size_t> {
@@ -151,14 +257,24 @@ GlVerdict gl_verdict(const Scene& scene, const Profile& profile, const Framebuff
             static_cast<std::uint32_t>((*at)[0]) >= reference.width ||
             static_cast<std::uint32_t>((*at)[1]) >= reference.height)
             return std::nullopt;
-        return static_cast<std::size_t>((*at)[1]) * reference.width +
-               static_cast<std::size_t>((*at)[0]);
+        // The sample asked for on a multisampled target (sample 0 when out of range).
+        const std::size_t s =
+            at_sample > 0 && static_cast<std::uint32_t>(at_sample) < reference.samples
+                ? static_cast<std::size_t>(at_sample)
+                : 0;
+        return (static_cast<std::size_t>((*at)[1]) * reference.width +
+                static_cast<std::size_t>((*at)[0])) *
+                   reference.samples +
+               s;
     }();
     if (reference.width != backend.width || reference.height != backend.height ||
-        reference.color_format != backend.color_format)
+        reference.samples != backend.samples || reference.color_format != backend.color_format)
         return v;
     std::vector<std::size_t> pixels;
-    for (std::size_t i = 0; i < reference.pixel_count(); ++i)
+    // A multisampled target is judged sample by sample (same_pixel's index is then a sample's:
+    // the layout is pixel-major, each pixel's samples together).
+    v.unit = reference.samples > 1 ? "samples" : "pixels";
+    for (std::size_t i = 0; i < reference.pixel_count() * reference.samples; ++i)
         if (!same_pixel(reference, backend, i)) pixels.push_back(i);
     v.differing = pixels.size();
     if (pixels.empty()) return v;
@@ -168,7 +284,8 @@ GlVerdict gl_verdict(const Scene& scene, const Profile& profile, const Framebuff
     cleared.draw_list.draws.clear();
     const auto clear = render(cleared, profile, timeout_seconds, v.stopped);
 
-    const auto vars = variations(profile, scene.draw_list);
+    const auto unspecified = unspecified_pixels(scene, profile, timeout_seconds, v.stopped);
+    const auto vars = variations(profile, scene);
     v.variations = vars.size();
     const std::size_t n = pixels.size();
     std::vector<int> legal_match(n, -1), illegal_match(n, -1);
@@ -187,13 +304,17 @@ GlVerdict gl_verdict(const Scene& scene, const Profile& profile, const Framebuff
         if (!reference.depth.empty() && d) zmin[k] = zmax[k] = depth_number(reference, i);
     }
     for (std::size_t vi = 0; vi < vars.size(); ++vi) {
-        const auto fb = render(scene, vars[vi].profile, timeout_seconds, v.stopped);
+        const auto fb = render(vars[vi].scene ? *vars[vi].scene : scene, vars[vi].profile,
+                               timeout_seconds, v.stopped);
         if (!fb) continue;
         for (std::size_t k = 0; k < n; ++k) {
             const std::size_t i = pixels[k];
             const bool same = same_pixel(*fb, backend, i);
             if (vars[vi].legal) {
-                if (same && legal_match[k] < 0) legal_match[k] = static_cast<int>(vi);
+                // The preferred variation wins at the pixel asked about.
+                const bool take = legal_match[k] < 0 || (at_index == i && !preferred.empty() &&
+                                                         vars[vi].setting == preferred);
+                if (same && take) legal_match[k] = static_cast<int>(vi);
                 const bool d = drawn(*fb, i);
                 all_legal_draw[k] = static_cast<char>(all_legal_draw[k] && d);
                 any_legal_draw[k] = static_cast<char>(any_legal_draw[k] || d);
@@ -215,8 +336,9 @@ GlVerdict gl_verdict(const Scene& scene, const Profile& profile, const Framebuff
             GlFinding f;
             f.rule = rule;
             f.legal = legal;
-            f.x = static_cast<int>(i % reference.width);
-            f.y = static_cast<int>(i / reference.width);
+            f.x = static_cast<int>(i / reference.samples % reference.width);
+            f.y = static_cast<int>(i / reference.samples / reference.width);
+            if (reference.samples > 1) f.sample = static_cast<int>(i % reference.samples);
             f.detail = detail;
             v.findings.push_back(f);
         }
@@ -231,6 +353,17 @@ GlVerdict gl_verdict(const Scene& scene, const Profile& profile, const Framebuff
             if (at_index == i)
                 v.at_pixel =
                     "legal: " + var.freedom + " (" + var.setting + " reproduces the backend)";
+            continue;
+        }
+        if (!unspecified.empty() && unspecified[i] &&
+            (reference.depth.empty() || reference.depth[i] == backend.depth[i])) {
+            // Undefined, not wrong: whatever colour the backend wrote there, including none.
+            const std::string freedom =
+                "unspecified result of an attribute beyond GL's floating-point range (NaN, "
+                "infinity or a magnitude above 2^32; 2.3.4.1)";
+            ++v.legal;
+            count(freedom, true, i, "a draw with such attributes reaches the pixel");
+            if (at_index == i) v.at_pixel = "legal: " + freedom;
             continue;
         }
         const bool backend_drawn = drawn(backend, i);

@@ -187,6 +187,11 @@ const std::vector<std::string>& rule_order() {
                                                 "snapping",
                                                 "clipper",
                                                 kTileWriteBackRule,
+                                                "line rule",
+                                                "point rule",
+                                                "depth clear",
+                                                "depth rounding",
+                                                "colour rounding",
                                                 "fused arithmetic",
                                                 "denormals"};
     return order;
@@ -217,6 +222,53 @@ std::vector<std::pair<std::string, std::string>> alternatives_of(const refraster
         for (const auto& [scale, text] : scales) {
             if (p.gl.offset_units_scale != scale)
                 out.emplace_back(kOffsetScaleRule, std::string("offset_units_scale=") + text);
+        }
+    }
+    const bool points_or_lines = std::any_of(dl.draws.begin(), dl.draws.end(), [](const auto& d) {
+        return d.primitive == refraster::PrimitiveType::Points ||
+               d.primitive == refraster::PrimitiveType::Lines ||
+               d.primitive == refraster::PrimitiveType::LineStrip ||
+               d.primitive == refraster::PrimitiveType::LineLoop ||
+               d.state.polygon_mode != refraster::PolygonMode::Fill;
+    });
+    if (p.model != refraster::CoverageModel::Exact && points_or_lines) {
+        out.emplace_back("clipper",
+                         p.gl.point_line_clipping == refraster::PointLineClipping::Vertices
+                             ? "point_line_clipping=pixels"
+                             : "point_line_clipping=vertices");
+    }
+    // The conversions and the line and point rules: the GL verdict's freedoms, searched here too
+    // so that the explanation and the verdict never disagree on what reproduces a pixel.
+    out.emplace_back("depth clear", p.gl.depth_clear == refraster::ClearPrecision::Double
+                                        ? "depth_clear=float"
+                                        : "depth_clear=double");
+    if (p.model != refraster::CoverageModel::Exact) {
+        out.emplace_back("depth rounding", p.gl.depth_rounding == refraster::Rounding::Nearest
+                                               ? "depth_rounding=truncate"
+                                               : "depth_rounding=nearest");
+        out.emplace_back("colour rounding", p.gl.color_rounding == refraster::Rounding::Nearest
+                                                ? "color_rounding=truncate"
+                                                : "color_rounding=nearest");
+        const auto has = [&](auto pred) {
+            return std::any_of(dl.draws.begin(), dl.draws.end(), pred);
+        };
+        if (has([](const auto& d) {
+                return d.primitive == refraster::PrimitiveType::Lines ||
+                       d.primitive == refraster::PrimitiveType::LineStrip ||
+                       d.primitive == refraster::PrimitiveType::LineLoop ||
+                       d.state.polygon_mode == refraster::PolygonMode::Line;
+            })) {
+            out.emplace_back("line rule", p.gl.line_rule == refraster::LineRule::Parallelogram
+                                              ? "line_rule=bresenham"
+                                              : "line_rule=parallelogram");
+        }
+        if (has([](const auto& d) {
+                return d.primitive == refraster::PrimitiveType::Points ||
+                       d.state.polygon_mode == refraster::PolygonMode::Point;
+            })) {
+            out.emplace_back("point rule", p.gl.point_rule == refraster::PointRule::Square
+                                               ? "point_rule=two-triangles"
+                                               : "point_rule=square");
         }
     }
     if (p.model != refraster::CoverageModel::Snapped)

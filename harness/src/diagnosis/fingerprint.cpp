@@ -230,6 +230,33 @@ Probe clipping_probe() {
     return p;
 }
 
+// Triangles reaching past a viewport inside the target (within the guard band), with float
+// colours: clipped at the view volume, their planes come from the clipper's new vertices;
+// under the guard band from the original ones, the viewport then a scissor. The colours'
+// low bits tell the two apart.
+Probe triangle_clipping_probe() {
+    Probe p{"triangle_clipping",
+            make_scene("triangle_clipping", 64, 64, refraster::ColorFormat::Rgba32f),
+            Probe::Compare::Exact};
+    std::mt19937 rng(16);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    for (int i = 0; i < 12; ++i) {
+        Draw d;
+        d.primitive = refraster::PrimitiveType::Triangles;
+        d.state.viewport = {16, 16, 32, 32};
+        d.vertices.attributes = {{"color", 4}};
+        for (int k = 0; k < 3; ++k) {
+            // Clip x, y in [-1.8, 1.8]: inside the guard band (2w), often past the viewport.
+            const float x = -1.8f + 3.6f * u(rng);
+            const float y = -1.8f + 3.6f * u(rng);
+            d.vertices.data.insert(d.vertices.data.end(),
+                                   {x, y, 0.0f, 1.0f, u(rng), u(rng), u(rng), 1.0f});
+        }
+        p.scene.draw_list.draws.push_back(d);
+    }
+    return p;
+}
+
 // Perspective-correct colours into rgba32f under a viewport whose scale and offset are not
 // powers of two, so that a fused viewport transform and plane evaluation leave other bits.
 Probe fusion_probe() {
@@ -723,11 +750,26 @@ FingerprintResult fingerprint(Backend& target, const FingerprintProgress& progre
     stage({line_probe()}, "line_rule", {"parallelogram", "bresenham"});
     r.rules.push_back(line_width_finding(widths, search.backend(widths)));
     stage({point_probe()}, "point_rule", {"square", "two-triangles"});
-    stage({clipping_probe()}, "clipping", {"view-volume", "guard-band"});
+    // Clipping per primitive class: points and wide lines here (their coverage), triangles
+    // below, once the arithmetic their float colours show is decided.
+    stage({clipping_probe()}, "point_line_clipping", {"vertices", "pixels"});
     // 3. Arithmetic: fusion, depth, clears, colours.
     const Probe fusion = fusion_probe();
     stage({fusion}, "viewport_fma", {"on", "off"});
     r.rules.push_back(setup_order_finding(search, fusion, base, family));
+    stage({triangle_clipping_probe()}, "clipping", {"view-volume", "guard-band"});
+    // The guard band for triangles implies it for points and lines: point_line_clipping then
+    // keeps its default, "as clipping says".
+    if (decided.count("clipping") && decided["clipping"] == "guard-band" &&
+        base.gl.point_line_clipping == refraster::PointLineClipping::Pixels) {
+        refraster::set_profile_parameter(base, "point_line_clipping", "vertices");
+        for (auto& f : r.rules) {
+            if (f.key == "point_line_clipping") {
+                f.value = "vertices";
+                f.evidence += " (implied by clipping=guard-band, which the profile keeps)";
+            }
+        }
+    }
     stage({depth_probe()}, "depth_rounding", {"nearest", "truncate"});
     stage(offset_probes(), "offset_units_scale", {"0.25", "0.5", "1", "2", "4"});
     stage(clear_probes(), "depth_clear", {"double", "float"});

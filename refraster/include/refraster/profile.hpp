@@ -53,6 +53,17 @@ enum class Clipping : std::uint8_t {
     GuardBand,   // |x|, |y| <= 2w, the viewport then applied as a scissor (draw's guard band)
 };
 
+// How points and lines (and polygons drawn in polygon mode point or line) are clipped in x and
+// y. OpenGL 4.6, 13.7 clips them by their vertices against the view volume: a point whose
+// centre is outside is dropped whole, and the pixels of a wide point or line kept may lie
+// beyond the viewport. Vulkan (and GL on Vulkan) clips them by the pixels they light instead:
+// the vertices pass a guard band and the viewport limits the pixels (Mesa's draw module:
+// guard_band_points_lines_xy, set by the rasterizer state's point_line_tri_clip).
+enum class PointLineClipping : std::uint8_t {
+    Vertices,  // as the `clipping` rule for triangles (GL's rule)
+    Pixels,    // the guard band test, the viewport then applied as a scissor
+};
+
 // How a value becomes an integer where the specification leaves it free (OpenGL 4.6, 2.3.5:
 // "rounded to the nearest", which implementations read as round-to-nearest or truncation).
 enum class Rounding : std::uint8_t { Nearest, Truncate };
@@ -91,6 +102,8 @@ struct GlRules {
     TieRule tie_rule = TieRule::LeftBottom;
 
     Clipping clipping = Clipping::ViewVolume;
+    // Points and lines: by their vertices (as `clipping` says) or by their pixels.
+    PointLineClipping point_line_clipping = PointLineClipping::Vertices;
 
     // The viewport transform of unclipped vertices: fma(x * (1/w), scale, translate).
     FmaMode viewport_fma = FmaMode::Auto;

@@ -117,6 +117,9 @@ std::string to_string(FmaMode m) {
 std::string to_string(Clipping c) {
     return c == Clipping::ViewVolume ? "view-volume" : "guard-band";
 }
+std::string to_string(PointLineClipping c) {
+    return c == PointLineClipping::Vertices ? "vertices" : "pixels";
+}
 std::string bool_text(bool b) {
     return b ? "true" : "false";
 }
@@ -191,6 +194,7 @@ std::vector<std::pair<std::string, std::string>> profile_parameters(const Profil
         {"pixel_center_offset", float_text(p.gl.pixel_center_offset)},
         {"tie_rule", to_string(p.gl.tie_rule)},
         {"clipping", to_string(p.gl.clipping)},
+        {"point_line_clipping", to_string(p.gl.point_line_clipping)},
         {"viewport_fma", to_string(p.gl.viewport_fma)},
         {"flush_denormals", bool_text(p.gl.flush_denormals)},
         {"depth_rounding", to_string(p.gl.depth_rounding)},
@@ -239,6 +243,10 @@ void set_profile_parameter(Profile& p, const std::string& key, const std::string
         p.gl.clipping = pick<Clipping>(
             key, value,
             {{"view-volume", Clipping::ViewVolume}, {"guard-band", Clipping::GuardBand}});
+    } else if (key == "point_line_clipping") {
+        p.gl.point_line_clipping = pick<PointLineClipping>(
+            key, value,
+            {{"vertices", PointLineClipping::Vertices}, {"pixels", PointLineClipping::Pixels}});
     } else if (key == "viewport_fma") {
         p.gl.viewport_fma = pick<FmaMode>(
             key, value, {{"auto", FmaMode::Auto}, {"on", FmaMode::On}, {"off", FmaMode::Off}});

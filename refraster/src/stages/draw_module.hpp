@@ -200,7 +200,7 @@ class DrawModule {
         const Draw& d = ctx_.draw;
         for (std::size_t p = 0; p < d.element_count(); ++p) {
             const std::array<std::uint32_t, 1> i{d.element(p)};
-            if (stage.clipmask(i[0]) != 0) continue;
+            if (!stage.keeps_point(i[0])) continue;
             const StageVertex v = stage.vertex(i[0]);
             next_primitive(p, obs);
             obs.begin_primitive("point", ctx_.index, p, i, stage);

@@ -32,8 +32,9 @@ SetupParams setup_params(const Profile& profile, const DrawState& state, const T
     // lp_setup.c: the draw region is the framebuffer, intersected with the scissor.
     p.draw_region = {0, 0, static_cast<int>(target.width) - 1, static_cast<int>(target.height) - 1};
     p.framebuffer = p.draw_region;
-    if (profile.gl.clipping == Clipping::GuardBand) {
-        // With the guard band the viewport is applied as a scissor (lp_setup.c, draw_regions).
+    if (viewport_scissors(profile)) {
+        // With the guard band, or point_tri_clip's point clipping, the viewport is applied as
+        // a scissor (lp_setup.c, draw_regions).
         const auto& v = state.viewport;
         p.draw_region = intersect(p.draw_region, {v.x, v.y, v.x + v.width - 1, v.y + v.height - 1});
     }

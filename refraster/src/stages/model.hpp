@@ -37,6 +37,7 @@
 #include "stages/observer.hpp"
 #include "stages/polygon_fill.hpp"
 #include "stages/quad.hpp"
+#include "stages/rules.hpp"
 #include "stages/vertex_stage.hpp"
 
 namespace refraster::detail {
@@ -68,8 +69,11 @@ struct DrawContext {
     bool stop_requested() const { return stop != nullptr && stop->requested(); }
 
     VertexStageOptions vertex_options() const {
-        return {fma, profile.gl.flush_denormals, profile.gl.clipping == Clipping::GuardBand,
-                cpu_flushes()};
+        return {.fma = fma,
+                .flush_denormals = profile.gl.flush_denormals,
+                .guard_band = clips_by_guard_band(profile, draw.primitive, draw.state),
+                .keep_points_past_xy = keeps_points_past_xy(profile, draw.primitive),
+                .cpu_flushes = cpu_flushes()};
     }
     // Whether the vertex stage and triangle setup run under the CPU's flush modes with plain
     // float operations instead of the model's emulation (fast paths of a flushing profile on a

@@ -8,7 +8,9 @@
 //    mrd) for fixed-point depth, and the scale of the units for z32f, llvmpipe's from the
 //    float's bits and the specification's exact one;
 //  - the cull decision: whether a polygon of a given facing is culled (14.6.1);
-//  - which edges a tie rule owns: left or right, bottom or top (14.6.1).
+//  - which edges a tie rule owns: left or right, bottom or top (14.6.1);
+//  - which x/y clip test a draw's vertices take: the view volume or the guard band (13.7,
+//    the profile's clipping and point_line_clipping).
 //
 // Deliberately does not: decide facing, clamp depth, or fix the order of the float operations
 // around these rules (which maximum is taken first, which product rounds): each caller keeps the
@@ -135,6 +137,35 @@ constexpr bool owns_top_edges(TieRule r) {
 // Whether the rule keeps GL's requirement of exactly one owner for a centre on a shared edge.
 constexpr bool is_consistent(TieRule r) {
     return r != TieRule::None && r != TieRule::All;
+}
+
+// Whether a draw's vertices take the guard band's x/y clip test: under clipping=guard-band
+// every draw; under point_line_clipping=pixels the draws of points and the polygons drawn in
+// polygon mode point (Mesa 22.3's draw module, draw_pt_fetch_shade_pipeline_llvm.c
+// llvm_middle_end_prepare: point_clip from the output primitive and fill_front selects
+// guard_band_points_xy, which the rasterizer state's point_tri_clip sets).
+inline bool clips_by_guard_band(const Profile& profile, PrimitiveType primitive,
+                                const DrawState& state) {
+    if (profile.gl.clipping == Clipping::GuardBand) return true;
+    return profile.gl.point_line_clipping == PointLineClipping::Pixels &&
+           (primitive == PrimitiveType::Points || state.polygon_mode == PolygonMode::Point);
+}
+
+// Whether a draw's points survive x/y clip bits (draw_pipe_clip.c: clip_first_point chooses
+// clip_point_guard_xy, which drops a point only for z bits or w <= 0, whenever
+// guard_band_points_xy is set, which guard_band_xy implies).
+inline bool keeps_points_past_xy(const Profile& profile, PrimitiveType primitive) {
+    return primitive == PrimitiveType::Points &&
+           (profile.gl.clipping == Clipping::GuardBand ||
+            profile.gl.point_line_clipping == PointLineClipping::Pixels);
+}
+
+// Whether the viewport limits a draw's pixels as a scissor (lp_setup.c: the draw region is
+// intersected with the viewport for the guard band, and for point_tri_clip's point clipping,
+// for every primitive).
+inline bool viewport_scissors(const Profile& profile) {
+    return profile.gl.clipping == Clipping::GuardBand ||
+           profile.gl.point_line_clipping == PointLineClipping::Pixels;
 }
 
 }  // namespace refraster::detail

@@ -317,6 +317,18 @@ void VertexStage::clip_triangle(const std::array<std::uint32_t, 3>& idx, bool pr
     }
 }
 
+// The x/y bits of a clip mask (kClipPlaneNames: x<=w, x>=-w, y<=w, y>=-w).
+constexpr std::uint32_t kXyClipBits = 0xfu;
+
+bool VertexStage::keeps_point(std::uint32_t index) const {
+    const std::uint32_t mask = clipmasks_[index];
+    if (mask == 0) return true;
+    if (!options_.keep_points_past_xy || (mask & ~kXyClipBits) != 0) return false;
+    // clip_point_guard_xy: x/y bits alone keep the point unless w <= 0 (finite positions only
+    // reach here).
+    return draw_.vertices.position(index)[3] > 0.0f;
+}
+
 std::optional<std::array<StageVertex, 2>> VertexStage::clip_line(std::uint32_t a, std::uint32_t b,
                                                                  bool provoking_first) {
     const StageVertex v0 = vertex(a);

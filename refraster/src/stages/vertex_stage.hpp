@@ -71,6 +71,9 @@ struct VertexStageOptions {
     bool fma = true;
     bool flush_denormals = true;
     bool guard_band = false;
+    // A draw of points under the guard band or point_line_clipping=pixels: x/y clip bits (the
+    // guard band's) drop no point; z bits and w <= 0 do (draw_pipe_clip.c, clip_point_guard_xy).
+    bool keep_points_past_xy = false;
     // The caller's fast path lets the CPU flush where the profile flushes (DrawContext::
     // cpu_flushes): the clip masks are computed with plain operations under its flush modes.
     bool cpu_flushes = false;
@@ -90,6 +93,9 @@ class VertexStage {
     // (the CPU reads a denormal as the zero of its sign, the flushed value).
     StageVertex vertex(std::uint32_t index, bool cpu_flushes = false) const;
     std::uint32_t clipmask(std::uint32_t index) const { return clipmasks_[index]; }
+    // Whether the clipper keeps the point at `index` (draw_pipe_clip.c: clip_point drops any
+    // clip bit; clip_point_guard_xy keeps x/y bits alone unless w <= 0).
+    bool keeps_point(std::uint32_t index) const;
     std::size_t attribute_floats() const { return attribute_floats_; }
     // A vertex's attribute values: the draw's own for an original vertex, the pool's for one
     // the clipper made or duplicated. Valid until the stage makes another vertex.
