@@ -23,6 +23,9 @@
 
 #include "backends/backend_gl.hpp"
 #include "harness/backend.hpp"
+#include "harness/fingerprint.hpp"
+#include "harness/gl_verdict.hpp"
+#include "harness/scene.hpp"
 
 #ifndef REFRASTER_TEST_EGL
 #error "REFRASTER_TEST_EGL must be 0 (osmesa) or 1 (egl)"
@@ -986,6 +989,70 @@ TEST(GlBackendZink, AWorkerRunningAnotherDriverThanAskedIsRefused) {
     EXPECT_EQ(r.status, RenderStatus::InternalError);
     EXPECT_NE(r.message.find("asked for llvmpipe but Mesa loaded zink"), std::string::npos)
         << r.message;
+}
+
+// The GL verdict on zink, an implementation no profile models, one case per kind: its twice
+// Mesa's polygon offset r (single sample and sample by sample on 4x) and its points clipped by
+// their pixels are legal; its ignoring GL_MULTISAMPLE disabled and a polygon's edge flags are
+// violations named by the requirement. The fingerprint finds both of its freedoms.
+TEST(GlBackendZink, VerdictsNameEachKindAndTheFingerprintFindsItsFreedoms) {
+    ::setenv("REFRASTER_WORKER_DIR", REFRASTER_TEST_WORKER_DIR, 0);
+    harness::BackendOptions o;
+    o.kind = harness::BackendKind::Egl;
+    o.driver = Driver::Zink;
+    harness::GlWorkerBackend zink(o);
+    const auto profile = refraster::llvmpipe_22_3_profile();
+    const auto judge = [&](const char* relative) {
+        const auto scene = harness::load_scene(std::filesystem::path(REFRASTER_SOURCE_DIR) /
+                                               "conformance/scenes" / relative);
+        harness::BackendOptions ro;
+        ro.kind = harness::BackendKind::Ref;
+        ro.profile = profile;
+        ro.threads = 1;
+        const auto ref = harness::make_backend(ro)->render(scene);
+        const auto r = zink.render(scene);
+        EXPECT_EQ(ref.status, RenderStatus::Ok) << ref.message;
+        EXPECT_EQ(r.status, RenderStatus::Ok) << r.message;
+        // A 4x target sample by sample.
+        const bool ms = ref.samples.width > 0;
+        return harness::gl_verdict(scene, profile, ms ? ref.samples : ref.image,
+                                   ms ? r.samples : r.image);
+    };
+    const auto named = [](const harness::GlVerdict& v, const std::string& words, bool legal) {
+        for (const auto& f : v.findings)
+            if (f.legal == legal && f.rule.find(words) != std::string::npos) return true;
+        return false;
+    };
+    for (const char* legal : {"triangles/attributes/polygon_offset_z24_f0_um2.json",
+                              "msaa/polygon_offset_z24_units_coplanar.json"}) {
+        const auto v = judge(legal);
+        EXPECT_GT(v.differing, 0u) << legal;
+        EXPECT_TRUE(v.passes()) << legal << ": " << v.summary();
+        EXPECT_TRUE(named(v, "polygon offset", true)) << legal << ": " << v.summary();
+    }
+    {
+        const auto v = judge("points/clipped_by_centre.json");
+        EXPECT_TRUE(v.passes()) << v.summary();
+        EXPECT_TRUE(named(v, "point and line clipping policy", true)) << v.summary();
+    }
+    {
+        const auto v = judge("msaa/multisample_off_triangles.json");
+        EXPECT_EQ(v.unit, "samples");
+        EXPECT_GT(v.violations, 0u) << v.summary();
+        EXPECT_TRUE(named(v, "GL_MULTISAMPLE disabled is ignored", false)) << v.summary();
+    }
+    {
+        const auto v = judge("polygons/outline_polygon_mode_line_first.json");
+        EXPECT_GT(v.violations, 0u) << v.summary();
+        EXPECT_TRUE(named(v, "edge flags ignored", false)) << v.summary();
+    }
+    const auto f = harness::fingerprint(zink);
+    EXPECT_TRUE(f.complete()) << harness::fingerprint_text(f);
+    EXPECT_EQ(f.profile.gl.point_line_clipping, refraster::PointLineClipping::Pixels)
+        << harness::fingerprint_text(f);
+    EXPECT_EQ(f.profile.gl.offset_units_scale, 2.0f) << harness::fingerprint_text(f);
+    EXPECT_EQ(f.profile.gl.clipping, refraster::Clipping::ViewVolume)
+        << harness::fingerprint_text(f);
 }
 #endif
 

@@ -171,6 +171,41 @@ TEST(GlVerdict, ExplainAndVerdictNameTheSameRule) {
     EXPECT_NE(v.at_pixel.find(preferred), std::string::npos) << v.at_pixel;
 }
 
+// At a corner shared by two triangles the explanation names the primitive that draws the
+// pixel, on either side: pixel (10, 10) of square_through_centres has its centre on edges 0
+// and 1 of triangle 0 and on two edges of triangle 1; under llvmpipe's left-bottom rule
+// triangle 0 draws it, under right-top neither does.
+TEST(GlVerdict, TheTieAtACornerNamesThePrimitiveThatDrawsIt) {
+    const auto s = suite_scene("triangles/coverage/square_through_centres.json");
+    const auto backend = [](const refraster::Profile& p) {
+        harness::BackendOptions o;
+        o.kind = harness::BackendKind::Ref;
+        o.profile = p;
+        o.threads = 1;
+        return harness::make_backend(o);
+    };
+    // The reference draws it, the backend does not.
+    auto right_top = backend(llvmpipe_with("tie_rule=right-top"));
+    const auto e =
+        harness::explain_pixel(s, refraster::llvmpipe_22_3_profile(), 10, 10, right_top.get());
+    ASSERT_FALSE(e.agree) << e.verdict;
+    EXPECT_EQ(e.rule, "tie rule") << e.verdict;
+    EXPECT_NE(e.verdict.find("edges 0 and 1 of draws[0] triangle 0, and the left-bottom rule "
+                             "gives the pixel to it"),
+              std::string::npos)
+        << e.verdict;
+    EXPECT_EQ(e.verdict.find("triangle 1"), std::string::npos) << e.verdict;
+    // The backend draws it (triangle 0), the reference does not.
+    auto left_bottom = backend(refraster::llvmpipe_22_3_profile());
+    const auto f =
+        harness::explain_pixel(s, llvmpipe_with("tie_rule=right-top"), 10, 10, left_bottom.get());
+    ASSERT_FALSE(f.agree) << f.verdict;
+    EXPECT_NE(f.verdict.find("of draws[0] triangle 0, and the right-top rule keeps the pixel"),
+              std::string::npos)
+        << f.verdict;
+    EXPECT_EQ(f.verdict.find("triangle 1"), std::string::npos) << f.verdict;
+}
+
 TEST(GlVerdict, CentresOnSharedEdgesWithoutOwnerAreHoles) {
     const auto s = suite_scene(kSharedEdges);
     const auto ref = render(s, refraster::llvmpipe_22_3_profile());

@@ -81,13 +81,14 @@ std::vector<Variation> variations(const Profile& p, const Scene& scene) {
         for (const char* t : {"left-bottom", "left-top", "right-bottom", "right-top"})
             add("tie rule", "tie_rule", t);
     }
-    for (const char* c : {"view-volume", "guard-band"})
-        add("clipping or guard band", "clipping", c);
     // Points and lines clipped by their pixels (a guard band, the viewport as a scissor) instead
-    // of by their vertices (13.7): the rule of Vulkan and of GL drivers layered on it.
+    // of by their vertices (13.7): the rule of Vulkan and of GL drivers layered on it. Before
+    // the guard band for every primitive, which implies it for points: the narrower is named.
     for (const char* c : {"vertices", "pixels"})
         add("point and line clipping policy (13.7 by vertices, or by pixels as Vulkan does)",
             "point_line_clipping", c);
+    for (const char* c : {"view-volume", "guard-band"})
+        add("clipping or guard band", "clipping", c);
     for (const char* l : {"parallelogram", "bresenham"})
         add("line rasterisation within the diamond-exit tolerance", "line_rule", l);
     for (const char* r : {"square", "two-triangles"}) add("point rasterisation", "point_rule", r);

@@ -88,7 +88,10 @@ struct Evidence {
     bool any = false;
 };
 
-Evidence gather(const refraster::PixelTrace& t, const refraster::Profile& profile) {
+// `backend_owner`: the primitive that draws the pixel in the backend (owner_text's encoding; 0
+// when unknown).
+Evidence gather(const refraster::PixelTrace& t, const refraster::Profile& profile,
+                std::uint32_t backend_owner) {
     Evidence ev;
     for (const auto& p : t.primitives) {
         ev.any = true;
@@ -116,19 +119,6 @@ Evidence gather(const refraster::PixelTrace& t, const refraster::Profile& profil
                 ev.clipper = where(p) + " was clipped, and its new vertices reach the pixel";
             for (std::size_t k = 0; k < s.edges.size(); ++k) {
                 const auto& ed = s.edges[k];
-                if (ev.tie.empty() && ed.tie) {
-                    bool others_inside = true;
-                    for (std::size_t j = 0; j < s.edges.size(); ++j) {
-                        if (j != k && !(s.edges[j].value > 0)) others_inside = false;
-                    }
-                    if (others_inside) {
-                        ev.tie =
-                            "the centre lies exactly on edge " + std::to_string(k) + " of " +
-                            where(p) + ", and the " + refraster::to_string(profile.gl.tie_rule) +
-                            " rule " +
-                            (ed.owns_ties ? "gives the pixel to it" : "keeps the pixel from it");
-                    }
-                }
                 const std::int64_t raw = ed.value - (ed.owns_ties ? 1 : 0);
                 const std::int64_t step = std::abs(static_cast<std::int64_t>(ed.a)) +
                                           std::abs(static_cast<std::int64_t>(ed.b));
@@ -137,6 +127,45 @@ Evidence gather(const refraster::PixelTrace& t, const refraster::Profile& profil
                                   " passes within one subpixel step of the centre (edge value " +
                                   std::to_string(raw) + ")";
                 }
+            }
+        }
+    }
+    // The tie: a centre exactly on one or more edges of a primitive whose other edges hold it
+    // inside, so that ownership alone decides. The primitive that draws the pixel comes first,
+    // in the reference (the last such, the owner), else in the backend: at a corner the centre
+    // lies on edges of both triangles, and the one that draws the pixel on neither side is
+    // not the one to name.
+    const auto backend_draws = [&](const refraster::PrimitiveTrace& p) {
+        return backend_owner != 0 && p.draw == (backend_owner >> 24) &&
+               p.primitive + 1 == (backend_owner & 0xffffffu);
+    };
+    for (int pass = 0; pass < 3; ++pass) {
+        const bool drawing = pass == 0;
+        for (auto p = t.primitives.rbegin(); p != t.primitives.rend() && ev.tie.empty(); ++p) {
+            if (pass == 1 && !backend_draws(*p)) continue;
+            for (const auto& s : p->setups) {
+                if (s.covered != drawing || !ev.tie.empty()) continue;
+                std::vector<std::size_t> on;
+                bool others_inside = true;
+                bool owned = true;
+                for (std::size_t k = 0; k < s.edges.size(); ++k) {
+                    if (s.edges[k].tie) {
+                        on.push_back(k);
+                        owned = owned && s.edges[k].owns_ties;
+                    } else if (!(s.edges[k].value > 0)) {
+                        others_inside = false;
+                    }
+                }
+                if (on.empty() || !others_inside) continue;
+                std::string edges = on.size() == 1 ? "edge " : "edges ";
+                for (std::size_t i = 0; i < on.size(); ++i)
+                    edges += (i == 0               ? ""
+                              : i + 1 == on.size() ? " and "
+                                                   : ", ") +
+                             std::to_string(on[i]);
+                ev.tie = "the centre lies exactly on " + edges + " of " + where(*p) + ", and the " +
+                         refraster::to_string(profile.gl.tie_rule) + " rule " +
+                         (drawing && owned ? "gives the pixel to it" : "keeps the pixel from it");
             }
         }
     }
@@ -676,7 +705,8 @@ Explanation Explainer::explain(int x, int y, bool full) {
     const auto evidence = [&]() -> const Evidence& {
         if (!gathered) {
             trace();
-            ev = gather(e.trace, profile_);
+            ev = gather(e.trace, profile_,
+                        backend_view_.owner.empty() ? 0u : backend_view_.owner[i]);
             gathered = true;
         }
         return ev;
@@ -757,8 +787,9 @@ Explanation Explainer::explain(int x, int y, bool full) {
     }
     // A coverage rule that reproduces a colour or depth difference exactly: the coverage of a
     // primitive beneath the last one differs, seen through blending or the depth test.
-    if (e.difference != "coverage" && (e.rule == "tie rule" || e.rule == "snapping" ||
-                                       e.rule == "cull" || e.rule == "nine-vertex analysis")) {
+    if (e.difference != "coverage" &&
+        (e.rule == "tie rule" || e.rule == "snapping" || e.rule == "cull" ||
+         e.rule == "nine-vertex analysis" || e.rule == "line rule" || e.rule == "point rule")) {
         e.difference = "coverage";
         what +=
             ", because the coverage of a primitive drawn earlier differs (blending or the depth "
