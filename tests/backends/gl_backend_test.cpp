@@ -1053,6 +1053,13 @@ TEST(GlBackendZink, VerdictsNameEachKindAndTheFingerprintFindsItsFreedoms) {
     EXPECT_EQ(f.profile.gl.offset_units_scale, 2.0f) << harness::fingerprint_text(f);
     EXPECT_EQ(f.profile.gl.clipping, refraster::Clipping::ViewVolume)
         << harness::fingerprint_text(f);
+    // The state it ignores: findings, each naming what GL requires.
+    for (const char* key : {"multisample_enable", "edge_flags"}) {
+        const auto it = std::find_if(f.rules.begin(), f.rules.end(),
+                                     [&](const auto& r) { return r.key == key; });
+        ASSERT_NE(it, f.rules.end()) << key;
+        EXPECT_EQ(it->value, "ignored") << key << ": " << it->evidence;
+    }
 }
 #endif
 

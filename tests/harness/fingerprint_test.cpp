@@ -109,6 +109,13 @@ TEST(Fingerprint, BuiltInProfilesComeBackUnchanged) {
         const auto r = harness::fingerprint(*backend);
         EXPECT_TRUE(r.complete()) << harness::fingerprint_text(r);
         EXPECT_EQ(r.profile, refraster::builtin_profile(name)) << harness::fingerprint_text(r);
+        // The reference honours the draw state GL requires (softpipe's family draws no 4x).
+        for (const auto& f : r.rules) {
+            if (f.key == "edge_flags" ||
+                (f.key == "multisample_enable" && std::string(name) == "llvmpipe-22.3")) {
+                EXPECT_EQ(f.value, "honoured") << f.key << ": " << f.evidence;
+            }
+        }
     }
 }
 

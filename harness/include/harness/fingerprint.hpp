@@ -16,7 +16,10 @@
 //   point_rule; point_line_clipping (points and wide lines); viewport_fma, and the attribute
 //   setup order (a finding: the coverage family's, which the fusion probe confirms); clipping
 //   (triangles, from their float colours); depth_rounding; offset_units_scale; depth_clear;
-//   color_rounding.
+//   color_rounding. Then two findings on draw state GL requires honoured, never written into
+//   the profile: multisample_enable (GL_MULTISAMPLE disabled on a 4x target, 14.3.1) and
+//   edge_flags (a GL_POLYGON's internal edges in polygon mode line, 14.6.4): "honoured",
+//   "ignored" or "n/a".
 //
 // Deliberately does not: infer the driver quirks (flush_denormals, draw_pipeline_cull,
 // draw_segment_vertices, nine_vertex_quirk, wrapping_arithmetic, draw_offset_nan_to_zero,

@@ -705,6 +705,96 @@ RuleFinding setup_order_finding(Search& search, const Probe& fusion, const Profi
 
 }  // namespace
 
+// Draw state GL requires an implementation to honour, probed as GL draws it and as it is drawn
+// with the state ignored: GL_MULTISAMPLE disabled on a 4x target (14.3.1) and a GL_POLYGON's
+// edge flags in polygon mode line (14.6.4). A finding, never a profile rule: "honoured",
+// "ignored" (which breaks GL), or "n/a" where the backend or the family cannot draw the probe.
+struct StateProbe {
+    Probe as_gl;          // the state as set
+    Scene state_ignored;  // the same scene with the state ignored
+};
+
+StateProbe multisample_off_probe() {
+    StateProbe p{{"multisample_off", make_scene("multisample_off", 32, 32), Probe::Compare::Exact},
+                 {}};
+    p.as_gl.scene.file.target.samples = 4;
+    p.as_gl.scene.draw_list.target.samples = 4;
+    for (int i = 0; i < 4; ++i) {
+        const float x = 2.0f + 7.5f * static_cast<float>(i);
+        Draw d = window_draw(refraster::PrimitiveType::Triangles,
+                             {{x, 1.3f, 0.5f}, {x + 6.7f, 9.1f, 0.5f}, {x + 1.1f, 30.2f, 0.5f}},
+                             {kWhite}, 32, 32);
+        d.state.multisample = false;
+        p.as_gl.scene.draw_list.draws.push_back(d);
+    }
+    p.state_ignored = p.as_gl.scene;
+    for (auto& d : p.state_ignored.draw_list.draws) d.state.multisample = true;
+    return p;
+}
+
+StateProbe edge_flags_probe() {
+    StateProbe p{{"edge_flags", make_scene("edge_flags", 32, 32), Probe::Compare::Coverage}, {}};
+    Draw d = window_draw(refraster::PrimitiveType::Polygon,
+                         {{4.3f, 3.2f, 0.5f},
+                          {27.6f, 4.1f, 0.5f},
+                          {29.2f, 18.7f, 0.5f},
+                          {16.4f, 28.9f, 0.5f},
+                          {3.1f, 20.6f, 0.5f}},
+                         {kWhite}, 32, 32);
+    d.state.polygon_mode = refraster::PolygonMode::Line;
+    p.as_gl.scene.draw_list.draws.push_back(d);
+    p.state_ignored = p.as_gl.scene;
+    p.state_ignored.draw_list.draws[0].primitive = refraster::PrimitiveType::TriangleFan;
+    return p;
+}
+
+RuleFinding state_finding(Search& search, const std::string& key, const StateProbe& p,
+                          const Profile& base) {
+    RuleFinding f;
+    f.key = key;
+    f.candidates = {"honoured", "ignored"};
+    const auto resolved = [](std::optional<Framebuffer> fb) {
+        if (fb && fb->samples > 1) fb = refraster::resolve_samples(*fb);
+        return fb;
+    };
+    const auto want = search.backend(p.as_gl);
+    const auto gl = resolved(Search::reference(p.as_gl, base));
+    Probe ignored_probe = p.as_gl;
+    ignored_probe.scene = p.state_ignored;
+    const auto ignored = resolved(Search::reference(ignored_probe, base));
+    if (!want || !gl || !ignored) {
+        f.value = "n/a";
+        f.decided = true;
+        f.evidence = std::string(!want ? "the backend" : "the reference under this profile") +
+                     " does not draw the probe " + p.as_gl.name;
+        return f;
+    }
+    const Difference d_gl = difference(p.as_gl, *gl, *want);
+    const Difference d_ignored = difference(p.as_gl, *ignored, *want);
+    if ((d_gl.pixels == 0) == (d_ignored.pixels == 0)) {
+        f.value = "undecided";
+        f.evidence = "probe " + p.as_gl.name + ": " + std::to_string(d_gl.pixels) +
+                     " pixels differ from the state honoured, " + std::to_string(d_ignored.pixels) +
+                     " from it ignored";
+        return f;
+    }
+    const bool honoured = d_gl.pixels == 0;
+    const Difference& rival = honoured ? d_ignored : d_gl;
+    f.value = honoured ? "honoured" : "ignored";
+    f.decided = true;
+    f.matching = {f.value};
+    f.evidence = "probe " + p.as_gl.name + " pixel (" + std::to_string(rival.x) + ", " +
+                 std::to_string(rival.y) + "): the backend gives " +
+                 pixel_text(p.as_gl, *want, rival.x, rival.y) + " as the state " + f.value +
+                 " does; " + (honoured ? "ignored" : "honoured") + " gives " +
+                 pixel_text(p.as_gl, honoured ? *ignored : *gl, rival.x, rival.y) + " (" +
+                 std::to_string(rival.pixels) + " pixels differ)" +
+                 (honoured                      ? ""
+                  : key == "multisample_enable" ? "; GL 14.3.1 requires it"
+                                                : "; GL 14.6.4 requires them");
+    return f;
+}
+
 bool FingerprintResult::complete() const {
     return std::all_of(rules.begin(), rules.end(),
                        [](const RuleFinding& f) { return !f.probed || f.decided; });
@@ -785,6 +875,10 @@ FingerprintResult fingerprint(Backend& target, const FingerprintProgress& progre
             refraster::set_profile_parameter(base, "viewport_fma", "auto");
         }
     }
+    // 4. Draw state GL requires honoured (findings only).
+    r.rules.push_back(state_finding(search, "multisample_enable", multisample_off_probe(), base));
+    r.rules.push_back(state_finding(search, "edge_flags", edge_flags_probe(), base));
+
     for (const char* key :
          {"flush_denormals", "draw_pipeline_cull", "draw_segment_vertices", "nine_vertex_quirk",
           "wrapping_arithmetic", "draw_offset_nan_to_zero", "fill_clear_writes_tiles"}) {
