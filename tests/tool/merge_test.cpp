@@ -74,6 +74,26 @@ std::set<std::string> listing(const fs::path& dir) {
     return s;
 }
 
+// A record whose largest colour difference holds NaN or infinite channels (rgba32f stores
+// them) is written with "NaN", "Infinity" and "-Infinity", which the run, its reports and
+// merge read back: before, the run ended with exit 2 and no report.
+TEST(ConformanceMerge, NonFiniteChannelsRoundTrip) {
+    testutil::TempDir dir;
+    const fs::path out = dir.path() / "run";
+    const std::string cmd = kClean + " " + bin() +
+                            " conformance run --cases 'extreme.colour_*_rgba32f*' --against ref "
+                            "--profile-set viewport_fma=off --output " +
+                            testutil::shell_quote(out.string()) + " > /dev/null 2>&1";
+    const int rc = std::system(cmd.c_str()) >> 8;
+    ASSERT_EQ(rc, 1) << cmd;  // some cases fail, and the run ends normally
+    EXPECT_TRUE(fs::exists(out / "index.html"));
+    const std::string text = testutil::read_text(out / "results.jsonl");
+    EXPECT_NE(text.find("\"NaN\""), std::string::npos) << text.substr(0, 2000);
+    const auto m = merge({out}, dir.path() / "merged");
+    EXPECT_TRUE(m.code == 0 || m.code == 1) << m.out;
+    EXPECT_TRUE(fs::exists(dir.path() / "merged" / "index.html")) << m.out;
+}
+
 TEST(ConformanceMerge, EqualsTheUnshardedRun) {
     testutil::TempDir dir;
     std::vector<fs::path> shards;

@@ -236,8 +236,13 @@ struct Checker {
             number(m, key, path);
             return;
         }
+        // A channel is a number, or "NaN", "Infinity" or "-Infinity" (case_result.cpp).
         for (std::size_t i = 0; i < v.size(); ++i) {
-            if (!v[i].is_number()) fail(path + key + "[" + std::to_string(i) + "]", "not a number");
+            const bool non_finite =
+                v[i].is_string() && (v[i] == "NaN" || v[i] == "Infinity" || v[i] == "-Infinity");
+            if (!v[i].is_number() && !non_finite)
+                fail(path + key + "[" + std::to_string(i) + "]",
+                     "not a number (nor \"NaN\", \"Infinity\", \"-Infinity\")");
         }
     }
     void largest(const json& c, const char* key, const std::string& path) {

@@ -64,6 +64,23 @@ bool counts_as_failure(CaseStatus s) {
 
 namespace {
 
+// A pixel's four channel values for a record: numbers, and "NaN", "Infinity" or "-Infinity"
+// for the values JSON has no number for (an rgba32f target stores them; nlohmann would write
+// null, which says nothing).
+ojson channels_json(const std::array<double, 4>& v) {
+    ojson out = ojson::array();
+    for (const double c : v) {
+        if (std::isnan(c)) {
+            out.push_back("NaN");
+        } else if (std::isinf(c)) {
+            out.push_back(c > 0 ? "Infinity" : "-Infinity");
+        } else {
+            out.push_back(c);
+        }
+    }
+    return out;
+}
+
 // How a backend's non-Ok status becomes the case's status.
 CaseStatus case_status(RenderStatus s) {
     switch (s) {
@@ -268,8 +285,8 @@ std::string to_json_line(const CaseResult& r) {
                               {"x", c.max_color->x},
                               {"y", c.max_color->y},
                               {"channel", c.max_color->channel},
-                              {"reference", c.max_color->reference},
-                              {"actual", c.max_color->actual}};
+                              {"reference", channels_json(c.max_color->reference)},
+                              {"actual", channels_json(c.max_color->actual)}};
         }
         if (c.max_depth) {
             k["max_depth"] = {{"amount", c.max_depth->amount},
@@ -304,8 +321,8 @@ std::string to_json_line(const CaseResult& r) {
                                          {"y", m.max_color->y},
                                          {"sample", m.max_color->sample},
                                          {"channel", m.max_color->channel},
-                                         {"reference", m.max_color->reference},
-                                         {"actual", m.max_color->actual}};
+                                         {"reference", channels_json(m.max_color->reference)},
+                                         {"actual", channels_json(m.max_color->actual)}};
             }
             if (m.max_depth) {
                 k["max_sample_depth"] = {{"amount", m.max_depth->amount},
