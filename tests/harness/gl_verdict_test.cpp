@@ -39,6 +39,15 @@ harness::Scene suite_scene(const std::string& relative) {
                                relative);
 }
 
+// The reference under `p` as a backend (what explain compares against).
+std::unique_ptr<harness::Backend> reference_backend(const refraster::Profile& p) {
+    harness::BackendOptions o;
+    o.kind = harness::BackendKind::Ref;
+    o.profile = p;
+    o.threads = 1;
+    return harness::make_backend(o);
+}
+
 bool has_finding(const harness::GlVerdict& v, const std::string& words, bool legal) {
     for (const auto& f : v.findings)
         if (f.legal == legal && f.rule.find(words) != std::string::npos && f.pixels > 0)
@@ -150,12 +159,7 @@ TEST(GlVerdict, IgnoredStateIsNamedByTheRequirement) {
 // conversions, so it names depth rounding, never "undecided", and the verdict agrees.
 TEST(GlVerdict, ExplainAndVerdictNameTheSameRule) {
     const auto s = suite_scene("smoke/depth.json");
-    auto truncating = llvmpipe_with("depth_rounding=truncate");
-    harness::BackendOptions o;
-    o.kind = harness::BackendKind::Ref;
-    o.profile = truncating;
-    o.threads = 1;
-    auto backend = harness::make_backend(o);
+    auto backend = reference_backend(llvmpipe_with("depth_rounding=truncate"));
     const auto e =
         harness::explain_pixel(s, refraster::llvmpipe_22_3_profile(), 0, 0, backend.get());
     ASSERT_FALSE(e.agree);
@@ -177,15 +181,8 @@ TEST(GlVerdict, ExplainAndVerdictNameTheSameRule) {
 // triangle 0 draws it, under right-top neither does.
 TEST(GlVerdict, TheTieAtACornerNamesThePrimitiveThatDrawsIt) {
     const auto s = suite_scene("triangles/coverage/square_through_centres.json");
-    const auto backend = [](const refraster::Profile& p) {
-        harness::BackendOptions o;
-        o.kind = harness::BackendKind::Ref;
-        o.profile = p;
-        o.threads = 1;
-        return harness::make_backend(o);
-    };
     // The reference draws it, the backend does not.
-    auto right_top = backend(llvmpipe_with("tie_rule=right-top"));
+    auto right_top = reference_backend(llvmpipe_with("tie_rule=right-top"));
     const auto e =
         harness::explain_pixel(s, refraster::llvmpipe_22_3_profile(), 10, 10, right_top.get());
     ASSERT_FALSE(e.agree) << e.verdict;
@@ -196,7 +193,7 @@ TEST(GlVerdict, TheTieAtACornerNamesThePrimitiveThatDrawsIt) {
         << e.verdict;
     EXPECT_EQ(e.verdict.find("triangle 1"), std::string::npos) << e.verdict;
     // The backend draws it (triangle 0), the reference does not.
-    auto left_bottom = backend(refraster::llvmpipe_22_3_profile());
+    auto left_bottom = reference_backend(refraster::llvmpipe_22_3_profile());
     const auto f =
         harness::explain_pixel(s, llvmpipe_with("tie_rule=right-top"), 10, 10, left_bottom.get());
     ASSERT_FALSE(f.agree) << f.verdict;

@@ -253,14 +253,21 @@ std::vector<std::pair<std::string, std::string>> alternatives_of(const refraster
                 out.emplace_back(kOffsetScaleRule, std::string("offset_units_scale=") + text);
         }
     }
-    const bool points_or_lines = std::any_of(dl.draws.begin(), dl.draws.end(), [](const auto& d) {
-        return d.primitive == refraster::PrimitiveType::Points ||
-               d.primitive == refraster::PrimitiveType::Lines ||
+    // Which primitive classes the draws rasterise (polygon mode point and line included).
+    const auto any_draw = [&](auto pred) {
+        return std::any_of(dl.draws.begin(), dl.draws.end(), pred);
+    };
+    const bool draws_lines = any_draw([](const refraster::Draw& d) {
+        return d.primitive == refraster::PrimitiveType::Lines ||
                d.primitive == refraster::PrimitiveType::LineStrip ||
                d.primitive == refraster::PrimitiveType::LineLoop ||
-               d.state.polygon_mode != refraster::PolygonMode::Fill;
+               d.state.polygon_mode == refraster::PolygonMode::Line;
     });
-    if (p.model != refraster::CoverageModel::Exact && points_or_lines) {
+    const bool draws_points = any_draw([](const refraster::Draw& d) {
+        return d.primitive == refraster::PrimitiveType::Points ||
+               d.state.polygon_mode == refraster::PolygonMode::Point;
+    });
+    if (p.model != refraster::CoverageModel::Exact && (draws_lines || draws_points)) {
         out.emplace_back("clipper",
                          p.gl.point_line_clipping == refraster::PointLineClipping::Vertices
                              ? "point_line_clipping=pixels"
@@ -278,23 +285,12 @@ std::vector<std::pair<std::string, std::string>> alternatives_of(const refraster
         out.emplace_back("colour rounding", p.gl.color_rounding == refraster::Rounding::Nearest
                                                 ? "color_rounding=truncate"
                                                 : "color_rounding=nearest");
-        const auto has = [&](auto pred) {
-            return std::any_of(dl.draws.begin(), dl.draws.end(), pred);
-        };
-        if (has([](const auto& d) {
-                return d.primitive == refraster::PrimitiveType::Lines ||
-                       d.primitive == refraster::PrimitiveType::LineStrip ||
-                       d.primitive == refraster::PrimitiveType::LineLoop ||
-                       d.state.polygon_mode == refraster::PolygonMode::Line;
-            })) {
+        if (draws_lines) {
             out.emplace_back("line rule", p.gl.line_rule == refraster::LineRule::Parallelogram
                                               ? "line_rule=bresenham"
                                               : "line_rule=parallelogram");
         }
-        if (has([](const auto& d) {
-                return d.primitive == refraster::PrimitiveType::Points ||
-                       d.state.polygon_mode == refraster::PolygonMode::Point;
-            })) {
+        if (draws_points) {
             out.emplace_back("point rule", p.gl.point_rule == refraster::PointRule::Square
                                                ? "point_rule=two-triangles"
                                                : "point_rule=square");
