@@ -15,6 +15,7 @@
 #include "harness/compare.hpp"
 #include "harness/explain.hpp"
 #include "harness/profile_io.hpp"
+#include "harness/rule_search.hpp"
 #include "harness/scene.hpp"
 #include "refraster/renderer.hpp"
 
@@ -145,11 +146,18 @@ void check_every_pixel(harness::Backend& backend, const refraster::Profile& prof
                         ASSERT_NE(named, e.candidates.end()) << at;
                         auto& fb = rerendered[named->second];
                         if (!fb) {
+                            // The variation named, as the rule search states it.
+                            const auto vars = harness::rule_variations(profile, scene);
+                            const auto var = std::find_if(
+                                vars.begin(), vars.end(),
+                                [&](const auto& v) { return v.setting == named->second; });
+                            ASSERT_NE(var, vars.end()) << at;
                             refraster::RenderOptions o;
-                            o.profile = profile;
-                            harness::apply_profile_overrides(o.profile, {named->second});
+                            o.profile = var->profile;
                             fb = std::make_unique<refraster::Framebuffer>();
-                            ASSERT_EQ(refraster::render(scene.draw_list, o, *fb).status,
+                            ASSERT_EQ(refraster::render(
+                                          (var->scene ? *var->scene : scene).draw_list, o, *fb)
+                                          .status,
                                       refraster::RenderStatus::Ok);
                             if (sample >= 0) {
                                 *fb = refraster::sample_plane(*fb,

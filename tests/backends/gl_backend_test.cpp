@@ -23,6 +23,7 @@
 
 #include "backends/backend_gl.hpp"
 #include "harness/backend.hpp"
+#include "harness/explain.hpp"
 #include "harness/fingerprint.hpp"
 #include "harness/gl_verdict.hpp"
 #include "harness/scene.hpp"
@@ -1046,7 +1047,9 @@ TEST(GlBackendZink, VerdictsNameEachKindAndTheFingerprintFindsItsFreedoms) {
         EXPECT_GT(v.violations, 0u) << v.summary();
         EXPECT_TRUE(named(v, "edge flags ignored", false)) << v.summary();
     }
-    const auto f = harness::fingerprint(zink);
+    const auto f = harness::fingerprint(zink, {}, [&o]() -> std::unique_ptr<harness::Backend> {
+        return std::make_unique<harness::GlWorkerBackend>(o);
+    });
     EXPECT_TRUE(f.complete()) << harness::fingerprint_text(f);
     EXPECT_EQ(f.profile.gl.point_line_clipping, refraster::PointLineClipping::Pixels)
         << harness::fingerprint_text(f);
@@ -1060,6 +1063,28 @@ TEST(GlBackendZink, VerdictsNameEachKindAndTheFingerprintFindsItsFreedoms) {
         ASSERT_NE(it, f.rules.end()) << key;
         EXPECT_EQ(it->value, "ignored") << key << ": " << it->evidence;
     }
+    // The point sprite origin of the worker's first sprite sticks: told from an ignored one by
+    // swapping the origins in a fresh worker.
+    const auto sprite = std::find_if(f.rules.begin(), f.rules.end(),
+                                     [](const auto& r) { return r.key == "point_sprite_origin"; });
+    ASSERT_NE(sprite, f.rules.end());
+    EXPECT_EQ(sprite->value, "order-dependent") << sprite->evidence;
+    // explain names the rule zink breaks in an outline, as the verdict does.
+    const auto outline = harness::load_scene(std::filesystem::path(REFRASTER_SOURCE_DIR) /
+                                             "conformance/scenes/polygons/outline_clipped.json");
+    harness::Explainer ex(outline, profile, &zink);
+    const auto& ref = ex.reference_image();
+    std::size_t named_edge_flags = 0, differing = 0;
+    for (std::uint32_t y = 0; y < ref.height; ++y) {
+        for (std::uint32_t x = 0; x < ref.width; ++x) {
+            if (ex.classifier()->at(ref.index(x, y)).cls == harness::PixelClass::Equal) continue;
+            ++differing;
+            const auto e = ex.explain(static_cast<int>(x), static_cast<int>(y), false);
+            named_edge_flags += e.rule == "edge flags";
+        }
+    }
+    EXPECT_GT(differing, 0u);
+    EXPECT_EQ(named_edge_flags, differing);
 }
 #endif
 

@@ -8,6 +8,7 @@
 
 #include <cctype>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -168,6 +169,60 @@ TEST(Fingerprint, UndecidableRulesAreReportedNotGuessed) {
         ASSERT_NE(f, nullptr) << key;
         EXPECT_TRUE(f->decided) << key << ": " << f->evidence;
     }
+}
+
+// Point sprite origins (GL 14.4): a backend that keeps the first origin its worker drew with is
+// order-dependent (seen only by swapping the origins in a fresh worker), one that always draws
+// the default origin ignores the state, and the reference honours it.
+class SpriteOrigin : public harness::Backend {
+  public:
+    enum class Fault { None, Sticky, Ignored };
+    explicit SpriteOrigin(Fault f)
+        : fault_(f), inner_(reference(refraster::llvmpipe_22_3_profile())) {}
+    harness::BackendKind kind() const override { return harness::BackendKind::Ref; }
+    std::string name() const override { return "sprites"; }
+    harness::RenderResult render(const harness::Scene& s) override {
+        harness::Scene changed = s;
+        for (auto& d : changed.draw_list.draws) {
+            if (!d.state.texture || !d.state.texture->coord_replace) continue;
+            auto& origin = d.state.texture->point_coord_origin;
+            if (fault_ == Fault::Ignored) origin = refraster::PointCoordOrigin::UpperLeft;
+            if (fault_ == Fault::Sticky) {
+                if (!first_) first_ = origin;
+                origin = *first_;
+            }
+        }
+        return inner_->render(changed);
+    }
+
+  private:
+    Fault fault_;
+    std::optional<refraster::PointCoordOrigin> first_;
+    std::unique_ptr<harness::Backend> inner_;
+};
+
+TEST(Fingerprint, SpriteOriginsHonouredIgnoredOrOrderDependent) {
+    using Fault = SpriteOrigin::Fault;
+    const auto origin_of = [](Fault fault, bool with_fresh) {
+        SpriteOrigin backend(fault);
+        harness::FreshBackend fresh;
+        if (with_fresh)
+            fresh = [fault]() -> std::unique_ptr<harness::Backend> {
+                return std::make_unique<SpriteOrigin>(fault);
+            };
+        const auto r = harness::fingerprint(backend, {}, fresh);
+        const auto* f = finding(r, "point_sprite_origin");
+        EXPECT_NE(f, nullptr);
+        return f == nullptr ? std::string() : f->value + ": " + f->evidence;
+    };
+    EXPECT_EQ(origin_of(Fault::None, true).rfind("honoured: ", 0), 0u);
+    EXPECT_EQ(origin_of(Fault::Sticky, true).rfind("order-dependent: ", 0), 0u)
+        << origin_of(Fault::Sticky, true);
+    EXPECT_EQ(origin_of(Fault::Ignored, true).rfind("ignored: ", 0), 0u);
+    // Without a fresh worker a sticky origin looks ignored, and the finding says it may not be.
+    const auto sticky_alone = origin_of(Fault::Sticky, false);
+    EXPECT_EQ(sticky_alone.rfind("ignored: ", 0), 0u) << sticky_alone;
+    EXPECT_NE(sticky_alone.find("first origin sticks"), std::string::npos) << sticky_alone;
 }
 
 }  // namespace

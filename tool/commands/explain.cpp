@@ -58,28 +58,21 @@ int run_explain(const ExplainArgs& a) {
     if (const auto rc = profile_and_backend(a.against, a.scene, !a.no_backend, profile, backend))
         return *rc;
     try {
-        const auto e = harness::explain_pixel(*scene, profile, x, y, backend.get(), a.sample,
-                                              a.against.timeout);
+        harness::Explainer explainer(*scene, profile, backend.get(), a.sample, a.against.timeout);
+        const auto e = explainer.explain(x, y);
         std::cout << (a.json ? harness::explanation_json(e) + "\n" : harness::explanation_text(e));
-        // Whether GL allows the backend's pixel (gl_verdict.hpp), for a differing pixel.
-        // A 4x target is judged sample by sample (the reference's samples rendered again), at
-        // the sample explained or sample 0; the explanation's rule is the variation preferred.
+        // Whether GL allows the backend's pixel (gl_verdict.hpp), for a differing pixel, judged
+        // over the same variations (rule_search.hpp). A 4x target is judged sample by sample,
+        // at the sample explained or sample 0; the explanation's rule is the variation preferred.
         if (!a.json && !e.agree && e.backend && e.backend->status == harness::RenderStatus::Ok) {
             std::string preferred;
             for (const auto& [rule, change] : e.candidates)
                 if (rule == e.rule) preferred = change;
             const bool multisampled = e.backend->samples.width > 0;
-            refraster::Framebuffer reference_samples;
-            if (multisampled) {
-                refraster::RenderOptions o;
-                o.profile = profile;
-                (void)harness::render_reference_within(*scene, o, a.against.timeout,
-                                                       reference_samples);
-            }
-            const auto v = harness::gl_verdict(
-                *scene, profile, multisampled ? reference_samples : e.reference_image,
-                multisampled ? e.backend->samples : e.backend->image, std::array<int, 2>{x, y},
-                a.against.timeout, std::max(a.sample, 0), preferred);
+            const auto v = harness::gl_verdict(*scene, profile, explainer.reference_render(),
+                                               multisampled ? e.backend->samples : e.backend->image,
+                                               std::array<int, 2>{x, y}, a.against.timeout,
+                                               std::max(a.sample, 0), preferred);
             std::cout << "GL: " << v.at_pixel << "\n";
         }
         if (!a.svg.empty()) harness::write_file_atomically(a.svg, harness::explanation_svg(e));

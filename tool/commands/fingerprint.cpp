@@ -26,8 +26,12 @@ int run_fingerprint(const FingerprintArgs& a) {
     if (!backend) return kExitBackendFailure;
     harness::FingerprintResult r;
     try {
+        // A fresh worker of the same implementation, for the probes that depend on history.
         r = harness::fingerprint(
-            *backend, [](const std::string& s) { std::cerr << "fingerprint: " << s << "\n"; });
+            *backend, [](const std::string& s) { std::cerr << "fingerprint: " << s << "\n"; },
+            [&a]() -> std::unique_ptr<harness::Backend> {
+                return backend_or_report(a.against, "fingerprint");
+            });
     } catch (const std::bad_alloc&) {
         throw;  // running out of memory: main reports it (exit 3)
     } catch (const std::exception& e) {

@@ -6,19 +6,20 @@
 // renders alone: coverage (one side leaves the pixel untouched, or another primitive owns it),
 // colour (the same coverage, other colour bytes), depth (colours agree, depth values differ),
 // sample (on a 4x target, the resolved pixel agrees but a sample does not). Then the rule within
-// that class: every parameter of the profile that can change it is tried in turn on the whole scene
-// (the other tie rules, the other snap roundings and subpixel precisions, fused or unfused
-// arithmetic, denormal flushing, the draw module's float cull, the nine-vertex analysis, the
-// clipper's mode), and a rule is named only when one of its alternatives reproduces the backend at
-// this pixel; where several do, the one that brings most of the image into agreement is named, then
-// the one the pixel's trace gives direct evidence for (a centre exactly on an edge for the tie
-// rule, an edge within one subpixel step for snapping, ...), and the others are listed; two that
-// stay equal make it "undecided". A coverage rule that reproduces a colour or depth difference
-// reclasses it as coverage (a primitive beneath differs, seen through blending or depth).
-// Coverage that differs only at lines (or points) and that no parameter reproduces is
-// put down to the line (point) rule; anything else is "undecided". Three renderings of it all:
-// text, JSON, and an SVG of the neighbourhood at subpixel zoom (pixel grid, centres, the
-// snapped edges, covered pixels in their colours, tie-breaks ringed) for teaching.
+// that class: every variation of rule_search.hpp (the list the GL verdict judges by: each
+// parameter of the profile the scene can show, the other built-in implementations' rule sets,
+// and the GL rules an implementation may break, such as ignored edge flags) is rendered on the
+// whole scene, and a rule is named only when one of its alternatives reproduces the backend at
+// this pixel, with GL's standing of it (a freedom or a violation, and its section); where several
+// do, the one that brings most of the image into agreement is named, then the one the pixel's trace
+// gives direct evidence for (a centre exactly on an edge for the tie rule, an edge within one
+// subpixel step for snapping, ...), and the others are listed; two that stay equal make it
+// "undecided". A coverage rule that reproduces a colour or depth difference reclasses it as
+// coverage (a primitive beneath differs, seen through blending or depth). Coverage that differs
+// only at lines (or points) and that no parameter reproduces is put down to the line (point) rule;
+// anything else is "undecided". Three renderings of it all: text, JSON, and an SVG of the
+// neighbourhood at subpixel zoom (pixel grid, centres, the snapped edges, covered pixels in their
+// colours, tie-breaks ringed) for teaching.
 //
 // On a 4x target the explanation is about one sample when one is named (its edge values and
 // tie decisions at the sample, its depth, the bytes written to it; the two sides' sample
@@ -80,6 +81,9 @@ struct Explanation {
     // Every rule one of whose alternatives reproduces the backend at the pixel, with that
     // alternative ("tie rule" -> "tie_rule=right-top").
     std::vector<std::pair<std::string, std::string>> candidates;
+    // GL's word on the rule named (rule_search.hpp): "legal: <freedom (section)>" or
+    // "violation: <rule broken (section)>"; empty when no variation is named.
+    std::string standing;
     std::string verdict;
 };
 
@@ -121,6 +125,10 @@ class Explainer {
 
     // The images compared: the resolved ones, or the planes of the sample asked for.
     const refraster::Framebuffer& reference_image() const { return reference_; }
+    // The reference's render of the target: every sample of a 4x target, else the image.
+    const refraster::Framebuffer& reference_render() const {
+        return reference_samples_.samples > 1 ? reference_samples_ : reference_;
+    }
     const RenderResult* backend_render() const {
         return backend_result_ ? &*backend_result_ : nullptr;
     }

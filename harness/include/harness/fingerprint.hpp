@@ -19,7 +19,10 @@
 //   color_rounding. Then two findings on draw state GL requires honoured, never written into
 //   the profile: multisample_enable (GL_MULTISAMPLE disabled on a 4x target, 14.3.1) and
 //   edge_flags (a GL_POLYGON's internal edges in polygon mode line, 14.6.4): "honoured",
-//   "ignored" or "n/a".
+//   "ignored" or "n/a"; and point_sprite_origin (GL_POINT_SPRITE_COORD_ORIGIN, 14.4, drawn
+//   upper-left and lower-left in turn, and swapped in a fresh worker): "honoured", "ignored"
+//   or "order-dependent". Each rule's values are those of rule_search.hpp, and the JSON gives
+//   each decided value's GL standing.
 //
 // Deliberately does not: infer the driver quirks (flush_denormals, draw_pipeline_cull,
 // draw_segment_vertices, nine_vertex_quirk, wrapping_arithmetic, draw_offset_nan_to_zero,
@@ -29,6 +32,7 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -56,11 +60,17 @@ struct FingerprintResult {
 };
 
 using FingerprintProgress = std::function<void(const std::string&)>;
+// Another backend of the same implementation in a fresh worker (null when none can be made),
+// for the probes whose answer may depend on what the worker drew before.
+using FreshBackend = std::function<std::unique_ptr<Backend>()>;
 
 // Runs every probe through `target` and the reference. Throws std::runtime_error when the
 // backend cannot render a probe at all (a crash or an internal error); a probe the backend
 // does not support leaves its rules undecided.
-FingerprintResult fingerprint(Backend& target, const FingerprintProgress& progress = {});
+// With `fresh`, the sprite-origin probes run again in a fresh worker, so that an origin that
+// depends on the worker's history is told from one that is ignored.
+FingerprintResult fingerprint(Backend& target, const FingerprintProgress& progress = {},
+                              const FreshBackend& fresh = {});
 
 // One line per rule: key, value (or "undecided"), evidence.
 std::string fingerprint_text(const FingerprintResult& r);

@@ -5,9 +5,11 @@
 // implementation (OpenGL 4.6: sub-pixel precision of at least 4 bits and its rounding, 14.6.1's
 // tie rule as long as a centre on a shared edge has exactly one owner, clipping against the view
 // volume or a guard band, line rasterisation within the diamond-exit tolerance (14.5.1), point
-// rasterisation, interpolation and conversion precision, 2.3.5). The scene is rendered through
-// the reference under each legal variation: every single such rule changed in the profile,
-// and the rule sets of the other built-in driver profiles. A pixel that one of them reproduces
+// rasterisation, interpolation and conversion precision, 2.3.5, and the others rule_search.hpp
+// lists). The scene is rendered through the reference under each variation of rule_search.hpp,
+// the list explain searches too: every single such rule changed in the profile, the rule sets
+// of the other built-in driver profiles, and GL rules an implementation may break, each with
+// its section. A pixel that one of them reproduces
 // (colour and depth bit for bit) is a legal variation, named by the freedom. A pixel none
 // reproduces is checked against the requirements every conforming implementation keeps:
 //  - a hole: the backend leaves the pixel untouched where every legal rule draws it (a
@@ -24,8 +26,9 @@
 // A multisampled target is judged sample by sample: pass the framebuffers of every sample
 // (RenderResult::samples).
 //
-// Deliberately does not: textures' filtering freedoms (a texel difference is unexplained unless a
-// variation reproduces it), or blending arithmetic.
+// Deliberately does not: textures' filtering and LOD freedoms (a texel difference is unexplained
+// unless a variation reproduces it, such as another implementation's rule set), or blending
+// arithmetic.
 #pragma once
 
 #include <array>

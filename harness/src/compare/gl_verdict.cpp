@@ -10,6 +10,7 @@
 
 #include "harness/backend.hpp"
 #include "harness/profile_io.hpp"
+#include "harness/rule_search.hpp"
 #include "refraster/renderer.hpp"
 
 namespace harness {
@@ -18,121 +19,6 @@ namespace {
 
 using refraster::Framebuffer;
 using refraster::Profile;
-
-struct Variation {
-    std::string freedom;  // the rule GL leaves free, or the requirement broken
-    std::string setting;  // what differs from the profile
-    Profile profile;
-    bool legal = true;
-    // A requirement broken in the scene's state rather than in a rule: the scene as such an
-    // implementation draws it (null: the scene itself).
-    std::shared_ptr<const Scene> scene;
-};
-
-// The scene with GL_MULTISAMPLE disabled ignored (every draw multisampled), or nothing when no
-// draw of a 4x target disables it.
-std::shared_ptr<const Scene> multisample_enable_ignored(const Scene& scene) {
-    if (scene.draw_list.target.samples < 2) return nullptr;
-    auto out = std::make_shared<Scene>(scene);
-    bool any = false;
-    for (auto& d : out->draw_list.draws) {
-        any = any || !d.state.multisample;
-        d.state.multisample = true;
-    }
-    return any ? out : nullptr;
-}
-
-// The scene with edge flags ignored: each GL_POLYGON outlined or drawn as points (polygon mode
-// line or point, no fill rule) drawn as the triangle fan it is split into, whose internal
-// edges then show; nothing when no draw is such a polygon.
-std::shared_ptr<const Scene> edge_flags_ignored(const Scene& scene) {
-    auto out = std::make_shared<Scene>(scene);
-    bool any = false;
-    for (auto& d : out->draw_list.draws) {
-        if (d.primitive == refraster::PrimitiveType::Polygon && !d.state.fill_rule &&
-            d.state.polygon_mode != refraster::PolygonMode::Fill) {
-            d.primitive = refraster::PrimitiveType::TriangleFan;
-            any = true;
-        }
-    }
-    return any ? out : nullptr;
-}
-
-std::vector<Variation> variations(const Profile& p, const Scene& scene) {
-    const refraster::DrawList& dl = scene.draw_list;
-    std::vector<Variation> out;
-    const auto add = [&](const std::string& freedom, const std::string& key,
-                         const std::string& value, bool legal = true,
-                         const Profile* from = nullptr) {
-        Profile v = from != nullptr ? *from : p;
-        for (const auto& [k, cur] : refraster::profile_parameters(v))
-            if (k == key && cur == value) return;
-        refraster::set_profile_parameter(v, key, value);
-        out.push_back({freedom, key + "=" + value, v, legal, nullptr});
-    };
-    const bool snapped = p.model == refraster::CoverageModel::Snapped;
-    if (snapped) {
-        for (int bits = 4; bits <= 8; ++bits)
-            add("sub-pixel precision", "subpixel_bits", std::to_string(bits));
-        for (const char* r : {"nearest-even", "half-away", "truncate"})
-            add("sub-pixel precision", "snap_rounding", r);
-    }
-    if (p.model != refraster::CoverageModel::Scanline) {
-        for (const char* t : {"left-bottom", "left-top", "right-bottom", "right-top"})
-            add("tie rule", "tie_rule", t);
-    }
-    // Points and lines clipped by their pixels (a guard band, the viewport as a scissor) instead
-    // of by their vertices (13.7): the rule of Vulkan and of GL drivers layered on it. Before
-    // the guard band for every primitive, which implies it for points: the narrower is named.
-    for (const char* c : {"vertices", "pixels"})
-        add("point and line clipping policy (13.7 by vertices, or by pixels as Vulkan does)",
-            "point_line_clipping", c);
-    for (const char* c : {"view-volume", "guard-band"})
-        add("clipping or guard band", "clipping", c);
-    for (const char* l : {"parallelogram", "bresenham"})
-        add("line rasterisation within the diamond-exit tolerance", "line_rule", l);
-    for (const char* r : {"square", "two-triangles"}) add("point rasterisation", "point_rule", r);
-    for (const char* f : {"on", "off"}) add("interpolation precision", "viewport_fma", f);
-    for (const char* r : {"nearest", "truncate"}) {
-        add("depth conversion precision", "depth_rounding", r);
-        add("colour conversion precision", "color_rounding", r);
-    }
-    for (const char* c : {"double", "float"}) add("depth conversion precision", "depth_clear", c);
-    // Polygon offset's r is the implementation's (OpenGL 4.6, 14.6.5): only where a draw uses it.
-    const bool offsets = std::any_of(dl.draws.begin(), dl.draws.end(), [](const auto& d) {
-        return d.state.polygon_offset.has_value();
-    });
-    if (offsets) {
-        for (const char* k : {"0.5", "1", "2", "4"})
-            add("polygon offset's minimum resolvable difference r (14.6.5)", "offset_units_scale",
-                k);
-    }
-    for (const auto& name : {"llvmpipe-22.3", "softpipe-22.3"}) {
-        const Profile b = refraster::builtin_profile(name);
-        if (profile_rules(b) != profile_rules(p))
-            out.push_back({"another conforming implementation's rules", name, b, true, nullptr});
-    }
-    // The single-owner requirement broken both ways, on a snapped rule set.
-    const Profile snapped_base = snapped ? p : refraster::llvmpipe_22_3_profile();
-    add("hole on a shared edge (no owner for a centre on it)", "tie_rule", "none", false,
-        &snapped_base);
-    add("double hit on a shared edge (two owners for a centre on it)", "tie_rule", "all", false,
-        &snapped_base);
-    // Requirements of the draw state, broken by ignoring it.
-    if (auto s = multisample_enable_ignored(scene)) {
-        out.push_back(
-            {"GL_MULTISAMPLE disabled is ignored (14.3.1: single-sample rasterization "
-             "when it is off)",
-             "multisample enable ignored", p, false, std::move(s)});
-    }
-    if (auto s = edge_flags_ignored(scene)) {
-        out.push_back(
-            {"edge flags ignored: a polygon's internal edges are drawn (14.6.4, polygon "
-             "mode)",
-             "edge flags ignored", p, false, std::move(s)});
-    }
-    return out;
-}
 
 bool same_pixel(const Framebuffer& a, const Framebuffer& b, std::size_t i) {
     for (std::size_t k = 0; k < 4; ++k) {
@@ -286,7 +172,7 @@ GlVerdict gl_verdict(const Scene& scene, const Profile& profile, const Framebuff
     const auto clear = render(cleared, profile, timeout_seconds, v.stopped);
 
     const auto unspecified = unspecified_pixels(scene, profile, timeout_seconds, v.stopped);
-    const auto vars = variations(profile, scene);
+    const auto vars = rule_variations(profile, scene);
     v.variations = vars.size();
     const std::size_t n = pixels.size();
     std::vector<int> legal_match(n, -1), illegal_match(n, -1);
@@ -350,10 +236,9 @@ GlVerdict gl_verdict(const Scene& scene, const Profile& profile, const Framebuff
         if (legal_match[k] >= 0) {
             const auto& var = vars[static_cast<std::size_t>(legal_match[k])];
             ++v.legal;
-            count(var.freedom, true, i, var.setting + " reproduces the backend");
+            count(var.gl, true, i, var.setting + " reproduces the backend");
             if (at_index == i)
-                v.at_pixel =
-                    "legal: " + var.freedom + " (" + var.setting + " reproduces the backend)";
+                v.at_pixel = "legal: " + var.gl + " (" + var.setting + " reproduces the backend)";
             continue;
         }
         if (!unspecified.empty() && unspecified[i] &&
@@ -372,7 +257,7 @@ GlVerdict gl_verdict(const Scene& scene, const Profile& profile, const Framebuff
         std::string detail;
         if (illegal_match[k] >= 0) {
             const auto& var = vars[static_cast<std::size_t>(illegal_match[k])];
-            rule = var.freedom;
+            rule = var.gl;
             detail = var.setting + " reproduces the backend, no legal rule does";
         } else if (!backend_drawn && all_legal_draw[k]) {
             rule = "hole (every legal coverage draws the pixel)";

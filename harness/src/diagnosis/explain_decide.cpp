@@ -15,6 +15,7 @@
 #include "explain_shared.hpp"
 #include "harness/explain.hpp"
 #include "harness/profile_io.hpp"
+#include "harness/rule_search.hpp"
 #include "refraster/renderer.hpp"
 
 namespace harness {
@@ -176,33 +177,11 @@ Evidence gather(const refraster::PixelTrace& t, const refraster::Profile& profil
 // The draw module's SATURATE of a NaN polygon offset (draw_offset_nan_to_zero).
 constexpr const char* kNanOffsetRule = "NaN depth from polygon offset";
 
-// Whether some draw has a polygon offset the draw module applies (polygon mode line or point,
-// or any filled triangle under the scanline model), where a NaN offset can arise.
-bool draw_module_offsets(const refraster::DrawList& dl, const refraster::Profile& p) {
-    for (const auto& d : dl.draws) {
-        if (d.state.polygon_offset && (d.state.polygon_mode != refraster::PolygonMode::Fill ||
-                                       p.model == refraster::CoverageModel::Scanline))
-            return true;
-    }
-    return false;
-}
-
 // Polygon offset's minimum resolvable difference r (offset_units_scale, OpenGL 4.6 14.6.5).
 constexpr const char* kOffsetScaleRule = "polygon offset r";
 
 // softpipe's colour tiles written back by a fill rule's stencil clear (fill_clear_writes_tiles).
 constexpr const char* kTileWriteBackRule = "tile write-back";
-
-// Whether a blended draw comes at or after a draw with a fill rule, where the write-back of
-// softpipe's colour tiles (the clear colour's included) can show.
-bool fill_rules_blend(const refraster::DrawList& dl) {
-    bool fill = false;
-    for (const auto& d : dl.draws) {
-        fill = fill || d.state.fill_rule.has_value();
-        if (fill && d.state.blend != refraster::BlendPreset::None) return true;
-    }
-    return false;
-}
 
 // The rules explain can try, in the order a tie between candidates is broken when the trace
 // gives no evidence for any of them: the draw module's decisions first, then coverage, then
@@ -222,105 +201,12 @@ const std::vector<std::string>& rule_order() {
                                                 "depth rounding",
                                                 "colour rounding",
                                                 "fused arithmetic",
-                                                "denormals"};
+                                                "denormals",
+                                                "integer widths",
+                                                "another implementation",
+                                                "multisample enable",
+                                                "edge flags"};
     return order;
-}
-
-// Every alternative of the profile's parameters, as (rule, key=value).
-std::vector<std::pair<std::string, std::string>> alternatives_of(const refraster::Profile& p,
-                                                                 const refraster::DrawList& dl) {
-    std::vector<std::pair<std::string, std::string>> out;
-    for (const char* r : {"left-bottom", "left-top", "right-bottom", "right-top"}) {
-        if (refraster::to_string(p.gl.tie_rule) != r)
-            out.emplace_back("tie rule", std::string("tie_rule=") + r);
-    }
-    if (p.model == refraster::CoverageModel::Scanline && fill_rules_blend(dl)) {
-        out.emplace_back(kTileWriteBackRule, p.quirks.fill_clear_writes_tiles
-                                                 ? "fill_clear_writes_tiles=false"
-                                                 : "fill_clear_writes_tiles=true");
-    }
-    if (p.model != refraster::CoverageModel::Exact && draw_module_offsets(dl, p)) {
-        out.emplace_back(kNanOffsetRule, p.quirks.draw_offset_nan_to_zero
-                                             ? "draw_offset_nan_to_zero=false"
-                                             : "draw_offset_nan_to_zero=true");
-    }
-    if (std::any_of(dl.draws.begin(), dl.draws.end(),
-                    [](const auto& d) { return d.state.polygon_offset.has_value(); })) {
-        const std::pair<float, const char*> scales[] = {
-            {0.5f, "0.5"}, {1.0f, "1"}, {2.0f, "2"}, {4.0f, "4"}};
-        for (const auto& [scale, text] : scales) {
-            if (p.gl.offset_units_scale != scale)
-                out.emplace_back(kOffsetScaleRule, std::string("offset_units_scale=") + text);
-        }
-    }
-    // Which primitive classes the draws rasterise (polygon mode point and line included).
-    const auto any_draw = [&](auto pred) {
-        return std::any_of(dl.draws.begin(), dl.draws.end(), pred);
-    };
-    const bool draws_lines = any_draw([](const refraster::Draw& d) {
-        return d.primitive == refraster::PrimitiveType::Lines ||
-               d.primitive == refraster::PrimitiveType::LineStrip ||
-               d.primitive == refraster::PrimitiveType::LineLoop ||
-               d.state.polygon_mode == refraster::PolygonMode::Line;
-    });
-    const bool draws_points = any_draw([](const refraster::Draw& d) {
-        return d.primitive == refraster::PrimitiveType::Points ||
-               d.state.polygon_mode == refraster::PolygonMode::Point;
-    });
-    if (p.model != refraster::CoverageModel::Exact && (draws_lines || draws_points)) {
-        out.emplace_back("clipper",
-                         p.gl.point_line_clipping == refraster::PointLineClipping::Vertices
-                             ? "point_line_clipping=pixels"
-                             : "point_line_clipping=vertices");
-    }
-    // The conversions and the line and point rules: the GL verdict's freedoms, searched here too
-    // so that the explanation and the verdict never disagree on what reproduces a pixel.
-    out.emplace_back("depth clear", p.gl.depth_clear == refraster::ClearPrecision::Double
-                                        ? "depth_clear=float"
-                                        : "depth_clear=double");
-    if (p.model != refraster::CoverageModel::Exact) {
-        out.emplace_back("depth rounding", p.gl.depth_rounding == refraster::Rounding::Nearest
-                                               ? "depth_rounding=truncate"
-                                               : "depth_rounding=nearest");
-        out.emplace_back("colour rounding", p.gl.color_rounding == refraster::Rounding::Nearest
-                                                ? "color_rounding=truncate"
-                                                : "color_rounding=nearest");
-        if (draws_lines) {
-            out.emplace_back("line rule", p.gl.line_rule == refraster::LineRule::Parallelogram
-                                              ? "line_rule=bresenham"
-                                              : "line_rule=parallelogram");
-        }
-        if (draws_points) {
-            out.emplace_back("point rule", p.gl.point_rule == refraster::PointRule::Square
-                                               ? "point_rule=two-triangles"
-                                               : "point_rule=square");
-        }
-    }
-    if (p.model != refraster::CoverageModel::Snapped)
-        return out;  // the exact oracle has no other parameter
-    for (const char* r : {"nearest-even", "half-away", "truncate"}) {
-        if (refraster::to_string(p.gl.snap_rounding) != r)
-            out.emplace_back("snapping", std::string("snap_rounding=") + r);
-    }
-    for (int bits : {4, 8}) {
-        if (p.gl.subpixel_bits != bits)
-            out.emplace_back("snapping", "subpixel_bits=" + std::to_string(bits));
-    }
-    const bool fused = p.gl.viewport_fma == refraster::FmaMode::On ||
-                       (p.gl.viewport_fma == refraster::FmaMode::Auto && refraster::host_has_fma());
-    out.emplace_back("fused arithmetic", fused ? "viewport_fma=off" : "viewport_fma=on");
-    out.emplace_back("denormals",
-                     p.gl.flush_denormals ? "flush_denormals=false" : "flush_denormals=true");
-    out.emplace_back("cull", p.quirks.draw_pipeline_cull ? "draw_pipeline_cull=false"
-                                                         : "draw_pipeline_cull=true");
-    out.emplace_back("nine-vertex analysis", p.quirks.nine_vertex_quirk ? "nine_vertex_quirk=false"
-                                                                        : "nine_vertex_quirk=true");
-    out.emplace_back("integer widths", p.quirks.wrapping_arithmetic ? "wrapping_arithmetic=false"
-                                                                    : "wrapping_arithmetic=true");
-    out.emplace_back("clipper", p.gl.clipping == refraster::Clipping::ViewVolume
-                                    ? "clipping=guard-band"
-                                    : "clipping=view-volume");
-    return out;
 }
 
 bool is_coverage(PixelClass c) {
@@ -353,9 +239,11 @@ bool resolves(PixelClass before, PixelClass after) {
 
 struct Explainer::Alternative {
     std::string rule;
-    std::string change;          // key=value
+    std::string change;          // the variation's setting (rule_search.hpp)
     std::size_t reproduced = 0;  // mismatching pixels of the whole image it reproduces
     std::size_t broken = 0;      // agreeing pixels it makes differ
+    bool legal = true;           // a freedom GL grants, or a GL rule broken
+    std::string gl;              // which, with its section
     long net() const { return static_cast<long>(reproduced) - static_cast<long>(broken); }
     // Each pixel's class against the backend: a byte a pixel, where the render itself would
     // hold tens (a scene at the target limit has a dozen alternatives).
@@ -467,16 +355,18 @@ void Explainer::render_alternatives() {
     if (alternatives_ready_) return;
     alternatives_ready_ = true;
     const bool owners = !backend_view_.owner.empty();
-    for (const auto& [rule, change] : alternatives_of(profile_, scene_.draw_list)) {
+    // The same variations the GL verdict judges by (rule_search.hpp), violations included, so
+    // that a backend that breaks a GL rule is named by the rule it breaks.
+    for (auto& var : rule_variations(profile_, scene_)) {
         auto& a = alternatives_.emplace_back();
-        a.rule = rule;
-        a.change = change;
-        refraster::Profile p = profile_;
-        refraster::set_profile_parameter(p, change.substr(0, change.find('=')),
-                                         change.substr(change.find('=') + 1));
+        a.rule = var.rule;
+        a.change = var.setting;
+        a.legal = var.legal;
+        a.gl = var.gl;
         refraster::Framebuffer rendered;
-        if (render_reference(scene_, p, owners, timeout_seconds_, rendered).status !=
-            refraster::RenderStatus::Ok) {
+        if (render_reference(var.scene ? *var.scene : scene_, var.profile, owners, timeout_seconds_,
+                             rendered)
+                .status != refraster::RenderStatus::Ok) {
             alternatives_.pop_back();
             continue;
         }
@@ -711,10 +601,18 @@ Explanation Explainer::explain(int x, int y, bool full) {
     const auto evidence_for = [&](const std::string& rule) -> std::string {
         if (!gathered) {
             // Needed only to break a tie in the image brought into agreement.
+            // (Among the single rules, when one reproduces the pixel: they are named first.)
+            const bool singles =
+                std::any_of(e.candidates.begin(), e.candidates.end(),
+                            [](const auto& c) { return c.first != "another implementation"; });
+            const auto counted = [&](const auto& c) {
+                return !singles || c.first != "another implementation";
+            };
             long best = std::numeric_limits<long>::min();
             std::size_t ties = 0;
-            for (const auto& c : e.candidates) best = std::max(best, chosen[c.first]->net());
-            for (const auto& c : e.candidates) ties += chosen[c.first]->net() == best;
+            for (const auto& c : e.candidates)
+                if (counted(c)) best = std::max(best, chosen[c.first]->net());
+            for (const auto& c : e.candidates) ties += counted(c) && chosen[c.first]->net() == best;
             if (ties < 2) return "";
         }
         const Evidence& ev_ = evidence();
@@ -730,10 +628,13 @@ Explanation Explainer::explain(int x, int y, bool full) {
     if (!e.candidates.empty()) {
         // The best-reproducing candidate; among equals, the one the trace shows at work, then
         // the draw module before coverage before arithmetic.
+        // Another implementation's whole rule set is named only where no single rule
+        // reproduces the pixel: it says less about why.
         const auto rank = [&](const std::pair<std::string, std::string>& c) {
             const auto pos =
                 std::find(rule_order().begin(), rule_order().end(), c.first) - rule_order().begin();
-            return std::make_tuple(-chosen[c.first]->net(), evidence_for(c.first).empty() ? 1 : 0,
+            return std::make_tuple(c.first == "another implementation" ? 1 : 0,
+                                   -chosen[c.first]->net(), evidence_for(c.first).empty() ? 1 : 0,
                                    pos);
         };
         auto sorted = e.candidates;
@@ -741,8 +642,10 @@ Explanation Explainer::explain(int x, int y, bool full) {
                          [&](const auto& a, const auto& b) { return rank(a) < rank(b); });
         const auto& best = sorted.front();
         const auto tied = [&](const auto& c) {
-            return std::get<0>(rank(c)) == std::get<0>(rank(best)) &&
-                   std::get<1>(rank(c)) == std::get<1>(rank(best));
+            const auto rc = rank(c);
+            const auto rb = rank(best);
+            return std::get<0>(rc) == std::get<0>(rb) && std::get<1>(rc) == std::get<1>(rb) &&
+                   std::get<2>(rc) == std::get<2>(rb);
         };
         if (sorted.size() > 1 && tied(sorted[1])) {
             // Two rules explain the pixel, and the image, equally well, and the trace favours
@@ -756,6 +659,8 @@ Explanation Explainer::explain(int x, int y, bool full) {
             why += "reproduces the backend here" + extent(*chosen[best.first]);
         } else {
             e.rule = best.first;
+            const Alternative& named = *chosen[best.first];
+            e.standing = (named.legal ? "legal: " : "violation: ") + named.gl;
             const std::string shown = evidence_for(best.first);
             why = (shown.empty() ? "" : shown + "; ") + best.second +
                   " reproduces the backend here" + extent(*chosen[best.first]);
@@ -785,7 +690,8 @@ Explanation Explainer::explain(int x, int y, bool full) {
     // primitive beneath the last one differs, seen through blending or the depth test.
     if (e.difference != "coverage" &&
         (e.rule == "tie rule" || e.rule == "snapping" || e.rule == "cull" ||
-         e.rule == "nine-vertex analysis" || e.rule == "line rule" || e.rule == "point rule")) {
+         e.rule == "nine-vertex analysis" || e.rule == "line rule" || e.rule == "point rule" ||
+         e.rule == "edge flags" || e.rule == "multisample enable")) {
         e.difference = "coverage";
         what +=
             ", because the coverage of a primitive drawn earlier differs (blending or the depth "

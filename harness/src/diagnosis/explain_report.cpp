@@ -266,6 +266,7 @@ std::string explanation_json(const Explanation& e) {
     j["verdict"] = e.verdict;
     j["difference"] = e.difference;
     j["rule"] = e.rule;
+    if (!e.standing.empty()) j["gl_standing"] = e.standing;
     auto& cj = j["candidates"] = nlohmann::ordered_json::array();
     for (const auto& [rule, change] : e.candidates)
         cj.push_back({{"rule", rule}, {"alternative", change}});

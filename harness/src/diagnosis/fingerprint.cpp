@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "harness/profile_io.hpp"
+#include "harness/rule_search.hpp"
 #include "refraster/renderer.hpp"
 
 namespace harness {
@@ -727,8 +728,7 @@ StateProbe multisample_off_probe() {
         d.state.multisample = false;
         p.as_gl.scene.draw_list.draws.push_back(d);
     }
-    p.state_ignored = p.as_gl.scene;
-    for (auto& d : p.state_ignored.draw_list.draws) d.state.multisample = true;
+    p.state_ignored = *multisample_enable_ignored(p.as_gl.scene);  // rule_search.hpp
     return p;
 }
 
@@ -743,8 +743,7 @@ StateProbe edge_flags_probe() {
                          {kWhite}, 32, 32);
     d.state.polygon_mode = refraster::PolygonMode::Line;
     p.as_gl.scene.draw_list.draws.push_back(d);
-    p.state_ignored = p.as_gl.scene;
-    p.state_ignored.draw_list.draws[0].primitive = refraster::PrimitiveType::TriangleFan;
+    p.state_ignored = *edge_flags_ignored(p.as_gl.scene);  // rule_search.hpp
     return p;
 }
 
@@ -795,12 +794,154 @@ RuleFinding state_finding(Search& search, const std::string& key, const StatePro
     return f;
 }
 
+// GL_POINT_SPRITE_COORD_ORIGIN (OpenGL 4.6, 14.4): two textured point sprites whose texture
+// is red at its top row and green at its bottom, drawn with the origin upper-left, then
+// lower-left twice, then upper-left again, all through one worker. "honoured" when each render
+// is the reference's for its origin; "ignored" when one origin is always drawn as the other;
+// "order-dependent" when one origin gives both pictures (a state change the implementation
+// misses). A finding, never a profile rule.
+Probe sprite_origin_probe(refraster::PointCoordOrigin origin) {
+    const bool upper = origin == refraster::PointCoordOrigin::UpperLeft;
+    Probe p{upper ? "sprite_origin_upper_left" : "sprite_origin_lower_left",
+            make_scene(upper ? "sprite_origin_upper_left" : "sprite_origin_lower_left", 32, 32),
+            Probe::Compare::Exact};
+    refraster::Texture tex;
+    refraster::TextureImage img;
+    img.width = 2;
+    img.height = 2;
+    // Rows bottom to top: green below, red above.
+    img.rgba = {0, 255, 0, 255, 0, 255, 0, 255, 255, 0, 0, 255, 255, 0, 0, 255};
+    tex.levels.push_back(img);
+    p.scene.draw_list.textures.push_back(tex);
+    Draw d = window_draw(refraster::PrimitiveType::Points,
+                         {{8.0f, 8.0f, 0.5f}, {24.0f, 24.0f, 0.5f}}, {kWhite}, 32, 32);
+    d.state.point_size = 12.0f;
+    // A textured draw's vertices carry texture coordinates after the colour (the front end's
+    // layout); the sprite replaces them.
+    std::vector<float> data;
+    const std::size_t stride = d.vertices.stride();
+    for (std::size_t i = 0; i < d.vertices.size(); ++i) {
+        data.insert(data.end(), d.vertices.data.begin() + static_cast<std::ptrdiff_t>(i * stride),
+                    d.vertices.data.begin() + static_cast<std::ptrdiff_t>((i + 1) * stride));
+        data.insert(data.end(), {0.0f, 0.0f, 0.0f, 1.0f});
+    }
+    d.vertices.attributes.push_back({"texcoord", 4});
+    d.vertices.data = std::move(data);
+    refraster::TextureState t;
+    t.min_filter = refraster::TextureFilter::Nearest;
+    t.mag_filter = refraster::TextureFilter::Nearest;
+    t.wrap_s = refraster::TextureWrap::ClampToEdge;
+    t.wrap_t = refraster::TextureWrap::ClampToEdge;
+    t.env = refraster::TextureEnv::Replace;
+    t.coord_replace = true;
+    t.point_coord_origin = origin;
+    d.state.texture = t;
+    p.scene.draw_list.draws.push_back(d);
+    return p;
+}
+
+RuleFinding sprite_origin_finding(Search& search, const Profile& base, const FreshBackend& fresh,
+                                  const FingerprintProgress& progress) {
+    RuleFinding f;
+    f.key = "point_sprite_origin";
+    f.candidates = {"honoured", "ignored", "order-dependent"};
+    const Probe upper = sprite_origin_probe(refraster::PointCoordOrigin::UpperLeft);
+    const Probe lower = sprite_origin_probe(refraster::PointCoordOrigin::LowerLeft);
+    const auto ref_upper = Search::reference(upper, base);
+    const auto ref_lower = Search::reference(lower, base);
+    // In this order, through one worker: each origin drawn once after the other origin and
+    // once after itself; then, in a fresh worker when one can be had, the same with the
+    // origins swapped, so that a worker whose first origin sticks shows both pictures for one
+    // origin.
+    std::vector<const Probe*> order{&upper, &lower, &lower, &upper};
+    std::vector<std::optional<Framebuffer>> got;
+    for (const Probe* p : order) got.push_back(search.backend(*p));
+    std::unique_ptr<Backend> second = fresh ? fresh() : nullptr;
+    if (second) {
+        Search again(*second, progress);
+        for (const Probe* p : {&lower, &upper, &upper, &lower}) {
+            order.push_back(p);
+            got.push_back(again.backend(*p));
+        }
+    }
+    if (!ref_upper || !ref_lower ||
+        std::any_of(got.begin(), got.end(), [](const auto& g) { return !g.has_value(); })) {
+        f.value = "n/a";
+        f.decided = true;
+        f.evidence = std::string(!ref_upper || !ref_lower ? "the reference under this profile"
+                                                          : "the backend") +
+                     " does not draw the point sprite probes";
+        return f;
+    }
+    std::vector<bool> own, other;  // each render is its origin's picture, or the other's
+    for (std::size_t k = 0; k < order.size(); ++k) {
+        const bool is_upper = order[k] == &upper;
+        own.push_back(difference(*order[k], is_upper ? *ref_upper : *ref_lower, *got[k]).pixels ==
+                      0);
+        other.push_back(difference(*order[k], is_upper ? *ref_lower : *ref_upper, *got[k]).pixels ==
+                        0);
+    }
+    const auto text = [&](std::size_t k) {
+        const Difference d =
+            difference(*order[k], order[k] == &upper ? *ref_upper : *ref_lower, *got[k]);
+        return "render " + std::to_string(k + 1) + " (" + order[k]->name + ") " +
+               (own[k] ? "matches its origin"
+                       : std::string(other[k] ? "shows the other origin" : "matches neither") +
+                             " at (" + std::to_string(d.x) + ", " + std::to_string(d.y) +
+                             "): " + pixel_text(*order[k], *got[k], d.x, d.y) +
+                             " where the reference gives " +
+                             pixel_text(*order[k], order[k] == &upper ? *ref_upper : *ref_lower,
+                                        d.x, d.y));
+    };
+    std::string evidence =
+        std::string("probes sprite_origin_upper_left, _lower_left twice, _upper_left in turn") +
+        (second ? ", then in a fresh worker _lower_left, _upper_left twice, _lower_left: "
+                : " (no fresh worker to swap them in): ");
+    std::string wrong;
+    for (std::size_t k = 0; k < order.size(); ++k)
+        if (!own[k]) wrong += (wrong.empty() ? "" : "; ") + text(k);
+    f.evidence = evidence + (wrong.empty() ? "each of the " + std::to_string(order.size()) +
+                                                 " renders matches its origin"
+                                           : wrong);
+    // Per origin: whether every render of it shows its own picture, or every one the other's.
+    const auto every = [&](bool of_upper, const std::vector<bool>& v) {
+        for (std::size_t k = 0; k < order.size(); ++k)
+            if ((order[k] == &upper) == of_upper && !v[k]) return false;
+        return true;
+    };
+    const auto some = [&](bool of_upper, const std::vector<bool>& v) {
+        for (std::size_t k = 0; k < order.size(); ++k)
+            if ((order[k] == &upper) == of_upper && v[k]) return true;
+        return false;
+    };
+    if (every(true, own) && every(false, own)) {
+        f.value = "honoured";
+    } else if ((some(true, own) && some(true, other)) || (some(false, own) && some(false, other))) {
+        f.value = "order-dependent";
+        f.evidence +=
+            "; the same origin gives either picture, as the render before it set "
+            "(GL 14.4 requires the origin set)";
+    } else if ((every(true, own) && every(false, other)) ||
+               (every(false, own) && every(true, other))) {
+        f.value = "ignored";
+        f.evidence += "; one origin is always drawn as the other (GL 14.4 requires it)";
+        if (!second) f.evidence += ", or the worker's first origin sticks";
+    } else {
+        f.value = "undecided";
+        return f;
+    }
+    f.decided = true;
+    f.matching = {f.value};
+    return f;
+}
+
 bool FingerprintResult::complete() const {
     return std::all_of(rules.begin(), rules.end(),
                        [](const RuleFinding& f) { return !f.probed || f.decided; });
 }
 
-FingerprintResult fingerprint(Backend& target, const FingerprintProgress& progress) {
+FingerprintResult fingerprint(Backend& target, const FingerprintProgress& progress,
+                              const FreshBackend& fresh) {
     Search search(target, progress);
     FingerprintResult r;
     r.backend = target.name();
@@ -827,27 +968,27 @@ FingerprintResult fingerprint(Backend& target, const FingerprintProgress& progre
     const std::string family = decided.count("coverage") ? decided["coverage"] : "snapped";
     Profile base = family_base(family);
     for (const auto& [k, v] : decided) refraster::set_profile_parameter(base, k, v);
-    const auto stage = [&](const std::vector<Probe>& probes, const std::string& key,
-                           const std::vector<std::string>& values) {
+    // Each rule's values are the ones explain and the GL verdict search (rule_search.hpp).
+    const auto stage = [&](const std::vector<Probe>& probes, const std::string& key) {
         std::vector<Assignment> c;
-        for (const auto& v : values) c.push_back({{key, v}});
+        for (const auto& v : search_values(key)) c.push_back({{key, v}});
         run_stage(search, probes, base, c, {key}, r.rules, decided);
         if (decided.count(key)) refraster::set_profile_parameter(base, key, decided[key]);
     };
 
     // 2. Lines and points, then the clipper (whose probe has both).
     const Probe widths = line_width_probe();
-    stage({line_probe()}, "line_rule", {"parallelogram", "bresenham"});
+    stage({line_probe()}, "line_rule");
     r.rules.push_back(line_width_finding(widths, search.backend(widths)));
-    stage({point_probe()}, "point_rule", {"square", "two-triangles"});
+    stage({point_probe()}, "point_rule");
     // Clipping per primitive class: points and wide lines here (their coverage), triangles
     // below, once the arithmetic their float colours show is decided.
-    stage({clipping_probe()}, "point_line_clipping", {"vertices", "pixels"});
+    stage({clipping_probe()}, "point_line_clipping");
     // 3. Arithmetic: fusion, depth, clears, colours.
     const Probe fusion = fusion_probe();
-    stage({fusion}, "viewport_fma", {"on", "off"});
+    stage({fusion}, "viewport_fma");
     r.rules.push_back(setup_order_finding(search, fusion, base, family));
-    stage({triangle_clipping_probe()}, "clipping", {"view-volume", "guard-band"});
+    stage({triangle_clipping_probe()}, "clipping");
     // The guard band for triangles implies it for points and lines: point_line_clipping then
     // keeps its default, "as clipping says".
     if (decided.count("clipping") && decided["clipping"] == "guard-band" &&
@@ -860,10 +1001,10 @@ FingerprintResult fingerprint(Backend& target, const FingerprintProgress& progre
             }
         }
     }
-    stage({depth_probe()}, "depth_rounding", {"nearest", "truncate"});
-    stage(offset_probes(), "offset_units_scale", {"0.25", "0.5", "1", "2", "4"});
-    stage(clear_probes(), "depth_clear", {"double", "float"});
-    stage({color_probe()}, "color_rounding", {"nearest", "truncate"});
+    stage({depth_probe()}, "depth_rounding");
+    stage(offset_probes(), "offset_units_scale");
+    stage(clear_probes(), "depth_clear");
+    stage({color_probe()}, "color_rounding");
 
     // viewport_fma: the family's "auto" where the observation is what auto gives on this CPU.
     for (auto& f : r.rules) {
@@ -878,6 +1019,7 @@ FingerprintResult fingerprint(Backend& target, const FingerprintProgress& progre
     // 4. Draw state GL requires honoured (findings only).
     r.rules.push_back(state_finding(search, "multisample_enable", multisample_off_probe(), base));
     r.rules.push_back(state_finding(search, "edge_flags", edge_flags_probe(), base));
+    r.rules.push_back(sprite_origin_finding(search, base, fresh, progress));
 
     for (const char* key :
          {"flush_denormals", "draw_pipeline_cull", "draw_segment_vertices", "nine_vertex_quirk",
@@ -924,7 +1066,8 @@ std::string fingerprint_json(const FingerprintResult& r) {
                               {"probed", f.probed},
                               {"candidates", f.candidates},
                               {"matching", f.matching},
-                              {"evidence", f.evidence}});
+                              {"evidence", f.evidence},
+                              {"gl", f.decided ? gl_standing(f.key, f.value) : ""}});
     }
     return j.dump(2);
 }
