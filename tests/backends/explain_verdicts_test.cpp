@@ -254,6 +254,25 @@ INSTANTIATE_TEST_SUITE_P(
         return n;
     });
 
+#ifdef REFRASTER_HAVE_EGL
+// zink on lavapipe, an implementation nobody modelled, under llvmpipe's profile: every verdict
+// is checked as above, and the rules it differs by are named: polygon offset's r, the point
+// and line clipping policy, and the two GL rules it breaks (edge flags, GL_MULTISAMPLE off).
+TEST(ExplainVerdicts, EveryPixelAgainstZink) {
+    harness::BackendOptions o;
+    o.kind = harness::BackendKind::Egl;
+    o.driver = harness::Driver::Zink;
+    auto backend = harness::make_backend(o);
+    Tally t;
+    check_every_pixel(*backend, harness::load_profile("llvmpipe-22.3"), "", t);
+    print("zink", t);
+    EXPECT_GT(t.pixels, 0u);
+    for (const char* named : {"depth/polygon offset r", "coverage/edge flags",
+                              "coverage/multisample enable", "coverage/clipper"})
+        EXPECT_GT(t.by_verdict[named], 0u) << named;
+}
+#endif
+
 // softpipe under its own profile with one rule of its own mutated: the write-back of its
 // colour tiles by a fill rule's stencil clear. Only the scenes that blend at or after a
 // fill-rule draw change, and every pixel that does is put down to that rule.

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cctype>
 #include <memory>
 #include <optional>
@@ -223,6 +224,46 @@ TEST(Fingerprint, SpriteOriginsHonouredIgnoredOrOrderDependent) {
     const auto sticky_alone = origin_of(Fault::Sticky, false);
     EXPECT_EQ(sticky_alone.rfind("ignored: ", 0), 0u) << sticky_alone;
     EXPECT_NE(sticky_alone.find("first origin sticks"), std::string::npos) << sticky_alone;
+}
+
+// Textures: the reference's own sampler is found "as the profile"; a backend whose texels come
+// out one step brighter (a filtering rule nobody modelled) leaves texture_sampling undecided,
+// with the pixel, and the fingerprint incomplete.
+class BrighterTexels : public harness::Backend {
+  public:
+    BrighterTexels() : inner_(reference(refraster::llvmpipe_22_3_profile())) {}
+    harness::BackendKind kind() const override { return harness::BackendKind::Ref; }
+    std::string name() const override { return "brighter texels"; }
+    harness::RenderResult render(const harness::Scene& s) override {
+        auto r = inner_->render(s);
+        const bool textured =
+            std::any_of(s.draw_list.draws.begin(), s.draw_list.draws.end(),
+                        [](const auto& d) { return d.state.texture.has_value(); });
+        if (textured && !s.draw_list.draws.front().state.texture->coord_replace) {
+            for (auto& byte : r.image.color8)
+                if (byte > 0 && byte < 255) ++byte;
+        }
+        return r;
+    }
+
+  private:
+    std::unique_ptr<harness::Backend> inner_;
+};
+
+TEST(Fingerprint, TextureSamplingIsComparedNeverGuessed) {
+    const auto own = harness::fingerprint(*reference(refraster::llvmpipe_22_3_profile()));
+    const auto* f = finding(own, "texture_sampling");
+    ASSERT_NE(f, nullptr);
+    EXPECT_EQ(f->value, "as the profile") << f->evidence;
+    EXPECT_TRUE(own.complete());
+    BrighterTexels brighter;
+    const auto other = harness::fingerprint(brighter);
+    const auto* g = finding(other, "texture_sampling");
+    ASSERT_NE(g, nullptr);
+    EXPECT_EQ(g->value, "undecided");
+    EXPECT_FALSE(g->decided);
+    EXPECT_NE(g->evidence.find("probe textures pixel ("), std::string::npos) << g->evidence;
+    EXPECT_FALSE(other.complete());
 }
 
 }  // namespace

@@ -370,6 +370,79 @@ Probe color_probe() {
     return p;
 }
 
+// Texture coordinates (s, t, r, q) after each vertex's colour, the front end's layout for a
+// textured draw; the last one given repeats.
+void with_texcoords(Draw& d, const std::vector<std::array<float, 4>>& tc) {
+    std::vector<float> data;
+    const std::size_t stride = d.vertices.stride();
+    for (std::size_t i = 0; i < d.vertices.size(); ++i) {
+        data.insert(data.end(), d.vertices.data.begin() + static_cast<std::ptrdiff_t>(i * stride),
+                    d.vertices.data.begin() + static_cast<std::ptrdiff_t>((i + 1) * stride));
+        const auto& t = tc[std::min(i, tc.size() - 1)];
+        data.insert(data.end(), t.begin(), t.end());
+    }
+    d.vertices.attributes.push_back({"texcoord", 4});
+    d.vertices.data = std::move(data);
+}
+
+// Textures (a finding; the profile has no texture rule to decide): a perspective floor of
+// trilinear-filtered texels from a full chain of given levels (16x16 down to 1x1, random from
+// a fixed seed, so that no level generation enters) and a magnified bilinear square, both
+// modulating a colour.
+Probe texture_probe() {
+    Probe p{"textures", make_scene("textures", 64, 64), Probe::Compare::Exact};
+    std::mt19937 rng(20261206u);
+    refraster::Texture tex;
+    for (std::uint32_t size = 16; size >= 1; size /= 2) {
+        refraster::TextureImage img;
+        img.width = size;
+        img.height = size;
+        for (std::uint32_t i = 0; i < size * size * 4; ++i)
+            img.rgba.push_back(static_cast<std::uint8_t>(rng() & 0xffu));
+        tex.levels.push_back(std::move(img));
+    }
+    p.scene.draw_list.textures.push_back(std::move(tex));
+    const std::array<float, 4> tint{0.9f, 0.8f, 1.0f, 1.0f};
+    // The floor: near edge at w = 1, far edge at w = 6, eight repeats deep.
+    Draw floor = window_draw(refraster::PrimitiveType::Triangles,
+                             {{1.3f, 1.1f, 0.2f},
+                              {62.6f, 1.1f, 0.2f},
+                              {50.4f, 40.7f, 0.8f},
+                              {1.3f, 1.1f, 0.2f},
+                              {50.4f, 40.7f, 0.8f},
+                              {13.2f, 40.7f, 0.8f}},
+                             {tint}, 64, 64, {1.0f, 1.0f, 6.0f, 1.0f, 6.0f, 6.0f});
+    with_texcoords(floor, {{0.0f, 0.0f, 0.0f, 1.0f},
+                           {3.0f, 0.0f, 0.0f, 1.0f},
+                           {3.0f, 8.0f, 0.0f, 1.0f},
+                           {0.0f, 0.0f, 0.0f, 1.0f},
+                           {3.0f, 8.0f, 0.0f, 1.0f},
+                           {0.0f, 8.0f, 0.0f, 1.0f}});
+    refraster::TextureState t;
+    t.min_filter = refraster::TextureFilter::LinearMipmapLinear;
+    t.mag_filter = refraster::TextureFilter::Linear;
+    floor.state.texture = t;
+    p.scene.draw_list.draws.push_back(floor);
+    // The square: 4x4 texels of level 0 over 20x20 pixels.
+    Draw square = window_draw(refraster::PrimitiveType::Triangles,
+                              {{40.2f, 42.3f, 0.5f},
+                               {61.7f, 42.3f, 0.5f},
+                               {61.7f, 62.6f, 0.5f},
+                               {40.2f, 42.3f, 0.5f},
+                               {61.7f, 62.6f, 0.5f},
+                               {40.2f, 62.6f, 0.5f}},
+                              {tint}, 64, 64);
+    with_texcoords(square, {{0.1f, 0.2f, 0.0f, 1.0f},
+                            {0.35f, 0.2f, 0.0f, 1.0f},
+                            {0.35f, 0.45f, 0.0f, 1.0f},
+                            {0.1f, 0.2f, 0.0f, 1.0f},
+                            {0.35f, 0.45f, 0.0f, 1.0f},
+                            {0.1f, 0.45f, 0.0f, 1.0f}});
+    square.state.texture = t;
+    p.scene.draw_list.draws.push_back(square);
+    return p;
+}
+
 // ---------------------------------------------------------------------------------------
 // Comparing a candidate's render with the backend's.
 
@@ -794,6 +867,42 @@ RuleFinding state_finding(Search& search, const std::string& key, const StatePro
     return f;
 }
 
+// The probe textures against the profile decided.
+RuleFinding texture_finding(Search& search, const Profile& base) {
+    RuleFinding f;
+    f.key = "texture_sampling";
+    f.candidates = {"as the profile", "unmodelled"};
+    const Probe p = texture_probe();
+    const auto want = search.backend(p);
+    const auto ref = Search::reference(p, base);
+    if (!want || !ref) {
+        f.value = "n/a";
+        f.decided = true;
+        f.evidence = std::string(!want ? "the backend" : "the reference under this profile") +
+                     " does not draw the probe textures";
+        return f;
+    }
+    const Difference d = difference(p, *ref, *want);
+    if (d.pixels == 0) {
+        f.value = "as the profile";
+        f.decided = true;
+        f.matching = {f.value};
+        f.evidence =
+            "probe textures: every pixel of trilinear minification and bilinear "
+            "magnification as the profile's sampler gives it";
+        return f;
+    }
+    // The profile has no texture rule to change: a difference is reported, never guessed.
+    f.value = "undecided";
+    f.evidence = "probe textures pixel (" + std::to_string(d.x) + ", " + std::to_string(d.y) +
+                 "): the backend gives " + pixel_text(p, *want, d.x, d.y) +
+                 ", the profile's sampler " + pixel_text(p, *ref, d.x, d.y) + " (" +
+                 std::to_string(d.pixels) +
+                 " pixels differ); no texture rule of the profile reproduces it (LOD and "
+                 "filtering arithmetic are not modelled beyond the two drivers')";
+    return f;
+}
+
 // GL_POINT_SPRITE_COORD_ORIGIN (OpenGL 4.6, 14.4): two textured point sprites whose texture
 // is red at its top row and green at its bottom, drawn with the origin upper-left, then
 // lower-left twice, then upper-left again, all through one worker. "honoured" when each render
@@ -818,15 +927,7 @@ Probe sprite_origin_probe(refraster::PointCoordOrigin origin) {
     d.state.point_size = 12.0f;
     // A textured draw's vertices carry texture coordinates after the colour (the front end's
     // layout); the sprite replaces them.
-    std::vector<float> data;
-    const std::size_t stride = d.vertices.stride();
-    for (std::size_t i = 0; i < d.vertices.size(); ++i) {
-        data.insert(data.end(), d.vertices.data.begin() + static_cast<std::ptrdiff_t>(i * stride),
-                    d.vertices.data.begin() + static_cast<std::ptrdiff_t>((i + 1) * stride));
-        data.insert(data.end(), {0.0f, 0.0f, 0.0f, 1.0f});
-    }
-    d.vertices.attributes.push_back({"texcoord", 4});
-    d.vertices.data = std::move(data);
+    with_texcoords(d, {{0.0f, 0.0f, 0.0f, 1.0f}});
     refraster::TextureState t;
     t.min_filter = refraster::TextureFilter::Nearest;
     t.mag_filter = refraster::TextureFilter::Nearest;
@@ -1020,6 +1121,8 @@ FingerprintResult fingerprint(Backend& target, const FingerprintProgress& progre
     r.rules.push_back(state_finding(search, "multisample_enable", multisample_off_probe(), base));
     r.rules.push_back(state_finding(search, "edge_flags", edge_flags_probe(), base));
     r.rules.push_back(sprite_origin_finding(search, base, fresh, progress));
+    // 5. Textures, compared with the profile decided (a finding).
+    r.rules.push_back(texture_finding(search, base));
 
     for (const char* key :
          {"flush_denormals", "draw_pipeline_cull", "draw_segment_vertices", "nine_vertex_quirk",
