@@ -26,9 +26,9 @@
 // A multisampled target is judged sample by sample: pass the framebuffers of every sample
 // (RenderResult::samples).
 //
-// Deliberately does not: textures' filtering and LOD freedoms (a texel difference is unexplained
-// unless a variation reproduces it, such as another implementation's rule set), or blending
-// arithmetic.
+// Deliberately does not: textures' filtering and LOD freedoms beyond rho's approximation (a
+// texel difference is unexplained unless a variation reproduces it, such as another
+// implementation's rule set), or blending arithmetic.
 #pragma once
 
 #include <array>

@@ -26,6 +26,7 @@ enum class Needs : std::uint8_t {
     Offset,         // a polygon offset
     ModuleOffset,   // a polygon offset the draw module applies
     FillBlend,      // a blended draw at or after a draw with a fill rule
+    Textures,       // a textured draw
 };
 
 // One searched profile parameter: its values, what explain calls it, and GL's word on it.
@@ -108,6 +109,13 @@ const std::vector<Parameter>& parameters() {
          {"0.25", "0.5", "1", "2", "4"},
          {},
          Needs::Offset},
+        {"texture_rho",
+         "texture LOD",
+         "texture LOD's scale factor rho approximated (8.14.1: between the largest partial "
+         "derivative and the sum of their magnitudes)",
+         {"exact", "approx"},
+         {},
+         Needs::Textures},
         {"flush_denormals",
          "denormals",
          "denormalized values flushed to zero (2.3.4.1)",
@@ -195,6 +203,10 @@ bool shows(Needs n, const DrawList& dl, const Profile& p) {
             return draw_module_offsets(dl, p);
         case Needs::FillBlend:
             return fill_rules_blend(dl);
+        case Needs::Textures:
+            return std::any_of(dl.draws.begin(), dl.draws.end(), [](const refraster::Draw& d) {
+                return d.state.texture.has_value();
+            });
     }
     return false;
 }

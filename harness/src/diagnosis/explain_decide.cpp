@@ -200,6 +200,7 @@ const std::vector<std::string>& rule_order() {
                                                 "depth clear",
                                                 "depth rounding",
                                                 "colour rounding",
+                                                "texture LOD",
                                                 "fused arithmetic",
                                                 "denormals",
                                                 "integer widths",

@@ -1071,6 +1071,22 @@ FingerprintResult fingerprint(Backend& target, const FingerprintProgress& progre
     for (const auto& [k, v] : decided) refraster::set_profile_parameter(base, k, v);
     // Each rule's values are the ones explain and the GL verdict search (rule_search.hpp).
     const auto stage = [&](const std::vector<Probe>& probes, const std::string& key) {
+        // A rule the family's model does not read cannot be seen in any probe; nor can
+        // texture_rho in the texture probe's triangles unless they are snapped (the scanline
+        // model samples them by softpipe's rules).
+        auto why = refraster::unread_parameter(base, key);
+        if (!why && key == "texture_rho" && base.model != refraster::CoverageModel::Snapped)
+            why = "the texture probe's triangles sample by softpipe's rules under this model";
+        if (why) {
+            RuleFinding f;
+            f.key = key;
+            f.probed = false;
+            for (const auto& [k, v] : refraster::profile_parameters(base))
+                if (k == key) f.value = v;
+            f.evidence = "not probed: " + *why;
+            r.rules.push_back(f);
+            return;
+        }
         std::vector<Assignment> c;
         for (const auto& v : search_values(key)) c.push_back({{key, v}});
         run_stage(search, probes, base, c, {key}, r.rules, decided);
@@ -1121,7 +1137,8 @@ FingerprintResult fingerprint(Backend& target, const FingerprintProgress& progre
     r.rules.push_back(state_finding(search, "multisample_enable", multisample_off_probe(), base));
     r.rules.push_back(state_finding(search, "edge_flags", edge_flags_probe(), base));
     r.rules.push_back(sprite_origin_finding(search, base, fresh, progress));
-    // 5. Textures, compared with the profile decided (a finding).
+    // 5. Textures: the LOD's rho, then the probe compared with the profile decided (a finding).
+    stage({texture_probe()}, "texture_rho");
     r.rules.push_back(texture_finding(search, base));
 
     for (const char* key :

@@ -85,6 +85,13 @@ enum class LineRule : std::uint8_t { Parallelogram, Bresenham };
 // rules (draw_pipe_wide_point.c).
 enum class PointRule : std::uint8_t { Square, TwoTriangles };
 
+// The scale factor rho of a quad's texture LOD (OpenGL 4.6, 8.14.1: rho may be approximated by
+// any function between the largest partial derivative and the sum of their magnitudes):
+// llvmpipe's default, sqrt of the larger of the two squared gradient lengths (computed as half
+// the log2 of its square), or the approximation GALLIVM_PERF=rho_approx selects, the largest
+// absolute partial derivative (lp_bld_sample.c, lp_build_rho and lp_build_lod_selector).
+enum class TextureRho : std::uint8_t { Exact, Approx };
+
 enum class FmaMode : std::uint8_t {
     Auto,  // fuse where the reproduced driver fuses iff this CPU has FMA (as gallivm decides)
     On,
@@ -126,6 +133,8 @@ struct GlRules {
     // units * offset_units_scale. A power of two from 1/16 to 16, so the product is exact: zink
     // on lavapipe applies twice llvmpipe's term (docs/precision.md, "Polygon offset").
     float offset_units_scale = 1.0f;
+    // The texture LOD's scale factor rho (read by llvmpipe's sampler).
+    TextureRho texture_rho = TextureRho::Exact;
 
     friend bool operator==(const GlRules&, const GlRules&) = default;
 };
@@ -198,6 +207,7 @@ std::optional<std::string> unread_parameter(const Profile& p, const std::string&
 std::string to_string(TieRule r);
 std::string to_string(SnapRounding r);
 std::string to_string(Rounding r);
+std::string to_string(TextureRho r);
 std::string to_string(LineRule r);
 std::string to_string(PointRule r);
 

@@ -117,6 +117,14 @@ std::string to_string(FmaMode m) {
 std::string to_string(Clipping c) {
     return c == Clipping::ViewVolume ? "view-volume" : "guard-band";
 }
+}  // namespace
+
+std::string to_string(TextureRho r) {
+    return r == TextureRho::Exact ? "exact" : "approx";
+}
+
+namespace {
+
 std::string to_string(PointLineClipping c) {
     return c == PointLineClipping::Vertices ? "vertices" : "pixels";
 }
@@ -203,6 +211,7 @@ std::vector<std::pair<std::string, std::string>> profile_parameters(const Profil
         {"line_rule", to_string(p.gl.line_rule)},
         {"point_rule", to_string(p.gl.point_rule)},
         {"offset_units_scale", float_text(p.gl.offset_units_scale)},
+        {"texture_rho", to_string(p.gl.texture_rho)},
         {"draw_pipeline_cull", bool_text(p.quirks.draw_pipeline_cull)},
         {"draw_segment_vertices", std::to_string(p.quirks.draw_segment_vertices)},
         {"nine_vertex_quirk", bool_text(p.quirks.nine_vertex_quirk)},
@@ -268,6 +277,9 @@ void set_profile_parameter(Profile& p, const std::string& key, const std::string
             {{"square", PointRule::Square}, {"two-triangles", PointRule::TwoTriangles}});
     } else if (key == "offset_units_scale") {
         p.gl.offset_units_scale = parse_power_of_two(key, value, -4, 4);
+    } else if (key == "texture_rho") {
+        p.gl.texture_rho = pick<TextureRho>(
+            key, value, {{"exact", TextureRho::Exact}, {"approx", TextureRho::Approx}});
     } else if (key == "draw_pipeline_cull") {
         p.quirks.draw_pipeline_cull = parse_bool(key, value);
     } else if (key == "draw_segment_vertices") {
@@ -310,7 +322,8 @@ std::optional<std::string> unread_parameter(const Profile& p, const std::string&
                 p.gl.line_rule == LineRule::Parallelogram || p.gl.point_rule == PointRule::Square;
             if (is({"snap_rounding", "nine_vertex_quirk", "wrapping_arithmetic"}))
                 return "the scanline model does not snap and has none of llvmpipe's setup quirks";
-            if (is({"subpixel_bits", "pixel_center_offset", "tie_rule"}) && !snapped_route)
+            if (is({"subpixel_bits", "pixel_center_offset", "tie_rule", "texture_rho"}) &&
+                !snapped_route)
                 return "the scanline model draws from float window coordinates; it reads " + key +
                        " only for lines or points drawn by llvmpipe's rules (line_rule="
                        "parallelogram or point_rule=square)";

@@ -36,6 +36,7 @@ LlvmpipeModel::LlvmpipeModel(const DrawContext& ctx, RenderState& state) : DrawM
                          "colour and texture coordinates in a textured draw's vertices");
         unit_ = make_texture_unit(*d.state.texture, state.levels(d.state.texture->texture));
         unit_->flush_border = ctx.profile.gl.flush_denormals;
+        unit_->rho_approx = ctx.profile.gl.texture_rho == TextureRho::Approx;
     }
 }
 

@@ -332,7 +332,7 @@ LevelView level_view(const TextureUnit& u, std::uint32_t level) {
 }
 
 // The LOD decisions of a quad (lp_bld_sample.c, lp_build_rho and lp_build_lod_selector, with
-// GALLIVM_PERF's rho_approx and brilinear off, no bias, no LOD clamps).
+// GALLIVM_PERF's brilinear off, rho_approx as the profile says, no bias, no LOD clamps).
 struct QuadLod {
     bool minified = false;
     std::uint32_t level0 = 0;
@@ -359,23 +359,48 @@ QuadLod quad_lod(const TextureUnit& u, const std::array<float, 4>& s,
                  const std::array<float, 4>& t) {
     QuadLod q;
     if (!u.needs_lod) return q;
-    // Differences of the coordinates first, then scaled to base-level texels.
-    const float dsdx = u.base_width * (s[1] - s[0]);
-    const float dtdx = u.base_height * (t[1] - t[0]);
-    const float dsdy = u.base_width * (s[2] - s[0]);
-    const float dtdy = u.base_height * (t[2] - t[0]);
-    q.terms = {dsdx, dtdx, dsdy, dtdy};
-    const float rx = dsdx * dsdx + dtdx * dtdx;
-    const float ry = dsdy * dsdy + dtdy * dtdy;
-    q.rho2 = max_ps(rx, ry);
+    const bool nearest_level = u.state.min_filter == TextureFilter::NearestMipmapNearest ||
+                               u.state.min_filter == TextureFilter::LinearMipmapNearest;
+    const auto last = static_cast<std::int32_t>(u.last_level);
+    if (u.rho_approx) {
+        // lp_build_rho without no_rho_approx (the packed quad path, eight-wide vectors): the
+        // absolute differences, the larger of x and y per coordinate (maxps), scaled to
+        // base-level texels, then the larger of s and t. lp_build_lod_selector then takes
+        // rho itself where no level is interpolated (ilog2: the exponent of rho * sqrt(2), and
+        // minified when rho > 1), and squares it where one is (fast_log2(rho * rho) / 2).
+        const float ds = max_ps(std::fabs(s[1] - s[0]), std::fabs(s[2] - s[0])) * u.base_width;
+        const float dt = max_ps(std::fabs(t[1] - t[0]), std::fabs(t[2] - t[0])) * u.base_height;
+        const float rho = max_ps(ds, dt);
+        q.terms = {s[1] - s[0], t[1] - t[0], s[2] - s[0], t[2] - t[0]};
+        const bool linear_levels = u.mipmapped && !nearest_level;
+        if (!linear_levels) {
+            q.rho2 = rho * rho;
+            q.minified = !(rho <= 1.0f);
+            if (!q.minified || !u.mipmapped) return q;
+            constexpr float kSqrt2 = 1.41421356237309504880f;  // M_SQRT2 as a float constant
+            const auto bits = std::bit_cast<std::uint32_t>(rho * kSqrt2);
+            const std::int32_t level =
+                std::clamp(static_cast<std::int32_t>((bits >> 23) & 0xffu) - 127, 0, last);
+            q.level0 = q.level1 = static_cast<std::uint32_t>(level);
+            return q;
+        }
+        q.rho2 = rho * rho;
+    } else {
+        // Differences of the coordinates first, then scaled to base-level texels.
+        const float dsdx = u.base_width * (s[1] - s[0]);
+        const float dtdx = u.base_height * (t[1] - t[0]);
+        const float dsdy = u.base_width * (s[2] - s[0]);
+        const float dtdy = u.base_height * (t[2] - t[0]);
+        q.terms = {dsdx, dtdx, dsdy, dtdy};
+        const float rx = dsdx * dsdx + dtdx * dtdx;
+        const float ry = dsdy * dsdy + dtdy * dtdy;
+        q.rho2 = max_ps(rx, ry);
+    }
     // lp_build_cmp compares unordered: a NaN rho counts as minified.
     q.minified = !(q.rho2 <= 1.0f);
     if (!q.minified || !u.mipmapped) return q;
     const auto bits = std::bit_cast<std::uint32_t>(q.rho2);
     const auto e = static_cast<std::int32_t>((bits >> 23) & 0xffu);
-    const bool nearest_level = u.state.min_filter == TextureFilter::NearestMipmapNearest ||
-                               u.state.min_filter == TextureFilter::LinearMipmapNearest;
-    const auto last = static_cast<std::int32_t>(u.last_level);
     if (nearest_level) {
         // The level nearest log2(rho) from the exponent of rho squared (lp_build_ilog2 of
         // rho squared, halved with an offset): level k for rho2 in [2^(2k-1), 2^(2k+1)).

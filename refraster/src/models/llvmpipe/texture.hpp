@@ -54,6 +54,8 @@ struct TextureUnit {
     // (lp_rast.c, util_fpstate_set_denorms_to_zero): a denormal channel reads as 0. The
     // profile's flush_denormals decides.
     bool flush_border = true;
+    // The LOD's rho by GALLIVM_PERF=rho_approx's rule (the profile's texture_rho=approx).
+    bool rho_approx = false;
 };
 
 TextureUnit make_texture_unit(const TextureState& state, const std::vector<TextureImage>& levels);
