@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 
@@ -110,6 +111,25 @@ TEST(RuleSearch, EveryVariationHasItsGlStanding) {
               (std::vector<std::string>{"0.25", "0.5", "1", "2", "4"}));
     const auto ties = harness::search_values("tie_rule");
     EXPECT_NE(std::find(ties.begin(), ties.end(), "none"), ties.end());
+}
+
+// Every rule of a profile is searched, or left out for a stated reason: a new parameter cannot
+// be added without deciding its GL standing.
+TEST(RuleSearch, EveryProfileParameterIsSearchedOrLeftOutForAReason) {
+    const std::map<std::string, std::string> left_out{
+        {"name", "not a rule"},
+        {"coverage", "searched whole, as another implementation's rule set"},
+        {"pixel_center_offset", "every GL implementation puts centres at half-integers"},
+        {"draw_segment_vertices", "changes only where the draw module splits, never a pixel alone"},
+    };
+    for (const auto& [key, value] : refraster::profile_parameters(refraster::Profile{})) {
+        const bool searched = !harness::search_values(key).empty();
+        EXPECT_NE(searched, left_out.count(key) == 1) << key;
+        if (searched) {
+            EXPECT_FALSE(harness::gl_standing(key, harness::search_values(key).front()).empty())
+                << key;
+        }
+    }
 }
 
 // An implementation that draws a GL_POLYGON's internal edges in polygon mode line: explain
