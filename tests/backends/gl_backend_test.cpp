@@ -993,60 +993,71 @@ TEST(GlBackendZink, AWorkerRunningAnotherDriverThanAskedIsRefused) {
         << r.message;
 }
 
-// llvmpipe under GALLIVM_PERF=rho_approx (OpenGL 4.6, 8.14.1's approximation of rho): every
-// shipped textured scene byte for byte as the reference under texture_rho=approx, and some of
-// them different under the default rule, which the fingerprint tells apart.
-TEST(GlBackendTexture, RhoApproxIsTheProfilesApproxRule) {
+// llvmpipe under GALLIVM_PERF=rho_approx (OpenGL 4.6, 8.14.1's approximation of rho),
+// brilinear, and both: every shipped textured scene byte for byte as the reference under the
+// profile rules of the same name (texture_rho, texture_mip_blend), some of them different under
+// the default rules, and the fingerprint recovers the rules.
+TEST(GlBackendTexture, GallivmPerfTextureRulesAreProfileRules) {
     ::setenv("REFRASTER_WORKER_DIR", REFRASTER_TEST_WORKER_DIR, 0);
-    harness::BackendOptions o;
-    o.kind = harness::BackendKind::Egl;
-    o.driver = Driver::Llvmpipe;
-    o.environment = {"GALLIVM_PERF=rho_approx"};
-    harness::GlWorkerBackend gl(o);
-    auto approx = refraster::llvmpipe_22_3_profile();
-    harness::apply_profile_overrides(approx, {"texture_rho=approx"});
-    const auto same = [](const harness::RenderResult& a, const harness::RenderResult& b) {
-        return a.image.color8 == b.image.color8 && a.image.color32f == b.image.color32f &&
-               a.image.depth == b.image.depth && a.samples.color8 == b.samples.color8 &&
-               a.samples.color32f == b.samples.color32f;
+    struct Case {
+        const char* perf;
+        std::vector<std::string> rules;
     };
-    std::size_t textured = 0, differ_under_exact = 0;
-    for (const auto& e : std::filesystem::recursive_directory_iterator(
-             std::filesystem::path(REFRASTER_SOURCE_DIR) / "conformance/scenes")) {
-        if (!e.is_regular_file() || e.path().extension() != ".json") continue;
-        harness::Scene scene;
-        try {
-            scene = harness::load_scene(e.path());
-        } catch (const harness::SceneError&) {
-            continue;  // a PNG texture: this program reads no image files
-        }
-        const auto& draws = scene.draw_list.draws;
-        if (std::none_of(draws.begin(), draws.end(),
-                         [](const auto& d) { return d.state.texture.has_value(); }))
-            continue;
-        ++textured;
-        const auto backend = gl.render(scene);
-        ASSERT_EQ(backend.status, RenderStatus::Ok) << e.path() << ": " << backend.message;
-        for (const bool use_approx : {true, false}) {
-            harness::BackendOptions ro;
-            ro.kind = harness::BackendKind::Ref;
-            ro.profile = use_approx ? approx : refraster::llvmpipe_22_3_profile();
-            ro.threads = 1;
-            const auto ref = harness::make_backend(ro)->render(scene);
-            ASSERT_EQ(ref.status, RenderStatus::Ok) << e.path();
-            if (use_approx) {
-                EXPECT_TRUE(same(ref, backend)) << e.path();
-            } else {
-                differ_under_exact += !same(ref, backend);
+    for (const auto& c :
+         {Case{"rho_approx", {"texture_rho=approx"}},
+          Case{"brilinear", {"texture_mip_blend=brilinear"}},
+          Case{"rho_approx,brilinear", {"texture_rho=approx", "texture_mip_blend=brilinear"}}}) {
+        harness::BackendOptions o;
+        o.kind = harness::BackendKind::Egl;
+        o.driver = Driver::Llvmpipe;
+        o.environment = {std::string("GALLIVM_PERF=") + c.perf};
+        harness::GlWorkerBackend gl(o);
+        auto want = refraster::llvmpipe_22_3_profile();
+        harness::apply_profile_overrides(want, c.rules);
+        const auto same = [](const harness::RenderResult& a, const harness::RenderResult& b) {
+            return a.image.color8 == b.image.color8 && a.image.color32f == b.image.color32f &&
+                   a.image.depth == b.image.depth && a.samples.color8 == b.samples.color8 &&
+                   a.samples.color32f == b.samples.color32f;
+        };
+        std::size_t textured = 0, differ_under_default = 0;
+        for (const auto& e : std::filesystem::recursive_directory_iterator(
+                 std::filesystem::path(REFRASTER_SOURCE_DIR) / "conformance/scenes")) {
+            if (!e.is_regular_file() || e.path().extension() != ".json") continue;
+            harness::Scene scene;
+            try {
+                scene = harness::load_scene(e.path());
+            } catch (const harness::SceneError&) {
+                continue;  // a PNG texture: this program reads no image files
+            }
+            const auto& draws = scene.draw_list.draws;
+            if (std::none_of(draws.begin(), draws.end(),
+                             [](const auto& d) { return d.state.texture.has_value(); }))
+                continue;
+            ++textured;
+            const auto backend = gl.render(scene);
+            ASSERT_EQ(backend.status, RenderStatus::Ok) << e.path() << ": " << backend.message;
+            for (const bool modelled : {true, false}) {
+                harness::BackendOptions ro;
+                ro.kind = harness::BackendKind::Ref;
+                ro.profile = modelled ? want : refraster::llvmpipe_22_3_profile();
+                ro.threads = 1;
+                const auto ref = harness::make_backend(ro)->render(scene);
+                ASSERT_EQ(ref.status, RenderStatus::Ok) << e.path();
+                if (modelled) {
+                    EXPECT_TRUE(same(ref, backend)) << c.perf << ": " << e.path();
+                } else {
+                    differ_under_default += !same(ref, backend);
+                }
             }
         }
+        EXPECT_GT(textured, 50u);
+        EXPECT_GT(differ_under_default, 0u) << c.perf;
+        const auto f = harness::fingerprint(gl);
+        EXPECT_EQ(harness::profile_rules(f.profile), harness::profile_rules(want))
+            << c.perf << "\n"
+            << harness::fingerprint_text(f);
+        EXPECT_TRUE(f.complete()) << harness::fingerprint_text(f);
     }
-    EXPECT_GT(textured, 50u);
-    EXPECT_GT(differ_under_exact, 0u);
-    const auto f = harness::fingerprint(gl);
-    EXPECT_EQ(f.profile.gl.texture_rho, refraster::TextureRho::Approx)
-        << harness::fingerprint_text(f);
-    EXPECT_TRUE(f.complete()) << harness::fingerprint_text(f);
 }
 
 // The GL verdict on zink, an implementation no profile models, one case per kind: its twice

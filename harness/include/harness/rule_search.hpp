@@ -9,14 +9,16 @@
 //    owner (14.6.1), clipping with or without a guard band (13.7), point and line clipping by
 //    vertices or by pixels, line and point rasterisation within their tolerances (14.5.1, 14.4),
 //    interpolation, conversion and clear precision (2.3.4.1, 2.3.5), polygon offset's r
-//    (14.6.5), the texture LOD's rho (8.14.1), denormals flushed to zero and facing computed
+//    (14.6.5), the texture LOD's rho (8.14.1), the mip blend (8.14.3), denormals flushed to
+//    zero and facing computed
 //    at the implementation's precision (2.3.4.1), results of values beyond the
 //    implementation's range (2.3.4.1), and the whole rule set of another modelled conforming
 //    implementation;
 //  - a violation, a rule every conforming implementation keeps broken on purpose, so that a
 //    backend that breaks it is reproduced and named: a centre on a shared edge with no owner or
-//    two (14.6.1), a triangle of a draw dropped (llvmpipe's nine-vertex analysis), GL_MULTISAMPLE
-//    disabled ignored (14.3.1), edge flags ignored (14.6.4);
+//    two (14.6.1), a triangle of a draw dropped (llvmpipe's nine-vertex analysis), brilinear
+//    filtering (a LOD outside 8.14.1's bounds), GL_MULTISAMPLE disabled ignored (14.3.1), edge
+//    flags ignored (14.6.4);
 // and search_values(key), the values each profile parameter is searched over, which the
 // fingerprint's probes search as well.
 //
@@ -24,10 +26,10 @@
 // that needs some draw (polygon offset, lines, points, textures, fill rules with blending,
 // GL_POLYGON outlines, GL_MULTISAMPLE off on a 4x target) only when the scene has one.
 //
-// Deliberately does not: vary textures' filtering arithmetic or LOD beyond rho (texture_rho;
-// brilinear filtering and per-pixel LOD are rules the profile does not have: such a texel
-// difference is unexplained unless another implementation's rule set reproduces it), or render
-// anything: each caller renders the variations it needs.
+// Deliberately does not: vary textures' filtering precision (llvmpipe's float path for what it
+// samples in 8 bits is a rule the profile does not have: such a texel difference is unexplained
+// unless another implementation's rule set reproduces it), or render anything: each caller
+// renders the variations it needs.
 #pragma once
 
 #include <memory>

@@ -201,6 +201,7 @@ const std::vector<std::string>& rule_order() {
                                                 "depth rounding",
                                                 "colour rounding",
                                                 "texture LOD",
+                                                "mip blend",
                                                 "fused arithmetic",
                                                 "denormals",
                                                 "integer widths",

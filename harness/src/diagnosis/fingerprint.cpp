@@ -1138,7 +1138,33 @@ FingerprintResult fingerprint(Backend& target, const FingerprintProgress& progre
     r.rules.push_back(state_finding(search, "edge_flags", edge_flags_probe(), base));
     r.rules.push_back(sprite_origin_finding(search, base, fresh, progress));
     // 5. Textures: the LOD's rho, then the probe compared with the profile decided (a finding).
-    stage({texture_probe()}, "texture_rho");
+    // rho and the mip blend jointly: llvmpipe takes another brilinear path when rho is not
+    // squared, so neither can be decided alone.
+    {
+        std::vector<Assignment> c;
+        for (const auto& rho : search_values("texture_rho"))
+            for (const auto& blend : search_values("texture_mip_blend"))
+                c.push_back({{"texture_rho", rho}, {"texture_mip_blend", blend}});
+        auto why = refraster::unread_parameter(base, "texture_rho");
+        if (!why && base.model != refraster::CoverageModel::Snapped)
+            why = "the texture probe's triangles sample by softpipe's rules under this model";
+        if (why) {
+            for (const char* key : {"texture_rho", "texture_mip_blend"}) {
+                RuleFinding f;
+                f.key = key;
+                f.probed = false;
+                for (const auto& [k, v] : refraster::profile_parameters(base))
+                    if (k == key) f.value = v;
+                f.evidence = "not probed: " + *why;
+                r.rules.push_back(f);
+            }
+        } else {
+            run_stage(search, {texture_probe()}, base, c, {"texture_rho", "texture_mip_blend"},
+                      r.rules, decided);
+            for (const char* key : {"texture_rho", "texture_mip_blend"})
+                if (decided.count(key)) refraster::set_profile_parameter(base, key, decided[key]);
+        }
+    }
     r.rules.push_back(texture_finding(search, base));
 
     for (const char* key :

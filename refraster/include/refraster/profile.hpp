@@ -92,6 +92,14 @@ enum class PointRule : std::uint8_t { Square, TwoTriangles };
 // absolute partial derivative (lp_bld_sample.c, lp_build_rho and lp_build_lod_selector).
 enum class TextureRho : std::uint8_t { Exact, Approx };
 
+// How LINEAR_MIPMAP_LINEAR blends its two levels: by frac(lambda) (OpenGL 4.6, 8.14.3), or
+// llvmpipe's brilinear approximation under GALLIVM_PERF=brilinear, whose lambda is a
+// piecewise-linear log2 within a quarter level of the true one: only the base level where
+// lambda is within a quarter of an integer (lp_bld_sample.c, lp_build_brilinear_lod and
+// lp_build_brilinear_rho, BRILINEAR_FACTOR 2). 8.14.1 bounds rho's approximations, and
+// brilinear's effective rho falls below the lower bound: the rule search calls it a violation.
+enum class MipBlend : std::uint8_t { Linear, Brilinear };
+
 enum class FmaMode : std::uint8_t {
     Auto,  // fuse where the reproduced driver fuses iff this CPU has FMA (as gallivm decides)
     On,
@@ -135,6 +143,8 @@ struct GlRules {
     float offset_units_scale = 1.0f;
     // The texture LOD's scale factor rho (read by llvmpipe's sampler).
     TextureRho texture_rho = TextureRho::Exact;
+    // How the two levels of LINEAR_MIPMAP_LINEAR blend (read by llvmpipe's sampler).
+    MipBlend texture_mip_blend = MipBlend::Linear;
 
     friend bool operator==(const GlRules&, const GlRules&) = default;
 };
@@ -208,6 +218,7 @@ std::string to_string(TieRule r);
 std::string to_string(SnapRounding r);
 std::string to_string(Rounding r);
 std::string to_string(TextureRho r);
+std::string to_string(MipBlend b);
 std::string to_string(LineRule r);
 std::string to_string(PointRule r);
 

@@ -122,6 +122,9 @@ std::string to_string(Clipping c) {
 std::string to_string(TextureRho r) {
     return r == TextureRho::Exact ? "exact" : "approx";
 }
+std::string to_string(MipBlend b) {
+    return b == MipBlend::Linear ? "linear" : "brilinear";
+}
 
 namespace {
 
@@ -212,6 +215,7 @@ std::vector<std::pair<std::string, std::string>> profile_parameters(const Profil
         {"point_rule", to_string(p.gl.point_rule)},
         {"offset_units_scale", float_text(p.gl.offset_units_scale)},
         {"texture_rho", to_string(p.gl.texture_rho)},
+        {"texture_mip_blend", to_string(p.gl.texture_mip_blend)},
         {"draw_pipeline_cull", bool_text(p.quirks.draw_pipeline_cull)},
         {"draw_segment_vertices", std::to_string(p.quirks.draw_segment_vertices)},
         {"nine_vertex_quirk", bool_text(p.quirks.nine_vertex_quirk)},
@@ -280,6 +284,9 @@ void set_profile_parameter(Profile& p, const std::string& key, const std::string
     } else if (key == "texture_rho") {
         p.gl.texture_rho = pick<TextureRho>(
             key, value, {{"exact", TextureRho::Exact}, {"approx", TextureRho::Approx}});
+    } else if (key == "texture_mip_blend") {
+        p.gl.texture_mip_blend = pick<MipBlend>(
+            key, value, {{"linear", MipBlend::Linear}, {"brilinear", MipBlend::Brilinear}});
     } else if (key == "draw_pipeline_cull") {
         p.quirks.draw_pipeline_cull = parse_bool(key, value);
     } else if (key == "draw_segment_vertices") {
@@ -322,7 +329,8 @@ std::optional<std::string> unread_parameter(const Profile& p, const std::string&
                 p.gl.line_rule == LineRule::Parallelogram || p.gl.point_rule == PointRule::Square;
             if (is({"snap_rounding", "nine_vertex_quirk", "wrapping_arithmetic"}))
                 return "the scanline model does not snap and has none of llvmpipe's setup quirks";
-            if (is({"subpixel_bits", "pixel_center_offset", "tie_rule", "texture_rho"}) &&
+            if (is({"subpixel_bits", "pixel_center_offset", "tie_rule", "texture_rho",
+                    "texture_mip_blend"}) &&
                 !snapped_route)
                 return "the scanline model draws from float window coordinates; it reads " + key +
                        " only for lines or points drawn by llvmpipe's rules (line_rule="

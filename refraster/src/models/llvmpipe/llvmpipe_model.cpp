@@ -37,6 +37,7 @@ LlvmpipeModel::LlvmpipeModel(const DrawContext& ctx, RenderState& state) : DrawM
         unit_ = make_texture_unit(*d.state.texture, state.levels(d.state.texture->texture));
         unit_->flush_border = ctx.profile.gl.flush_denormals;
         unit_->rho_approx = ctx.profile.gl.texture_rho == TextureRho::Approx;
+        unit_->brilinear = ctx.profile.gl.texture_mip_blend == MipBlend::Brilinear;
     }
 }
 

@@ -355,6 +355,27 @@ float max_ps(float a, float b) {
     return a > b ? a : b;
 }
 
+// lp_build_linear_mip_levels: the two levels from the lod's integer part, both clamped to
+// [0, last] with the weight zeroed there; then lp_build_sample_mipmap's clamp of a negative
+// weight (brilinear's) to 0 before the levels blend.
+void split_levels(const TextureUnit& u, QuadLod& q, std::int32_t level0, float frac) {
+    const auto last = static_cast<std::int32_t>(u.last_level);
+    std::int32_t l0 = level0;
+    std::int32_t l1 = level0 + 1;
+    if (level0 < 0) {
+        l0 = l1 = 0;
+        frac = 0.0f;
+    } else if (level0 >= last) {
+        l0 = l1 = last;
+        frac = 0.0f;
+    }
+    frac = max_ps(frac, 0.0f);
+    q.level0 = static_cast<std::uint32_t>(l0);
+    q.level1 = static_cast<std::uint32_t>(l1);
+    q.frac = frac;
+    q.frac8 = itrunc(frac * 256.0f);
+}
+
 QuadLod quad_lod(const TextureUnit& u, const std::array<float, 4>& s,
                  const std::array<float, 4>& t) {
     QuadLod q;
@@ -385,6 +406,23 @@ QuadLod quad_lod(const TextureUnit& u, const std::array<float, 4>& s,
             return q;
         }
         q.rho2 = rho * rho;
+        if (u.brilinear) {
+            // lp_build_brilinear_rho (BRILINEAR_FACTOR 2), taken when rho is not squared: rho
+            // scaled by (2 * 2 - 0.5) / (sqrt(2) * 2) (a double constant made float), the
+            // exponent as the level, the mantissa m in [1, 2) as the weight 2m - 3 (the mad is
+            // exact either way); minified when rho > 1.
+            constexpr float kPre =
+                static_cast<float>((2.0 * 2.0 - 0.5) / (1.41421356237309504880 * 2.0));
+            q.minified = !(rho <= 1.0f);
+            if (!q.minified) return q;
+            const auto rb = std::bit_cast<std::uint32_t>(rho * kPre);
+            const float m = std::bit_cast<float>((rb & 0x7fffffu) | 0x3f800000u);
+            const std::int32_t ipart = static_cast<std::int32_t>((rb >> 23) & 0xffu) - 127;
+            const float fpart = m * 2.0f - 3.0f;
+            q.lod = static_cast<float>(ipart) + fpart;
+            split_levels(u, q, ipart, fpart);
+            return q;
+        }
     } else {
         // Differences of the coordinates first, then scaled to base-level texels.
         const float dsdx = u.base_width * (s[1] - s[0]);
@@ -411,21 +449,14 @@ QuadLod quad_lod(const TextureUnit& u, const std::array<float, 4>& s,
     // lp_build_fast_log2: (exponent - 1) + mantissa in [1, 2), then halved for rho.
     const float mantissa = std::bit_cast<float>((bits & 0x7fffffu) | 0x3f800000u);
     q.lod = (static_cast<float>(e - 128) + mantissa) * 0.5f;
-    const std::int32_t level0 = ifloor(q.lod);
-    float frac = q.lod - std::floor(q.lod);
-    std::int32_t l0 = level0;
-    std::int32_t l1 = level0 + 1;
-    if (level0 < 0) {
-        l0 = l1 = 0;
-        frac = 0.0f;
-    } else if (level0 >= last) {
-        l0 = l1 = last;
-        frac = 0.0f;
+    if (u.brilinear) {
+        // lp_build_brilinear_lod (BRILINEAR_FACTOR 2): the lod offset by (2 - 0.5) / 2 - 0.5,
+        // its floor the level, its fraction f giving the weight 2f - 1 (exact).
+        const float lod = q.lod + 0.25f;
+        split_levels(u, q, ifloor(lod), (lod - std::floor(lod)) * 2.0f - 1.0f);
+        return q;
     }
-    q.level0 = static_cast<std::uint32_t>(l0);
-    q.level1 = static_cast<std::uint32_t>(l1);
-    q.frac = frac;
-    q.frac8 = itrunc(frac * 256.0f);
+    split_levels(u, q, ifloor(q.lod), q.lod - std::floor(q.lod));
     return q;
 }
 

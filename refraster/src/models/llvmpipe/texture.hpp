@@ -56,6 +56,8 @@ struct TextureUnit {
     bool flush_border = true;
     // The LOD's rho by GALLIVM_PERF=rho_approx's rule (the profile's texture_rho=approx).
     bool rho_approx = false;
+    // LINEAR_MIPMAP_LINEAR's blend by GALLIVM_PERF=brilinear's rule (texture_mip_blend).
+    bool brilinear = false;
 };
 
 TextureUnit make_texture_unit(const TextureState& state, const std::vector<TextureImage>& levels);
