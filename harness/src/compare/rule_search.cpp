@@ -160,17 +160,19 @@ const std::vector<Parameter>& parameters() {
     return table;
 }
 
+// Some draw reaches the rasterizer as lines: a line primitive, or triangles in polygon mode
+// line (the counterpart of refraster::Draw::rasterizes_points).
 bool draws_lines(const DrawList& dl) {
     return std::any_of(dl.draws.begin(), dl.draws.end(), [](const refraster::Draw& d) {
-        return d.primitive == PrimitiveType::Lines || d.primitive == PrimitiveType::LineStrip ||
-               d.primitive == PrimitiveType::LineLoop || d.state.polygon_mode == PolygonMode::Line;
+        return (d.primitive >= PrimitiveType::Lines && d.primitive <= PrimitiveType::LineLoop) ||
+               (d.primitive >= PrimitiveType::Triangles &&
+                d.state.polygon_mode == PolygonMode::Line);
     });
 }
 
 bool draws_points(const DrawList& dl) {
-    return std::any_of(dl.draws.begin(), dl.draws.end(), [](const refraster::Draw& d) {
-        return d.primitive == PrimitiveType::Points || d.state.polygon_mode == PolygonMode::Point;
-    });
+    return std::any_of(dl.draws.begin(), dl.draws.end(),
+                       [](const refraster::Draw& d) { return d.rasterizes_points(); });
 }
 
 // Whether some draw has a polygon offset the draw module applies (polygon mode line or point,

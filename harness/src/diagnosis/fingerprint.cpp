@@ -402,44 +402,39 @@ Probe texture_probe() {
         tex.levels.push_back(std::move(img));
     }
     p.scene.draw_list.textures.push_back(std::move(tex));
-    const std::array<float, 4> tint{0.9f, 0.8f, 1.0f, 1.0f};
-    // The floor: near edge at w = 1, far edge at w = 6, eight repeats deep.
-    Draw floor = window_draw(refraster::PrimitiveType::Triangles,
-                             {{1.3f, 1.1f, 0.2f},
-                              {62.6f, 1.1f, 0.2f},
-                              {50.4f, 40.7f, 0.8f},
-                              {1.3f, 1.1f, 0.2f},
-                              {50.4f, 40.7f, 0.8f},
-                              {13.2f, 40.7f, 0.8f}},
-                             {tint}, 64, 64, {1.0f, 1.0f, 6.0f, 1.0f, 6.0f, 6.0f});
-    with_texcoords(floor, {{0.0f, 0.0f, 0.0f, 1.0f},
-                           {3.0f, 0.0f, 0.0f, 1.0f},
-                           {3.0f, 8.0f, 0.0f, 1.0f},
-                           {0.0f, 0.0f, 0.0f, 1.0f},
-                           {3.0f, 8.0f, 0.0f, 1.0f},
-                           {0.0f, 8.0f, 0.0f, 1.0f}});
     refraster::TextureState t;
     t.min_filter = refraster::TextureFilter::LinearMipmapLinear;
     t.mag_filter = refraster::TextureFilter::Linear;
-    floor.state.texture = t;
-    p.scene.draw_list.draws.push_back(floor);
+    // A quad (x, y, z, w) with texture coordinates (s, t), corners counter-clockwise from the
+    // bottom left, as the two triangles 0 1 2 and 0 2 3.
+    const auto quad = [&](const std::array<std::array<float, 4>, 4>& corners,
+                          const std::array<std::array<float, 2>, 4>& st) {
+        std::vector<std::array<float, 3>> pos;
+        std::vector<float> w;
+        std::vector<std::array<float, 4>> tc;
+        for (const std::size_t k : {0u, 1u, 2u, 0u, 2u, 3u}) {
+            pos.push_back({corners[k][0], corners[k][1], corners[k][2]});
+            w.push_back(corners[k][3]);
+            tc.push_back({st[k][0], st[k][1], 0.0f, 1.0f});
+        }
+        Draw d = window_draw(refraster::PrimitiveType::Triangles, pos, {{0.9f, 0.8f, 1.0f, 1.0f}},
+                             64, 64, w);
+        with_texcoords(d, tc);
+        d.state.texture = t;
+        p.scene.draw_list.draws.push_back(d);
+    };
+    // The floor: near edge at w = 1, far edge at w = 6, eight repeats deep.
+    quad({{{1.3f, 1.1f, 0.2f, 1.0f},
+           {62.6f, 1.1f, 0.2f, 1.0f},
+           {50.4f, 40.7f, 0.8f, 6.0f},
+           {13.2f, 40.7f, 0.8f, 6.0f}}},
+         {{{0.0f, 0.0f}, {3.0f, 0.0f}, {3.0f, 8.0f}, {0.0f, 8.0f}}});
     // The square: 4x4 texels of level 0 over 20x20 pixels.
-    Draw square = window_draw(refraster::PrimitiveType::Triangles,
-                              {{40.2f, 42.3f, 0.5f},
-                               {61.7f, 42.3f, 0.5f},
-                               {61.7f, 62.6f, 0.5f},
-                               {40.2f, 42.3f, 0.5f},
-                               {61.7f, 62.6f, 0.5f},
-                               {40.2f, 62.6f, 0.5f}},
-                              {tint}, 64, 64);
-    with_texcoords(square, {{0.1f, 0.2f, 0.0f, 1.0f},
-                            {0.35f, 0.2f, 0.0f, 1.0f},
-                            {0.35f, 0.45f, 0.0f, 1.0f},
-                            {0.1f, 0.2f, 0.0f, 1.0f},
-                            {0.35f, 0.45f, 0.0f, 1.0f},
-                            {0.1f, 0.45f, 0.0f, 1.0f}});
-    square.state.texture = t;
-    p.scene.draw_list.draws.push_back(square);
+    quad({{{40.2f, 42.3f, 0.5f, 1.0f},
+           {61.7f, 42.3f, 0.5f, 1.0f},
+           {61.7f, 62.6f, 0.5f, 1.0f},
+           {40.2f, 62.6f, 0.5f, 1.0f}}},
+         {{{0.1f, 0.2f}, {0.35f, 0.2f}, {0.35f, 0.45f}, {0.1f, 0.45f}}});
     return p;
 }
 
@@ -777,8 +772,6 @@ RuleFinding setup_order_finding(Search& search, const Probe& fusion, const Profi
     return f;
 }
 
-}  // namespace
-
 // Draw state GL requires an implementation to honour, probed as GL draws it and as it is drawn
 // with the state ignored: GL_MULTISAMPLE disabled on a 4x target (14.3.1) and a GL_POLYGON's
 // edge flags in polygon mode line (14.6.4). A finding, never a profile rule: "honoured",
@@ -1036,6 +1029,19 @@ RuleFinding sprite_origin_finding(Search& search, const Profile& base, const Fre
     return f;
 }
 
+// A rule left at `base`'s value without a probe, and why.
+RuleFinding not_probed(const Profile& base, const std::string& key, const std::string& why) {
+    RuleFinding f;
+    f.key = key;
+    f.probed = false;
+    for (const auto& [k, v] : refraster::profile_parameters(base))
+        if (k == key) f.value = v;
+    f.evidence = "not probed: " + why;
+    return f;
+}
+
+}  // namespace
+
 bool FingerprintResult::complete() const {
     return std::all_of(rules.begin(), rules.end(),
                        [](const RuleFinding& f) { return !f.probed || f.decided; });
@@ -1069,43 +1075,49 @@ FingerprintResult fingerprint(Backend& target, const FingerprintProgress& progre
     const std::string family = decided.count("coverage") ? decided["coverage"] : "snapped";
     Profile base = family_base(family);
     for (const auto& [k, v] : decided) refraster::set_profile_parameter(base, k, v);
-    // Each rule's values are the ones explain and the GL verdict search (rule_search.hpp).
-    const auto stage = [&](const std::vector<Probe>& probes, const std::string& key) {
-        // A rule the family's model does not read cannot be seen in any probe; nor can
-        // texture_rho in the texture probe's triangles unless they are snapped (the scanline
+    // Each rule's values are the ones explain and the GL verdict search (rule_search.hpp); the
+    // rules of one stage are decided jointly, over every combination of their values.
+    const auto stage = [&](const std::vector<Probe>& probes, const std::vector<std::string>& keys) {
+        // A rule the family's model does not read cannot be seen in any probe; nor can a
+        // texture rule in the texture probe's triangles unless they are snapped (the scanline
         // model samples them by softpipe's rules).
-        auto why = refraster::unread_parameter(base, key);
-        if (!why && key == "texture_rho" && base.model != refraster::CoverageModel::Snapped)
+        auto why = refraster::unread_parameter(base, keys.front());
+        if (!why && keys.front().rfind("texture_", 0) == 0 &&
+            base.model != refraster::CoverageModel::Snapped)
             why = "the texture probe's triangles sample by softpipe's rules under this model";
         if (why) {
-            RuleFinding f;
-            f.key = key;
-            f.probed = false;
-            for (const auto& [k, v] : refraster::profile_parameters(base))
-                if (k == key) f.value = v;
-            f.evidence = "not probed: " + *why;
-            r.rules.push_back(f);
+            for (const auto& key : keys) r.rules.push_back(not_probed(base, key, *why));
             return;
         }
-        std::vector<Assignment> c;
-        for (const auto& v : search_values(key)) c.push_back({{key, v}});
-        run_stage(search, probes, base, c, {key}, r.rules, decided);
-        if (decided.count(key)) refraster::set_profile_parameter(base, key, decided[key]);
+        std::vector<Assignment> c{{}};
+        for (const auto& key : keys) {
+            std::vector<Assignment> wider;
+            for (const auto& partial : c) {
+                for (const auto& v : search_values(key)) {
+                    wider.push_back(partial);
+                    wider.back()[key] = v;
+                }
+            }
+            c = std::move(wider);
+        }
+        run_stage(search, probes, base, c, keys, r.rules, decided);
+        for (const auto& key : keys)
+            if (decided.count(key)) refraster::set_profile_parameter(base, key, decided[key]);
     };
 
     // 2. Lines and points, then the clipper (whose probe has both).
     const Probe widths = line_width_probe();
-    stage({line_probe()}, "line_rule");
+    stage({line_probe()}, {"line_rule"});
     r.rules.push_back(line_width_finding(widths, search.backend(widths)));
-    stage({point_probe()}, "point_rule");
+    stage({point_probe()}, {"point_rule"});
     // Clipping per primitive class: points and wide lines here (their coverage), triangles
     // below, once the arithmetic their float colours show is decided.
-    stage({clipping_probe()}, "point_line_clipping");
+    stage({clipping_probe()}, {"point_line_clipping"});
     // 3. Arithmetic: fusion, depth, clears, colours.
     const Probe fusion = fusion_probe();
-    stage({fusion}, "viewport_fma");
+    stage({fusion}, {"viewport_fma"});
     r.rules.push_back(setup_order_finding(search, fusion, base, family));
-    stage({triangle_clipping_probe()}, "clipping");
+    stage({triangle_clipping_probe()}, {"clipping"});
     // The guard band for triangles implies it for points and lines: point_line_clipping then
     // keeps its default, "as clipping says".
     if (decided.count("clipping") && decided["clipping"] == "guard-band" &&
@@ -1118,10 +1130,10 @@ FingerprintResult fingerprint(Backend& target, const FingerprintProgress& progre
             }
         }
     }
-    stage({depth_probe()}, "depth_rounding");
-    stage(offset_probes(), "offset_units_scale");
-    stage(clear_probes(), "depth_clear");
-    stage({color_probe()}, "color_rounding");
+    stage({depth_probe()}, {"depth_rounding"});
+    stage(offset_probes(), {"offset_units_scale"});
+    stage(clear_probes(), {"depth_clear"});
+    stage({color_probe()}, {"color_rounding"});
 
     // viewport_fma: the family's "auto" where the observation is what auto gives on this CPU.
     for (auto& f : r.rules) {
@@ -1137,46 +1149,16 @@ FingerprintResult fingerprint(Backend& target, const FingerprintProgress& progre
     r.rules.push_back(state_finding(search, "multisample_enable", multisample_off_probe(), base));
     r.rules.push_back(state_finding(search, "edge_flags", edge_flags_probe(), base));
     r.rules.push_back(sprite_origin_finding(search, base, fresh, progress));
-    // 5. Textures: the LOD's rho, then the probe compared with the profile decided (a finding).
-    // rho and the mip blend jointly: llvmpipe takes another brilinear path when rho is not
-    // squared, so neither can be decided alone.
-    {
-        std::vector<Assignment> c;
-        for (const auto& rho : search_values("texture_rho"))
-            for (const auto& blend : search_values("texture_mip_blend"))
-                c.push_back({{"texture_rho", rho}, {"texture_mip_blend", blend}});
-        auto why = refraster::unread_parameter(base, "texture_rho");
-        if (!why && base.model != refraster::CoverageModel::Snapped)
-            why = "the texture probe's triangles sample by softpipe's rules under this model";
-        if (why) {
-            for (const char* key : {"texture_rho", "texture_mip_blend"}) {
-                RuleFinding f;
-                f.key = key;
-                f.probed = false;
-                for (const auto& [k, v] : refraster::profile_parameters(base))
-                    if (k == key) f.value = v;
-                f.evidence = "not probed: " + *why;
-                r.rules.push_back(f);
-            }
-        } else {
-            run_stage(search, {texture_probe()}, base, c, {"texture_rho", "texture_mip_blend"},
-                      r.rules, decided);
-            for (const char* key : {"texture_rho", "texture_mip_blend"})
-                if (decided.count(key)) refraster::set_profile_parameter(base, key, decided[key]);
-        }
-    }
+    // 5. Textures: the LOD's rho and the mip blend, jointly (llvmpipe takes another brilinear
+    // path when rho is not squared, so neither can be decided alone); then the probe compared
+    // with the profile decided (a finding).
+    stage({texture_probe()}, {"texture_rho", "texture_mip_blend"});
     r.rules.push_back(texture_finding(search, base));
 
     for (const char* key :
          {"flush_denormals", "draw_pipeline_cull", "draw_segment_vertices", "nine_vertex_quirk",
           "wrapping_arithmetic", "draw_offset_nan_to_zero", "fill_clear_writes_tiles"}) {
-        RuleFinding f;
-        f.key = key;
-        f.probed = false;
-        for (const auto& [k, v] : refraster::profile_parameters(base))
-            if (k == key) f.value = v;
-        f.evidence = "not probed: the " + family + " family's default";
-        r.rules.push_back(f);
+        r.rules.push_back(not_probed(base, key, "the " + family + " family's default"));
     }
     // The name: the family's built-in, followed by the rules that differ from it
     // ("llvmpipe-22.3+tie_rule=right-top").
