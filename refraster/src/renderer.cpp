@@ -146,7 +146,8 @@ void note_fill_rule(const detail::DrawContext& ctx, PixelTrace& trace, std::size
 std::vector<TextureImage> texture_levels(const Texture& texture, const Profile& profile) {
     const FmaMode m = profile.gl.viewport_fma;
     return detail::resolve_levels(texture,
-                                  m == FmaMode::On || (m == FmaMode::Auto && host_has_fma()));
+                                  m == FmaMode::On || (m == FmaMode::Auto && host_has_fma()),
+                                  profile.gl.texture_filtering);
 }
 
 RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebuffer& out) {

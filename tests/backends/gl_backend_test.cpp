@@ -994,9 +994,9 @@ TEST(GlBackendZink, AWorkerRunningAnotherDriverThanAskedIsRefused) {
 }
 
 // llvmpipe under GALLIVM_PERF=rho_approx (OpenGL 4.6, 8.14.1's approximation of rho),
-// brilinear, and both: every shipped textured scene byte for byte as the reference under the
-// profile rules of the same name (texture_rho, texture_mip_blend), some of them different under
-// the default rules, and the fingerprint recovers the rules.
+// brilinear, no_aos_sampling and combinations: every shipped textured scene byte for byte as
+// the reference under the profile rules (texture_rho, texture_mip_blend, texture_filtering),
+// some of them different under the default rules, and the fingerprint recovers the rules.
 TEST(GlBackendTexture, GallivmPerfTextureRulesAreProfileRules) {
     ::setenv("REFRASTER_WORKER_DIR", REFRASTER_TEST_WORKER_DIR, 0);
     struct Case {
@@ -1006,7 +1006,10 @@ TEST(GlBackendTexture, GallivmPerfTextureRulesAreProfileRules) {
     for (const auto& c :
          {Case{"rho_approx", {"texture_rho=approx"}},
           Case{"brilinear", {"texture_mip_blend=brilinear"}},
-          Case{"rho_approx,brilinear", {"texture_rho=approx", "texture_mip_blend=brilinear"}}}) {
+          Case{"rho_approx,brilinear", {"texture_rho=approx", "texture_mip_blend=brilinear"}},
+          Case{"no_aos_sampling", {"texture_filtering=float"}},
+          Case{"no_aos_sampling,brilinear",
+               {"texture_filtering=float", "texture_mip_blend=brilinear"}}}) {
         harness::BackendOptions o;
         o.kind = harness::BackendKind::Egl;
         o.driver = Driver::Llvmpipe;

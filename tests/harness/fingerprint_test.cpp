@@ -92,8 +92,8 @@ INSTANTIATE_TEST_SUITE_P(Llvmpipe, FingerprintMutation,
                                            Mutation{"llvmpipe-22.3", "offset_units_scale=2"},
                                            Mutation{"llvmpipe-22.3", "point_line_clipping=pixels"},
                                            Mutation{"llvmpipe-22.3", "texture_rho=approx"},
-                                           Mutation{"llvmpipe-22.3",
-                                                    "texture_mip_blend=brilinear"}),
+                                           Mutation{"llvmpipe-22.3", "texture_mip_blend=brilinear"},
+                                           Mutation{"llvmpipe-22.3", "texture_filtering=float"}),
                          mutation_name);
 
 INSTANTIATE_TEST_SUITE_P(Softpipe, FingerprintMutation,

@@ -21,11 +21,12 @@
 //   edge_flags (a GL_POLYGON's internal edges in polygon mode line, 14.6.4): "honoured",
 //   "ignored" or "n/a"; and point_sprite_origin (GL_POINT_SPRITE_COORD_ORIGIN, 14.4, drawn
 //   upper-left and lower-left in turn, and swapped in a fresh worker): "honoured", "ignored"
-//   or "order-dependent". Then texture_rho (8.14.1's rho, from a trilinear perspective probe)
-//   and texture_sampling, a finding: the same probe against the profile decided, undecided
-//   where the backend's LOD or filtering arithmetic is none the profile has. A rule the
-//   family's model does not read (refraster::unread_parameter) is not probed. Each rule's values
-//   are those of rule_search.hpp, and the JSON gives each decided value's GL standing.
+//   or "order-dependent". Then texture_rho (8.14.1's rho), texture_mip_blend and
+//   texture_filtering, jointly from a trilinear perspective probe, and texture_sampling, a finding:
+//   the same probe against the profile decided, undecided where the backend's LOD or filtering
+//   arithmetic is none the profile has. A rule the family's model does not read
+//   (refraster::unread_parameter) is not probed. Each rule's values are those of rule_search.hpp,
+//   and the JSON gives each decided value's GL standing.
 //
 // Deliberately does not: infer the driver quirks (flush_denormals, draw_pipeline_cull,
 // draw_segment_vertices, nine_vertex_quirk, wrapping_arithmetic, draw_offset_nan_to_zero,

@@ -124,6 +124,12 @@ const std::vector<Parameter>& parameters() {
            "texture LOD outside 8.14.1's bounds (brilinear filtering: lambda taken within a "
            "quarter level of the true one, 8.14.3)"}},
          Needs::Textures},
+        {"texture_filtering",
+         "texture filtering",
+         "filtering weights at the implementation's precision (8.14.2, 2.3.4.1)",
+         {"fixed-point", "float"},
+         {},
+         Needs::Textures},
         {"flush_denormals",
          "denormals",
          "denormalized values flushed to zero (2.3.4.1)",

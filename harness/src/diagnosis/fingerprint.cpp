@@ -385,7 +385,7 @@ void with_texcoords(Draw& d, const std::vector<std::array<float, 4>>& tc) {
     d.vertices.data = std::move(data);
 }
 
-// Textures (a finding; the profile has no texture rule to decide): a perspective floor of
+// Textures (texture_rho, texture_mip_blend, texture_filtering): a perspective floor of
 // trilinear-filtered texels from a full chain of given levels (16x16 down to 1x1, random from
 // a fixed seed, so that no level generation enters) and a magnified bilinear square, both
 // modulating a colour.
@@ -892,7 +892,8 @@ RuleFinding texture_finding(Search& search, const Profile& base) {
                  ", the profile's sampler " + pixel_text(p, *ref, d.x, d.y) + " (" +
                  std::to_string(d.pixels) +
                  " pixels differ); no texture rule of the profile reproduces it (LOD and "
-                 "filtering arithmetic are not modelled beyond the two drivers')";
+                 "filtering arithmetic are modelled only as the two drivers and llvmpipe's "
+                 "GALLIVM_PERF options compute them)";
     return f;
 }
 
@@ -1149,10 +1150,11 @@ FingerprintResult fingerprint(Backend& target, const FingerprintProgress& progre
     r.rules.push_back(state_finding(search, "multisample_enable", multisample_off_probe(), base));
     r.rules.push_back(state_finding(search, "edge_flags", edge_flags_probe(), base));
     r.rules.push_back(sprite_origin_finding(search, base, fresh, progress));
-    // 5. Textures: the LOD's rho and the mip blend, jointly (llvmpipe takes another brilinear
-    // path when rho is not squared, so neither can be decided alone); then the probe compared
+    // 5. Textures: the LOD's rho, the mip blend and the filtering arithmetic, jointly (llvmpipe
+    // takes another brilinear path when rho is not squared, and the mip fraction is quantised
+    // on the fixed-point path only, so none can be decided alone); then the probe compared
     // with the profile decided (a finding).
-    stage({texture_probe()}, {"texture_rho", "texture_mip_blend"});
+    stage({texture_probe()}, {"texture_rho", "texture_mip_blend", "texture_filtering"});
     r.rules.push_back(texture_finding(search, base));
 
     for (const char* key :

@@ -100,6 +100,14 @@ enum class TextureRho : std::uint8_t { Exact, Approx };
 // brilinear's effective rho falls below the lower bound: the rule search calls it a violation.
 enum class MipBlend : std::uint8_t { Linear, Brilinear };
 
+// The arithmetic of texture filtering (OpenGL 4.6, 8.14.2 and 8.14.3 give the weights; 2.3.4.1
+// leaves their precision to the implementation). llvmpipe by default filters rgba8 textures
+// whose wraps are both REPEAT or CLAMP_TO_EDGE in 8-bit fixed point, weights and the mip
+// fraction quantised to 1/256 (lp_bld_sample_aos.c), and every other texture in float
+// (lp_bld_sample_soa.c); GALLIVM_PERF=no_aos_sampling takes the float path for all
+// (lp_bld_sample_soa.c, lp_build_sample_soa_code's use_aos), glGenerateMipmap's blit included.
+enum class TextureFiltering : std::uint8_t { FixedPoint, Float };
+
 enum class FmaMode : std::uint8_t {
     Auto,  // fuse where the reproduced driver fuses iff this CPU has FMA (as gallivm decides)
     On,
@@ -145,6 +153,8 @@ struct GlRules {
     TextureRho texture_rho = TextureRho::Exact;
     // How the two levels of LINEAR_MIPMAP_LINEAR blend (read by llvmpipe's sampler).
     MipBlend texture_mip_blend = MipBlend::Linear;
+    // The filtering arithmetic (read by llvmpipe's sampler and its glGenerateMipmap).
+    TextureFiltering texture_filtering = TextureFiltering::FixedPoint;
 
     friend bool operator==(const GlRules&, const GlRules&) = default;
 };
@@ -219,6 +229,7 @@ std::string to_string(SnapRounding r);
 std::string to_string(Rounding r);
 std::string to_string(TextureRho r);
 std::string to_string(MipBlend b);
+std::string to_string(TextureFiltering f);
 std::string to_string(LineRule r);
 std::string to_string(PointRule r);
 

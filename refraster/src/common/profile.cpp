@@ -125,6 +125,9 @@ std::string to_string(TextureRho r) {
 std::string to_string(MipBlend b) {
     return b == MipBlend::Linear ? "linear" : "brilinear";
 }
+std::string to_string(TextureFiltering f) {
+    return f == TextureFiltering::FixedPoint ? "fixed-point" : "float";
+}
 
 namespace {
 
@@ -216,6 +219,7 @@ std::vector<std::pair<std::string, std::string>> profile_parameters(const Profil
         {"offset_units_scale", float_text(p.gl.offset_units_scale)},
         {"texture_rho", to_string(p.gl.texture_rho)},
         {"texture_mip_blend", to_string(p.gl.texture_mip_blend)},
+        {"texture_filtering", to_string(p.gl.texture_filtering)},
         {"draw_pipeline_cull", bool_text(p.quirks.draw_pipeline_cull)},
         {"draw_segment_vertices", std::to_string(p.quirks.draw_segment_vertices)},
         {"nine_vertex_quirk", bool_text(p.quirks.nine_vertex_quirk)},
@@ -287,6 +291,10 @@ void set_profile_parameter(Profile& p, const std::string& key, const std::string
     } else if (key == "texture_mip_blend") {
         p.gl.texture_mip_blend = pick<MipBlend>(
             key, value, {{"linear", MipBlend::Linear}, {"brilinear", MipBlend::Brilinear}});
+    } else if (key == "texture_filtering") {
+        p.gl.texture_filtering = pick<TextureFiltering>(
+            key, value,
+            {{"fixed-point", TextureFiltering::FixedPoint}, {"float", TextureFiltering::Float}});
     } else if (key == "draw_pipeline_cull") {
         p.quirks.draw_pipeline_cull = parse_bool(key, value);
     } else if (key == "draw_segment_vertices") {
@@ -330,7 +338,7 @@ std::optional<std::string> unread_parameter(const Profile& p, const std::string&
             if (is({"snap_rounding", "nine_vertex_quirk", "wrapping_arithmetic"}))
                 return "the scanline model does not snap and has none of llvmpipe's setup quirks";
             if (is({"subpixel_bits", "pixel_center_offset", "tie_rule", "texture_rho",
-                    "texture_mip_blend"}) &&
+                    "texture_mip_blend", "texture_filtering"}) &&
                 !snapped_route)
                 return "the scanline model draws from float window coordinates; it reads " + key +
                        " only for lines or points drawn by llvmpipe's rules (line_rule="

@@ -17,7 +17,7 @@ LlvmpipeModel::RenderState::RenderState(const DrawList& list, const Profile& pro
     levels_.reserve(list.textures.size());
     for (std::size_t t = 0; t < list.textures.size(); ++t) {
         if (list.textures[t].generate_mipmaps)
-            generated_[t] = resolve_levels(list.textures[t], fma);
+            generated_[t] = resolve_levels(list.textures[t], fma, profile.gl.texture_filtering);
         levels_.push_back(list.textures[t].generate_mipmaps ? &generated_[t]
                                                             : &list.textures[t].levels);
     }
@@ -34,7 +34,8 @@ LlvmpipeModel::LlvmpipeModel(const DrawContext& ctx, RenderState& state) : DrawM
         REFRASTER_ASSERT(d.vertices.attribute_offset(d.vertices.attributes.size()) >=
                              VertexArray::kPositionComponents + 8,
                          "colour and texture coordinates in a textured draw's vertices");
-        unit_ = make_texture_unit(*d.state.texture, state.levels(d.state.texture->texture));
+        unit_ = make_texture_unit(*d.state.texture, state.levels(d.state.texture->texture),
+                                  ctx.profile.gl.texture_filtering);
         unit_->flush_border = ctx.profile.gl.flush_denormals;
         unit_->rho_approx = ctx.profile.gl.texture_rho == TextureRho::Approx;
         unit_->brilinear = ctx.profile.gl.texture_mip_blend == MipBlend::Brilinear;

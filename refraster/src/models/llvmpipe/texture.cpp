@@ -9,6 +9,7 @@
 #include "models/llvmpipe/vector_kernels.hpp"
 #include "refraster/assert.hpp"
 #include "refraster/fixed.hpp"
+#include "stages/output_merge.hpp"
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #define REFRASTER_SAMPLER_ISA_VARIANTS 1
@@ -467,7 +468,8 @@ float unorm8_to_float(std::uint8_t v) {
     return static_cast<float>(v) * kInv255;
 }
 
-TextureUnit make_texture_unit(const TextureState& state, const std::vector<TextureImage>& levels) {
+TextureUnit make_texture_unit(const TextureState& state, const std::vector<TextureImage>& levels,
+                              TextureFiltering filtering) {
     REFRASTER_ASSERT(!levels.empty(), "a texture with a base level");
     TextureUnit u;
     u.levels = &levels;
@@ -475,7 +477,8 @@ TextureUnit make_texture_unit(const TextureState& state, const std::vector<Textu
     const auto edge_or_repeat = [](TextureWrap w) {
         return w == TextureWrap::Repeat || w == TextureWrap::ClampToEdge;
     };
-    u.aos = edge_or_repeat(state.wrap_s) && edge_or_repeat(state.wrap_t);
+    u.aos = filtering == TextureFiltering::FixedPoint && edge_or_repeat(state.wrap_s) &&
+            edge_or_repeat(state.wrap_t);
     u.pot_s = is_pot(levels[0].width);
     u.pot_t = is_pot(levels[0].height);
     u.mipmapped = uses_mipmaps(state.min_filter);
@@ -619,14 +622,15 @@ float blit_eval(const BlitPlane& p, float px, float py, bool fma) {
 
 }  // namespace
 
-TextureImage blit_level(const TextureImage& src, bool fma) {
+TextureImage blit_level(const TextureImage& src, bool fma, TextureFiltering filtering) {
     // util_gen_mipmap (gallium/auxiliary/util/u_gen_mipmap.c): each level a pipe->blit of
     // the one above with a linear filter. llvmpipe's blit is util_blitter_blit (u_blitter.c):
     // blitter_set_rectangle draws the destination as a triangle fan v0 (0, 0), v1 (w, 0),
     // v2 (w, h), v3 (0, h) (NDC x / w * 2 - 1 and the viewport 0.5 * w map it back exactly),
     // get_texcoords gives the source box's x / w_src and y / h_src: 0 and 1 here. Its fragment
     // shader samples the source level with an explicit LOD of 0, clamp-to-edge, through the
-    // 8-bit path, at coordinates interpolated from the triangles' planes (docs/precision.md,
+    // 8-bit path (the float one under texture_filtering=float, its colour then stored as a
+    // fragment's), at coordinates interpolated from the triangles' planes (docs/precision.md,
     // "Generated mipmaps").
     TextureImage next;
     next.width = std::max(1u, src.width / 2);
@@ -663,31 +667,38 @@ TextureImage blit_level(const TextureImage& src, bool fma) {
             const float py = static_cast<float>(j);
             const float uu = blit_eval(in_a ? sa : sb, px, py, fma);
             const float v = blit_eval(in_a ? ta : tb, px, py, fma);
-            const auto c = sample_level_aos(u, lv, uu, v, true, nullptr, 0);
-            std::copy(c.begin(), c.end(),
-                      next.rgba.begin() +
-                          static_cast<std::ptrdiff_t>(4 * (std::size_t{j} * next.width + i)));
+            auto* out = next.rgba.data() + 4 * (std::size_t{j} * next.width + i);
+            if (filtering == TextureFiltering::FixedPoint) {
+                const auto c = sample_level_aos(u, lv, uu, v, true, nullptr, 0);
+                std::copy(c.begin(), c.end(), out);
+            } else {
+                const auto c = sample_level_soa(u, lv, uu, v, true, false, fma, nullptr, 0);
+                for (std::size_t k = 0; k < 4; ++k) out[k] = color_to_unorm8(c[k]);
+            }
         }
     }
     return next;
 }
 
-std::vector<TextureImage> generate_mipmaps(const TextureImage& base, bool fma) {
+std::vector<TextureImage> generate_mipmaps(const TextureImage& base, bool fma,
+                                           TextureFiltering filtering) {
     std::vector<TextureImage> out;
     const TextureImage* src = &base;
     while (src->width > 1 || src->height > 1) {
-        out.push_back(blit_level(*src, fma));
+        out.push_back(blit_level(*src, fma, filtering));
         src = &out.back();
     }
     return out;
 }
 
-std::vector<TextureImage> resolve_levels(const Texture& texture, bool fma) {
+std::vector<TextureImage> resolve_levels(const Texture& texture, bool fma,
+                                         TextureFiltering filtering) {
     REFRASTER_ASSERT(!texture.levels.empty(), "a texture with a base level");
     std::vector<TextureImage> levels;
     if (!texture.generate_mipmaps) return texture.levels;
     levels.push_back(texture.levels.front());
-    for (auto& l : generate_mipmaps(texture.levels.front(), fma)) levels.push_back(std::move(l));
+    for (auto& l : generate_mipmaps(texture.levels.front(), fma, filtering))
+        levels.push_back(std::move(l));
     return levels;
 }
 

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "refraster/draw.hpp"
+#include "refraster/profile.hpp"
 #include "refraster/trace.hpp"
 
 namespace refraster::detail {
@@ -31,7 +32,8 @@ namespace refraster::detail {
 struct TextureUnit {
     const std::vector<TextureImage>* levels = nullptr;  // base first, every level present
     TextureState state;
-    // lp_build_sample_soa_code: the 8-bit path needs both wraps repeat or clamp-to-edge.
+    // lp_build_sample_soa_code: the 8-bit path needs both wraps repeat or clamp-to-edge, and
+    // the profile's texture_filtering=fixed-point (GALLIVM_PERF=no_aos_sampling clears use_aos).
     bool aos = true;
     // Whether the base level's width (height) is a power of two: it decides the repeat code
     // of every level (the static texture state keys on width0 and height0).
@@ -60,17 +62,21 @@ struct TextureUnit {
     bool brilinear = false;
 };
 
-TextureUnit make_texture_unit(const TextureState& state, const std::vector<TextureImage>& levels);
+TextureUnit make_texture_unit(const TextureState& state, const std::vector<TextureImage>& levels,
+                              TextureFiltering filtering = TextureFiltering::FixedPoint);
 
 // One level of glGenerateMipmap: the blit of `src` to half its size (at least 1x1); `fma`
-// says whether the blit's interpolation fuses.
-TextureImage blit_level(const TextureImage& src, bool fma);
+// says whether the blit's interpolation fuses, `filtering` which path its sampler takes.
+TextureImage blit_level(const TextureImage& src, bool fma,
+                        TextureFiltering filtering = TextureFiltering::FixedPoint);
 
 // glGenerateMipmap of `base`: levels 1 to the 1x1 level.
-std::vector<TextureImage> generate_mipmaps(const TextureImage& base, bool fma);
+std::vector<TextureImage> generate_mipmaps(
+    const TextureImage& base, bool fma, TextureFiltering filtering = TextureFiltering::FixedPoint);
 
 // The levels a texture is sampled from: the given ones, or the base and generated ones.
-std::vector<TextureImage> resolve_levels(const Texture& texture, bool fma);
+std::vector<TextureImage> resolve_levels(const Texture& texture, bool fma,
+                                         TextureFiltering filtering);
 
 // What sampling decided for one pixel (trace.hpp), for `explain`.
 using TexelSample = TextureTrace;
