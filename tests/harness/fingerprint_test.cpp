@@ -175,6 +175,70 @@ TEST(Fingerprint, UndecidableRulesAreReportedNotGuessed) {
     }
 }
 
+// A backend whose rules differ per primitive class, as OpenGL 4.6 allows: scenes that draw only
+// `cls` go through the reference under `cls_rules`, every other scene under llvmpipe-22.3.
+class PerClass : public harness::Backend {
+  public:
+    PerClass(refraster::PrimitiveType cls, const std::vector<std::string>& cls_rules)
+        : cls_(cls), inner_(reference(refraster::llvmpipe_22_3_profile())) {
+        refraster::Profile p = refraster::llvmpipe_22_3_profile();
+        harness::apply_profile_overrides(p, cls_rules);
+        class_ = reference(p);
+    }
+    harness::BackendKind kind() const override { return harness::BackendKind::Ref; }
+    std::string name() const override { return "per-class"; }
+    harness::RenderResult render(const harness::Scene& s) override {
+        const auto& d = s.draw_list.draws;
+        const bool only = !d.empty() && std::all_of(d.begin(), d.end(), [&](const auto& x) {
+            return x.primitive == cls_;
+        });
+        return (only ? class_ : inner_)->render(s);
+    }
+
+  private:
+    refraster::PrimitiveType cls_;
+    std::unique_ptr<harness::Backend> inner_, class_;
+};
+
+// Snapping and conversions decided from triangles are checked on lines and on points: a class
+// that differs is named with the values that reproduce it and left undecided, while the
+// triangles' rules stay decided and the other class agrees.
+TEST(Fingerprint, EachPrimitiveClassIsCheckedAgainstTheRulesDecidedFromAnother) {
+    struct Case {
+        refraster::PrimitiveType cls;
+        std::vector<std::string> rules;
+        const char* differs;  // the finding that differs
+        const char* agrees;   // one of the other class
+        const char* named;    // in the evidence
+    };
+    for (const auto& c : {Case{refraster::PrimitiveType::Lines,
+                               {"subpixel_bits=4"},
+                               "line_snapping",
+                               "point_snapping",
+                               "subpixel_bits=4"},
+                          Case{refraster::PrimitiveType::Points,
+                               {"color_rounding=truncate"},
+                               "point_precision",
+                               "line_precision",
+                               "color_rounding=truncate"}}) {
+        PerClass backend(c.cls, c.rules);
+        const auto r = harness::fingerprint(backend);
+        EXPECT_FALSE(r.complete()) << harness::fingerprint_text(r);
+        const auto* d = finding(r, c.differs);
+        ASSERT_NE(d, nullptr) << c.differs;
+        EXPECT_EQ(d->value, "differs") << d->evidence;
+        EXPECT_FALSE(d->decided);
+        EXPECT_NE(d->evidence.find(c.named), std::string::npos) << d->evidence;
+        const auto* a = finding(r, c.agrees);
+        ASSERT_NE(a, nullptr) << c.agrees;
+        EXPECT_TRUE(a->decided) << a->evidence;
+        EXPECT_EQ(a->value.rfind("as ", 0), 0u) << a->value;
+        // The triangles' rules are the profile's.
+        EXPECT_EQ(r.profile.gl.subpixel_bits, 8) << harness::fingerprint_text(r);
+        EXPECT_EQ(r.profile.gl.color_rounding, refraster::Rounding::Nearest);
+    }
+}
+
 // Point sprite origins (GL 14.4): a backend that keeps the first origin its worker drew with is
 // order-dependent (seen only by swapping the origins in a fresh worker), one that always draws
 // the default origin ignores the state, and the reference honours it.

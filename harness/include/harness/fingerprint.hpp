@@ -16,17 +16,23 @@
 //   point_rule; point_line_clipping (points and wide lines); viewport_fma, and the attribute
 //   setup order (a finding: the coverage family's, which the fusion probe confirms); clipping
 //   (triangles, from their float colours); depth_rounding; offset_units_scale; depth_clear;
-//   color_rounding. Then two findings on draw state GL requires honoured, never written into
-//   the profile: multisample_enable (GL_MULTISAMPLE disabled on a 4x target, 14.3.1) and
-//   edge_flags (a GL_POLYGON's internal edges in polygon mode line, 14.6.4): "honoured",
-//   "ignored" or "n/a"; and point_sprite_origin (GL_POINT_SPRITE_COORD_ORIGIN, 14.4, drawn
-//   upper-left and lower-left in turn, and swapped in a fresh worker): "honoured", "ignored"
-//   or "order-dependent". Then texture_rho (8.14.1's rho), texture_mip_blend and
-//   texture_filtering, jointly from a trilinear perspective probe, and texture_sampling, a finding:
-//   the same probe against the profile decided, undecided where the backend's LOD or filtering
-//   arithmetic is none the profile has. A rule the family's model does not read
-//   (refraster::unread_parameter) is not probed. Each rule's values are those of rule_search.hpp,
-//   and the JSON gives each decided value's GL standing.
+//   color_rounding. Then, per primitive class, findings on the rules one profile holds for every
+//   class but decided from one or from all together (OpenGL 4.6 lets each class differ):
+//   line_snapping and point_snapping (the triangles' snapping, every snapping tried with the
+//   class's own rule), point_clipping and line_clipping (point_line_clipping on each alone),
+//   line_precision and point_precision (the triangles' depth and colour conversions): "as ..."
+//   when the profile's values reproduce the class, "differs" (undecided, with a pixel and the
+//   values that do) otherwise; a differing class keeps the profile's values. Then two findings on
+//   draw state GL requires honoured, never written into the profile: multisample_enable
+//   (GL_MULTISAMPLE disabled on a 4x target, 14.3.1) and edge_flags (a GL_POLYGON's internal edges
+//   in polygon mode line, 14.6.4): "honoured", "ignored" or "n/a"; and point_sprite_origin
+//   (GL_POINT_SPRITE_COORD_ORIGIN, 14.4, drawn upper-left and lower-left in turn, and swapped in a
+//   fresh worker): "honoured", "ignored" or "order-dependent". Then texture_rho (8.14.1's rho),
+//   texture_mip_blend and texture_filtering, jointly from a trilinear perspective probe, and
+//   texture_sampling, a finding: the same probe against the profile decided, undecided where the
+//   backend's LOD or filtering arithmetic is none the profile has. A rule the family's model does
+//   not read (refraster::unread_parameter) is not probed. Each rule's values are those of
+//   rule_search.hpp, and the JSON gives each decided value's GL standing.
 //
 // Deliberately does not: infer the driver quirks (flush_denormals, draw_pipeline_cull,
 // draw_segment_vertices, nine_vertex_quirk, wrapping_arithmetic, draw_offset_nan_to_zero,

@@ -370,6 +370,64 @@ Probe color_probe() {
     return p;
 }
 
+// One class of the clipping probe alone: its points or its wide lines (the triangle left out).
+Probe clipping_class_probe(refraster::PrimitiveType t) {
+    Probe p = clipping_probe();
+    p.name = t == refraster::PrimitiveType::Points ? "clipping_points" : "clipping_lines";
+    auto& draws = p.scene.draw_list.draws;
+    draws.erase(
+        std::remove_if(draws.begin(), draws.end(), [&](const Draw& d) { return d.primitive != t; }),
+        draws.end());
+    return p;
+}
+
+// Depth of perspective lines or points (size 3) into z24, written always: the depth
+// quantisation of that class.
+Probe class_depth_probe(refraster::PrimitiveType t) {
+    const bool points = t == refraster::PrimitiveType::Points;
+    const std::string name = points ? "point_depth" : "line_depth";
+    Probe p{name,
+            make_scene(name, 128, 128, refraster::ColorFormat::Rgba8, refraster::DepthFormat::Z24),
+            Probe::Compare::Depth};
+    std::mt19937 rng(points ? 18 : 17);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    for (int i = 0; i < 24; ++i) {
+        std::vector<std::array<float, 3>> v;
+        std::vector<float> w;
+        for (int k = 0; k < (points ? 1 : 2); ++k) {
+            v.push_back({4.0f + u(rng) * 120.0f, 4.0f + u(rng) * 120.0f, 0.05f + 0.9f * u(rng)});
+            w.push_back(0.5f + 1.5f * u(rng));
+        }
+        Draw d = window_draw(t, v, {kWhite}, 128, 128, w);
+        d.state.depth_test = refraster::CompareFunc::Always;
+        d.state.point_size = 3.0f;
+        p.scene.draw_list.draws.push_back(d);
+    }
+    return p;
+}
+
+// Flat colours between two bytes, (k + 0.7) / 255 as in the colour probe, on lines or points
+// (size 6): the colour conversion of that class.
+Probe class_color_probe(refraster::PrimitiveType t) {
+    const bool points = t == refraster::PrimitiveType::Points;
+    const std::string name = points ? "point_colors" : "line_colors";
+    Probe p{name, make_scene(name, 64, 64), Probe::Compare::Exact};
+    for (int i = 0; i < 16; ++i) {
+        const float x = static_cast<float>((i % 4) * 16);
+        const float y = static_cast<float>((i / 4) * 16);
+        std::array<float, 4> c{};
+        for (int k = 0; k < 4; ++k)
+            c[static_cast<std::size_t>(k)] = (static_cast<float>(i * 13 + k * 47) + 0.7f) / 255.0f;
+        std::vector<std::array<float, 3>> v{{x + 8.0f, y + 8.0f, 0.5f}};
+        if (!points) v = {{x + 2.0f, y + 3.5f, 0.5f}, {x + 14.0f, y + 12.5f, 0.5f}};
+        Draw d = window_draw(t, v, {c}, 64, 64);
+        d.state.shade = refraster::ShadeModel::Flat;
+        d.state.point_size = 6.0f;
+        p.scene.draw_list.draws.push_back(d);
+    }
+    return p;
+}
+
 // Texture coordinates (s, t, r, q) after each vertex's colour, the front end's layout for a
 // textured draw; the last one given repeats.
 void with_texcoords(Draw& d, const std::vector<std::array<float, 4>>& tc) {
@@ -580,34 +638,58 @@ struct StageResult {
     std::vector<Assignment> matching;
 };
 
+// Every candidate applied to `base` and rendered through the reference for each probe, against
+// the backend's renders: per candidate the pixels that differ over all probes, and whether the
+// reference could draw them.
+struct Reproduction {
+    std::vector<std::optional<Framebuffer>> want;  // the backend's, per probe
+    bool any = false;                              // the backend drew some probe
+    std::vector<std::uint64_t> total;
+    std::vector<bool> drawable;
+    bool reproduces(std::size_t c) const { return any && drawable[c] && total[c] == 0; }
+    // The drawable candidate with the fewest differing pixels.
+    std::size_t closest() const {
+        std::size_t best = 0;
+        for (std::size_t c = 1; c < total.size(); ++c)
+            if (drawable[c] && (!drawable[best] || total[c] < total[best])) best = c;
+        return best;
+    }
+};
+
+Reproduction reproduce(Search& search, const std::vector<Probe>& probes, const Profile& base,
+                       const std::vector<Assignment>& candidates) {
+    Reproduction r;
+    for (const auto& p : probes) {
+        r.want.push_back(search.backend(p));
+        r.any = r.any || r.want.back().has_value();
+    }
+    r.total.assign(candidates.size(), 0);
+    r.drawable.assign(candidates.size(), true);
+    for (std::size_t c = 0; c < candidates.size(); ++c) {
+        const Profile prof = with(base, candidates[c]);
+        for (std::size_t i = 0; i < probes.size(); ++i) {
+            if (!r.want[i]) continue;
+            const auto got = Search::reference(probes[i], prof);
+            if (!got) {
+                r.drawable[c] = false;
+                break;
+            }
+            r.total[c] += difference(probes[i], *got, *r.want[i]).pixels;
+        }
+    }
+    return r;
+}
+
 StageResult run_stage(Search& search, const std::vector<Probe>& probes, const Profile& base,
                       const std::vector<Assignment>& candidates,
                       const std::vector<std::string>& keys, std::vector<RuleFinding>& findings,
                       Assignment& decided) {
     StageResult out;
-    std::vector<std::optional<Framebuffer>> want;
-    bool any = false;
-    for (const auto& p : probes) {
-        want.push_back(search.backend(p));
-        any = any || want.back().has_value();
-    }
-    // Per candidate: total differing pixels, and per probe the renders (for evidence).
-    std::vector<std::uint64_t> total(candidates.size(), 0);
-    std::vector<bool> drawable(candidates.size(), true);
+    const Reproduction rep = reproduce(search, probes, base, candidates);
+    const auto& want = rep.want;
+    const bool any = rep.any;
     for (std::size_t c = 0; c < candidates.size(); ++c) {
-        const Profile prof = with(base, candidates[c]);
-        for (std::size_t i = 0; i < probes.size(); ++i) {
-            if (!want[i]) continue;
-            const auto got = Search::reference(probes[i], prof);
-            if (!got) {
-                drawable[c] = false;
-                break;
-            }
-            total[c] += difference(probes[i], *got, *want[i]).pixels;
-        }
-    }
-    for (std::size_t c = 0; c < candidates.size(); ++c) {
-        if (any && drawable[c] && total[c] == 0) out.matching.push_back(candidates[c]);
+        if (rep.reproduces(c)) out.matching.push_back(candidates[c]);
     }
     for (const auto& key : keys) {
         RuleFinding f;
@@ -637,13 +719,11 @@ StageResult run_stage(Search& search, const std::vector<Probe>& probes, const Pr
             f.evidence = "does not apply to the matching model";
         } else if (f.matching.empty()) {
             f.value = "undecided";
-            std::size_t best = 0;
-            for (std::size_t c = 1; c < candidates.size(); ++c)
-                if (drawable[c] && (!drawable[best] || total[c] < total[best])) best = c;
+            const std::size_t best = rep.closest();
             f.evidence = "no candidate reproduces the probes " + probes.front().name +
                          (probes.size() > 1 ? " and others" : "") + "; the closest (" +
                          assignment_text(candidates[best]) + ") differs in " +
-                         std::to_string(total[best]) + " pixels";
+                         std::to_string(rep.total[best]) + " pixels";
         } else {
             f.value = "undecided";
             std::string vs;
@@ -1041,6 +1121,115 @@ RuleFinding not_probed(const Profile& base, const std::string& key, const std::s
     return f;
 }
 
+// Every combination of `keys`' searched values (rule_search.hpp), each added to every
+// assignment of `with`.
+std::vector<Assignment> product(std::vector<Assignment> with,
+                                const std::vector<std::string>& keys) {
+    for (const auto& key : keys) {
+        std::vector<Assignment> wider;
+        for (const auto& partial : with) {
+            for (const auto& v : search_values(key)) {
+                wider.push_back(partial);
+                wider.back()[key] = v;
+            }
+        }
+        with = std::move(wider);
+    }
+    return with;
+}
+
+// The snapped model's snapping: every subpixel precision, rounding, pixel centre and tie rule.
+std::vector<Assignment> snapping_grid() {
+    std::vector<Assignment> grid;
+    for (int bits = 1; bits <= 8; ++bits)
+        for (const char* rounding : {"nearest-even", "half-away", "truncate"})
+            for (const char* offset : {"0.5", "0"})
+                for (const char* tie : {"left-bottom", "left-top", "right-bottom", "right-top"})
+                    grid.push_back({{"subpixel_bits", std::to_string(bits)},
+                                    {"snap_rounding", rounding},
+                                    {"pixel_center_offset", offset},
+                                    {"tie_rule", tie}});
+    return grid;
+}
+
+// One class of primitive against rules the profile holds for every class but decided from
+// another (`source`): `candidates` tried on the class's own probes. "as <source>" (decided)
+// when the profile's own values reproduce them; "differs" (undecided) when only other values
+// do, named with a pixel: one profile holds one value of these rules for every class, so the
+// class keeps <source>'s and its cases may differ; "undecided" when no candidate does.
+RuleFinding class_finding(Search& search, const std::string& key, const std::vector<Probe>& probes,
+                          const Profile& base, const std::vector<Assignment>& candidates,
+                          const std::string& source) {
+    RuleFinding f;
+    f.key = key;
+    f.candidates = {"as " + source, "differs"};
+    const Reproduction rep = reproduce(search, probes, base, candidates);
+    std::size_t own = candidates.size();
+    std::size_t count = 0;
+    for (std::size_t c = 0; c < candidates.size(); ++c) {
+        if (own == candidates.size() && with(base, candidates[c]) == base) own = c;
+        if (rep.reproduces(c)) ++count;
+    }
+    std::string names;
+    for (const auto& p : probes) names += (names.empty() ? "" : ", ") + p.name;
+    const std::string of = std::to_string(count) + " of " + std::to_string(candidates.size());
+    if (!rep.any) {
+        f.value = "n/a";
+        f.decided = true;
+        f.evidence = "the backend draws none of the probes " + names;
+        return f;
+    }
+    if (own == candidates.size()) {
+        // A value outside the searched ones (a hand-written family default): nothing to compare.
+        f.value = "undecided";
+        f.evidence = "the profile's values are none of the " + of + " candidates tried";
+        return f;
+    }
+    if (rep.reproduces(own)) {
+        f.value = "as " + source;
+        f.decided = true;
+        f.matching = {f.value};
+        f.evidence = (probes.size() > 1 ? "probes " : "probe ") + names +
+                     ": every pixel as the profile's " + assignment_text(candidates[own]) +
+                     " gives it (" + of + " candidates reproduce them" +
+                     (count == candidates.size() ? ": this class does not show these rules)" : ")");
+        return f;
+    }
+    // The first probe pixel where the profile's own values differ from the backend.
+    std::string where;
+    const Profile mine = with(base, candidates[own]);
+    for (std::size_t i = 0; i < probes.size() && where.empty(); ++i) {
+        if (!rep.want[i]) continue;
+        const auto got = Search::reference(probes[i], mine);
+        if (!got) continue;
+        const Difference d = difference(probes[i], *got, *rep.want[i]);
+        if (d.pixels == 0) continue;
+        where = "probe " + probes[i].name + " pixel (" + std::to_string(d.x) + ", " +
+                std::to_string(d.y) + "): the backend gives " +
+                pixel_text(probes[i], *rep.want[i], d.x, d.y) + ", the profile's " +
+                assignment_text(candidates[own]) + " " + pixel_text(probes[i], *got, d.x, d.y) +
+                " (" + std::to_string(d.pixels) + " pixels differ)";
+    }
+    if (count > 0) {
+        std::size_t first = 0;
+        while (!rep.reproduces(first)) ++first;
+        f.value = "differs";
+        f.matching = {"differs"};
+        f.evidence = where + "; " + assignment_text(candidates[first]) +
+                     (count > 1 ? " and " + std::to_string(count - 1) + " other candidates" : "") +
+                     " reproduce every pixel. One profile holds one value for every class: "
+                     "this class keeps " +
+                     source + "'s, and its cases may differ";
+        return f;
+    }
+    const std::size_t best = rep.closest();
+    f.value = "undecided";
+    f.evidence = where + "; no candidate reproduces the probes (the closest, " +
+                 assignment_text(candidates[best]) + ", differs in " +
+                 std::to_string(rep.total[best]) + " pixels)";
+    return f;
+}
+
 }  // namespace
 
 bool FingerprintResult::complete() const {
@@ -1056,16 +1245,8 @@ FingerprintResult fingerprint(Backend& target, const FingerprintProgress& progre
     Assignment decided;
 
     // 1. Coverage: the model and, for the snapped one, its four parameters, jointly.
-    std::vector<Assignment> coverage;
-    for (int bits = 1; bits <= 8; ++bits)
-        for (const char* rounding : {"nearest-even", "half-away", "truncate"})
-            for (const char* offset : {"0.5", "0"})
-                for (const char* tie : {"left-bottom", "left-top", "right-bottom", "right-top"})
-                    coverage.push_back({{"coverage", "snapped"},
-                                        {"subpixel_bits", std::to_string(bits)},
-                                        {"snap_rounding", rounding},
-                                        {"pixel_center_offset", offset},
-                                        {"tie_rule", tie}});
+    std::vector<Assignment> coverage = snapping_grid();
+    for (auto& a : coverage) a["coverage"] = "snapped";
     coverage.push_back({{"coverage", "scanline"}});
     for (const char* tie : {"left-bottom", "left-top", "right-bottom", "right-top"})
         coverage.push_back({{"coverage", "exact"}, {"tie_rule", tie}});
@@ -1090,18 +1271,7 @@ FingerprintResult fingerprint(Backend& target, const FingerprintProgress& progre
             for (const auto& key : keys) r.rules.push_back(not_probed(base, key, *why));
             return;
         }
-        std::vector<Assignment> c{{}};
-        for (const auto& key : keys) {
-            std::vector<Assignment> wider;
-            for (const auto& partial : c) {
-                for (const auto& v : search_values(key)) {
-                    wider.push_back(partial);
-                    wider.back()[key] = v;
-                }
-            }
-            c = std::move(wider);
-        }
-        run_stage(search, probes, base, c, keys, r.rules, decided);
+        run_stage(search, probes, base, product({{}}, keys), keys, r.rules, decided);
         for (const auto& key : keys)
             if (decided.count(key)) refraster::set_profile_parameter(base, key, decided[key]);
     };
@@ -1135,6 +1305,41 @@ FingerprintResult fingerprint(Backend& target, const FingerprintProgress& progre
     stage(offset_probes(), {"offset_units_scale"});
     stage(clear_probes(), {"depth_clear"});
     stage({color_probe()}, {"color_rounding"});
+
+    // 3b. Each primitive class against the rules one profile holds for all of them but that
+    // were decided from one class or from the classes together: the triangles' snapping on
+    // lines and on points (with each class's own rule), point_line_clipping on points alone
+    // and on wide lines alone, and the triangles' depth and colour conversions on each.
+    const auto lines = refraster::PrimitiveType::Lines;
+    const auto points = refraster::PrimitiveType::Points;
+    // A finding whose rules the family's model does not read is not probed (`read_key` one of
+    // them).
+    const auto per_class = [&](const std::string& key, const std::vector<Probe>& probes,
+                               const std::vector<Assignment>& candidates,
+                               const std::string& read_key, const std::string& source) {
+        if (const auto why = refraster::unread_parameter(base, read_key)) {
+            r.rules.push_back(not_probed(base, key, *why));
+            r.rules.back().value = "n/a";
+            return;
+        }
+        r.rules.push_back(class_finding(search, key, probes, base, candidates, source));
+    };
+    per_class("line_snapping", {line_probe()}, product(snapping_grid(), {"line_rule"}),
+              "subpixel_bits", "the profile's snapping");
+    per_class("point_snapping", {point_probe()}, product(snapping_grid(), {"point_rule"}),
+              "subpixel_bits", "the profile's snapping");
+    per_class("point_clipping", {clipping_class_probe(points)},
+              product({{}}, {"point_line_clipping"}), "point_line_clipping",
+              "points and lines together");
+    per_class("line_clipping", {clipping_class_probe(lines)},
+              product({{}}, {"point_line_clipping"}), "point_line_clipping",
+              "points and lines together");
+    for (const auto t : {lines, points}) {
+        per_class(t == lines ? "line_precision" : "point_precision",
+                  {class_depth_probe(t), class_color_probe(t)},
+                  product({{}}, {"depth_rounding", "color_rounding"}), "depth_rounding",
+                  "triangles");
+    }
 
     // viewport_fma: the family's "auto" where the observation is what auto gives on this CPU.
     for (auto& f : r.rules) {
