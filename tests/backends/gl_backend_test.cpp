@@ -1040,11 +1040,9 @@ TEST(GlBackendTexture, GallivmPerfTextureRulesAreProfileRules) {
             const auto backend = gl.render(scene);
             ASSERT_EQ(backend.status, RenderStatus::Ok) << e.path() << ": " << backend.message;
             for (const bool modelled : {true, false}) {
-                harness::BackendOptions ro;
-                ro.kind = harness::BackendKind::Ref;
-                ro.profile = modelled ? want : refraster::llvmpipe_22_3_profile();
-                ro.threads = 1;
-                const auto ref = harness::make_backend(ro)->render(scene);
+                const auto ref = harness::make_reference_backend(
+                                     modelled ? want : refraster::llvmpipe_22_3_profile())
+                                     ->render(scene);
                 ASSERT_EQ(ref.status, RenderStatus::Ok) << e.path();
                 if (modelled) {
                     EXPECT_TRUE(same(ref, backend)) << c.perf << ": " << e.path();
@@ -1077,11 +1075,7 @@ TEST(GlBackendZink, VerdictsNameEachKindAndTheFingerprintFindsItsFreedoms) {
     const auto judge = [&](const char* relative) {
         const auto scene = harness::load_scene(std::filesystem::path(REFRASTER_SOURCE_DIR) /
                                                "conformance/scenes" / relative);
-        harness::BackendOptions ro;
-        ro.kind = harness::BackendKind::Ref;
-        ro.profile = profile;
-        ro.threads = 1;
-        const auto ref = harness::make_backend(ro)->render(scene);
+        const auto ref = harness::make_reference_backend(profile)->render(scene);
         const auto r = zink.render(scene);
         EXPECT_EQ(ref.status, RenderStatus::Ok) << ref.message;
         EXPECT_EQ(r.status, RenderStatus::Ok) << r.message;

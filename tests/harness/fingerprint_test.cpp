@@ -21,11 +21,7 @@
 namespace {
 
 std::unique_ptr<harness::Backend> reference(const refraster::Profile& p) {
-    harness::BackendOptions o;
-    o.kind = harness::BackendKind::Ref;
-    o.profile = p;
-    o.threads = 1;
-    return harness::make_backend(o);
+    return harness::make_reference_backend(p);
 }
 
 const harness::RuleFinding* finding(const harness::FingerprintResult& r, const std::string& key) {

@@ -41,11 +41,7 @@ harness::Scene suite_scene(const std::string& relative) {
 
 // The reference under `p` as a backend (what explain compares against).
 std::unique_ptr<harness::Backend> reference_backend(const refraster::Profile& p) {
-    harness::BackendOptions o;
-    o.kind = harness::BackendKind::Ref;
-    o.profile = p;
-    o.threads = 1;
-    return harness::make_backend(o);
+    return harness::make_reference_backend(p);
 }
 
 bool has_finding(const harness::GlVerdict& v, const std::string& words, bool legal) {

@@ -186,6 +186,10 @@ Driver driver_from_environment(BackendKind kind, const std::vector<std::string>&
 // any but llvmpipe and softpipe under OSMesa).
 std::unique_ptr<Backend> make_backend(const BackendOptions& options);
 
+// The reference under `profile`, shading with `threads` (its bytes are the same for any count).
+std::unique_ptr<Backend> make_reference_backend(const refraster::Profile& profile,
+                                                unsigned threads = 1);
+
 // Provenance common to every backend: the project's commit and the CPU's FMA/AVX2 flags.
 Provenance host_provenance();
 

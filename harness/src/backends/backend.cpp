@@ -110,6 +110,15 @@ std::vector<std::string> mesa_prefix_environment(const std::filesystem::path& pr
     return env;
 }
 
+std::unique_ptr<Backend> make_reference_backend(const refraster::Profile& profile,
+                                                unsigned threads) {
+    BackendOptions o;
+    o.kind = BackendKind::Ref;
+    o.profile = profile;
+    o.threads = threads;
+    return make_backend(o);
+}
+
 std::unique_ptr<Backend> make_backend(const BackendOptions& options) {
     if (options.egl_device) {
         if (options.kind != BackendKind::Egl)

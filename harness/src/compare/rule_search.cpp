@@ -166,14 +166,9 @@ const std::vector<Parameter>& parameters() {
     return table;
 }
 
-// Some draw reaches the rasterizer as lines: a line primitive, or triangles in polygon mode
-// line (the counterpart of refraster::Draw::rasterizes_points).
 bool draws_lines(const DrawList& dl) {
-    return std::any_of(dl.draws.begin(), dl.draws.end(), [](const refraster::Draw& d) {
-        return (d.primitive >= PrimitiveType::Lines && d.primitive <= PrimitiveType::LineLoop) ||
-               (d.primitive >= PrimitiveType::Triangles &&
-                d.state.polygon_mode == PolygonMode::Line);
-    });
+    return std::any_of(dl.draws.begin(), dl.draws.end(),
+                       [](const refraster::Draw& d) { return d.rasterizes_lines(); });
 }
 
 bool draws_points(const DrawList& dl) {

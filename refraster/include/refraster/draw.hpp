@@ -232,6 +232,12 @@ struct Draw {
         return primitive == PrimitiveType::Points ||
                (primitive >= PrimitiveType::Triangles && state.polygon_mode == PolygonMode::Point);
     }
+    // Every primitive of the draw reaches the rasterizer as lines: a line primitive, or
+    // triangles drawn with polygon mode line.
+    bool rasterizes_lines() const {
+        return (primitive >= PrimitiveType::Lines && primitive <= PrimitiveType::LineLoop) ||
+               (primitive >= PrimitiveType::Triangles && state.polygon_mode == PolygonMode::Line);
+    }
     // The draw samples its texture at point sprite coordinates (TextureState::coord_replace).
     bool samples_point_coords() const {
         return state.texture && state.texture->coord_replace && rasterizes_points();

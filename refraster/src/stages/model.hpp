@@ -90,10 +90,7 @@ struct DrawContext {
 // triangles: scanline). The exact oracle draws only filled triangles.
 inline CoverageModel draw_model(const Profile& profile, const Draw& d) {
     if (profile.model == CoverageModel::Exact) return CoverageModel::Exact;
-    const bool triangles = d.primitive >= PrimitiveType::Triangles;
-    const bool lines = (!triangles && d.primitive != PrimitiveType::Points) ||
-                       (triangles && d.state.polygon_mode == PolygonMode::Line);
-    if (lines) {
+    if (d.rasterizes_lines()) {
         return profile.gl.line_rule == LineRule::Bresenham ? CoverageModel::Scanline
                                                            : CoverageModel::Snapped;
     }
