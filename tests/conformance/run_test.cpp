@@ -129,6 +129,53 @@ TEST(ConformanceRun, SmokeSuiteStreamsResultsAndSummarises) {
     }
 }
 
+// Every link and image of the report resolves from the output folder it was written to, here
+// one three levels below a temporary directory (before, the index linked ../../docs/, which
+// holds only from the source tree's out/conformance/).
+TEST(HtmlReport, EveryLinkResolvesFromAnyOutputFolder) {
+    testutil::TempDir dir;
+    const auto out = dir.path() / "a" / "b" / "c";
+    const auto r = testutil::run_cli(
+        {"conformance", "run", "--cases", "smoke.*,triangles.coverage.square*", "--against", "ref",
+         "--profile-set", "tie_rule=right-top", "--output", out.string()});
+    ASSERT_EQ(r.exit_code, 1) << r.err;  // some cases fail: case pages and images are linked
+    std::vector<std::filesystem::path> pages{out / "index.html"};
+    for (const auto& e : std::filesystem::directory_iterator(out / "cases"))
+        if (e.path().extension() == ".html") pages.push_back(e.path());
+    ASSERT_GT(pages.size(), 1u);
+    const std::regex attr(R"re((?:href|src)="([^"]*)")re");
+    std::size_t checked = 0;
+    for (const auto& page : pages) {
+        const std::string html = testutil::read_text(page);
+        for (std::sregex_iterator it(html.begin(), html.end(), attr), end; it != end; ++it) {
+            std::string target = (*it)[1].str();
+            if (target.empty() || target[0] == '#' || target.rfind("data:", 0) == 0 ||
+                target.rfind("http:", 0) == 0 || target.rfind("https:", 0) == 0 ||
+                target.rfind("javascript:", 0) == 0)
+                continue;
+            target = target.substr(0, target.find_first_of("#?"));
+            for (std::size_t at; (at = target.find("&amp;")) != std::string::npos;)
+                target.replace(at, 5, "&");
+            EXPECT_TRUE(std::filesystem::exists(page.parent_path() / target))
+                << page.filename() << " links " << target;
+            ++checked;
+        }
+    }
+    EXPECT_GT(checked, 10u);
+    // The case table lists the failures first (the run has both).
+    const std::string index = testutil::read_text(out / "index.html");
+    const std::regex row(R"re(<tr data-status="([A-Za-z]+)")re");
+    std::vector<std::string> order;
+    for (std::sregex_iterator it(index.begin(), index.end(), row), end; it != end; ++it)
+        order.push_back((*it)[1].str());
+    ASSERT_FALSE(order.empty());
+    const auto first_pass = std::find(order.begin(), order.end(), "Pass");
+    ASSERT_NE(first_pass, order.end());
+    EXPECT_NE(first_pass, order.begin());
+    EXPECT_EQ(std::find(first_pass, order.end(), "Fail"), order.end())
+        << "a Fail row after a Pass row";
+}
+
 TEST(ConformanceRun, KilledWorkerIsACrashAndTheRunGoesOn) {
     testutil::TempDir dir;
     const auto out = dir.path() / "run";
@@ -360,11 +407,22 @@ TEST(ConformanceRun, BaselineExpectedFailAndUnexpectedPass) {
     EXPECT_EQ(st.at("t.tie"), "ExpectedFail");
     EXPECT_EQ(st.at("t.plain"), "UnexpectedPass");
     EXPECT_EQ(r.exit_code, 1);  // an unexpected pass fails the run: the baseline is stale
+    // One word for the status everywhere (deqp-runner's), and the expected failure counted as
+    // what it is, not as passed.
+    EXPECT_NE(r.out.find("UnexpectedImprovement(Pass) t.plain"), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("UnexpectedPass"), std::string::npos) << r.out;
+    EXPECT_EQ(last_line(r.out), "0 passed, 1 failed, 0 skipped, 1 failed as the baseline expects")
+        << r.out;
+    const auto index = testutil::read_text(out / "index.html");
+    EXPECT_NE(index.find("<tr><td>t</td><td class=\"num\">0</td><td class=\"num\">1</td><td "
+                         "class=\"num\">0</td><td class=\"num\">1</td><td class=\"num\">0</td>"),
+              std::string::npos)
+        << index.substr(index.find("id=\"areas\""), 600);
     EXPECT_EQ(testutil::read_text(out / "failures.csv"), "t.plain,UnexpectedImprovement(Pass)\n");
     EXPECT_NE(testutil::read_text(out / "results.csv").find("t.tie,ExpectedFail,"),
               std::string::npos);
     const auto junit = testutil::read_text(out / "junit.xml");
-    EXPECT_NE(junit.find("<failure type=\"UnexpectedPass\""), std::string::npos);
+    EXPECT_NE(junit.find("<failure type=\"UnexpectedImprovement(Pass)\""), std::string::npos);
     EXPECT_NE(junit.find("tests=\"2\" failures=\"1\""), std::string::npos);
 }
 
@@ -663,9 +721,20 @@ TEST(Reduce, TwoThousandTrianglesDownToTheSharedEdge) {
     const auto r = testutil::run_cli(
         {"reduce", in.string(), "--profile-set", "tie_rule=right-top", "-o", out.string()});
     ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
-    EXPECT_NE(r.out.find("signature: a coverage: tie rule mismatch"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("signature: coverage: tie rule (a coverage difference that explain puts "
+                         "down to tie rule"),
+              std::string::npos)
+        << r.out;
     EXPECT_NE(r.out.find("step 1:"), std::string::npos);
+    // A coordinate step names the coordinate and its grid.
+    EXPECT_TRUE(std::regex_search(
+        r.out, std::regex(R"(step \d+: draws\[\d+\]\.vertices\[\d+\]\.position [xy] -?[0-9.]+ -> )"
+                          R"(-?[0-9.]+ \(to a multiple of [0-9.e-]+\))")))
+        << r.out;
     const auto reduced = nlohmann::json::parse(testutil::read_text(out));
+    // The reduced scene records what it was reduced against.
+    EXPECT_NE(reduced["description"].get<std::string>().find(", against "), std::string::npos)
+        << reduced["description"];
     std::size_t triangles = 0;
     for (const auto& d : reduced["draws"]) triangles += d["vertices"].size() / 3;
     EXPECT_GE(triangles, 1u);
@@ -718,7 +787,12 @@ TEST(Reduce, KeepsTheChosenPixelAndIsNamedAfterItsFile) {
     const auto e = testutil::run_cli({"explain", out.string(), "--pixel", pixel, "--profile-set",
                                       "tie_rule=right-top", "--json"});
     EXPECT_EQ(e.exit_code, 1) << e.err;
-    EXPECT_EQ(nlohmann::json::parse(e.out)["rule"], "tie rule");
+    const auto ej = nlohmann::json::parse(e.out);
+    EXPECT_EQ(ej["rule"], "tie rule");
+    // The JSON carries what the text says: the GL verdict, and which implementation drew the
+    // backend's side.
+    EXPECT_NE(ej.value("gl_verdict", "").find("legal"), std::string::npos) << e.out;
+    EXPECT_TRUE(ej["backend"]["provenance"].contains("renderer")) << e.out;
     // A class the scene does not show cannot be kept; bad pixels are bad input.
     r = testutil::run_cli({"reduce", in.string(), "--profile-set", "tie_rule=right-top", "--class",
                            "depth", "-o", (dir.path() / "d.json").string()});
@@ -752,14 +826,86 @@ namespace {
 
 // The HTML report in a real browser: headless Chromium renders the pages (scripts included)
 // and the DOM must hold the summary, the chart, and a failing case's images and numbers.
-std::string dump_dom(const std::filesystem::path& page, const std::filesystem::path& profile_dir) {
+std::string dump_dom(const std::filesystem::path& page, const std::filesystem::path& profile_dir,
+                     const std::string& window = "1280,900") {
     const std::string cmd =
         "timeout 120 chromium --headless --no-sandbox --disable-gpu --disable-quic --no-first-run "
         "--disable-background-networking --disable-component-update --disable-sync "
-        "--user-data-dir=" +
-        testutil::shell_quote(profile_dir.string()) + " --virtual-time-budget=2000 --dump-dom " +
+        "--hide-scrollbars --window-size=" +
+        window + " --user-data-dir=" + testutil::shell_quote(profile_dir.string()) +
+        " --virtual-time-budget=2000 --dump-dom " +
         testutil::shell_quote("file://" + page.string()) + " 2>/dev/null";
     return testutil::command_output(cmd);
+}
+
+// The page laid out by Chromium in a 1,280 px wide window: a copy beside it with a script that,
+// once loaded, lists every element whose box reaches past the window's right edge and every
+// pair of text boxes (leaf elements with text) that overlap. Returns the probe's line:
+// "scroll=W client=W outside=N overlaps=M" and the first few offenders.
+std::string layout_probe(const std::filesystem::path& page, const std::filesystem::path& chrome) {
+    const auto copy = page.parent_path() / ("layout-probe-" + page.filename().string());
+    std::string html = testutil::read_text(page);
+    const std::string script = R"js(<script>
+window.addEventListener('load', function () {
+  var W = document.documentElement.clientWidth, out = [], texts = [];
+  document.querySelectorAll('body *').forEach(function (e) {
+    var r = e.getBoundingClientRect();
+    if (r.width > 0 && r.right > W + 0.5)
+      out.push(e.tagName + (e.id ? '#' + e.id : '') + '@' + Math.round(r.right));
+    if (e.children.length === 0 && e.textContent.trim() !== '' && r.width > 0 &&
+        getComputedStyle(e).visibility !== 'hidden') texts.push([e, r]);
+  });
+  var overlaps = [];
+  for (var i = 0; i < texts.length; ++i) for (var j = i + 1; j < texts.length; ++j) {
+    var a = texts[i][1], b = texts[j][1];
+    if (texts[i][0].contains(texts[j][0]) || texts[j][0].contains(texts[i][0])) continue;
+    if (Math.min(a.right, b.right) - Math.max(a.left, b.left) > 1 &&
+        Math.min(a.bottom, b.bottom) - Math.max(a.top, b.top) > 1)
+      overlaps.push(texts[i][0].textContent.slice(0, 20) + '|' + texts[j][0].textContent.slice(0, 20));
+  }
+  var p = document.createElement('pre');
+  p.id = 'layout-probe';
+  p.textContent = 'scroll=' + document.documentElement.scrollWidth + ' client=' + W +
+    ' outside=' + out.length + ' overlaps=' + overlaps.length + ' ' +
+    out.slice(0, 6).join(' ') + ' ' + overlaps.slice(0, 4).join(' ; ');
+  document.body.appendChild(p);
+});
+</script>)js";
+    const auto at = html.rfind("</body>");
+    html.insert(at == std::string::npos ? html.size() : at, script);
+    std::ofstream(copy) << html;
+    const std::string dom = dump_dom(copy, chrome);
+    const auto open = dom.find("<pre id=\"layout-probe\">");
+    if (open == std::string::npos) return "no probe";
+    const auto start = open + std::string("<pre id=\"layout-probe\">").size();
+    return dom.substr(start, dom.find("</pre>", start) - start);
+}
+
+// The index and a failing case's page fit a 1,280 px window: nothing reaches past its right
+// edge (the profile's rule string and the case table used to), and no two text boxes overlap.
+TEST(HtmlReport, ChromiumLayoutFitsA1280PixelWindow) {
+    testutil::TempDir dir;
+    const auto out = dir.path() / "run";
+    const auto r = testutil::run_cli(
+        {"conformance", "run", "--cases", "smoke.*,triangles.coverage.square*", "--profile-set",
+         "tie_rule=right-top", "--profile-set", "offset_units_scale=2", "--output", out.string()});
+    ASSERT_EQ(r.exit_code, 1) << r.err;
+    for (const auto& page :
+         {out / "index.html", out / "cases" / "triangles.coverage.square_through_centres.html"}) {
+        const std::string probe = layout_probe(page, dir.path() / "chrome");
+        ASSERT_NE(probe, "no probe") << page << " (is the chromium package installed?)";
+        EXPECT_NE(probe.find("client=1280"), std::string::npos) << probe;
+        EXPECT_NE(probe.find("outside=0 "), std::string::npos) << page << ": " << probe;
+        EXPECT_NE(probe.find("overlaps=0 "), std::string::npos) << page << ": " << probe;
+    }
+    // The hovered pixel's explain command sits right under the images, above the mask legend
+    // and the provenance tables.
+    const std::string page =
+        testutil::read_text(out / "cases" / "triangles.coverage.square_through_centres.html");
+    const auto command = page.find("id=\"pixel-command\"");
+    ASSERT_NE(command, std::string::npos);
+    EXPECT_LT(command, page.find("id=\"mask-legend\""));
+    EXPECT_LT(command, page.find("Reference provenance"));
 }
 
 TEST(HtmlReport, ChromiumShowsSummaryChartImagesAndNumbers) {
@@ -830,7 +976,8 @@ TEST(HtmlReport, ChromiumShowsSummaryChartImagesAndNumbers) {
     EXPECT_NE(page.find("width: 256px"), std::string::npos);
     EXPECT_NE(page.find("refraster explain"), std::string::npos);
     // 8-bit values print as whole numbers; the mask legend names every class.
-    EXPECT_NE(page.find("(0, 0, 0, 255) vs (255, 255, 255, 255)"), std::string::npos);
+    EXPECT_NE(page.find("reference (0, 0, 0, 255), backend (255, 255, 255, 255)"),
+              std::string::npos);
     EXPECT_EQ(page.find("255.0"), std::string::npos);
     for (const char* cls :
          {"equal:", "missing:", "extra:", "another primitive", "colour only:", "depth only:"}) {
@@ -1022,6 +1169,13 @@ TEST(ConformanceRun, SlowReferenceIsATimeoutAndTheRunGoesOn) {
         << lines[0].dump();
     EXPECT_EQ(lines[1]["status"], "Pass") << lines[1].dump();  // the run went on
     EXPECT_NE(testutil::read_text(out / "failures.csv").find(",Timeout"), std::string::npos);
+    // The report's chart draws the timeout as one, a cross on the top edge that links to the
+    // case, never as a dot at 0 mismatched pixels.
+    const auto index = testutil::read_text(out / "index.html");
+    EXPECT_NE(index.find("<a href=\"cases/slow.a_layers.html\"><path class=\"timeout\""),
+              std::string::npos)
+        << index;
+    EXPECT_NE(index.find("<a href=\"cases/slow.b_tie.html\"><circle"), std::string::npos);
 }
 
 }  // namespace

@@ -109,6 +109,38 @@ TEST(Compare, FloatUlps) {
     EXPECT_TRUE(c.within_expect);
 }
 
+// The one-line summary names each side and its units: bytes for rgba8, ULPs and the float
+// values for rgba32f, the stored integer for z24 and the float for z32f (before, "values are
+// A vs B", and a z32f error as the distance and values of its bit patterns).
+TEST(Compare, SummaryNamesTheSidesAndTheUnits) {
+    auto ref = black(2, 2, DepthFormat::Z24);
+    auto act = black(2, 2, DepthFormat::Z24);
+    set(ref, 1, 0, {10, 20, 30, 255});
+    set(act, 1, 0, {10, 23, 30, 255});
+    ref.depth[3] = 1000;
+    act.depth[3] = 1003;
+    auto s = harness::compare_images(ref, act, kClearBlack, {}).summary();
+    EXPECT_NE(s.find("max colour error 3 @ (1, 0, G): reference 10,20,30,255, backend "
+                     "10,23,30,255"),
+              std::string::npos)
+        << s;
+    EXPECT_NE(s.find("max depth error 3 @ (1, 1): reference 1000, backend 1003"), std::string::npos)
+        << s;
+    Framebuffer fref(1, 1, ColorFormat::Rgba32f, DepthFormat::Z32f);
+    Framebuffer fact = fref;
+    fref.color32f[0] = 0.5f;
+    fact.color32f[0] = 0.1f;
+    fref.depth[0] = std::bit_cast<std::uint32_t>(0.25f);
+    fact.depth[0] = std::bit_cast<std::uint32_t>(0.75f);
+    s = harness::compare_images(fref, fact, {{0, 0, 0, 0}, 1.0f}, {}).summary();
+    const auto ulps = std::bit_cast<std::uint32_t>(0.5f) - std::bit_cast<std::uint32_t>(0.1f);
+    EXPECT_NE(s.find("max colour error " + std::to_string(ulps) +
+                     " ULPs @ (0, 0, R): reference 0.5,0,0,0, backend 0.1,0,0,0"),
+              std::string::npos)
+        << s;
+    EXPECT_NE(s.find(" ULPs @ (0, 0): reference 0.25, backend 0.75"), std::string::npos) << s;
+}
+
 TEST(Compare, SizeMismatch) {
     const auto c = harness::compare_images(black(2, 2), black(3, 2), kClearBlack, {100, 100});
     EXPECT_TRUE(c.size_mismatch);

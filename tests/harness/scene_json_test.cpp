@@ -2,7 +2,9 @@
 // (one line naming the file and the JSON path or line:column, exit code 2, nothing written).
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <random>
 #include <set>
@@ -767,6 +769,43 @@ TEST(FuzzDictionary, HoldsEveryKeyAndEnumStringOfTheSchema) {
     for (const auto& w : words) {
         EXPECT_NE(dict.find("\"\\\"" + w + "\\\"\"\n"), std::string::npos) << w;
     }
+}
+
+}  // namespace
+
+namespace {
+
+// A shared-edge scene whose name ends in _ccw or _cw draws its triangles with that winding in
+// window space, y up, as its name and description say (the _ccw ones were once copies of the
+// _cw ones). In the cull scenes the suffix names glFrontFace, not the winding.
+TEST(SceneFiles, WindingInANameIsTheTrianglesWinding) {
+    int checked = 0;
+    for (const auto& e : std::filesystem::recursive_directory_iterator(
+             std::filesystem::path(REFRASTER_SOURCE_DIR) / "conformance/scenes")) {
+        if (e.path().extension() != ".json") continue;
+        const std::string stem = e.path().stem().string();
+        if (stem.rfind("shared_edge_", 0) != 0) continue;
+        const bool ccw = stem.size() > 4 && stem.substr(stem.size() - 4) == "_ccw";
+        const bool cw = !ccw && stem.size() > 3 && stem.substr(stem.size() - 3) == "_cw";
+        if (!ccw && !cw) continue;
+        const auto s = harness::load_scene(e.path());
+        for (const auto& d : s.draw_list.draws) {
+            if (d.primitive != refraster::PrimitiveType::Triangles || d.indices) continue;
+            const std::size_t stride = d.vertices.stride();
+            const auto at = [&](std::size_t v) {
+                const float* p = d.vertices.data.data() + v * stride;
+                return std::array<double, 2>{double{p[0]} / double{p[3]},
+                                             double{p[1]} / double{p[3]}};
+            };
+            for (std::size_t v = 0; v + 2 < d.vertices.size(); v += 3) {
+                const auto a = at(v), b = at(v + 1), c = at(v + 2);
+                const double area = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]);
+                EXPECT_EQ(area > 0, ccw) << e.path() << " triangle " << v / 3;
+                ++checked;
+            }
+        }
+    }
+    EXPECT_EQ(checked, 24);
 }
 
 }  // namespace

@@ -1,6 +1,11 @@
 // `refraster render` end to end: usage errors, NotSupported, and a written image.
 #include <gtest/gtest.h>
 
+#include <cctype>
+#include <filesystem>
+#include <sstream>
+
+#include "harness/bench.hpp"
 #include "harness/image_io.hpp"
 #include "layered_scene.hpp"
 #include "test_util.hpp"
@@ -167,6 +172,71 @@ TEST(Cli, HelpNamesTheSampleOutputs) {
               std::string::npos);
     EXPECT_NE(testutil::run_cli({"compare", "--help"}).out.find("NAME.samples.png"),
               std::string::npos);
+}
+
+// The README's library snippet is code of examples/compare_osmesa.cpp, which ctest builds and
+// runs: every line of the snippet, whitespace aside, is in the example, in the same order
+// (before, the snippet called make_gl_backend without a worker directory and aborted unless
+// REFRASTER_WORKER_DIR was set).
+TEST(Cli, ReadmeLibrarySnippetIsTheExamplesCode) {
+    const auto squeeze = [](const std::string& t) {
+        std::string out;
+        for (char c : t)
+            if (!std::isspace(static_cast<unsigned char>(c))) out += c;
+        return out;
+    };
+    const std::string readme =
+        testutil::read_text(std::filesystem::path(REFRASTER_SOURCE_DIR) / "README.md");
+    const auto open = readme.find("```cpp\n");
+    ASSERT_NE(open, std::string::npos);
+    const auto close = readme.find("```", open + 7);
+    std::istringstream snippet(readme.substr(open + 7, close - open - 7));
+    const std::string example = squeeze(testutil::read_text(
+        std::filesystem::path(REFRASTER_SOURCE_DIR) / "examples" / "compare_osmesa.cpp"));
+    std::size_t at = 0, lines = 0;
+    for (std::string line; std::getline(snippet, line);) {
+        const std::string code = squeeze(line);
+        if (code.empty()) continue;
+        const auto found = example.find(code, at);
+        ASSERT_NE(found, std::string::npos) << "not in the example (in this order): " << line;
+        at = found + code.size();
+        ++lines;
+    }
+    EXPECT_GE(lines, 5u);
+}
+
+// `bench --help` names every standard workload a default run measures, and their number.
+TEST(Cli, BenchHelpNamesTheWorkloadsItRuns) {
+    const auto r = testutil::run_cli({"bench", "--help"});
+    EXPECT_EQ(r.exit_code, 0);
+    std::string squeezed;  // CLI11 wraps long help lines
+    for (char c : r.out)
+        if (!std::isspace(static_cast<unsigned char>(c))) squeezed += c;
+    const auto& names = harness::bench_workload_names();
+    EXPECT_NE(squeezed.find("bydefaultthe" + std::to_string(names.size()) + "standardones"),
+              std::string::npos)
+        << r.out;
+    for (const auto& n : names) EXPECT_NE(squeezed.find(n), std::string::npos) << n;
+}
+
+// Every command that writes a named output takes -o for it, as render, reduce and fingerprint
+// always did.
+TEST(Cli, EveryOutputTakesDashO) {
+    for (const auto& cmd : std::vector<std::vector<std::string>>{{"render"},
+                                                                 {"reduce"},
+                                                                 {"fingerprint"},
+                                                                 {"teach"},
+                                                                 {"study"},
+                                                                 {"conformance", "run"},
+                                                                 {"conformance", "merge"},
+                                                                 {"generate", "extreme"},
+                                                                 {"generate", "many-triangles"}}) {
+        auto args = cmd;
+        args.push_back("--help");
+        const auto r = testutil::run_cli(args);
+        EXPECT_EQ(r.exit_code, 0) << cmd.back();
+        EXPECT_NE(r.out.find("-o,--output"), std::string::npos) << cmd.back() << ":\n" << r.out;
+    }
 }
 
 // `bench` without GL at a tiny scale: the new options reach the JSON and the table.

@@ -20,17 +20,29 @@ std::string bin() {
     return testutil::shell_quote(testutil::refraster_bin());
 }
 
+// The last line of a command's output, before the "rc=" line the helpers append.
+std::string last_line(const std::string& text) {
+    std::string t = text;
+    while (!t.empty() && t.back() == '\n') t.pop_back();
+    const auto nl = t.rfind('\n');
+    return nl == std::string::npos ? t : t.substr(nl + 1);
+}
+
 // A run of the smoke cases with the reference's tie rule flipped, so that some fail and leave
-// images and explain views.
-void run_shard(const std::string& vars, const fs::path& out, const std::string& tie = "right-top") {
+// images and explain views. Returns the run's last line ("N passed, M failed, K skipped").
+std::string run_shard(const std::string& vars, const fs::path& out,
+                      const std::string& tie = "right-top") {
     const std::string cmd = kClean + vars + " " + bin() +
                             " conformance run --cases 'smoke.*,triangles.coverage.*' --against "
                             "ref --profile-set tie_rule=" +
                             tie + " --output " + testutil::shell_quote(out.string()) +
-                            " > /dev/null 2>&1";
+                            " 2> /dev/null; echo \"rc=$?\"";
+    const std::string text = testutil::command_output(cmd);
+    const auto at = text.rfind("rc=");
     // 1: some cases failed, which is what the test wants.
-    const int rc = std::system(cmd.c_str()) >> 8;
-    ASSERT_TRUE(rc == 0 || rc == 1) << cmd;
+    const int rc = std::stoi(text.substr(at + 3));
+    EXPECT_TRUE(rc == 0 || rc == 1) << cmd;
+    return last_line(text.substr(0, at));
 }
 
 struct Cli {
@@ -103,11 +115,14 @@ TEST(ConformanceMerge, EqualsTheUnshardedRun) {
                   shards.back());
     }
     const fs::path whole = dir.path() / "whole", merged = dir.path() / "merged";
-    run_shard("", whole);
-    // Given in any order.
+    const std::string summary = run_shard("", whole);
+    // Given in any order. It ends as the run does: the same summary line, and exit 1 for the
+    // failures (a CI job's last step can gate on it).
     const Cli m = merge({shards[2], shards[0], shards[1]}, merged);
-    ASSERT_EQ(m.code, 0) << m.out;
+    EXPECT_EQ(m.code, 1) << m.out;
     EXPECT_NE(m.out.find("merged 3 of 3 shards"), std::string::npos) << m.out;
+    EXPECT_NE(summary.find(" passed, "), std::string::npos) << summary;
+    EXPECT_EQ(last_line(m.out), summary) << m.out;
     const auto text = [](const fs::path& p) { return testutil::read_text(p); };
     EXPECT_FALSE(text(whole / "failures.csv").empty());  // the comparison has failures to merge
     EXPECT_EQ(text(merged / "failures.csv"), text(whole / "failures.csv"));
@@ -138,6 +153,7 @@ TEST(ConformanceMerge, NamesMissingShardsAndReportsTheRest) {
     const Cli m = merge({s0, s2}, dir.path() / "merged");
     EXPECT_EQ(m.code, 1) << m.out;
     EXPECT_NE(m.out.find("missing: shard 1 of 3"), std::string::npos) << m.out;
+    EXPECT_NE(last_line(m.out).find("; 1 of 3 shards missing"), std::string::npos) << m.out;
     EXPECT_NE(testutil::read_text(dir.path() / "merged" / "merge.txt").find("missing: shard 1"),
               std::string::npos);
     EXPECT_EQ(records(dir.path() / "merged" / "results.jsonl").size(),

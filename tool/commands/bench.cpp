@@ -77,11 +77,16 @@ Command add_bench_command(CLI::App& app) {
         "bench",
         "Time the reference (one thread, two) against OSMesa llvmpipe (one thread, default "
         "threads) and softpipe, and judge the performance targets");
+    // The lists come from the harness, so the help names what a run measures.
+    std::string standard, scaling;
+    for (const auto& n : harness::bench_workload_names())
+        standard += (standard.empty() ? "" : ", ") + n;
+    for (const auto& n : harness::bench_scaling_workload_names())
+        scaling += (scaling.empty() ? "" : ", ") + n;
     cmd->add_option("--scenes", a->scenes,
-                    "Comma-separated workloads (default the standard eight): tiny-flat, "
-                    "tiny-smooth, medium-flat, medium-smooth, full-flat, full-smooth, "
-                    "medium-perspective, full-perspective; the scaling workloads "
-                    "tiny-flat-4m, full-flat-2048, full-smooth-2048");
+                    "Comma-separated workloads; by default the " +
+                        std::to_string(harness::bench_workload_names().size()) +
+                        " standard ones: " + standard + "; the scaling workloads: " + scaling);
     cmd->add_flag("--scaling", a->scaling,
                   "Also the scaling workloads (tiny-flat-4m, full-flat-2048, full-smooth-2048) "
                   "and their standard counterparts, for the rate ratio");

@@ -87,14 +87,22 @@ int run_conformance(const ConformanceArgs& a) {
 
 // ---- conformance merge -------------------------------------------------------------------
 
-// merge SHARD_DIR... --output DIR: exit 0 when every shard is there, 1 when some are missing
-// (the report of the others is written and says so), 2 for shards that cannot be one run.
+// merge SHARD_DIR... --output DIR: as `run`, exit 0 when every case passed and 1 when some
+// failed, and 1 too when some shards are missing (the report of the others is written and says
+// so); 2 for shards that cannot be one run. Its last line is run's summary.
 int run_merge(const std::vector<std::string>& shards, const std::string& output) {
     std::vector<std::filesystem::path> dirs(shards.begin(), shards.end());
     try {
         const auto summary = conformance::merge_shards(dirs, output, std::cout);
         std::cout << "report: " << (std::filesystem::path(output) / "index.html").string() << "\n";
-        return summary.missing_shards.empty() ? kExitOk : kExitMismatch;
+        std::cout << summary.counts.line()
+                  << (summary.missing_shards.empty()
+                          ? ""
+                          : "; " + std::to_string(summary.missing_shards.size()) + " of " +
+                                std::to_string(summary.shard_count) + " shards missing")
+                  << "\n";
+        return summary.missing_shards.empty() && summary.counts.failed == 0 ? kExitOk
+                                                                            : kExitMismatch;
     } catch (const conformance::MergeError& e) {
         std::cerr << "refraster conformance merge: " << harness::encode::terminal(e.what()) << "\n";
         return exit_code(e.exit_class());
@@ -163,7 +171,8 @@ Command add_conformance_command(CLI::App& app) {
     auto* merge_cmd = conf_cmd->add_subcommand(
         "merge", "One run's results and reports from the output directories of its shards");
     merge_cmd->add_option("shards", a->merge_shards, "The shards' output directories")->required();
-    merge_cmd->add_option("--output", a->merge_output, "Directory for the merged run")->required();
+    merge_cmd->add_option("-o,--output", a->merge_output, "Directory for the merged run")
+        ->required();
 
     ConformanceArgs& conf = a->run;
     auto* run_cmd = conf_cmd->add_subcommand("run", "Run the scenes against a GL backend");
@@ -215,7 +224,7 @@ Command add_conformance_command(CLI::App& app) {
         ->check(CLI::IsMember({"exact", "gl"}))
         ->capture_default_str();
     add_threads_option(run_cmd, conf.threads);
-    run_cmd->add_option("--output", conf.output, "Directory for results.jsonl and images")
+    run_cmd->add_option("-o,--output", conf.output, "Directory for results.jsonl and images")
         ->required();
 
     auto* hash_cmd =

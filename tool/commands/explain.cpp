@@ -59,12 +59,11 @@ int run_explain(const ExplainArgs& a) {
         return *rc;
     try {
         harness::Explainer explainer(*scene, profile, backend.get(), a.sample, a.against.timeout);
-        const auto e = explainer.explain(x, y);
-        std::cout << (a.json ? harness::explanation_json(e) + "\n" : harness::explanation_text(e));
+        auto e = explainer.explain(x, y);
         // Whether GL allows the backend's pixel (gl_verdict.hpp), for a differing pixel, judged
         // over the same variations (rule_search.hpp). A 4x target is judged sample by sample,
         // at the sample explained or sample 0; the explanation's rule is the variation preferred.
-        if (!a.json && !e.agree && e.backend && e.backend->status == harness::RenderStatus::Ok) {
+        if (!e.agree && e.backend && e.backend->status == harness::RenderStatus::Ok) {
             std::string preferred;
             for (const auto& [rule, change] : e.candidates)
                 if (rule == e.rule) preferred = change;
@@ -73,8 +72,10 @@ int run_explain(const ExplainArgs& a) {
                                                multisampled ? e.backend->samples : e.backend->image,
                                                std::array<int, 2>{x, y}, a.against.timeout,
                                                std::max(a.sample, 0), preferred);
-            std::cout << "GL: " << v.at_pixel << "\n";
+            e.gl_verdict = v.at_pixel;
         }
+        std::cout << (a.json ? harness::explanation_json(e) + "\n" : harness::explanation_text(e));
+        if (!a.json && !e.gl_verdict.empty()) std::cout << "GL: " << e.gl_verdict << "\n";
         if (!a.svg.empty()) harness::write_file_atomically(a.svg, harness::explanation_svg(e));
         return e.agree ? kExitOk : kExitMismatch;
     } catch (const std::bad_alloc&) {
@@ -95,7 +96,7 @@ int run_explain(const ExplainArgs& a) {
 Command add_explain_command(CLI::App& app) {
     auto a = std::make_shared<ExplainArgs>();
     auto* cmd = app.add_subcommand(
-        "explain", "Trace every decision about one pixel, and where the backend parts");
+        "explain", "Trace every decision about one pixel, and where the backend departs from them");
     cmd->add_option("scene", a->scene, "Scene file (format refraster-scene/1)")->required();
     add_scene_options(cmd, a->scene_args);
     cmd->add_option("--pixel", a->pixel,

@@ -57,7 +57,7 @@ Command add_generate_command(CLI::App& app) {
     // generate extreme --seed N --output DIR
     auto* extreme = cmd->add_subcommand("extreme", "Stiff and extreme scenes, one file per kind");
     extreme->add_option("--seed", a->seed, "Seed of the generator")->capture_default_str();
-    extreme->add_option("--output", a->output, "Directory for the scene files")->required();
+    extreme->add_option("-o,--output", a->output, "Directory for the scene files")->required();
 
     // generate many-triangles --triangles N [--form F] [--seed S] --output FILE
     auto* many = cmd->add_subcommand("many-triangles",
@@ -70,7 +70,7 @@ Command add_generate_command(CLI::App& app) {
         ->check(CLI::IsMember({"plain", "values", "base64"}))
         ->capture_default_str();
     many->add_option("--seed", a->seed, "Seed of the generator")->capture_default_str();
-    many->add_option("--output", a->output, "The scene file")->required();
+    many->add_option("-o,--output", a->output, "The scene file")->required();
 
     return {cmd, [a, extreme, many] {
                 if (many->parsed())

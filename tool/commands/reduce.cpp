@@ -55,14 +55,14 @@ int run_reduce(const ReduceArgs& a) {
         // The reduced scene is a scene of its own: named after its file, as a scene under
         // conformance/scenes is named after its path.
         reduced.name = std::filesystem::path(a.output).stem().string();
-        reduced.description = "Reduced from " + a.scene + " (" +
-                              std::to_string(r.primitives_before) + " -> " +
-                              std::to_string(r.primitives_after) + " primitives), keeping a " +
-                              r.signature + " mismatch" +
-                              (keep.pixel                ? " at pixel " + a.pixel
-                               : keep.difference.empty() ? ""
-                                                         : " of class " + keep.difference) +
-                              " under profile " + profile.name + ".";
+        reduced.description =
+            "Reduced from " + a.scene + " (" + std::to_string(r.primitives_before) + " -> " +
+            std::to_string(r.primitives_after) + " primitives), keeping a " + r.signature +
+            " mismatch" +
+            (keep.pixel                ? " at pixel " + a.pixel
+             : keep.difference.empty() ? ""
+                                       : " of class " + keep.difference) +
+            " under profile " + profile.name + ", against " + backend->name() + ".";
         const std::string text = harness::scene_to_json(reduced);
         (void)harness::load_scene_text(text, a.output);  // what is written is a valid scene
         harness::write_file_atomically(a.output, text);

@@ -73,7 +73,7 @@ Command add_study_command(CLI::App& app) {
     cmd->add_option("study", a->name, "precision, antialiasing or stability")
         ->required()
         ->check(CLI::IsMember(harness::study_names()));
-    cmd->add_option("--output", a->output, "Directory for study.csv, study.svg, summary.md")
+    cmd->add_option("-o,--output", a->output, "Directory for study.csv, study.svg, summary.md")
         ->required();
     cmd->add_option("--seed", a->seed, "Seed of the workloads")->capture_default_str();
     cmd->add_flag("--quick", a->quick, "Small sizes (seconds, for CI)");

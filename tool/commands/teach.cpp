@@ -197,7 +197,7 @@ Command add_teach_command(CLI::App& app) {
                     "egl)")
         ->check(CLI::IsMember({"ref", "gl", "osmesa", "egl"}))
         ->capture_default_str();
-    cmd->add_option("--output", a->output,
+    cmd->add_option("-o,--output", a->output,
                     "Directory for index.html, teach.json and the images algorithm.png, gl.png, "
                     "differences.png")
         ->required();

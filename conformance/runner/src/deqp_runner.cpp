@@ -75,6 +75,12 @@ std::string deqp_runner_status(std::string_view status, std::string_view raw_sta
     return "Fail";  // a word nobody knows is not a success
 }
 
+std::string reported_status(std::string_view status, std::string_view raw_status) {
+    if (status == "UnexpectedPass" || status == "UnexpectedImprovement")
+        return deqp_runner_status(status, raw_status);
+    return std::string(status);
+}
+
 bool deqp_runner_is_success(std::string_view word) {
     return one_of(word, {"Pass", "Skip", "Warn", "Flake", "KnownFlake", "ExpectedFail"});
 }

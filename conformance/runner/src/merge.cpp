@@ -165,6 +165,10 @@ MergeSummary merge_shards(const std::vector<fs::path>& shards, const fs::path& o
     for (const auto& [name, line] : all) {
         text += line + "\n";
         lines.push_back(line);
+        // Every record was read and checked with its shard (read_shard), status included.
+        const auto status = harness::case_status_from_string(
+            nlohmann::json::parse(line).value("status", std::string()));
+        summary.counts.add(status.value_or(harness::CaseStatus::InternalError));
     }
     std::vector<std::pair<fs::path, fs::path>> copies;  // from, to
     std::set<std::string> carried;                      // "images/NAME.ref.png"

@@ -253,6 +253,7 @@ struct Checker {
         for (const char* k : {"x", "y", "channel", "sample"}) integer(m, k, p, false);
         channels(m, "reference", p);
         channels(m, "actual", p);
+        string(m, "units", p, false);
     }
     void side(const json& r, const char* key) {
         if (!object(r, key, "")) return;

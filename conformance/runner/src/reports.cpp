@@ -1,6 +1,7 @@
 #include "conformance/reports.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -57,7 +58,8 @@ std::uint64_t mismatched_samples(const json& r) {
 
 // "3 at (1, 2) sample 0" for a largest difference that names its pixel (and sample).
 std::string difference_at(const json& m) {
-    std::string t = std::to_string(m.value("amount", std::uint64_t{0})) + " at (" +
+    std::string t = std::to_string(m.value("amount", std::uint64_t{0})) +
+                    (m.value("units", "") == "ULPs" ? " ULPs" : "") + " at (" +
                     std::to_string(m.value("x", 0)) + ", " + std::to_string(m.value("y", 0)) + ")";
     if (m.contains("sample")) t += " sample " + std::to_string(m.value("sample", 0));
     return t;
@@ -155,13 +157,15 @@ table{border-collapse:collapse;font-size:14px}td,th{border:1px solid #ccc;paddin
 th{background:#f3f3f3}.num{text-align:right;font-variant-numeric:tabular-nums}
 .st{font-weight:600}.imgs{display:flex;gap:16px;flex-wrap:wrap}.imgs figure{margin:0}
 .imgs img{image-rendering:pixelated;image-rendering:crisp-edges;border:1px solid #999;background:#444}
-code{background:#f3f3f3;padding:1px 4px}
+code{background:#f3f3f3;padding:1px 4px;overflow-wrap:anywhere}
+#cases{font-size:13px}#cases th{font-size:12px}#cases td:first-child{overflow-wrap:anywhere;max-width:18em}
 th[aria-sort=ascending]::after{content:" \25B2"}th[aria-sort=descending]::after{content:" \25BC"}
-td.verdict{max-width:28em;font-size:13px}#case-filters input{width:22em}
+td.verdict{max-width:24em;font-size:13px;overflow-wrap:anywhere}#case-filters input{width:22em}
 .frame{position:relative;display:inline-block;line-height:0}
 .cursor{position:absolute;display:none;outline:2px solid #00e5ff;pointer-events:none}
 .swatch{display:inline-block;width:1.2em;height:1.2em;border:1px solid #999;vertical-align:middle}
 #pixel-readout{font-variant-numeric:tabular-nums}
+table.provenance td{overflow-wrap:anywhere}
 </style>)";
 
 // Sorting and filtering of the index's case table: a click on a header sorts by that column
@@ -231,6 +235,21 @@ const char* kTableScript = R"(</table><script>
 
 // A pixel's channel values as people read them: "0, 0, 0, 255" for an rgba8 target's bytes
 // (whole numbers, however the record stores them), the float values otherwise.
+// " ULPs" after a float target's amount (the record's "units"), nothing for integer levels.
+std::string units(const json& m) {
+    return m.value("units", "") == "ULPs" ? " ULPs" : "";
+}
+
+// A stored depth value as a number: z32f's bits as the float they hold.
+std::string depth_value(const json& m, const char* side) {
+    const auto v = m.value(side, std::uint32_t{0});
+    if (m.value("units", "") != "ULPs") return std::to_string(v);
+    std::ostringstream o;
+    o.precision(9);
+    o << std::bit_cast<float>(v);
+    return o.str();
+}
+
 std::string channel_values(const json& values) {
     if (!values.is_array()) return markup::escape(dump_text(values));
     std::ostringstream o;
@@ -416,14 +435,30 @@ std::string chart(const std::vector<json>& results) {
     s << "<text x=\"14\" y=\"" << T + ph / 2 << "\" transform=\"rotate(-90 14 " << T + ph / 2
       << ")\" text-anchor=\"middle\">mismatched pixels"
       << (ay.log ? " (log scale, 0 at the bottom)" : "") << "</text>";
+    // Each dot links to its case's page. A case that timed out has no pixels to count: it is a
+    // cross on the plot's top edge at the time it was given, not a dot at 0.
+    bool timeouts = false;
     for (const auto& r : results) {
         const double t = std::max(1e-6, seconds(r, "reference") + seconds(r, "actual"));
         const std::string st = r.value("status", "");
-        s << "<circle cx=\"" << fixed(x_of(t), 1) << "\" cy=\""
-          << fixed(y_of(static_cast<double>(mismatched(r))), 1) << "\" r=\"3.5\" fill=\""
-          << status_color(st) << "\" fill-opacity=\"0.7\"><title>"
-          << markup::escape(r.value("case", "")) << ": " << markup::escape(st) << ", "
-          << mismatched(r) << " px, " << fixed(t * 1000, 2) << " ms</title></circle>";
+        const std::string name = r.value("case", "");
+        const std::string x = fixed(x_of(t), 1);
+        s << "<a href=\"cases/" << markup::escape(name) << ".html\">";
+        if (st == "Timeout") {
+            timeouts = true;
+            const double y = T + 5;
+            s << "<path class=\"timeout\" d=\"M" << fixed(x_of(t) - 4, 1) << " " << fixed(y - 4, 1)
+              << "l8 8m0 -8l-8 8\" stroke=\"" << status_color(st) << "\" stroke-width=\"2\"><title>"
+              << markup::escape(name) << ": Timeout, no pixels compared, stopped after "
+              << fixed(t * 1000, 2) << " ms</title></path>";
+        } else {
+            s << "<circle cx=\"" << x << "\" cy=\""
+              << fixed(y_of(static_cast<double>(mismatched(r))), 1) << "\" r=\"3.5\" fill=\""
+              << status_color(st) << "\" fill-opacity=\"0.7\"><title>" << markup::escape(name)
+              << ": " << markup::escape(st) << ", " << mismatched(r) << " px, "
+              << fixed(t * 1000, 2) << " ms</title></circle>";
+        }
+        s << "</a>";
     }
     // The legend: one entry a status present, with its count.
     s << "<g id=\"chart-legend\">";
@@ -433,6 +468,10 @@ std::string chart(const std::vector<json>& results) {
           << status_color(st) << "\"/><text x=\"" << W - R + 28 << "\" y=\"" << ly + 4 << "\">"
           << markup::escape(st) << " (" << n << ")</text>";
         ly += 18;
+    }
+    if (timeouts) {
+        s << "<text x=\"" << W - R + 10 << "\" y=\"" << ly + 4
+          << "\">&#xd7; on top: timed out</text>";
     }
     s << "</g>" << markup::svg_close();
     return s.str();
@@ -487,6 +526,9 @@ std::string case_page(const json& r, const FileExists& exists) {
           << "\"><figcaption>" << markup::escape(caption) << "</figcaption></figure>";
     }
     h << "</div>";
+    // The command that explains the pixel under the pointer, right under the images it is read
+    // from (filled in by the script below).
+    h << "<p id=\"pixel-command\"></p>";
     if (exists("images/" + name + ".mask.png") || exists("images/" + name + ".samples.png")) {
         // Every class a mask pixel can have (harness::mask_color), with its colour.
         h << "<table id=\"mask-legend\"><tr><th colspan=\"2\">mask colours</th></tr>";
@@ -521,15 +563,17 @@ std::string case_page(const json& r, const FileExists& exists) {
         if (c.contains("max_color")) {
             const auto& m = c["max_color"];
             h << "<tr><th>max colour error</th><td class=\"num\">" << m.value("amount", 0)
-              << " at (" << m.value("x", 0) << ", " << m.value("y", 0) << ") channel "
-              << "RGBA"[m.value("channel", 0) & 3] << ": " << channel_values(m["reference"])
-              << " vs " << channel_values(m["actual"]) << "</td></tr>";
+              << units(m) << " at (" << m.value("x", 0) << ", " << m.value("y", 0) << ") channel "
+              << "RGBA"[m.value("channel", 0) & 3] << ": reference "
+              << channel_values(m["reference"]) << ", backend " << channel_values(m["actual"])
+              << "</td></tr>";
         }
         if (c.contains("max_depth")) {
             const auto& m = c["max_depth"];
-            h << "<tr><th>max depth error</th><td class=\"num\">" << m.value("amount", 0) << " at ("
-              << m.value("x", 0) << ", " << m.value("y", 0) << "): " << m.value("reference", 0)
-              << " vs " << m.value("actual", 0) << "</td></tr>";
+            h << "<tr><th>max depth error</th><td class=\"num\">" << m.value("amount", 0)
+              << units(m) << " at (" << m.value("x", 0) << ", " << m.value("y", 0)
+              << "): reference " << depth_value(m, "reference") << ", backend "
+              << depth_value(m, "actual") << "</td></tr>";
         }
         h << "<tr><th>reference time</th><td class=\"num\">"
           << fixed(seconds(r, "reference") * 1000, 3)
@@ -560,14 +604,15 @@ std::string case_page(const json& r, const FileExists& exists) {
                 const auto& m = c["max_sample_color"];
                 h << "<tr><th>max sample colour error</th><td class=\"num\">" << difference_at(m)
                   << " channel "
-                  << "RGBA"[m.value("channel", 0) & 3] << ": " << channel_values(m["reference"])
-                  << " vs " << channel_values(m["actual"]) << "</td></tr>";
+                  << "RGBA"[m.value("channel", 0) & 3] << ": reference "
+                  << channel_values(m["reference"]) << ", backend " << channel_values(m["actual"])
+                  << "</td></tr>";
             }
             if (c.contains("max_sample_depth")) {
                 const auto& m = c["max_sample_depth"];
                 h << "<tr><th>max sample depth error</th><td class=\"num\">" << difference_at(m)
-                  << ": " << m.value("reference", 0) << " vs " << m.value("actual", 0)
-                  << "</td></tr>";
+                  << ": reference " << depth_value(m, "reference") << ", backend "
+                  << depth_value(m, "actual") << "</td></tr>";
             }
             h << "<tr><th>samples classified by</th><td>"
               << markup::escape(c.value("samples_classified_by", "")) << "</td></tr>";
@@ -603,7 +648,7 @@ std::string case_page(const json& r, const FileExists& exists) {
     }
     const auto provenance = [&](const char* who, const char* title) {
         if (!r.contains(who) || !r[who].contains("provenance")) return;
-        h << "<h2>" << title << "</h2><table>";
+        h << "<h2>" << title << "</h2><table class=\"provenance\">";
         for (const auto& [k, v] : r[who]["provenance"].items()) {
             h << "<tr><th>" << markup::escape(k) << "</th><td>"
               << markup::escape(v.is_string() ? v.get<std::string>() : dump_text(v))
@@ -617,7 +662,7 @@ std::string case_page(const json& r, const FileExists& exists) {
     // outlined in every image, and the command that explains it.
     std::string template_command;
     if (r.contains("comparison")) template_command = explain_command(r, 77770, 88880);
-    h << "<p id=\"pixel-command\"></p><script>(function () {\n"
+    h << "<script>(function () {\n"
          "var z = document.getElementById('zoom'), v = document.getElementById('zoom-value');\n"
          "var readout = document.getElementById('pixel-readout');\n"
          "var command = document.getElementById('pixel-command');\n"
@@ -777,8 +822,9 @@ std::vector<ReportFile> build_reports(const std::vector<std::string>& lines,
         if (st == "NotSupported") {
             x << "<skipped message=\"" << encode::xml_attribute(r.value("message", "")) << "\"/>";
         } else if (failed(st)) {
-            x << "<failure type=\"" << encode::xml_attribute(st) << "\" message=\""
-              << encode::xml_attribute(r.value("message", st)) << "\"/>";
+            const std::string word = reported_status(st, r.value("raw_status", ""));
+            x << "<failure type=\"" << encode::xml_attribute(word) << "\" message=\""
+              << encode::xml_attribute(r.value("message", word)) << "\"/>";
         }
         // What a CI page shows beside the test: the verdict, the numbers, where to look.
         std::string out = st + ": " + std::to_string(mismatched(r)) + " mismatched pixels";
@@ -835,31 +881,39 @@ std::vector<ReportFile> build_reports(const std::vector<std::string>& lines,
     }
     h << "<tr><th>finished</th><td class=\"num\">" << results.size() << " of " << selected_cases
       << "</td></tr></table>";
+    // Counted as the console's summary line counts them (RunSummary): a case the baseline
+    // expects to fail, or one that failed and then passed alone, is neither passed nor failed.
     h << "<h2>By area</h2><table "
-         "id=\"areas\"><tr><th>area</th><th>passed</th><th>failed</th><th>skipped</th></tr>";
+         "id=\"areas\"><tr><th>area</th><th>passed</th><th>failed</th><th>skipped</th><th>failed "
+         "as expected</th><th>flaky</th></tr>";
     for (const auto& [area, st] : areas) {
-        std::size_t p = 0, f = 0, k = 0;
+        std::size_t p = 0, f = 0, k = 0, e = 0, fl = 0;
         for (const auto& [s, n] : st) {
             if (s == "NotSupported") {
                 k += n;
             } else if (failed(s)) {
                 f += n;
+            } else if (s == "ExpectedFail") {
+                e += n;
+            } else if (s == "Flake" || s == "KnownFlake") {
+                fl += n;
             } else {
                 p += n;
             }
         }
-        h << "<tr><td>" << markup::escape(area) << "</td><td class=\"num\">" << p
-          << "</td><td class=\"num\">" << f << "</td><td class=\"num\">" << k << "</td></tr>";
+        h << "<tr><td>" << markup::escape(area) << "</td>";
+        for (const std::size_t v : {p, f, k, e, fl}) h << "<td class=\"num\">" << v << "</td>";
+        h << "</tr>";
     }
     h << "</table><h2>Error against run time</h2>" << chart(results);
     // This chart is per case; how the reference's own precision choices (sub-pixel bits, float
     // or exact setup, fused planes, depth formats, samples per pixel) trade error against run
     // time, against exact answers, is what `refraster study` measures.
-    // The link is relative to the default report directory, out/conformance/ of the source tree.
+    // Named, not linked: the report is read from any output folder, or from a CI artifact, where
+    // no relative path reaches the source tree.
     h << "<p class=\"note\">Each dot is one case of this run. For error against run time of "
-         "the rules themselves, against exact answers, see <a "
-         "href=\"../../docs/precision-study.md\">docs/precision-study.md</a> in the source tree "
-         "(<code>refraster study precision|antialiasing|stability</code>).</p>";
+         "the rules themselves, against exact answers, see <code>docs/precision-study.md</code> "
+         "in the source tree (<code>refraster study precision|antialiasing|stability</code>).</p>";
     // The cases: verdict and pixel classes, sortable by any column (click its header) and
     // filterable by text and status; the script keeps working without a server (file://).
     h << "<h2>Cases</h2><p id=\"case-filters\"><label>filter <input id=\"case-filter\" "
@@ -888,7 +942,14 @@ std::vector<ReportFile> build_reports(const std::vector<std::string>& lines,
           << headers[i] << "</th>";
     }
     h << "</tr></thead><tbody>";
-    for (const auto& r : results) {
+    // Failures first, each group by name: what a reader opens the report for is on top; a
+    // click on a header sorts otherwise.
+    std::vector<const json*> rows;
+    for (const auto& r : results) rows.push_back(&r);
+    std::stable_partition(rows.begin(), rows.end(),
+                          [](const json* r) { return failed(r->value("status", "")); });
+    for (const json* row : rows) {
+        const json& r = *row;
         const std::string name = r.value("case", "");
         const std::string st = r.value("status", "");
         const json c = r.value("comparison", json::object());

@@ -652,15 +652,7 @@ RunSummary run_suite(const RunOptions& options, std::ostream& console) {
     if (!std::filesystem::exists(results_path)) harness::write_file_atomically(results_path, "");
 
     RunSummary s;
-    const auto count = [&](harness::CaseStatus st) {
-        if (st == harness::CaseStatus::NotSupported) {
-            ++s.skipped;
-        } else if (harness::counts_as_failure(st)) {
-            ++s.failed;
-        } else {
-            ++s.passed;
-        }
-    };
+    const auto count = [&](harness::CaseStatus st) { s.add(st); };
     std::size_t finished = 0;
     for (const auto& c : cases) {
         if (const auto it = done.find(c.name); it != done.end()) {
@@ -739,7 +731,9 @@ RunSummary run_suite(const RunOptions& options, std::ostream& console) {
         if (harness::counts_as_failure(r.status) || !options.progress) {
             if (options.progress) console << "\r\033[K";
             // The name is a checked case name; the message may quote a path or a scene's text.
-            console << to_string(r.status) << " " << r.name;
+            console << reported_status(harness::to_string(r.status),
+                                       r.raw_status ? harness::to_string(*r.raw_status) : "")
+                    << " " << r.name;
             if (!r.message.empty()) console << ": " << harness::encode::terminal(r.message);
             if (!r.explanation_rule.empty())
                 console << " [" << harness::encode::terminal(r.explanation_rule) << "]";
@@ -750,7 +744,30 @@ RunSummary run_suite(const RunOptions& options, std::ostream& console) {
     write_reports(options.output, cases.size());
     console << "results: " << shown(results_path)
             << "; report: " << shown(options.output / "index.html") << "\n";
-    console << s.passed << " passed, " << s.failed << " failed, " << s.skipped << " skipped\n";
+    console << s.line() << "\n";
+    return s;
+}
+
+void RunSummary::add(harness::CaseStatus st) {
+    using harness::CaseStatus;
+    if (st == CaseStatus::NotSupported) {
+        ++skipped;
+    } else if (harness::counts_as_failure(st)) {
+        ++failed;
+    } else if (st == CaseStatus::ExpectedFail) {
+        ++expected;
+    } else if (st == CaseStatus::Flake || st == CaseStatus::KnownFlake) {
+        ++flaky;
+    } else {
+        ++passed;
+    }
+}
+
+std::string RunSummary::line() const {
+    std::string s = std::to_string(passed) + " passed, " + std::to_string(failed) + " failed, " +
+                    std::to_string(skipped) + " skipped";
+    if (expected > 0) s += ", " + std::to_string(expected) + " failed as the baseline expects";
+    if (flaky > 0) s += ", " + std::to_string(flaky) + " flaky";
     return s;
 }
 

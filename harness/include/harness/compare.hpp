@@ -47,16 +47,18 @@ struct ChannelDifference {
     std::uint32_t channel = 0;          // 0..3 = r, g, b, a
     std::array<double, 4> reference{};  // both pixels' values, in the format's own units
     std::array<double, 4> actual{};
-    std::uint32_t sample = 0;  // compare_samples: the sample of pixel (x, y); 0 otherwise
+    std::uint32_t sample = 0;   // compare_samples: the sample of pixel (x, y); 0 otherwise
+    bool float_values = false;  // rgba32f: `amount` counts ULPs between float values
 };
 
 struct DepthDifference {
     std::uint64_t amount = 0;  // |a - b| of the integer values (z32f: ULPs)
     std::uint32_t x = 0;
     std::uint32_t y = 0;
-    std::uint32_t reference = 0;
+    std::uint32_t reference = 0;  // the stored values (z32f: a float's bits)
     std::uint32_t actual = 0;
     std::uint32_t sample = 0;  // compare_samples: the sample of pixel (x, y); 0 otherwise
+    bool float_bits = false;   // z32f: reference and actual are float bits, `amount` ULPs
 };
 
 struct Comparison {

@@ -85,6 +85,9 @@ struct Explanation {
     // "violation: <rule broken (section)>"; empty when no variation is named.
     std::string standing;
     std::string verdict;
+    // The GL verdict at the pixel (gl_verdict.hpp's at_pixel), when the caller judged it; the
+    // text's "GL:" line and the JSON's "gl_verdict".
+    std::string gl_verdict;
 };
 
 // A pixel outside the target (a usage error, not a rendering failure).

@@ -272,7 +272,7 @@ std::string utc_now() {
 }
 
 // The workloads a run measures, in order, each once: the names asked for (or the standard
-// eight), then with `scaling` each scaling workload after its counterpart.
+// ones), then with `scaling` each scaling workload after its counterpart.
 std::vector<std::string> bench_run_names(const BenchOptions& options) {
     std::vector<std::string> names;
     const auto add = [&](const std::string& n) {

@@ -287,6 +287,8 @@ std::string to_json_line(const CaseResult& r) {
                               {"channel", c.max_color->channel},
                               {"reference", channels_json(c.max_color->reference)},
                               {"actual", channels_json(c.max_color->actual)}};
+            // rgba32f: the amount counts ULPs between the float values.
+            if (c.max_color->float_values) k["max_color"]["units"] = "ULPs";
         }
         if (c.max_depth) {
             k["max_depth"] = {{"amount", c.max_depth->amount},
@@ -294,6 +296,8 @@ std::string to_json_line(const CaseResult& r) {
                               {"y", c.max_depth->y},
                               {"reference", c.max_depth->reference},
                               {"actual", c.max_depth->actual}};
+            // z32f: reference and actual are the floats' bits, the amount ULPs between them.
+            if (c.max_depth->float_bits) k["max_depth"]["units"] = "ULPs";
         }
         if (r.sample_comparison) {
             const SampleComparison& m = *r.sample_comparison;
@@ -323,6 +327,7 @@ std::string to_json_line(const CaseResult& r) {
                                          {"channel", m.max_color->channel},
                                          {"reference", channels_json(m.max_color->reference)},
                                          {"actual", channels_json(m.max_color->actual)}};
+                if (m.max_color->float_values) k["max_sample_color"]["units"] = "ULPs";
             }
             if (m.max_depth) {
                 k["max_sample_depth"] = {{"amount", m.max_depth->amount},
@@ -331,6 +336,7 @@ std::string to_json_line(const CaseResult& r) {
                                          {"sample", m.max_depth->sample},
                                          {"reference", m.max_depth->reference},
                                          {"actual", m.max_depth->actual}};
+                if (m.max_depth->float_bits) k["max_sample_depth"]["units"] = "ULPs";
             }
         }
         j["comparison"] = k;

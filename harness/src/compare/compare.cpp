@@ -4,6 +4,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <sstream>
 
@@ -190,12 +191,14 @@ Comparison compare_classified(const refraster::Framebuffer& ref, const refraster
                     m.reference[k] = is8 ? ref.color8[j] : double{ref.color32f[j]};
                     m.actual[k] = is8 ? act.color8[j] : double{act.color32f[j]};
                 }
+                m.float_values = !is8;
                 c.max_color = m;
             }
             if (px.depth_difference > 0 &&
                 (!c.max_depth || px.depth_difference > c.max_depth->amount)) {
                 c.max_depth =
                     DepthDifference{px.depth_difference, x, y, ref.depth[slot], act.depth[slot]};
+                c.max_depth->float_bits = ref.depth_format == refraster::DepthFormat::Z32f;
             }
             switch (px.cls) {
                 case PixelClass::Equal:
@@ -336,6 +339,62 @@ PixelClass SampleComparison::class_at(std::uint32_t x, std::uint32_t y, std::uin
     return classes[(std::size_t{y} * w + x) * samples + s];
 }
 
+namespace {
+
+// A float as the fewest digits that read back as it (0.1f is "0.1", not 0.100000001).
+std::string float_text(double v) {
+    const auto f = static_cast<float>(v);
+    std::ostringstream t;
+    for (int digits = 1; digits <= std::numeric_limits<float>::max_digits10; ++digits) {
+        t.str("");
+        t.precision(digits);
+        t << f;
+        if (!std::isfinite(f) || std::strtof(t.str().c_str(), nullptr) == f) break;
+    }
+    return t.str();
+}
+
+// "colour error 3 @ (x, y, G): reference 1,2,3,4, backend 1,2,6,4" (rgba8 units), or with
+// "ULPs" and the float values (rgba32f); the sample after the pixel when `sampled`.
+std::string color_error_text(const ChannelDifference& m, bool sampled) {
+    static const char* names[] = {"R", "G", "B", "A"};
+    std::ostringstream s;
+    s << "colour error " << m.amount << (m.float_values ? " ULPs" : "") << " @ (" << m.x << ", "
+      << m.y;
+    if (sampled) s << ", sample " << m.sample;
+    s << ", " << names[m.channel & 3] << "): reference ";
+    const auto values = [&](const std::array<double, 4>& v) {
+        for (std::size_t k = 0; k < 4; ++k) {
+            s << (k ? "," : "");
+            if (m.float_values) {
+                s << float_text(v[k]);
+            } else {
+                s << static_cast<int>(v[k]);
+            }
+        }
+    };
+    values(m.reference);
+    s << ", backend ";
+    values(m.actual);
+    return s.str();
+}
+
+// "depth error 2 @ (x, y): reference 1000, backend 1002" (the stored integers), or with "ULPs"
+// and the float values (z32f).
+std::string depth_error_text(const DepthDifference& m, bool sampled) {
+    std::ostringstream s;
+    s << "depth error " << m.amount << (m.float_bits ? " ULPs" : "") << " @ (" << m.x << ", "
+      << m.y;
+    if (sampled) s << ", sample " << m.sample;
+    const auto value = [&](std::uint32_t v) {
+        return m.float_bits ? float_text(std::bit_cast<float>(v)) : std::to_string(v);
+    };
+    s << "): reference " << value(m.reference) << ", backend " << value(m.actual);
+    return s.str();
+}
+
+}  // namespace
+
 std::string SampleComparison::summary() const {
     if (size_mismatch) return "the samples differ in count, size or format";
     std::ostringstream s;
@@ -350,20 +409,8 @@ std::string SampleComparison::summary() const {
         if (classified_by_owners) s << ", other primitive " << coverage;
         s << ", colour only " << color_only << ", depth only " << depth_only << ")";
     }
-    if (max_color) {
-        static const char* names[] = {"R", "G", "B", "A"};
-        s << "; max sample colour error " << max_color->amount << " @ (" << max_color->x << ", "
-          << max_color->y << ", sample " << max_color->sample << ", " << names[max_color->channel]
-          << ") values are ";
-        for (std::size_t k = 0; k < 4; ++k) s << (k ? "," : "") << max_color->reference[k];
-        s << " vs ";
-        for (std::size_t k = 0; k < 4; ++k) s << (k ? "," : "") << max_color->actual[k];
-    }
-    if (max_depth) {
-        s << "; max sample depth error " << max_depth->amount << " @ (" << max_depth->x << ", "
-          << max_depth->y << ", sample " << max_depth->sample << ") values are "
-          << max_depth->reference << " vs " << max_depth->actual;
-    }
+    if (max_color) s << "; max sample " << color_error_text(*max_color, true);
+    if (max_depth) s << "; max sample " << depth_error_text(*max_depth, true);
     return s.str();
 }
 
@@ -377,18 +424,8 @@ std::string Comparison::summary() const {
         if (classified_by_owners) s << ", other primitive " << coverage;
         s << ", colour only " << color_only << ", depth only " << depth_only << ")";
     }
-    if (max_color) {
-        static const char* names[] = {"R", "G", "B", "A"};
-        s << "; max colour error " << max_color->amount << " @ (" << max_color->x << ", "
-          << max_color->y << ", " << names[max_color->channel] << ") values are ";
-        for (std::size_t k = 0; k < 4; ++k) s << (k ? "," : "") << max_color->reference[k];
-        s << " vs ";
-        for (std::size_t k = 0; k < 4; ++k) s << (k ? "," : "") << max_color->actual[k];
-    }
-    if (max_depth) {
-        s << "; max depth error " << max_depth->amount << " @ (" << max_depth->x << ", "
-          << max_depth->y << ") values are " << max_depth->reference << " vs " << max_depth->actual;
-    }
+    if (max_color) s << "; max " << color_error_text(*max_color, false);
+    if (max_depth) s << "; max " << depth_error_text(*max_depth, false);
     return s.str();
 }
 

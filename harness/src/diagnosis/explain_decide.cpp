@@ -562,8 +562,8 @@ Explanation Explainer::explain(int x, int y, bool full) {
             break;
         case PixelClass::DepthOnly:
             what = "the colours agree at " + px + " and the depth values differ by " +
-                   std::to_string(cls.depth_difference) + " (" +
-                   std::to_string(e.reference_depth.value_or(0)) + " vs " +
+                   std::to_string(cls.depth_difference) + " (reference " +
+                   std::to_string(e.reference_depth.value_or(0)) + ", backend " +
                    std::to_string(e.backend_depth.value_or(0)) + ")";
             break;
         case PixelClass::Equal:

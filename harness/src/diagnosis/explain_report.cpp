@@ -273,9 +273,14 @@ std::string explanation_json(const Explanation& e) {
     j["agree"] = e.agree;
     j["reference"] = {{"color", e.reference_color}};
     if (e.reference_depth) j["reference"]["depth"] = *e.reference_depth;
+    if (!e.gl_verdict.empty()) j["gl_verdict"] = e.gl_verdict;
     if (e.backend) {
+        // Which implementation drew it: the backend's own record of itself (renderer, driver,
+        // versions, the environment that chose it).
         j["backend"] = {{"color", e.backend_color}};
         if (e.backend_depth) j["backend"]["depth"] = *e.backend_depth;
+        auto& pv = j["backend"]["provenance"] = nlohmann::ordered_json::object();
+        for (const auto& [k, v] : e.backend->provenance) pv[k] = v;
     }
     const auto samples_json = [](const std::vector<std::array<float, 4>>& colors,
                                  const std::vector<std::optional<std::uint32_t>>& depths) {

@@ -163,8 +163,13 @@ ReduceResult reduce_scene(const SceneFile& scene, const std::string& label,
                                       ? ": no mismatch of the kind asked for; nothing to reduce"
                                       : ": the scene matches the backend; nothing to reduce"));
     }
-    log << "signature: a " << r.signature << " mismatch"
-        << "\n";
+    // "class: rule": the kind of difference and the rule explain names for it; every step
+    // keeps both.
+    const auto colon = r.signature.find(": ");
+    log << "signature: " << r.signature << " (a " << r.signature.substr(0, colon)
+        << " difference that explain puts down to "
+        << (colon == std::string::npos ? std::string("no rule") : r.signature.substr(colon + 2))
+        << "; every step keeps it)\n";
 
     std::vector<Piece> pieces;
     for (std::size_t d = 0; d < scene.draws.size(); ++d) {
@@ -217,8 +222,10 @@ ReduceResult reduce_scene(const SceneFile& scene, const std::string& label,
 
     // Coordinates to coarser binary grids, one vertex coordinate at a time.
     SceneFile best = assemble(scene, pieces);
-    for (auto& d : best.draws) {
-        for (auto& v : d.vertices) {
+    for (std::size_t di = 0; di < best.draws.size(); ++di) {
+        auto& d = best.draws[di];
+        for (std::size_t vi = 0; vi < d.vertices.size(); ++vi) {
+            auto& v = d.vertices[vi];
             for (std::uint32_t k = 0; k < v.position_size; ++k) {
                 for (float grid : {1.0f, 0.5f, 0.25f, 1.0f / 16, 1.0f / 256}) {
                     const float old = v.position[k];
@@ -226,8 +233,10 @@ ReduceResult reduce_scene(const SceneFile& scene, const std::string& label,
                     if (rounded == old) break;
                     v.position[k] = rounded;
                     if (oracle.signature(best) == r.signature) {
-                        log << "step " << ++step << ": a coordinate " << old << " -> " << rounded
-                            << "\n";
+                        log << "step " << ++step << ": draws[" << di << "].vertices[" << vi
+                            << "].position "
+                            << "xyzw"[k & 3] << " " << old << " -> " << rounded
+                            << " (to a multiple of " << grid << ")\n";
                         break;
                     }
                     v.position[k] = old;

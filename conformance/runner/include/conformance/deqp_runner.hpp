@@ -28,6 +28,11 @@ std::optional<std::string> deqp_runner_word(std::string_view word);
 // UnexpectedImprovement(Pass), UnexpectedImprovement is UnexpectedImprovement(its raw status).
 std::string deqp_runner_status(std::string_view status, std::string_view raw_status);
 
+// The one word the console, the CSVs and JUnit give a status: deqp-runner's for a baseline's
+// verdicts (UnexpectedImprovement(Pass), not UnexpectedPass), this project's otherwise
+// (NotSupported and InternalError say more than Skip and Fail; results.csv maps them).
+std::string reported_status(std::string_view status, std::string_view raw_status);
+
 // deqp-runner's RunnerStatus::is_success: Pass, Skip, Warn, Flake, KnownFlake, ExpectedFail.
 bool deqp_runner_is_success(std::string_view word);
 

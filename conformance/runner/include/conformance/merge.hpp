@@ -7,7 +7,8 @@
 // missing, then writing results.jsonl (the records, byte for byte), the images and explain
 // views, and every report of reports.hpp into the output directory, as the unsharded run
 // writes them. A missing shard does not stop the merge: its cases are absent from the report
-// and the merge says so (merge.txt and the summary).
+// and the merge says so (merge.txt and the summary). The console's last line is run's: "N
+// passed, M failed, K skipped".
 //
 // Deliberately does not: run or re-run anything, or merge runs whose shards came from
 // different selections (a case in two shards is refused; a selection cannot be checked
@@ -20,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "conformance/suite.hpp"
 #include "refraster/error.hpp"
 
 namespace conformance {
@@ -32,6 +34,7 @@ class MergeError : public refraster::Error {
 
 struct MergeSummary {
     std::size_t cases = 0;
+    RunSummary counts;  // the merged records' statuses, counted as `run` counts them
     int shard_count = 1;
     std::vector<int> missing_shards;  // indexes in [0, shard_count) no directory holds
 };

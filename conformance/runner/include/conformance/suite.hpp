@@ -101,9 +101,16 @@ struct RunOptions {
 };
 
 struct RunSummary {
-    std::size_t passed = 0;   // Pass, ExpectedFail, Flake, KnownFlake
-    std::size_t failed = 0;   // Fail, Crash, Timeout, InternalError, Unexpected*
-    std::size_t skipped = 0;  // NotSupported
+    std::size_t passed = 0;    // Pass
+    std::size_t failed = 0;    // Fail, Crash, Timeout, InternalError, Unexpected*
+    std::size_t skipped = 0;   // NotSupported
+    std::size_t expected = 0;  // ExpectedFail: failed as the baseline lists
+    std::size_t flaky = 0;     // Flake, KnownFlake: failed, then passed alone
+    void add(harness::CaseStatus st);
+    // "N passed, M failed, K skipped", then ", E failed as the baseline expects" and ", F
+    // flaky" when there are any: the last line `run` and `merge` print. The counts add up to
+    // the cases finished.
+    std::string line() const;
 };
 
 // Runs the suite; throws std::runtime_error for a problem with the run itself (no scenes
