@@ -37,7 +37,7 @@ shot() {  # URL OUT.png WIDTH,HEIGHT
     --user-data-dir="$out/chrome" --virtual-time-budget=3000 --window-size="$3" \
     --screenshot="$2" "$1" >/dev/null 2>&1
 }
-shot "file://$out/bresenham/index.html#step=40&pixel=22,16" "$dest/page-bresenham.png" 1200,1100
-shot "file://$out/scanline-evenodd/index.html#step=12&pixel=24,23" "$dest/page-scanline.png" \
+shot "file://$out/bresenham/index.html#step=41&pixel=22,16" "$dest/page-bresenham.png" 1200,1100
+shot "file://$out/scanline-evenodd/index.html#step=13&pixel=24,23" "$dest/page-scanline.png" \
   1200,1100
 ls -l "$dest"

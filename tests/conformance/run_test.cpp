@@ -162,6 +162,19 @@ TEST(HtmlReport, EveryLinkResolvesFromAnyOutputFolder) {
         }
     }
     EXPECT_GT(checked, 10u);
+    // A summary says why the failures failed: the flipped tie rule's cases grouped under the
+    // rule explain names, linked; and the worst cases by mismatched pixels.
+    {
+        const std::string idx = testutil::read_text(out / "index.html");
+        const auto table = idx.find("id=\"failures-by-verdict\"");
+        ASSERT_NE(table, std::string::npos);
+        EXPECT_TRUE(std::regex_search(
+            idx.substr(table, idx.find("</table>", table) - table),
+            std::regex(
+                R"(<td>coverage: tie rule</td><td class="num">\d+</td><td><a href="cases/)")))
+            << idx.substr(table, 800);
+        EXPECT_NE(idx.find("id=\"worst-cases\"><li><a href=\"cases/"), std::string::npos);
+    }
     // The case table lists the failures first (the run has both).
     const std::string index = testutil::read_text(out / "index.html");
     const std::regex row(R"re(<tr data-status="([A-Za-z]+)")re");
@@ -881,6 +894,42 @@ window.addEventListener('load', function () {
     return dom.substr(start, dom.find("</pre>", start) - start);
 }
 
+// The explain picture, laid out by Chromium: nothing past a 1,280 px window and no two text boxes
+// overlapping (the verdict used to be one line cut at the right edge, and the legend's entries
+// ran into each other); every primitive and every snapped edge labelled as the text names them;
+// both sides' values in the captions.
+TEST(HtmlReport, ChromiumExplainPictureFitsAndLabelsWhatTheTextNames) {
+    testutil::TempDir dir;
+    const std::string scene = std::string(REFRASTER_SOURCE_DIR) +
+                              "/conformance/scenes/triangles/coverage/square_through_centres.json";
+    for (const char* pixel : {"10,10", "0,0", "12,20"}) {
+        SCOPED_TRACE(pixel);
+        const auto svg = dir.path() / (std::string("e") + pixel[0] + pixel[1] + ".svg");
+        const auto r = testutil::run_cli({"explain", scene, "--pixel", pixel, "--profile-set",
+                                          "tie_rule=right-top", "--svg", svg.string()});
+        ASSERT_TRUE(r.exit_code == 0 || r.exit_code == 1) << r.err;
+        const std::string text = testutil::read_text(svg);
+        const auto count = [&](const std::string& what) {
+            std::size_t n = 0;
+            for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + 1))
+                ++n;
+            return n;
+        };
+        EXPECT_EQ(count("class=\"edge-label\""), count("class=\"edge-direction\""));
+        EXPECT_EQ(count("class=\"primitive-label\""),
+                  count("class=\"snapped\"") + count("class=\"unsnapped\""));
+        EXPECT_NE(text.find("): reference "), std::string::npos);
+        EXPECT_NE(text.find("; backend "), std::string::npos);
+        const auto page = dir.path() / (svg.stem().string() + ".html");
+        std::ofstream(page) << "<!DOCTYPE html><html><body style=\"margin:8px\">" << text
+                            << "</body></html>\n";
+        const std::string probe = layout_probe(page, dir.path() / "chrome");
+        ASSERT_NE(probe, "no probe") << "(is the chromium package installed?)";
+        EXPECT_NE(probe.find("outside=0 "), std::string::npos) << probe;
+        EXPECT_NE(probe.find("overlaps=0 "), std::string::npos) << probe;
+    }
+}
+
 // The index and a failing case's page fit a 1,280 px window: nothing reaches past its right
 // edge (the profile's rule string and the case table used to), and no two text boxes overlap.
 TEST(HtmlReport, ChromiumLayoutFitsA1280PixelWindow) {
@@ -1011,6 +1060,21 @@ TEST(HtmlReport, ChromiumCasePageOutlinesThePixelInEveryImage) {
     EXPECT_NE(page.find("pixel (12, 20)"), std::string::npos);
     EXPECT_NE(page.find("--pixel 12,20"), std::string::npos);
     EXPECT_NE(page.find("display: block"), std::string::npos);  // the outlines are shown
+    // The readout gives both sides' values there, as the images hold them.
+    {
+        const auto value = [&](const char* who) {
+            const auto img = harness::read_color_image(
+                out / "images" /
+                (std::string("triangles.coverage.square_through_centres.") + who + ".png"));
+            const std::size_t i = 4 * img.index(12, 20);
+            return std::to_string(img.color8[i]) + ", " + std::to_string(img.color8[i + 1]) + ", " +
+                   std::to_string(img.color8[i + 2]) + ", " + std::to_string(img.color8[i + 3]);
+        };
+        EXPECT_NE(page.find("pixel (12, 20): reference " + value("ref")), std::string::npos)
+            << page.substr(page.find("pixel-readout"), 300);
+        EXPECT_NE(page.find("; backend " + value("osmesa-llvmpipe")), std::string::npos)
+            << page.substr(page.find("pixel-readout"), 300);
+    }
 
     const auto shot = dir.path() / "case.png";
     const std::string cmd =

@@ -280,13 +280,17 @@ class TeachPageChromium : public ::testing::Test {
     std::filesystem::path page_;
 };
 
+// #step=K opens the page's Step K, counted from 1 as the page counts (step=0 and 1 both open the
+// first; before, #step=K was the 0-based index and opened Step K+1).
 TEST_F(TeachPageChromium, TheHashOpensAtAStep) {
-    std::string d = dom("step=0");
+    std::string d = dom("step=1");
     EXPECT_EQ(text_of(d, "step-index"), "0");
     EXPECT_EQ(text_of(d, "step-title"), title(0));
     EXPECT_EQ(text_of(d, "step-number"), "1");
     EXPECT_NE(d.find("<td>span</td><td>1..14</td>"), std::string::npos);  // the state table
-    d = dom("step=2");
+    EXPECT_EQ(text_of(dom("step=0"), "step-index"), "0");
+    d = dom("step=3");
+    EXPECT_EQ(text_of(d, "step-number"), "3");
     EXPECT_EQ(text_of(d, "step-index"), "2");
     EXPECT_EQ(text_of(d, "step-title"), title(2));
     EXPECT_NE(d.find("<td>y</td><td>6</td>"), std::string::npos);
@@ -353,7 +357,7 @@ bool has_colour(const std::vector<std::uint8_t>& px, int r, int g, int b) {
 }
 
 TEST_F(TeachPageChromium, SteppingRedrawsTheAlgorithmsImageOnly) {
-    const std::string d = dom("step=0");
+    const std::string d = dom("step=1");
     const std::string alg_rect = attribute(d, "img-algorithm", "data-rect");
     const std::string gl_rect = attribute(d, "img-gl", "data-rect");
     const std::string mask_rect = attribute(d, "img-mask", "data-rect");
@@ -367,8 +371,8 @@ TEST_F(TeachPageChromium, SteppingRedrawsTheAlgorithmsImageOnly) {
         EXPECT_EQ(std::system(cmd.c_str()), 0);
         return harness::read_color_image(path);
     };
-    const auto first = shoot("step=0", "first.png");
-    const auto last = shoot("step=4", "last.png");
+    const auto first = shoot("step=1", "first.png");
+    const auto last = shoot("step=5", "last.png");
     const auto a0 = crop(first, alg_rect), a1 = crop(last, alg_rect);
     ASSERT_FALSE(a0.empty()) << alg_rect;
     ASSERT_EQ(a0.size(), a1.size());

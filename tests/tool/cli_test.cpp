@@ -3,6 +3,7 @@
 
 #include <cctype>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "harness/bench.hpp"
@@ -314,6 +315,40 @@ const char* kTexturedScene = R"({"format": "refraster-scene/1", "requires": ["te
     "vertices": [{"position": [0, 0], "texcoord": [0, 0]}, {"position": [8, 0], "texcoord": [1, 0]},
                  {"position": [0, 8], "texcoord": [0, 1]}, {"position": [8, 0], "texcoord": [1, 0]},
                  {"position": [8, 8], "texcoord": [1, 1]}, {"position": [0, 8], "texcoord": [0, 1]}]}]})";
+
+// Explain writes down its arithmetic: the corners' order after setup's swap, the area's sign
+// convention against GL's winding, and the edge function's formula, which the printed values
+// obey (checked on every edge of the JSON trace).
+TEST(Cli, ExplainStatesTheWindingOrderAndEdgeFormula) {
+    const std::string scene =
+        std::string(REFRASTER_SOURCE_DIR) +
+        "/conformance/scenes/triangles/coverage/shared_edge_slope_half_ccw.json";
+    const auto t = testutil::run_cli({"explain", scene, "--pixel", "12,15", "--no-backend"});
+    EXPECT_EQ(t.exit_code, 0) << t.err;
+    EXPECT_NE(t.out.find("negative, counter-clockwise in GL's window space, y up): front-facing"),
+              std::string::npos)
+        << t.out;
+    EXPECT_NE(t.out.find("corners in setup's order: window vertices 1, 0, 2"), std::string::npos)
+        << t.out;
+    EXPECT_NE(t.out.find("E = c - a x + b y"), std::string::npos) << t.out;
+    const auto j =
+        testutil::run_cli({"explain", scene, "--pixel", "12,15", "--no-backend", "--json"});
+    const auto trace = nlohmann::json::parse(j.out);
+    int edges = 0;
+    for (const auto& p : trace["primitives"]) {
+        for (const auto& s : p["setups"]) {
+            const std::int64_t unit = std::int64_t{1} << s["subpixel_bits"].get<int>();
+            const std::int64_t x = 12 * unit, y = 15 * unit;  // the pixel centre, centre at 0
+            for (const auto& e : s["edges"]) {
+                const auto a = e["a"].get<std::int64_t>(), b = e["b"].get<std::int64_t>();
+                EXPECT_EQ(e["value"].get<std::int64_t>(),
+                          e["c"].get<std::int64_t>() - a * x + b * y);
+                ++edges;
+            }
+        }
+    }
+    EXPECT_EQ(edges, 6);
+}
 
 TEST(Cli, ExplainShowsTheSamplersDecisionsAndTheTexelGrid) {
     testutil::TempDir dir;

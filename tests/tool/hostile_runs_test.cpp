@@ -107,7 +107,7 @@ TEST(HostileRuns, ScenePathCannotEndTheCasePageScript) {
     write_records(shard / "results.jsonl", rs);
     const fs::path merged = dir.path() / "merged";
     const auto m = cli({"conformance", "merge", shard.string(), "--output", merged.string()});
-    ASSERT_EQ(m.exit_code, 0) << m.out << m.err;
+    ASSERT_EQ(m.exit_code, 1) << m.out << m.err;  // merged whole; its case failed, as in the run
     expect_script_intact(testutil::read_text(merged / "cases" / "t.tie.html"));
 }
 
@@ -148,10 +148,12 @@ TEST(HostileRuns, ControlCharactersInPathsReachNoReportOrTerminalRaw) {
     EXPECT_EQ(testutil::read_text(out / "cases" / "t.named.html").find('\x1b'), std::string::npos);
     const std::string csv = testutil::read_text(out / "results.csv");
     EXPECT_EQ(count(csv, "\n"), 4u) << csv;
-    // The run merges as it is: the case that rendered nothing is of the same run as the others.
+    // The run merges as it is: the case that rendered nothing is of the same run as the others
+    // (exit 1 as the run's: some cases failed).
     const auto m =
         cli({"conformance", "merge", out.string(), "--output", (dir.path() / "merged").string()});
-    EXPECT_EQ(m.exit_code, 0) << m.out << m.err;
+    EXPECT_EQ(m.exit_code, 1) << m.out << m.err;
+    EXPECT_NE(m.out.find(" passed, "), std::string::npos) << m.out;
     EXPECT_EQ(testutil::read_text(dir.path() / "merged" / "results.csv"), csv);
     EXPECT_EQ(m.out.find('\x1b'), std::string::npos) << m.out;
 }

@@ -26,6 +26,23 @@ Taught teach(const std::filesystem::path& scene, const std::string& algorithm,
     return t;
 }
 
+// "Reproduce this page" gives every option that chose the page's GL image and pictures (before,
+// --against, --driver, --profile-set and --zoom were dropped).
+TEST(Teach, ReproduceCommandKeepsEveryOption) {
+    testutil::TempDir dir;
+    const auto out = dir.path() / "t";
+    const auto r = testutil::run_cli({"teach", (kSource / "examples/teach/lines_fan.json").string(),
+                                      "--algorithm", "bresenham", "--profile-set",
+                                      "tie_rule=right-top", "--profile-set", "line_rule=bresenham",
+                                      "--zoom", "4", "--output", out.string()});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto page = testutil::read_text(out / "index.html");
+    EXPECT_NE(page.find("--algorithm bresenham --profile-set tie_rule=right-top --profile-set "
+                        "line_rule=bresenham --zoom 4 --output"),
+              std::string::npos)
+        << page.substr(page.find("Reproduce this page"), 400);
+}
+
 const json* difference_at(const json& data, int x, int y) {
     for (const auto& d : data["differences"]) {
         if (d["x"] == x && d["y"] == y) return &d;
@@ -122,6 +139,27 @@ TEST(Teach, NamesTheKnownCauses) {
     }
     EXPECT_GT(owned, 10);
     EXPECT_GT(not_owned, 10);
+    // Each edge function is written as an expression with its units, signs merged: never
+    // "c 1 - -2816 x + -2816 y".
+    int functions = 0, biased = 0;
+    for (const auto& st : half.data["steps"]) {
+        for (const auto& kv : st["state"]) {
+            const auto key = kv[0].get<std::string>();
+            const auto value = kv[1].get<std::string>();
+            // A pixel's value shows the tie bias apart, never a bare "1" on an owned edge.
+            if (key.size() == 7 && key.substr(2) == " here") {
+                biased += value.find(" + 1 (tie bias) = ") != std::string::npos;
+                continue;
+            }
+            if (key.size() != 2 || key[0] != 'E') continue;
+            EXPECT_EQ(value.find("- -"), std::string::npos) << value;
+            EXPECT_EQ(value.find("+ -"), std::string::npos) << value;
+            EXPECT_NE(value.find("in 1/256 px"), std::string::npos) << value;
+            ++functions;
+        }
+    }
+    EXPECT_GE(functions, 3);
+    EXPECT_GT(biased, 10);  // centres on owned edges: "0 + 1 (tie bias) = 1", not a bare 1
 
     const auto painter =
         teach(kSource / "examples/teach/pinwheel_depth.json", "painter", dir.path() / "p");

@@ -4,11 +4,13 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cstdint>
 #include <filesystem>
 #include <iostream>
 #include <memory>
 #include <new>
+#include <string_view>
 #include <vector>
 
 #include "commands/commands.hpp"
@@ -102,7 +104,35 @@ int run_teach(TeachArgs a) {
     const std::string source = a.against == "ref"
                                    ? "the reference rasterizer, profile " + prov("profile")
                                    : backend->name() + " (" + prov("renderer") + ")";
-    const auto data = harness::teach_json(r, *scene, a.scene, source);
+    auto data = harness::teach_json(r, *scene, a.scene, source);
+    // The options that chose this page's GL image and pictures, for its "Reproduce this page"
+    // command (defaults left out), each a shell word.
+    {
+        const auto word = [](const std::string& w) {
+            const bool plain = !w.empty() && std::all_of(w.begin(), w.end(), [](char c) {
+                return std::isalnum(static_cast<unsigned char>(c)) != 0 ||
+                       std::string_view("_./=,:+@%-").find(c) != std::string_view::npos;
+            });
+            if (plain) return w;
+            std::string q = "'";
+            for (char c : w) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+            return q + "'";
+        };
+        std::string options;
+        const auto add = [&](const char* flag, const std::string& value) {
+            options += std::string(" ") + flag + " " + word(value);
+        };
+        if (!a.scene_args.texture_root.empty()) add("--texture-root", a.scene_args.texture_root);
+        if (a.against != "ref") add("--against", a.against);
+        if (!a.backend.driver.empty()) add("--driver", a.backend.driver);
+        if (!a.backend.mesa_prefix.empty()) add("--mesa-prefix", a.backend.mesa_prefix);
+        if (!a.backend.egl_device.empty()) add("--egl-device", a.backend.egl_device);
+        if (a.backend.profile.profile != ProfileArgs{}.profile)
+            add("--profile", a.backend.profile.profile);
+        for (const auto& o : a.backend.profile.overrides) add("--profile-set", o);
+        if (a.zoom != TeachArgs{}.zoom) add("--zoom", std::to_string(a.zoom));
+        data["command_options"] = options;
+    }
     const std::filesystem::path dir(a.output);
     const int w = r.width;
     const auto at = [&](const std::vector<std::uint8_t>& rgba, int x, int y) {

@@ -658,6 +658,15 @@ std::string case_page(const json& r, const FileExists& exists) {
     };
     provenance("reference", "Reference provenance");
     provenance("actual", "Backend provenance");
+    // Both sides' values under the pointer, when the run wrote them (images/NAME.values.js: a
+    // failed case of up to 256 x 256 pixels).
+    if (exists("images/" + name + ".values.js")) {
+        h << "<script>var caseValues = null; function refrasterCaseValues(v) { caseValues = v; "
+             "}</script><script src=\"../images/"
+          << markup::escape(name) << ".values.js\"></script>";
+    } else {
+        h << "<script>var caseValues = null;</script>";
+    }
     // Zoom, and the pixel under the pointer: its coordinates (GL's, y up), the same pixel
     // outlined in every image, and the command that explains it.
     std::string template_command;
@@ -675,6 +684,32 @@ std::string case_page(const json& r, const FileExists& exists) {
          "  imgs.forEach(function (i) { if (i.naturalWidth) {\n"
          "    i.style.width = (i.naturalWidth * s * (+i.dataset.scale || 1)) + 'px'; } });\n"
          "}\n"
+         "// Both sides' values at (x, y) from caseValues (base64 colour and depth, row 0 at the\n"
+         "// bottom): bytes for rgba8, floats for rgba32f, integers for z16/z24, floats for z32f.\n"
+         "var decoded = {};\n"
+         "function plane(side, what) {\n"
+         "  var key = side + what; if (decoded[key] !== undefined) return decoded[key];\n"
+         "  var text = caseValues && caseValues[side] && caseValues[side][what];\n"
+         "  if (!text) return (decoded[key] = null);\n"
+         "  var raw = atob(text), b = new Uint8Array(raw.length);\n"
+         "  for (var i = 0; i < raw.length; ++i) b[i] = raw.charCodeAt(i);\n"
+         "  var floats = what === 'color' ? caseValues.color_format === 'rgba32f'\n"
+         "                                : caseValues.depth_format === 'z32f';\n"
+         "  return (decoded[key] = what === 'color' && !floats ? b :\n"
+         "      floats ? new Float32Array(b.buffer) : new Uint32Array(b.buffer));\n"
+         "}\n"
+         "function values(x, y) {\n"
+         "  if (!caseValues || x >= caseValues.width || y >= caseValues.height) return '';\n"
+         "  var i = y * caseValues.width + x, s = '';\n"
+         "  ['reference', 'backend'].forEach(function (side) {\n"
+         "    var c = plane(side, 'color'), d = plane(side, 'depth');\n"
+         "    if (!c) return;\n"
+         "    s += (s ? '; ' : ': ') + side + ' ' + Array.prototype.slice.call(c, 4 * i, 4 * i + "
+         "4)\n"
+         "        .join(', ') + (d ? ', depth ' + d[i] : '');\n"
+         "  });\n"
+         "  return s;\n"
+         "}\n"
          "function show(x, y) {\n"
          "  imgs.forEach(function (i) {\n"
          "    var c = i.parentNode.querySelector('.cursor'); if (!c || !i.naturalWidth) return;\n"
@@ -685,7 +720,7 @@ std::string case_page(const json& r, const FileExists& exists) {
          "    c.style.width = k + 'px'; c.style.height = k + 'px';\n"
          "  });\n"
          "  if (x < 0) return;\n"
-         "  readout.textContent = 'pixel (' + x + ', ' + y + ')';\n"
+         "  readout.textContent = 'pixel (' + x + ', ' + y + ')' + values(x, y);\n"
          "  if (template) command.innerHTML = 'Explain it: <code>' + template\n"
          "      .replace('77770,88880', x + ',' + y).replace(/&/g, '&amp;').replace(/</g, '&lt;')\n"
          "      + '</code>';\n"
@@ -881,6 +916,54 @@ std::vector<ReportFile> build_reports(const std::vector<std::string>& lines,
     }
     h << "<tr><th>finished</th><td class=\"num\">" << results.size() << " of " << selected_cases
       << "</td></tr></table>";
+    // Why the failures failed, at a glance: the failed cases grouped by what explain names (the
+    // class of difference and its rule), else by their status and message's kind; the largest
+    // group first, each with its first cases linked. Then the worst cases by mismatched pixels.
+    {
+        std::map<std::string, std::vector<std::string>> why;
+        std::vector<std::pair<std::uint64_t, std::string>> worst;
+        for (const auto& r : results) {
+            const std::string st = r.value("status", "");
+            if (!failed(st)) continue;
+            const std::string name = r.value("case", "");
+            std::string reason = st;
+            if (r.contains("explanation") && r["explanation"].is_object()) {
+                const auto& e = r["explanation"];
+                reason = e.value("difference", "") + ": " + e.value("rule", "");
+            }
+            why[reason].push_back(name);
+            worst.emplace_back(mismatched(r), name);
+        }
+        if (!why.empty()) {
+            std::vector<std::pair<std::string, std::vector<std::string>>> groups(why.begin(),
+                                                                                 why.end());
+            std::stable_sort(groups.begin(), groups.end(), [](const auto& a, const auto& b) {
+                return a.second.size() > b.second.size();
+            });
+            h << "<h2>Why cases failed</h2><table id=\"failures-by-verdict\"><tr><th>verdict "
+                 "(difference: rule, or status)</th><th>cases</th><th>first cases</th></tr>";
+            for (const auto& [reason, names] : groups) {
+                h << "<tr><td>" << markup::escape(reason) << "</td><td class=\"num\">"
+                  << names.size() << "</td><td>";
+                for (std::size_t i = 0; i < names.size() && i < 3; ++i) {
+                    h << (i ? ", " : "") << "<a href=\"cases/" << markup::escape(names[i])
+                      << ".html\">" << markup::escape(names[i]) << "</a>";
+                }
+                if (names.size() > 3) h << ", &hellip;";
+                h << "</td></tr>";
+            }
+            h << "</table>";
+            std::stable_sort(worst.begin(), worst.end(),
+                             [](const auto& a, const auto& b) { return a.first > b.first; });
+            h << "<h2>Worst cases</h2><ol id=\"worst-cases\">";
+            for (std::size_t i = 0; i < worst.size() && i < 5; ++i) {
+                h << "<li><a href=\"cases/" << markup::escape(worst[i].second) << ".html\">"
+                  << markup::escape(worst[i].second) << "</a>: " << worst[i].first
+                  << " mismatched pixels</li>";
+            }
+            h << "</ol>";
+        }
+    }
     // Counted as the console's summary line counts them (RunSummary): a case the baseline
     // expects to fail, or one that failed and then passed alone, is neither passed nor failed.
     h << "<h2>By area</h2><table "

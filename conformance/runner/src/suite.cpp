@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <ostream>
 #include <set>
+#include <span>
 #include <sstream>
 #include <stdexcept>
 
@@ -25,6 +26,7 @@
 #include "harness/gl_verdict.hpp"
 #include "harness/image_io.hpp"
 #include "harness/profile_io.hpp"
+#include "harness/scene_text.hpp"
 #include "record_check.hpp"
 #include "refraster/renderer.hpp"
 
@@ -433,6 +435,35 @@ harness::CaseResult run_one(const CaseFile& c, const harness::SceneLimits& limit
 
 // The case's images and explain view, each path checked to lie inside the output
 // (records.hpp).
+// A failed case's pixel values for its page's pointer readout (a page opened from file:// cannot
+// read its PNGs' pixels): both sides' colour and depth of every pixel, base64 in a script that
+// calls refrasterCaseValues({...}). Bounded to targets of up to 256 x 256 pixels (about 0.7 MB
+// for rgba8 with depth).
+constexpr std::size_t kMaxValuePixels = 256 * 256;
+
+std::string values_script(const refraster::Framebuffer& ref, const refraster::Framebuffer& act) {
+    const auto bytes = [](const auto& v) {
+        return harness::base64_text(std::span<const std::uint8_t>(
+            reinterpret_cast<const std::uint8_t*>(v.data()), v.size() * sizeof(v[0])));
+    };
+    const auto side = [&](const refraster::Framebuffer& fb) {
+        nlohmann::json j;
+        j["color"] = fb.color_format == refraster::ColorFormat::Rgba8 ? bytes(fb.color8)
+                                                                      : bytes(fb.color32f);
+        if (fb.depth_format != refraster::DepthFormat::None) j["depth"] = bytes(fb.depth);
+        return j;
+    };
+    nlohmann::json j;
+    j["width"] = ref.width;
+    j["height"] = ref.height;
+    j["color_format"] = std::string(refraster::to_string(ref.color_format));
+    j["depth_format"] = std::string(refraster::to_string(ref.depth_format));
+    j["reference"] = side(ref);
+    j["backend"] = side(act);
+    // dump() escapes nothing a script could break out with: base64 and plain words only.
+    return "refrasterCaseValues(" + j.dump() + ");\n";
+}
+
 void write_images(const harness::CaseResult& r, const std::filesystem::path& output) {
     const auto image = [&](const std::string& suffix) {
         const auto p = case_file(output, "images", r.name, suffix);
@@ -464,6 +495,14 @@ void write_images(const harness::CaseResult& r, const std::filesystem::path& out
             throw;  // running out of memory: main reports it (exit 3)
         } catch (const std::exception&) {
         }
+    }
+    if (harness::counts_as_failure(r.status) && r.comparison && !r.comparison->size_mismatch &&
+        r.reference && r.actual && r.reference->status == harness::RenderStatus::Ok &&
+        r.actual->status == harness::RenderStatus::Ok &&
+        r.reference->image.pixel_count() <= kMaxValuePixels &&
+        r.reference->image.depth_format == r.actual->image.depth_format) {
+        harness::write_file_atomically(case_file(output, "images", r.name, ".values.js"),
+                                       values_script(r.reference->image, r.actual->image));
     }
     // A 4x target's sample mask: each pixel a 2x2 block of its samples' classes.
     if (r.sample_comparison && r.sample_comparison->mismatched_samples > 0 &&

@@ -3,6 +3,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdlib>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -19,6 +20,7 @@
 namespace harness {
 
 using explain_detail::color_at;
+using explain_detail::color_text;
 using explain_detail::kSampleOffsets;
 using explain_detail::where;
 
@@ -120,13 +122,14 @@ std::string texel_panel_svg(const Explanation::TexelWindow& w, int top) {
 // direction and the side its inside lies on. Cells outside the target are hatched; geometry
 // is clipped to each panel. A legend says what every mark means.
 namespace svg_view {
-constexpr int kCell = 40;     // screen pixels per framebuffer pixel
-constexpr int kAxis = 34;     // room for the y labels left of a panel
-constexpr int kTitle = 30;    // a panel's title above it
-constexpr int kTicks = 22;    // the x labels below a panel
-constexpr int kGap = 28;      // between the panels
-constexpr int kLegend = 132;  // the legend's height
-constexpr int kSubpixel = 8;  // grid lines a pixel: 1/8 pixel (32 of llvmpipe's 1/256)
+constexpr int kCell = 40;         // screen pixels per framebuffer pixel
+constexpr int kAxis = 34;         // room for the y labels left of a panel
+constexpr int kTitle = 30;        // a panel's title above it
+constexpr int kTicks = 22;        // the x labels below a panel
+constexpr int kGap = 28;          // between the panels
+constexpr int kLegendRow = 22;    // one legend entry, one row
+constexpr int kCaptionLine = 16;  // a line of the wrapped verdict
+constexpr int kSubpixel = 8;      // grid lines a pixel: 1/8 pixel (32 of llvmpipe's 1/256)
 }  // namespace svg_view
 
 std::string explanation_svg(const Explanation& e, int radius) {
@@ -142,10 +145,42 @@ std::string explanation_svg(const Explanation& e, int radius) {
     const int panel_w = kAxis + PW;
     const int W0 = 2 * panel_w + kGap + 8;
     const int pictures_h = kTitle + PW + kTicks;
-    const int verdict_y = pictures_h + 18;
-    const int legend_top = verdict_y + 12;
-    const int H0 = legend_top + kLegend;
     const bool multisampled = !e.reference_samples.empty();
+    // The captions under the pictures, wrapped at spaces to the picture's width (about 6.5
+    // screen pixels a character at 12 px): both sides' values at the pixel, then the verdict.
+    const bool is8 = fb.color_format == refraster::ColorFormat::Rgba8;
+    std::string sides = "pixel (" + std::to_string(cx) + ", " + std::to_string(cy) +
+                        "): reference " + color_text(e.reference_color, is8);
+    if (e.reference_depth) sides += " depth " + std::to_string(*e.reference_depth);
+    if (e.backend) {
+        sides += "; backend " + color_text(e.backend_color, is8);
+        if (e.backend_depth) sides += " depth " + std::to_string(*e.backend_depth);
+    }
+    const std::size_t per_line = static_cast<std::size_t>((W0 - 40) / 7);
+    const auto wrap = [&](const std::string& text) {
+        std::vector<std::string> lines;
+        std::string line;
+        std::size_t at = 0;
+        while (at < text.size()) {
+            auto end = text.find(' ', at);
+            if (end == std::string::npos) end = text.size();
+            const std::string word = text.substr(at, end - at);
+            if (!line.empty() && line.size() + 1 + word.size() > per_line) {
+                lines.push_back(line);
+                line.clear();
+            }
+            line += (line.empty() ? "" : " ") + word;
+            at = end + 1;
+        }
+        if (!line.empty()) lines.push_back(line);
+        return lines;
+    };
+    std::vector<std::string> captions = wrap(sides);
+    for (auto& l : wrap("verdict: " + e.verdict)) captions.push_back(std::move(l));
+    const int caption_top = pictures_h + 18;
+    const int legend_top = caption_top + static_cast<int>(captions.size()) * kCaptionLine + 4;
+    constexpr int kLegendEntries = 11;
+    const int H0 = legend_top + 14 + kLegendEntries * kLegendRow;
     std::ostringstream s;
     const std::string width_text = std::to_string(W0);
     const std::string height_text = std::to_string(H0);
@@ -243,7 +278,23 @@ std::string explanation_svg(const Explanation& e, int radius) {
         // The traced pixel.
         s << "<rect x=\"" << sx(cx) << "\" y=\"" << sy(cy + 1) << "\" width=\"" << S
           << "\" height=\"" << S << "\" fill=\"none\" stroke=\"#ff00ff\" stroke-width=\"3\"/>\n";
-        // The primitives that reach the pixel, clipped to the panel.
+        // A tie ring under the primitives, so that the edges' arrows and ticks stay visible.
+        if (tie) {
+            s << "<circle class=\"tie\" cx=\"" << sx(tx) << "\" cy=\"" << sy(ty)
+              << "\" r=\"9\" fill=\"none\" stroke=\"#ff6d00\" stroke-width=\"3\" "
+                 "stroke-opacity=\"0.8\"><title>tie: the point lies exactly on an edge</title>"
+                 "</circle>\n";
+        }
+        // The primitives that reach the pixel, clipped to the panel. Their labels are gathered
+        // and placed after them, each moved up or down a line until it overlaps none before it.
+        struct Label {
+            double x, y;  // screen: the text's middle and baseline
+            std::string text;
+            const char* colour;
+            const char* cls;
+            int size;
+        };
+        std::vector<Label> labels;
         s << "<g clip-path=\"url(#" << clip << ")\">\n";
         for (const auto& p : e.trace.primitives) {
             for (const auto& st : p.setups) {
@@ -273,6 +324,21 @@ std::string explanation_svg(const Explanation& e, int radius) {
                   << (snapped ? "" : " stroke-dasharray=\"6 4\"") << " points=\"";
                 for (const auto& q : pts) s << sx(q[0]) << "," << sy(q[1]) << " ";
                 s << "\"><title>" << where(p) << " (" << st.outcome << ")</title></polygon>\n";
+                // The primitive's label, "d0 t1" for draws[0] triangle 1 (as the text and the
+                // verdict name it), at its corners' mean, kept inside the panel; placed below.
+                {
+                    double lx = 0, ly = 0;
+                    for (const auto& q : pts) {
+                        lx += q[0];
+                        ly += q[1];
+                    }
+                    lx = std::clamp(lx / static_cast<double>(pts.size()), x0 + 0.6, x0 + n - 0.6);
+                    ly = std::clamp(ly / static_cast<double>(pts.size()), y0 + 0.4, y0 + n - 0.4);
+                    labels.push_back({sx(lx), sy(ly) + 4,
+                                      "d" + std::to_string(p.draw) + " " + p.kind.substr(0, 1) +
+                                          std::to_string(p.primitive),
+                                      colour, "primitive-label", 12});
+                }
                 if (!snapped || pts.size() < 3) continue;
                 // Each edge's direction (an arrow at its middle) and its inside side (a tick
                 // towards the polygon's centre, which is inside: the set-up polygons are convex).
@@ -289,7 +355,14 @@ std::string explanation_svg(const Explanation& e, int radius) {
                     const double ex = b[0] - a[0], ey = b[1] - a[1];
                     const double len = std::hypot(ex, ey);
                     if (len == 0) continue;
-                    const double hx = (a[0] + b[0]) / 2, hy = (a[1] + b[1]) / 2;
+                    // The marks sit at the edge's point nearest the traced point (kept off the
+                    // corners), so that an edge crossing the panel shows them inside it.
+                    const double t =
+                        std::clamp(((tx - a[0]) * ex + (ty - a[1]) * ey) / (len * len), 0.15, 0.85);
+                    const double hx = a[0] + t * ex, hy = a[1] + t * ey;
+                    // An edge that passes the panel by shows no marks.
+                    if (hx < x0 + 0.1 || hx > x0 + n - 0.1 || hy < y0 + 0.1 || hy > y0 + n - 0.1)
+                        continue;
                     const double step = 0.18;  // pixels
                     s << "<line class=\"edge-direction\" x1=\"" << sx(hx - ex / len * step)
                       << "\" y1=\"" << sy(hy - ey / len * step) << "\" x2=\""
@@ -309,19 +382,46 @@ std::string explanation_svg(const Explanation& e, int radius) {
                       << "\" stroke=\"" << colour
                       << "\" stroke-width=\"3\" stroke-linecap=\"round\"><title>edge " << i
                       << ": its inside is this side</title></line>\n";
+                    // The edge's number as the text gives it ("edge 1"), on its outside.
+                    labels.push_back({sx(hx - nx * 0.32), sy(hy - ny * 0.32) + 4,
+                                      "e" + std::to_string(i), colour, "edge-label", 11});
                 }
             }
+        }
+        std::vector<std::array<double, 4>> placed;  // left, top, right, bottom
+        // Inside the panel, so that no label meets the axes' numbers outside it.
+        const double box_l = sx(x0), box_r = sx(x0 + n), box_t = sy(y0 + n), box_b = sy(y0);
+        for (const auto& l : labels) {
+            const double half = 0.62 * l.size * static_cast<double>(l.text.size()) / 2 + 2;
+            const double top_of = l.size + 1;
+            const double x = std::clamp(l.x, box_l + half, box_r - half);
+            const double y_first = std::clamp(l.y, box_t + top_of, box_b - 3);
+            double y = y_first;
+            for (int k = 0; k < 16; ++k) {
+                const double dy = (k % 2 == 0 ? 1 : -1) * ((k + 1) / 2) * (l.size + 3);
+                const double at = y_first + dy;
+                if (at - top_of < box_t || at + 3 > box_b) continue;
+                const bool clear = std::none_of(placed.begin(), placed.end(), [&](const auto& b) {
+                    return x - half < b[2] && b[0] < x + half && at - top_of < b[3] &&
+                           b[1] < at + 3;
+                });
+                if (clear) {
+                    y = at;
+                    break;
+                }
+            }
+            placed.push_back({x - half, y - top_of, x + half, y + 3});
+            s << "<text class=\"" << l.cls << "\" x=\"" << x << "\" y=\"" << y
+              << "\" text-anchor=\"middle\" font-size=\"" << l.size << "\""
+              << (l.size == 12 ? " font-weight=\"600\"" : "") << " fill=\"" << l.colour
+              << "\" stroke=\"#fff\" stroke-width=\"3\" paint-order=\"stroke\">"
+              << markup::escape(l.text) << "</text>\n";
         }
         s << "</g>\n";
         if (multisampled) {
             s << "<circle cx=\"" << sx(tx) << "\" cy=\"" << sy(ty)
               << "\" r=\"4\" fill=\"#ff00ff\"><title>sample " << e.trace.sample
               << "</title></circle>\n";
-        }
-        if (tie) {
-            s << "<circle cx=\"" << sx(tx) << "\" cy=\"" << sy(ty)
-              << "\" r=\"9\" fill=\"none\" stroke=\"#ff6d00\" stroke-width=\"3\"><title>tie: the "
-                 "point lies exactly on an edge</title></circle>\n";
         }
         // Pixel-coordinate axes: each column's x below, each row's y to the left.
         for (int x = x0; x < x0 + n; ++x) {
@@ -337,13 +437,13 @@ std::string explanation_svg(const Explanation& e, int radius) {
     panel(0, false);
     panel(panel_w + kGap, true);
 
-    std::string verdict = e.verdict;
-    for (auto& c : verdict) {
-        if (c == '<' || c == '>' || c == '&') c = ' ';
+    // Both sides' values and the verdict, each line whole.
+    s << "<g id=\"captions\">";
+    for (std::size_t i = 0; i < captions.size(); ++i) {
+        s << "<text x=\"4\" y=\"" << caption_top + static_cast<int>(i) * kCaptionLine << "\">"
+          << markup::escape(captions[i]) << "</text>";
     }
-    // Cut at 160 bytes, which may split a character: the escape makes that U+FFFD.
-    s << "<text x=\"4\" y=\"" << verdict_y << "\">" << markup::escape(verdict.substr(0, 160))
-      << "</text>\n";
+    s << "</g>\n";
     // The legend: every mark of the two panels.
     s << "<g id=\"legend\" transform=\"translate(8 " << legend_top << ")\">\n";
     struct Entry {
@@ -376,13 +476,16 @@ std::string explanation_svg(const Explanation& e, int radius) {
          "stroke-opacity=\"0.5\"/><line x1=\"7\" y1=\"-10\" x2=\"7\" y2=\"4\" stroke=\"#7f7f7f\" "
          "stroke-opacity=\"0.5\"/>",
          "faint lines: the sub-pixel grid, every 1/8 pixel"},
+        {"<text x=\"0\" y=\"0\" font-weight=\"600\" font-size=\"11\">d0 t1</text>",
+         "a primitive: d0 t1 is draws[0] triangle 1 (l a line, p a point), as the text names it"},
+        {"<text x=\"4\" y=\"0\" font-size=\"11\">e1</text>",
+         "an edge's number, on its outside: edge 1 runs from corner 1 to corner 2"},
     };
+    static_assert(std::size(entries) == kLegendEntries, "one row an entry");
     int row = 0;
     for (const auto& en : entries) {
-        const int col = row % 2;
-        const int line = row / 2;
-        s << "<g transform=\"translate(" << col * (W0 / 2) << " " << 14 + line * 24 << ")\">"
-          << en.mark << "<text x=\"30\" y=\"0\">" << en.text << "</text></g>\n";
+        s << "<g transform=\"translate(0 " << 14 + row * kLegendRow << ")\">" << en.mark
+          << "<text x=\"40\" y=\"0\">" << en.text << "</text></g>\n";
         ++row;
     }
     s << "</g>\n";

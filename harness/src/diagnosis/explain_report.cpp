@@ -1,5 +1,6 @@
 // explain_report.cpp: an explanation as text and as JSON (explanation_text, explanation_json).
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdlib>
@@ -21,7 +22,7 @@ using explain_detail::kSampleOffsets;
 using explain_detail::same_color;
 using explain_detail::where;
 
-namespace {
+namespace explain_detail {
 
 std::string color_text(const std::array<float, 4>& c, bool is8) {
     std::ostringstream o;
@@ -36,7 +37,9 @@ std::string color_text(const std::array<float, 4>& c, bool is8) {
     return o.str();
 }
 
-}  // namespace
+}  // namespace explain_detail
+
+using explain_detail::color_text;
 
 namespace {
 
@@ -195,9 +198,31 @@ std::string explanation_text(const Explanation& e) {
                 for (std::size_t i = 0; i < s.x.size(); ++i)
                     o << " (" << s.x[i] << ", " << s.y[i] << ")";
                 o << "\n";
+                // setup_triangle swaps two corners of a triangle that is counter-clockwise in
+                // GL's window space (swap_to_ccw), keeping the provoking vertex in place.
+                if (s.x.size() == 3 && s.order != std::array<int, 3>{0, 1, 2}) {
+                    o << "    (corners in setup's order: window vertices " << s.order[0] << ", "
+                      << s.order[1] << ", " << s.order[2]
+                      << "; two swapped so that the edges run one way for every triangle)\n";
+                }
             }
-            if (s.area != 0)
-                o << "    area " << s.area << (s.front_facing ? " front" : " back") << "-facing\n";
+            if (s.area != 0) {
+                // llvmpipe's sign: (x0 - x1)(y2 - y0) - (x2 - x0)(y0 - y1), before the swap.
+                o << "    area " << s.area << " (twice the signed area in (1/"
+                  << (1 << s.subpixel_bits) << " px)^2; llvmpipe's sign: "
+                  << (s.area > 0 ? "positive, clockwise" : "negative, counter-clockwise")
+                  << " in GL's window space, y up): " << (s.front_facing ? "front" : "back")
+                  << "-facing\n";
+            }
+            if (s.edges.size() == 3 && s.x.size() == 3) {
+                o << "    edge k runs from corner k to the next: a = y_k - y_next, b = x_k - "
+                     "x_next, "
+                     "c = a x_k - b y_k, plus 1 when the edge owns ties (the tie rule); E = c - a "
+                     "x "
+                     "+ b y at the "
+                  << (p.multisample ? "sample" : "pixel centre")
+                  << " in the same units; the primitive covers it when E > 0 for every edge\n";
+            }
             for (std::size_t k = 0; k < s.edges.size(); ++k) {
                 const auto& ed = s.edges[k];
                 o << "    edge " << k << ": a " << ed.a << " b " << ed.b << " c " << ed.c
@@ -320,6 +345,7 @@ std::string explanation_json(const Explanation& e) {
             x["snapped_x"] = s.x;
             x["snapped_y"] = s.y;
             x["subpixel_bits"] = s.subpixel_bits;
+            if (s.x.size() == 3) x["corner_order"] = s.order;
             x["area"] = s.area;
             x["front_facing"] = s.front_facing;
             auto& ej = x["edges"] = nlohmann::ordered_json::array();

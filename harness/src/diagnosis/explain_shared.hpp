@@ -22,4 +22,7 @@ bool same_color(const std::array<float, 4>& a, const std::array<float, 4>& b);
 // A primitive as a message names it: "draws[D] KIND N".
 std::string where(const refraster::PrimitiveTrace& p);
 
+// A colour as the text prints it: "255,0,0,255" for rgba8 (`is8`), the float values otherwise.
+std::string color_text(const std::array<float, 4>& c, bool is8);
+
 }  // namespace harness::explain_detail

@@ -912,10 +912,18 @@ Run run_half_space(const Scene& s, int w, int h) {
             const auto& p = v[i];
             const auto& q = v[(i + 1) % 3];
             e[i] = tb::gl_edge_function(rule, p, q);
-            head.state.push_back({"E" + std::to_string(i),
-                                  "c " + std::to_string(e[i].c) + " - " + std::to_string(e[i].a) +
-                                      " x + " + std::to_string(e[i].b) + " y" +
-                                      (e[i].owns_ties ? " (owns its ties: +1 in c)" : "")});
+            // E = c - a x + b y, written with its signs merged ("1 + 2816 x - 2816 y"), x and y
+            // in 1/256 px from the pixel centre's grid.
+            const auto term = [](std::int64_t coefficient, const char* var) {
+                return std::string(coefficient < 0 ? " - " : " + ") +
+                       std::to_string(coefficient < 0 ? -coefficient : coefficient) + " " + var;
+            };
+            head.state.push_back(
+                {"E" + std::to_string(i),
+                 std::to_string(e[i].c) + term(-std::int64_t{e[i].a}, "x") +
+                     term(std::int64_t{e[i].b}, "y") +
+                     " (x, y in 1/256 px, pixel (i, j) at (256 i, 256 j); inside where E > 0" +
+                     (e[i].owns_ties ? "; owns its ties: c carries +1)" : ")")});
         }
         add_step(run, std::move(head));
         int x0 = std::numeric_limits<int>::max(), x1 = std::numeric_limits<int>::min();
@@ -943,7 +951,13 @@ Run run_half_space(const Scene& s, int w, int h) {
                 for (std::size_t i = 0; i < 3; ++i) {
                     const std::int64_t value = e[i].at(x, y, rule.subpixel_bits);
                     const std::int64_t bare = value - (e[i].owns_ties ? 1 : 0);
-                    step.state.push_back({"E" + std::to_string(i), std::to_string(value)});
+                    // The value with the tie rule's bias shown apart ("0 + 1 (tie bias) = 1"),
+                    // so that a centre on an owned edge does not read as a plain 1.
+                    step.state.push_back(
+                        {"E" + std::to_string(i) + " here",
+                         e[i].owns_ties
+                             ? std::to_string(bare) + " + 1 (tie bias) = " + std::to_string(value)
+                             : std::to_string(value)});
                     if (bare == 0) {
                         ties += " centre on edge " + std::to_string(i) + ", which " +
                                 (e[i].owns_ties ? "owns" : "does not own") + " it;";

@@ -172,12 +172,13 @@ const char* kScript = R"JS(<script>
     if (a <= 0 && g) return 'gl';
     return 'partial';
   }
+  // An equal pixel is a dark grey from GL's luminance: never a hue, so that no scene colour can
+  // look like one of the mask's three.
   var maskRgba = new Uint8ClampedArray(N * 4);
   for (var i = 0; i < N; ++i) {
     var c = diffAt[i] >= 0 ? MASK[diffClass(diffs[diffAt[i]])] : null;
-    for (var k = 0; k < 3; ++k) {
-      maskRgba[4 * i + k] = c ? c[k] : 44 + 0.22 * glRgba[4 * i + k];
-    }
+    var lum = 0.2126 * glRgba[4 * i] + 0.7152 * glRgba[4 * i + 1] + 0.0722 * glRgba[4 * i + 2];
+    for (var k = 0; k < 3; ++k) maskRgba[4 * i + k] = c ? c[k] : 40 + 0.25 * lum;
     maskRgba[4 * i + 3] = 255;
   }
 
@@ -369,7 +370,7 @@ const char* kScript = R"JS(<script>
     reasonEl.textContent = d ? String(d.reason === undefined ? '' : d.reason) : '';
   }
   function keepHash() {
-    var h = '#step=' + at + (selected ? '&pixel=' + selected.x + ',' + selected.y : '');
+    var h = '#step=' + (at + 1) + (selected ? '&pixel=' + selected.x + ',' + selected.y : '');
     try { history.replaceState(null, '', h); } catch (e) { /* a page without history */ }
   }
   var rows = Array.prototype.slice.call(document.querySelectorAll('#differences tr.diff'));
@@ -473,7 +474,7 @@ const char* kScript = R"JS(<script>
         "'" + dir.replace(/'/g, "'\\''") + "'";
   }
 
-  // The view a link asks for: #step=K, #pixel=X,Y, #view=final, then #press=a,b,... (buttons
+  // The view a link asks for: #step=K (1-based), #pixel=X,Y, #view=final, then #press=a,b,... (buttons
   // clicked and keys pressed, in order, as a reader would).
   var hash = {};
   location.hash.replace(/^#/, '').split('&').forEach(function (kv) {
@@ -484,7 +485,8 @@ const char* kScript = R"JS(<script>
   });
   if (hash.view === 'final') modeInput.checked = false;
   applyZoom();
-  show(hash.step !== undefined ? +hash.step : 0);
+  // #step=K is the page's Step K, counted from 1 as the page counts them.
+  show(hash.step !== undefined ? +hash.step - 1 : 0);
   var pm = /^(\d+),(\d+)$/.exec(hash.pixel || '');
   if (pm && inside(+pm[1], +pm[2])) select({ x: +pm[1], y: +pm[2] });
   (hash.press ? hash.press.split(',') : []).forEach(function (a) {
@@ -561,7 +563,7 @@ std::string teach_page_html(const nlohmann::json& data) {
          "<button id=\"step-next\" type=\"button\">Next</button>"
          "<button id=\"step-last\" type=\"button\">Last</button></div>"
          "<p class=\"muted\">Keys: &larr; &rarr; Home End. A link to a step: "
-         "<code>#step=K</code>.</p><p id=\"step-title\">";
+         "<code>#step=K</code> opens step K.</p><p id=\"step-title\">";
     if (steps.empty()) {
         h << "This algorithm recorded no steps.";
     } else {
@@ -581,8 +583,8 @@ std::string teach_page_html(const nlohmann::json& data) {
          "<li><span class=\"swatch\" style=\"background:#2979ff\"></span>lit by GL only</li>"
          "<li><span class=\"swatch\" style=\"background:#ffd600\"></span>partial weights that "
          "differ (or both lit, differently)</li>"
-         "<li><span class=\"swatch\" style=\"background:#333\"></span>equal (dark grey, a faint "
-         "copy of GL's image)</li></ul></div>"
+         "<li><span class=\"swatch\" style=\"background:#333\"></span>equal (dark greys: GL's "
+         "image by its brightness alone)</li></ul></div>"
          "<div><b>the algorithm's image, step by step</b><ul id=\"step-legend\">"
          "<li><span class=\"swatch\" style=\"background:#fff\"></span>decided: brightness is "
          "the weight</li>"
@@ -631,6 +633,9 @@ std::string teach_page_html(const nlohmann::json& data) {
     h << "<h2>Reproduce this page</h2>\n<p><code id=\"command\">refraster teach "
       << markup::escape(shell_word(scene_file)) << " --algorithm "
       << markup::escape(shell_word(algorithm))
+      << markup::escape(d.contains("command_options") && d["command_options"].is_string()
+                            ? d["command_options"].get<std::string>()
+                            : std::string())
       << " --output <span id=\"command-dir\">DIR</span></code> <span class=\"muted\">(DIR: "
          "this page's directory)</span></p>\n";
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <map>
+#include <numeric>
 #include <string>
 
 #include "snap.hpp"
@@ -53,6 +54,16 @@ std::int64_t centre_of(std::int64_t j) {
 // with 256 i + 128 >= q + r/dy.
 std::int64_t first_pixel_at_or_right(std::int64_t q, std::int64_t r) {
     return ceil_div(q + (r > 0 ? 1 : 0) - kSnapOne / 2, kSnapOne);
+}
+
+// The crossing as the exact fraction it is, in pixels: (q dy + r) / (256 dy) in lowest terms,
+// "41/4" or "10" (a double would print 10.192307692307692 for 265/26).
+std::string crossing_text(const ActiveEdge& e) {
+    const std::int64_t num = e.q * e.dy + e.r;
+    const std::int64_t den = kSnapOne * e.dy;
+    const std::int64_t g = std::gcd(num < 0 ? -num : num, den);
+    const std::int64_t n = num / g, d = den / g;
+    return d == 1 ? std::to_string(n) : std::to_string(n) + "/" + std::to_string(d);
 }
 
 double crossing_value(const ActiveEdge& e) {
@@ -187,7 +198,7 @@ FillResult scanline_fill(const std::vector<Contour>& contours, FillRule rule, in
             std::string ael;
             for (const ActiveEdge& e : active) {
                 if (!ael.empty()) ael += ", ";
-                ael += "e" + std::to_string(e.id) + " x=" + format_number(crossing_value(e)) +
+                ael += "e" + std::to_string(e.id) + " x=" + crossing_text(e) +
                        (e.direction > 0 ? " up" : " down");
             }
             std::string spans;

@@ -161,6 +161,11 @@ TEST(TextbookScanlineFill, TraceHasTheEdgeTableAndOneStepPerScanline) {
     for (const auto& s : trace.steps) pixels += static_cast<int>(s.pixels.size());
     EXPECT_EQ(pixels, r.raster.count_nonzero());
     EXPECT_EQ(trace.steps[1].state[0].first, "AEL");
+    // Crossings print as the exact fractions they are: row 0's centre (y 0.5) meets the edge
+    // from (0.5, 0.25) to (7.5, 2.5) at x = 0.5 + 0.25 * 7 / 2.25 = 23/18 (not 1.2777...).
+    const std::string& ael = trace.steps[1].state[0].second;
+    EXPECT_NE(ael.find("x=23/18"), std::string::npos) << ael;
+    EXPECT_EQ(ael.find('.'), std::string::npos) << ael;
 }
 
 }  // namespace
