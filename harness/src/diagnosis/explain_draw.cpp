@@ -179,7 +179,7 @@ std::string explanation_svg(const Explanation& e, int radius) {
     for (auto& l : wrap("verdict: " + e.verdict)) captions.push_back(std::move(l));
     const int caption_top = pictures_h + 18;
     const int legend_top = caption_top + static_cast<int>(captions.size()) * kCaptionLine + 4;
-    constexpr int kLegendEntries = 11;
+    constexpr int kLegendEntries = 12;
     const int H0 = legend_top + 14 + kLegendEntries * kLegendRow;
     std::ostringstream s;
     const std::string width_text = std::to_string(W0);
@@ -210,6 +210,24 @@ std::string explanation_svg(const Explanation& e, int radius) {
         ty = cy + o[1];
     }
 
+    // A colour as an SVG fill: bytes, or floats clamped to [0, 1] and scaled.
+    const auto hex = [&](const std::array<float, 4>& c) {
+        int rgb[3];
+        for (int k = 0; k < 3; ++k) {
+            const float v = is8 ? c[static_cast<std::size_t>(k)]
+                                : std::clamp(c[static_cast<std::size_t>(k)], 0.0f, 1.0f) * 255.0f;
+            rgb[k] = static_cast<int>(v);
+        }
+        char buf[8];
+        std::snprintf(buf, sizeof buf, "#%02x%02x%02x", rgb[0] & 255, rgb[1] & 255, rgb[2] & 255);
+        return std::string(buf);
+    };
+    // The backend's image, when it drew one of the reference's size and format (a 4x target's
+    // resolve).
+    const refraster::Framebuffer* theirs = nullptr;
+    if (e.backend && e.backend->status == RenderStatus::Ok && e.backend->image.width == fb.width &&
+        e.backend->image.height == fb.height && e.backend->image.color_format == fb.color_format)
+        theirs = &e.backend->image;
     const auto panel = [&](int left, bool snapped) {
         const int top = kTitle;
         const auto sx = [&](double wx) { return left + kAxis + (wx - x0) * S; };
@@ -228,26 +246,25 @@ std::string explanation_svg(const Explanation& e, int radius) {
                 const bool inside = x >= 0 && y >= 0 && static_cast<std::uint32_t>(x) < fb.width &&
                                     static_cast<std::uint32_t>(y) < fb.height;
                 std::string fill = "url(#outside)";
-                if (inside) {
-                    const auto c = color_at(fb, x, y);
-                    int rgb[3];
-                    for (int k = 0; k < 3; ++k) {
-                        const float v =
-                            fb.color_format == refraster::ColorFormat::Rgba8
-                                ? c[static_cast<std::size_t>(k)]
-                                : std::clamp(c[static_cast<std::size_t>(k)], 0.0f, 1.0f) * 255.0f;
-                        rgb[k] = static_cast<int>(v);
-                    }
-                    char buf[8];
-                    std::snprintf(buf, sizeof buf, "#%02x%02x%02x", rgb[0] & 255, rgb[1] & 255,
-                                  rgb[2] & 255);
-                    fill = buf;
-                }
+                if (inside) fill = hex(color_at(fb, x, y));
                 s << "<rect class=\"" << (inside ? "cell" : "cell outside") << "\" x=\"" << sx(x)
                   << "\" y=\"" << sy(y + 1) << "\" width=\"" << S << "\" height=\"" << S
                   << "\" fill=\"" << fill << "\" stroke=\"#888\" stroke-width=\"1\">"
                   << "<title>pixel (" << x << ", " << y << ")"
                   << (inside ? "" : ": outside the target") << "</title></rect>\n";
+                // Where the backend's pixel differs, its colour fills the cell's lower-right half.
+                if (inside && theirs != nullptr) {
+                    const auto mine = color_at(fb, x, y);
+                    const auto other = color_at(*theirs, x, y);
+                    if (!explain_detail::same_color(mine, other)) {
+                        s << "<polygon class=\"backend-half\" points=\"" << sx(x + 1) << ","
+                          << sy(y + 1) << " " << sx(x + 1) << "," << sy(y) << " " << sx(x) << ","
+                          << sy(y) << "\" fill=\"" << hex(other)
+                          << "\" stroke=\"#888\" stroke-width=\"1\"><title>pixel (" << x << ", "
+                          << y << "): backend " << color_text(other, is8) << ", reference "
+                          << color_text(mine, is8) << "</title></polygon>\n";
+                    }
+                }
             }
         }
         // The sub-pixel grid, faint, over the cells.
@@ -480,6 +497,9 @@ std::string explanation_svg(const Explanation& e, int radius) {
          "a primitive: d0 t1 is draws[0] triangle 1 (l a line, p a point), as the text names it"},
         {"<text x=\"4\" y=\"0\" font-size=\"11\">e1</text>",
          "an edge's number, on its outside: edge 1 runs from corner 1 to corner 2"},
+        {"<rect x=\"0\" y=\"-10\" width=\"14\" height=\"14\" fill=\"#bbb\" stroke=\"#888\"/>"
+         "<polygon points=\"14,-10 14,4 0,4\" fill=\"#444\"/>",
+         "a cell: the reference's colour; its lower-right half the backend's, where they differ"},
     };
     static_assert(std::size(entries) == kLegendEntries, "one row an entry");
     int row = 0;
