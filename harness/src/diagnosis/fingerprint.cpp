@@ -351,15 +351,22 @@ std::vector<Probe> clear_probes() {
     return out;
 }
 
-// Flat colours between two bytes: (k + 0.7) / 255 rounds up, truncates down.
+// The i-th flat colour between two bytes: each channel (k + 0.7) / 255, which rounds up and
+// truncates down.
+std::array<float, 4> between_bytes(int i) {
+    std::array<float, 4> c{};
+    for (int k = 0; k < 4; ++k)
+        c[static_cast<std::size_t>(k)] = (static_cast<float>(i * 13 + k * 47) + 0.7f) / 255.0f;
+    return c;
+}
+
+// Flat colours between two bytes (between_bytes).
 Probe color_probe() {
     Probe p{"colors", make_scene("colors", 64, 64), Probe::Compare::Exact};
     for (int i = 0; i < 16; ++i) {
         const float x = static_cast<float>((i % 4) * 16);
         const float y = static_cast<float>((i / 4) * 16);
-        std::array<float, 4> c{};
-        for (int k = 0; k < 4; ++k)
-            c[static_cast<std::size_t>(k)] = (static_cast<float>(i * 13 + k * 47) + 0.7f) / 255.0f;
+        const std::array<float, 4> c = between_bytes(i);
         Draw d = window_draw(
             refraster::PrimitiveType::Triangles,
             {{x + 1.0f, y + 1.0f, 0.5f}, {x + 15.0f, y + 1.0f, 0.5f}, {x + 1.0f, y + 15.0f, 0.5f}},
@@ -415,9 +422,7 @@ Probe class_color_probe(refraster::PrimitiveType t) {
     for (int i = 0; i < 16; ++i) {
         const float x = static_cast<float>((i % 4) * 16);
         const float y = static_cast<float>((i / 4) * 16);
-        std::array<float, 4> c{};
-        for (int k = 0; k < 4; ++k)
-            c[static_cast<std::size_t>(k)] = (static_cast<float>(i * 13 + k * 47) + 0.7f) / 255.0f;
+        const std::array<float, 4> c = between_bytes(i);
         std::vector<std::array<float, 3>> v{{x + 8.0f, y + 8.0f, 0.5f}};
         if (!points) v = {{x + 2.0f, y + 3.5f, 0.5f}, {x + 14.0f, y + 12.5f, 0.5f}};
         Draw d = window_draw(t, v, {c}, 64, 64);
