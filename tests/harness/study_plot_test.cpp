@@ -20,6 +20,7 @@
 #include "harness/markup.hpp"
 #include "refraster/assert.hpp"
 #include "study/plot.hpp"
+#include "study/study_common.hpp"
 #include "test_util.hpp"
 
 namespace {
@@ -219,6 +220,104 @@ TEST(StudyPlot, ParetoFrontOfFewPoints) {
     EXPECT_EQ(harness::study::pareto_front({{3.0, 0.0, ""}, {0.0, 1.0, ""}, {-1.0, 2.0, ""}}),
               expected);
     EXPECT_EQ(harness::study::pareto_front({{0.0, 1.0, ""}, {-0.0, 1.0, ""}}).size(), 2u);
+}
+
+// A point with the range of its timing rounds (median x, fastest and slowest round).
+PlotPoint timed(double error, std::vector<double> rounds, std::string label) {
+    const harness::study::Timing t = harness::study::timing_of(std::move(rounds));
+    return {t.median, error, std::move(label), t.low, t.high};
+}
+
+// Synthetic timings with noise: five variants of one kernel, truly equally fast, whose noisy
+// medians happen to fall in the order of their errors. A front on the medians alone would
+// hold all five (each faster and worse than the next); a time counts only beyond the spread, so
+// the most accurate one beats the rest. A variant faster beyond the spread, or more accurate,
+// stays on the front; two of equal error whose ranges overlap both do.
+TEST(StudyPlot, ParetoFrontCountsATimeOnlyBeyondItsSpread) {
+    const std::vector<double> noise = {0.7, 0.85, 1.0, 1.15, 1.3};
+    const auto rounds = [&](double median) {
+        std::vector<double> r;
+        for (const double n : noise) r.push_back(median * n);
+        return r;
+    };
+    std::vector<PlotPoint> points = {
+        timed(6.0, rounds(900.0), "snap-4"),    // 0
+        timed(5.0, rounds(950.0), "snap-6"),    // 1
+        timed(4.0, rounds(1000.0), "snap-8"),   // 2
+        timed(3.0, rounds(1050.0), "snap-10"),  // 3
+        timed(1.0, rounds(1100.0), "snap-16"),  // 4: the most accurate of the five
+    };
+    // On the medians alone every one of them would be on the front.
+    std::vector<PlotPoint> medians = points;
+    for (PlotPoint& p : medians) p.x_low = p.x_high = kNaN;
+    EXPECT_EQ(harness::study::pareto_front(medians).size(), 5u);
+    EXPECT_EQ(harness::study::pareto_front(points), std::vector<std::size_t>{4});
+
+    points.push_back(timed(7.0, {480.0, 500.0, 510.0, 515.0, 520.0}, "fast"));        // 5
+    points.push_back(timed(0.0, {4900.0, 5000.0, 5010.0, 5050.0, 5100.0}, "exact"));  // 6
+    points.push_back(timed(1.0, rounds(1150.0), "snap-16 again"));                    // 7
+    points.push_back(timed(1.0, {1300.0, 1310.0, 1320.0, 1330.0, 1340.0}, "slow"));   // 8
+    // 8 is as accurate as 4 and 7 and slower than 4 beyond the spread.
+    const std::vector<std::size_t> expected = {5, 4, 7, 6};
+    EXPECT_EQ(harness::study::pareto_front(points), expected);
+}
+
+// The colours that the markers of `svg` are drawn in, in order: a marker is filled with its
+// series' colour and outlined in white.
+std::vector<std::string> marker_colours(const std::string& svg) {
+    static const std::regex marker("fill=\"(#[0-9a-f]{6})\" stroke=\"#ffffff\"");
+    std::vector<std::string> out;
+    for (auto it = std::sregex_iterator(svg.begin(), svg.end(), marker);
+         it != std::sregex_iterator(); ++it)
+        out.push_back((*it)[1].str());
+    return out;
+}
+
+// One series name, one colour: "b" is the second series of the first panel and the only one
+// of the second, and keeps its colour; with a shared legend the names are listed once.
+TEST(StudyPlot, ASeriesKeepsItsColourInEveryPanel) {
+    PlotPanel one{"one", "x", "y", false, false, {}, false, {}};
+    one.series.push_back({"a", {{1.0, 1.0, ""}}, false});
+    one.series.push_back({"b", {{2.0, 2.0, ""}}, false});
+    PlotPanel two{"two", "x", "y", false, false, {}, false, {}};
+    two.series.push_back({"b", {{3.0, 3.0, ""}}, false});
+    for (const auto legend : {harness::study::Legend::PerPanel, harness::study::Legend::Shared}) {
+        const std::string svg = harness::study::svg_figure("colours", {one, two}, 2, legend);
+        const std::string first = svg.substr(0, svg.find(">two<"));
+        const std::string second = svg.substr(svg.find(">two<"));
+        const auto c1 = marker_colours(first);
+        const auto c2 = marker_colours(second);
+        ASSERT_GE(c1.size(), 2u);
+        ASSERT_GE(c2.size(), 1u);
+        EXPECT_NE(c1[c1.size() - 2], c1.back());  // a and b differ
+        EXPECT_EQ(c2.front(), c1.back());         // b is b everywhere
+        if (legend == harness::study::Legend::Shared) {
+            EXPECT_EQ(std::count(c1.begin(), c1.end(), c1.back()) +
+                          std::count(c2.begin(), c2.end(), c1.back()),
+                      3);  // the legend's sample of b, and b's two points
+        }
+    }
+}
+
+// However many panels and however long their legends, a figure is at most a page wide: its
+// panels stack into fewer columns.
+TEST(StudyPlot, AFigureFitsAPage) {
+    std::vector<PlotPanel> panels;
+    for (int i = 0; i < 4; ++i) {
+        PlotPanel p{"panel " + std::to_string(i), "x", "y", false, false, {}, false, {}};
+        for (int s = 0; s < 3; ++s)
+            p.series.push_back({"a rather long series name number " + std::to_string(s),
+                                {{1.0 + s, 2.0, ""}},
+                                false});
+        panels.push_back(std::move(p));
+    }
+    for (const auto legend : {harness::study::Legend::PerPanel, harness::study::Legend::Shared}) {
+        const std::string svg = harness::study::svg_figure("wide", panels, 3, legend);
+        const auto w = svg.find(" width=\"");
+        ASSERT_NE(w, std::string::npos);
+        EXPECT_LE(std::stod(svg.substr(w + 8)), harness::study::kMaxFigureWidth);
+        EXPECT_EQ(xml_problem(svg), "");
+    }
 }
 
 TEST(StudyPlot, CsvQuotesCellsWithCommasQuotesAndLineBreaks) {

@@ -156,7 +156,9 @@ TEST(StudyPrecision, QuickStudyTable) {
     };
     const std::size_t variant = col("variant"), family = col("family"), mis = col("misclassified"),
                       holes = col("holes"), dbl = col("double_hits"),
-                      ulps = col("attribute_max_ulps"), seed = col("seed");
+                      ulps = col("attribute_max_ulps"), seed = col("seed"),
+                      inversions = col("depth_inversions"), ties = col("depth_ties"),
+                      ms = col("ms"), ms_low = col("ms_low"), ms_high = col("ms_high");
     const std::size_t variants = all_variants().size();
     std::size_t study_rows = 0, mesh_rows = 0;
     for (std::size_t i = 1; i < rows.size(); ++i) {
@@ -170,7 +172,14 @@ TEST(StudyPrecision, QuickStudyTable) {
             EXPECT_EQ(r[ulps], "0") << r[family];
             EXPECT_EQ(r[holes], "0");
             EXPECT_EQ(r[dbl], "0");
+            // Quantising the exact depth is monotonic: it ties pairs, never inverts one, and
+            // ties are counted apart from inversions.
+            EXPECT_EQ(r[inversions], "0") << r[variant] << " on " << r[family];
         }
+        EXPECT_FALSE(r[ties].empty());
+        // A time is the median of its rounds, within their range.
+        EXPECT_LE(std::stod(r[ms_low]), std::stod(r[ms])) << r[variant];
+        EXPECT_LE(std::stod(r[ms]), std::stod(r[ms_high])) << r[variant];
         if (r[family].starts_with("mesh")) {
             ++mesh_rows;
             if (r[variant].starts_with("snap")) {
@@ -183,6 +192,8 @@ TEST(StudyPrecision, QuickStudyTable) {
     EXPECT_EQ(mesh_rows, 2 * variants);
     EXPECT_NE(out.svg.find("Pareto front"), std::string::npos);
     EXPECT_FALSE(out.summary.empty());
+    EXPECT_NE(out.decisions.find("| coverage: "), std::string::npos) << out.decisions;
+    EXPECT_FALSE(out.conclusions.empty());
 }
 
 // The quick stability study: every sweep has rows, the oracle has no error anywhere, and an

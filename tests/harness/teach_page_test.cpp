@@ -52,6 +52,7 @@ json document(int width, int height, int step_count) {
         pixels.push_back({1, y + 1, 0.0});
         steps.push_back(
             {{"title", "row " + std::to_string(y) + ": fill the span, step " + std::to_string(k)},
+             {"group", k < 2 ? "polygon 0" : "polygon 1"},
              {"state", json::array({json::array({"y", std::to_string(y)}),
                                     json::array({"span", "1.." + std::to_string(width - 2)})})},
              {"pixels", pixels},
@@ -310,6 +311,27 @@ TEST_F(TeachPageChromium, ButtonsAndKeysStep) {
     EXPECT_EQ(text_of(d, "step-title"), title(1));
     d = dom("press=first,prev,prev");  // clamped at the first step
     EXPECT_EQ(text_of(d, "step-index"), "0");
+}
+
+// Stepping a part at a time (the steps' groups: a segment, a polygon), by button and by key,
+// and playing to the last step.
+TEST_F(TeachPageChromium, PartsAndPlayStep) {
+    std::string d = dom("press=part-next");
+    EXPECT_EQ(text_of(d, "step-index"), "2");
+    EXPECT_EQ(text_of(d, "step-part"), "polygon 1: steps 3 to 5 (part 2 of 2)");
+    d = dom("press=End,PageUp");  // to the start of the part
+    EXPECT_EQ(text_of(d, "step-index"), "2");
+    d = dom("press=End,PageUp,PageUp");  // and to the previous part's
+    EXPECT_EQ(text_of(d, "step-index"), "0");
+    EXPECT_EQ(text_of(d, "step-part"), "polygon 0: steps 1 to 2 (part 1 of 2)");
+    d = dom("press=PageDown,PageDown");  // no part after the last
+    EXPECT_EQ(text_of(d, "step-index"), "2");
+    // Played at 60 steps a second, the page reaches the last step within Chromium's virtual
+    // time and stops there.
+    d = dom("speed=60&press=play");
+    EXPECT_EQ(text_of(d, "step-index"), "4");
+    EXPECT_EQ(text_of(d, "step-play"), "Play");
+    EXPECT_EQ(attribute(d, "step-slider", "max"), "5");
 }
 
 TEST_F(TeachPageChromium, APixelLinkShowsItsValuesAndReason) {

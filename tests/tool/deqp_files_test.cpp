@@ -1,6 +1,7 @@
 // deqp-runner's skips and flakes files in `conformance run`: skipped cases are left out of the
 // selection, failures of known flakes are KnownFlake, and an expression that does not compile is
-// refused naming its file and line.
+// refused naming its file and line; the baseline, skips and flakes files a run used are
+// recorded in run.json, copied under inputs/, shown on the index and carried by a merge.
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
@@ -79,6 +80,55 @@ TEST(DeqpFiles, FlakesTurnFailuresIntoKnownFlake) {
             EXPECT_EQ(f.records.at(name)["status"], "Pass") << name;
         }
     }
+}
+
+TEST(DeqpFiles, TheRunRecordsCopiesAndShowsItsInputFiles) {
+    testutil::TempDir dir;
+    const auto skips = dir.write("my-skips.txt", "smoke\\.triangle_\n# two cases\n");
+    const auto flakes = dir.write("my-flakes.txt", "^nothing$\n^nothing either$\n");
+    const auto baseline = dir.write("known.csv", "smoke.lines,Fail\nsmoke.points,Fail\n");
+    const fs::path out = dir.path() / "out";
+    const RunOutput r = run(
+        {"--skips", skips.string(), "--flakes", flakes.string(), "--baseline", baseline.string()},
+        out);
+    ASSERT_TRUE(fs::exists(out / "run.json")) << r.out;
+    const auto setup = nlohmann::json::parse(testutil::read_text(out / "run.json"));
+    const auto& in = setup.at("inputs");
+    EXPECT_EQ(in.at("baseline").at("file"), baseline.string());
+    EXPECT_EQ(in.at("baseline").at("cases"), 2);
+    EXPECT_EQ(in.at("skips").at(0).at("patterns"), 1);
+    EXPECT_EQ(in.at("skips").at(0).at("skipped_cases"), 2);  // triangle_fan and triangle_strip
+    EXPECT_EQ(in.at("flakes").at(0).at("patterns"), 2);
+    // The copies hold the files' bytes as the run read them.
+    EXPECT_EQ(testutil::read_text(out / "inputs" / "baseline.csv"), testutil::read_text(baseline));
+    EXPECT_EQ(testutil::read_text(out / "inputs" / "skips-1.txt"), testutil::read_text(skips));
+    EXPECT_EQ(testutil::read_text(out / "inputs" / "flakes-1.txt"), testutil::read_text(flakes));
+    const std::string index = testutil::read_text(out / "index.html");
+    const auto at = index.find("id=\"run-inputs\"");
+    ASSERT_NE(at, std::string::npos);
+    const std::string inputs = index.substr(at, index.find("</p>", at) - at);
+    EXPECT_NE(inputs.find("<a href=\"inputs/baseline.csv\">"), std::string::npos) << inputs;
+    EXPECT_NE(inputs.find("known.csv"), std::string::npos) << inputs;
+    EXPECT_NE(inputs.find("2 cases listed"), std::string::npos) << inputs;
+    EXPECT_NE(inputs.find("2 cases left out"), std::string::npos) << inputs;
+    EXPECT_NE(inputs.find("<a href=\"inputs/flakes-1.txt\">"), std::string::npos) << inputs;
+    EXPECT_NE(testutil::read_text(out / "results.json").find("\"inputs\""), std::string::npos);
+
+    // A merge of the run carries its inputs.
+    const fs::path merged = dir.path() / "merged";
+    testutil::command_output(testutil::shell_quote(std::string(REFRASTER_BIN_DIR) + "/refraster") +
+                             " conformance merge " + testutil::shell_quote(out.string()) +
+                             " --output " + testutil::shell_quote(merged.string()) + " 2>&1");
+    EXPECT_EQ(testutil::read_text(merged / "inputs" / "baseline.csv"),
+              testutil::read_text(baseline));
+    EXPECT_NE(testutil::read_text(merged / "index.html").find("<a href=\"inputs/skips-1.txt\">"),
+              std::string::npos);
+
+    // A run into the same folder without them leaves no copy behind, and says so.
+    run({}, out);
+    EXPECT_FALSE(fs::exists(out / "inputs"));
+    EXPECT_NE(testutil::read_text(out / "index.html").find("No baseline, skips or flakes file."),
+              std::string::npos);
 }
 
 TEST(DeqpFiles, BadExpressionIsRefused) {

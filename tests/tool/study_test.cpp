@@ -2,6 +2,8 @@
 // and bad requests are refused with the bad-input exit code.
 #include <gtest/gtest.h>
 
+#include <string>
+
 #include "test_util.hpp"
 
 namespace {
@@ -37,6 +39,19 @@ TEST(StudyCli, EachStudyWritesItsOutputs) {
         EXPECT_NE(md.find("refraster study " + name), std::string::npos);
         EXPECT_NE(md.find("--seed 7 --quick"), std::string::npos);
         EXPECT_FALSE(r.out.empty());
+        // summary.md opens with the decision table and the conclusions; the provenance and
+        // every number follow.
+        const auto decisions = md.find("## Decisions\n\n");
+        const auto conclusions = md.find("## Conclusions\n\n- ");
+        const auto provenance = md.find("## Provenance");
+        ASSERT_NE(decisions, std::string::npos) << md;
+        ASSERT_NE(conclusions, std::string::npos) << md;
+        EXPECT_LT(decisions, conclusions);
+        EXPECT_LT(conclusions, provenance);
+        // The figure fits a page: its width attribute is at most 1000 px.
+        const auto w = svg.find(" width=\"");
+        ASSERT_NE(w, std::string::npos);
+        EXPECT_LE(std::stod(svg.substr(w + 8)), 1000.0) << svg.substr(w, 40);
     }
 }
 

@@ -58,6 +58,9 @@ int run_study(const StudyArgs& a) {
         return kExitBadInput;
     }
     for (const std::string& line : out.summary) std::cout << line << "\n";
+    if (!out.decisions.empty()) std::cout << "\n" << out.decisions;
+    if (!out.conclusions.empty()) std::cout << "\n";
+    for (const std::string& line : out.conclusions) std::cout << "- " << line << "\n";
     std::cout << "wrote " << (dir / "study.csv").string() << ", study.svg and summary.md\n";
     return kExitOk;
 }

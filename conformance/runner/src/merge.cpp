@@ -4,6 +4,7 @@
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <set>
 
 #include "conformance/records.hpp"
@@ -181,6 +182,24 @@ MergeSummary merge_shards(const std::vector<fs::path>& shards, const fs::path& o
             }
         }
     }
+    // The run's inputs (baseline, skips, flakes) as the first shard recorded them: the shards
+    // of one run share them (their identity includes the files' hashes).
+    std::string setup;
+    const fs::path setup_file = in.front().dir / "run.json";
+    if (fs::is_regular_file(fs::symlink_status(setup_file, ec))) {
+        for (auto& l : read_result_lines(setup_file).lines) setup += l.text + "\n";
+        if (fs::is_directory(fs::symlink_status(in.front().dir / "inputs", ec))) {
+            static const std::regex copy_name(R"((baseline\.csv|(skips|flakes)-[0-9]+\.txt))");
+            for (const auto& entry : fs::directory_iterator(in.front().dir / "inputs", ec)) {
+                const std::string file = entry.path().filename().string();
+                if (!std::regex_match(file, copy_name) ||
+                    !fs::is_regular_file(fs::symlink_status(entry.path(), ec)))
+                    continue;
+                carried.insert("inputs/" + file);
+                copies.emplace_back(entry.path(), output_file(output, "inputs", file));
+            }
+        }
+    }
     try {
         check_output_folders(output);
     } catch (const std::runtime_error& e) {
@@ -192,7 +211,8 @@ MergeSummary merge_shards(const std::vector<fs::path>& shards, const fs::path& o
     try {
         reports = build_reports(
             lines, "merged records", summary.cases,
-            [&](const std::string& relative) { return carried.count(relative) != 0; });
+            [&](const std::string& relative) { return carried.count(relative) != 0; }, setup,
+            shown(setup_file));
     } catch (const std::runtime_error& e) {
         throw MergeError(e.what());
     }

@@ -7,6 +7,7 @@
 #include <iomanip>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -748,10 +749,72 @@ std::string case_page(const json& r, const FileExists& exists) {
 
 }  // namespace
 
+namespace {
+
+// The run's baseline, skips and flakes files (run.json's "inputs"), each as given, linked to
+// the copy the run kept (when it is there and has one of the names the run gives copies), with
+// what it holds. Nothing when the run predates the record.
+std::string run_inputs_html(const json& inputs, const FileExists& exists) {
+    if (!inputs.is_object()) return "";
+    static const std::regex copy_name(R"(inputs/(baseline\.csv|(skips|flakes)-[0-9]+\.txt))");
+    const auto text = [](const json& j, const char* key) {
+        return j.is_object() && j.contains(key) && j[key].is_string() ? j[key].get<std::string>()
+                                                                      : std::string();
+    };
+    const auto count = [](const json& j, const char* key) {
+        return j.is_object() && j.contains(key) && j[key].is_number_unsigned()
+                   ? std::to_string(j[key].get<std::uint64_t>())
+                   : std::string("?");
+    };
+    const auto file = [&](const json& j) {
+        const std::string copy = text(j, "copy");
+        std::string s = "<code>" + markup::escape(text(j, "file")) + "</code>";
+        if (std::regex_match(copy, copy_name) && exists(copy))
+            s += " (<a href=\"" + markup::escape(copy) + "\">the run's copy</a>";
+        else
+            s += " (no copy";
+        return s + ", FNV-1a " + markup::escape(text(j, "fnv1a64")) + ")";
+    };
+    std::vector<std::string> items;
+    if (inputs.contains("baseline") && inputs["baseline"].is_object()) {
+        const json& b = inputs["baseline"];
+        items.push_back("baseline " + file(b) + ": " + count(b, "cases") + " cases listed");
+    }
+    for (const char* kind : {"skips", "flakes"}) {
+        if (!inputs.contains(kind) || !inputs[kind].is_array()) continue;
+        for (const json& f : inputs[kind]) {
+            std::string item =
+                std::string(kind) + " " + file(f) + ": " + count(f, "patterns") + " patterns";
+            if (std::string(kind) == "skips")
+                item += ", " + count(f, "skipped_cases") + " cases left out";
+            items.push_back(item);
+        }
+    }
+    std::string h = "<p id=\"run-inputs\">";
+    if (items.empty()) return h + "No baseline, skips or flakes file.</p>";
+    h += "Inputs: ";
+    for (std::size_t i = 0; i < items.size(); ++i) h += (i ? "; " : "") + items[i];
+    return h + ".</p>";
+}
+
+}  // namespace
+
 std::vector<ReportFile> build_reports(const std::vector<std::string>& lines,
                                       const std::string& source, std::size_t selected_cases,
-                                      const FileExists& exists) {
+                                      const FileExists& exists, const std::string& run_setup,
+                                      const std::string& run_source) {
     std::vector<ReportFile> files;
+    json inputs;
+    if (!run_setup.empty()) {
+        json setup;
+        try {
+            setup = json::parse(run_setup);
+        } catch (const json::exception&) {
+            throw std::runtime_error(run_source + ": not a run's setup (not JSON)");
+        }
+        if (setup.is_object() && setup.contains("inputs") && setup["inputs"].is_object())
+            inputs = setup["inputs"];
+    }
     std::vector<json> results;
     for (std::size_t i = 0; i < lines.size(); ++i) {
         if (lines[i].empty()) continue;
@@ -828,6 +891,7 @@ std::vector<ReportFile> build_reports(const std::vector<std::string>& lines,
     ojson doc;
     doc["summary"] = {
         {"selected", selected_cases}, {"finished", results.size()}, {"statuses", counts}};
+    if (!inputs.is_null()) doc["inputs"] = inputs;
     doc["cases"] = results;
     files.push_back(
         {"results.json", doc.dump(1, ' ', false, json::error_handler_t::replace) + "\n"});
@@ -909,6 +973,7 @@ std::vector<ReportFile> build_reports(const std::vector<std::string>& lines,
             h << ", --profile-set " << markup::escape(pv.value("profile_overrides", ""));
         h << "): <code>" << markup::escape(pv.value("profile_rules", "")) << "</code>.</p>";
     }
+    h << run_inputs_html(inputs, exists);
     h << "<table id=\"summary\"><tr><th>status</th><th>cases</th></tr>";
     for (const auto& [st, n] : counts) {
         h << "<tr><td class=\"st\" style=\"color:" << status_color(st) << "\">"
@@ -1094,8 +1159,14 @@ void write_reports(const std::filesystem::path& output, std::size_t selected_cas
         return std::filesystem::is_regular_file(
             std::filesystem::symlink_status(output / relative, ec));
     };
+    std::string setup;
+    const std::filesystem::path run = output / "run.json";
+    if (exists("run.json")) {
+        for (auto& l : read_result_lines(run).lines) setup += l.text + "\n";
+    }
     write_report_files(
-        output, build_reports(lines, encode::terminal(jsonl.string()), selected_cases, exists));
+        output, build_reports(lines, encode::terminal(jsonl.string()), selected_cases, exists,
+                              setup, encode::terminal(run.string())));
 }
 
 }  // namespace conformance

@@ -10,6 +10,7 @@
 #include <new>
 #include <nlohmann/json.hpp>
 #include <ostream>
+#include <regex>
 #include <set>
 #include <span>
 #include <sstream>
@@ -577,6 +578,7 @@ void clear_run_output(const std::filesystem::path& output) {
             owned.push_back(output / "explain" / (name + ".svg"));
             owned.push_back(output / "explain" / (name + ".txt"));
             owned.push_back(output / "images" / (name + ".mask.png"));
+            owned.push_back(output / "images" / (name + ".values.js"));
             owned.push_back(output / "images" / (name + ".samples.png"));
             for (const char* side : {"reference", "actual"}) {
                 if (!j.contains(side) || !j[side].is_object() || !j[side].contains("backend") ||
@@ -589,12 +591,19 @@ void clear_run_output(const std::filesystem::path& output) {
             }
         }
     }
+    // The copies of the run's inputs: inputs/baseline.csv, skips-N.txt, flakes-N.txt.
+    if (fs::is_directory(fs::symlink_status(output / "inputs", ec))) {
+        static const std::regex copy_name(R"((baseline\.csv|(skips|flakes)-[0-9]+\.txt))");
+        for (const auto& entry : fs::directory_iterator(output / "inputs", ec))
+            if (std::regex_match(entry.path().filename().string(), copy_name))
+                owned.push_back(entry.path());
+    }
     for (const fs::path& p : owned) {
         const auto st = fs::symlink_status(p, ec);
         // A file or a link of the run's name; never a directory.
         if (fs::is_regular_file(st) || fs::is_symlink(st)) fs::remove(p, ec);
     }
-    for (const char* d : {"cases", "images", "explain"}) {
+    for (const char* d : {"cases", "images", "explain", "inputs"}) {
         if (fs::is_directory(fs::symlink_status(output / d, ec)) && fs::is_empty(output / d, ec))
             fs::remove(output / d, ec);
     }
@@ -610,9 +619,33 @@ RunSummary run_suite(const RunOptions& options, std::ostream& console) {
     if (options.caselist) listed = read_caselist(*options.caselist);
     std::map<std::string, std::string> baseline;
     if (options.baseline) baseline = read_baseline(*options.baseline);
-    NamePatterns skips, flakes;
-    for (const auto& f : options.skips) skips.add_file(f);
-    for (const auto& f : options.flakes) flakes.add_file(f);
+    // One set of patterns per skips file, so that each file's skipped cases are counted.
+    std::vector<NamePatterns> skips(options.skips.size());
+    NamePatterns flakes;
+    // The run's inputs, for run.json and the report: each file as given, the copy the run
+    // keeps of it under inputs/, its hash and what it holds.
+    json inputs = {{"baseline", nullptr}, {"skips", json::array()}, {"flakes", json::array()}};
+    if (options.baseline)
+        inputs["baseline"] = {{"file", options.baseline->string()},
+                              {"copy", "inputs/baseline.csv"},
+                              {"fnv1a64", file_hash(*options.baseline)},
+                              {"cases", baseline.size()}};
+    for (std::size_t i = 0; i < options.skips.size(); ++i) {
+        skips[i].add_file(options.skips[i]);
+        inputs["skips"].push_back({{"file", options.skips[i].string()},
+                                   {"copy", "inputs/skips-" + std::to_string(i + 1) + ".txt"},
+                                   {"fnv1a64", file_hash(options.skips[i])},
+                                   {"patterns", skips[i].size()},
+                                   {"skipped_cases", 0}});
+    }
+    for (std::size_t i = 0; i < options.flakes.size(); ++i) {
+        const std::size_t before = flakes.size();
+        flakes.add_file(options.flakes[i]);
+        inputs["flakes"].push_back({{"file", options.flakes[i].string()},
+                                    {"copy", "inputs/flakes-" + std::to_string(i + 1) + ".txt"},
+                                    {"fnv1a64", file_hash(options.flakes[i])},
+                                    {"patterns", flakes.size() - before}});
+    }
 
     std::vector<CaseFile> cases;
     std::size_t index = 0;
@@ -622,7 +655,14 @@ RunSummary run_suite(const RunOptions& options, std::ostream& console) {
             continue;
         }
         if (options.caselist && !matches_any(c.name, listed)) continue;
-        if (skips.match(c.name)) continue;
+        const auto skipped_by = std::find_if(
+            skips.begin(), skips.end(), [&](const auto& p) { return p.match(c.name).has_value(); });
+        if (skipped_by != skips.end()) {
+            auto& n = inputs["skips"][static_cast<std::size_t>(skipped_by - skips.begin())]
+                            ["skipped_cases"];
+            n = n.get<std::size_t>() + 1;
+            continue;
+        }
         if (index++ % static_cast<std::size_t>(options.shard_count) !=
             static_cast<std::size_t>(options.shard_index))
             continue;
@@ -653,6 +693,7 @@ RunSummary run_suite(const RunOptions& options, std::ostream& console) {
     setup["flakes"] = json::array();
     for (const auto& f : options.flakes) setup["flakes"].push_back(file_hash(f));
     setup["shard"] = {{"index", options.shard_index}, {"count", options.shard_count}};
+    setup["inputs"] = inputs;
     std::set<std::string> selected;
     json names = json::array();
     for (const auto& c : cases) {
@@ -687,6 +728,25 @@ RunSummary run_suite(const RunOptions& options, std::ostream& console) {
         harness::write_file_atomically(output_file(options.output, "", "run.json"),
                                        dump_text(setup) + "\n");
         harness::write_file_atomically(output_file(options.output, "", "results.jsonl"), "");
+    }
+    // The copies of the inputs, as they were when the run began (a resumed run keeps the ones
+    // it finds: run.json's hashes said they are the same files).
+    {
+        std::vector<std::pair<std::filesystem::path, std::string>> copies;
+        if (options.baseline) copies.emplace_back(*options.baseline, "baseline.csv");
+        for (std::size_t i = 0; i < options.skips.size(); ++i)
+            copies.emplace_back(options.skips[i], "skips-" + std::to_string(i + 1) + ".txt");
+        for (std::size_t i = 0; i < options.flakes.size(); ++i)
+            copies.emplace_back(options.flakes[i], "flakes-" + std::to_string(i + 1) + ".txt");
+        for (const auto& [from, name] : copies) {
+            const auto to = output_file(options.output, "inputs", name);
+            if (options.resume && std::filesystem::exists(to)) continue;
+            std::filesystem::create_directories(to.parent_path());
+            harness::write_atomically(to, [&](const std::filesystem::path& partial) {
+                std::filesystem::copy_file(from, partial,
+                                           std::filesystem::copy_options::overwrite_existing);
+            });
+        }
     }
     if (!std::filesystem::exists(results_path)) harness::write_file_atomically(results_path, "");
 

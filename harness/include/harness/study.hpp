@@ -42,15 +42,22 @@ struct StudyOutput {
     std::string name;  // "precision", "antialiasing", "stability"
     std::string csv;
     std::string svg;
-    // One line per conclusion the numbers support, for the tool to print (and the docs to
-    // quote): "snap-8: 0 holes, 0 double hits on 412 shared edges".
+    // One line per number worth quoting, for the tool to print (and the docs to quote):
+    // "snap-8: 0 holes, 0 double hits on 412 shared edges".
     std::vector<std::string> summary;
+    // The decision table, in Markdown: for each error target, the cheapest choice that meets
+    // it and its time as a ratio with the range its timing rounds allow (a study that times
+    // nothing tabulates what it measured instead, one row per case).
+    std::string decisions;
+    // A few sentences the numbers support, written for a reader.
+    std::vector<std::string> conclusions;
     // Where the numbers come from (filled by run_study): study, seed, quick, commit, CPU flags,
     // kernels' compile flags, UTC date, seconds the study took.
     std::vector<std::pair<std::string, std::string>> provenance;
 };
 
-// summary.md: the provenance, the conclusions and the command that reproduces them.
+// summary.md: the decision table, the conclusions, the command that reproduces them, the
+// provenance and every summary line.
 std::string study_summary_markdown(const StudyOutput& out, const std::string& command);
 
 class StudyError : public refraster::Error {

@@ -34,14 +34,17 @@
 // support the triangle's boundary crosses (exact coverage strictly between 0 and 1, decided
 // exactly).
 // Run time: ns per evaluated pixel for sample coverage plus resolve, over the whole family,
-// measured with std::chrono::steady_clock as the best of 3 repetitions (the first pass's
-// estimates are compared with the exact answers afterwards, untimed).
-// The table: one row per family and variant, then one per variant for the family "all" (the
-// three pooled: sums of pixels and errors, so means are pixel-weighted), with columns study,
-// family, seed, samples, pattern, filter, pixels, edge_pixels, mean_error, max_error,
-// mean_edge_error, max_edge_error (absolute coverage errors), ns_per_pixel, triangles. The
-// figure: per filter, mean edge error against ns per pixel, a labelled point per variant and
-// the Pareto front; and mean edge error against samples, a curve per pattern and filter.
+// measured with std::chrono::steady_clock in 5 rounds (3 with --quick) interleaved over the
+// variants, after an untimed pass whose estimates are compared with the exact answers, as the
+// median with the range of the rounds (study_common.hpp's Timing). summary.md's decision table
+// gives, for each target of mean edge error, the cheapest variant that meets it, its time against
+// one sample's with the range the rounds allow, and the variants not slower beyond the spread. The
+// table: one row per family and variant, then one per variant for the family "all" (the three
+// pooled: sums of pixels and errors, so means are pixel-weighted), with columns study, family,
+// seed, samples, pattern, filter, pixels, edge_pixels, mean_error, max_error, mean_edge_error,
+// max_edge_error (absolute coverage errors), ns_per_pixel, triangles. The figure: per filter, mean
+// edge error against ns per pixel, a labelled point per variant and the Pareto front; and mean edge
+// error against samples, a curve per pattern and filter.
 //
 // Deliberately does not: model a GPU's resolve (no gamma, no sample masks, no compression),
 // time the exact answers, or share samples between triangles (each is drawn on its own).
@@ -73,7 +76,8 @@ constexpr int kImage = 64;  // pixels a side
 // bounding box grown by 1) and the samples their resolve reads (2 more) stay on it.
 constexpr int kMargin = 5;
 constexpr int kRandomTile = 16;
-constexpr int kRepetitions = 3;
+constexpr int kRounds = 5;
+constexpr int kQuickRounds = 3;
 
 // ---- patterns ----
 
@@ -413,7 +417,7 @@ struct Measure {
     double error_max = 0.0;
     double edge_error_sum = 0.0;
     double edge_error_max = 0.0;
-    double seconds = 0.0;
+    std::vector<double> rounds;  // seconds per timed round
     std::size_t triangles = 0;
 
     void add(const Measure& m) {
@@ -423,7 +427,8 @@ struct Measure {
         error_max = std::max(error_max, m.error_max);
         edge_error_sum += m.edge_error_sum;
         edge_error_max = std::max(edge_error_max, m.edge_error_max);
-        seconds += m.seconds;
+        rounds.resize(std::max(rounds.size(), m.rounds.size()), 0.0);
+        for (std::size_t k = 0; k < m.rounds.size(); ++k) rounds[k] += m.rounds[k];
         triangles += m.triangles;
     }
     double mean_error() const {
@@ -432,26 +437,28 @@ struct Measure {
     double mean_edge_error() const {
         return edge_pixels == 0 ? 0.0 : edge_error_sum / static_cast<double>(edge_pixels);
     }
-    double ns_per_pixel() const {
-        return pixels == 0 ? 0.0 : seconds * 1e9 / static_cast<double>(pixels);
+    Timing ns_per_pixel() const {
+        return pixels == 0 ? Timing{}
+                           : scaled(timing_of(rounds), 1e9 / static_cast<double>(pixels));
     }
 };
+
+// One timed round of the variant over the family; the estimates land in `estimates`.
+double time_round(const Family& family, const Variant& v, std::vector<std::uint8_t>& coverage,
+                  std::vector<double>& estimates) {
+    estimates.clear();
+    const auto t0 = std::chrono::steady_clock::now();
+    for (const TriangleExact& e : family.triangles) estimate(e, v, coverage, estimates);
+    return seconds_since(t0);
+}
 
 Measure measure(const Family& family, const Variant& v) {
     std::vector<std::uint8_t> coverage(
         static_cast<std::size_t>(kImage * kImage * v.pattern->samples), 0);
-    std::vector<double> estimates;
     std::vector<double> first;
     Measure m;
     m.triangles = family.triangles.size();
-    m.seconds = 1e300;
-    for (int rep = 0; rep < kRepetitions; ++rep) {
-        estimates.clear();
-        const auto t0 = std::chrono::steady_clock::now();
-        for (const TriangleExact& e : family.triangles) estimate(e, v, coverage, estimates);
-        m.seconds = std::min(m.seconds, seconds_since(t0));
-        if (rep == 0) first = estimates;
-    }
+    time_round(family, v, coverage, first);  // untimed: the errors' pass, which warms the caches
     const auto fi = static_cast<std::size_t>(v.filter);
     std::size_t i = 0;
     for (const TriangleExact& e : family.triangles) {
@@ -482,6 +489,7 @@ std::string short_number(double v) {
 StudyOutput run_antialiasing_study(const StudyOptions& options) {
     // About a minute on one core by default; a second or two with --quick.
     const std::size_t per_family = options.quick ? 20 : 800;
+    const int rounds = options.quick ? kQuickRounds : kRounds;
 
     std::vector<Pattern> patterns;
     patterns.push_back(centre_pattern());
@@ -517,22 +525,35 @@ StudyOutput run_antialiasing_study(const StudyOptions& options) {
                                 variants[vi].name() + " (" + std::to_string(vi + 1) + "/" +
                                 std::to_string(variants.size()) + ")");
             results[vi].push_back(measure(family, variants[vi]));
-            totals[vi].add(results[vi].back());
         }
+        report(options, "antialiasing: family " + family.name + ", " + std::to_string(rounds) +
+                            " timed rounds of every variant");
+        std::vector<double> estimates;
+        for (int r = 0; r < rounds; ++r) {
+            for (std::size_t vi = 0; vi < variants.size(); ++vi) {
+                std::vector<std::uint8_t> coverage(
+                    static_cast<std::size_t>(kImage * kImage * variants[vi].pattern->samples), 0);
+                results[vi].back().rounds.push_back(
+                    time_round(family, variants[vi], coverage, estimates));
+            }
+        }
+        for (std::size_t vi = 0; vi < variants.size(); ++vi) totals[vi].add(results[vi].back());
     }
 
     StudyOutput out;
     out.name = "antialiasing";
     CsvTable csv({"study", "family", "seed", "samples", "pattern", "filter", "pixels",
                   "edge_pixels", "mean_error", "max_error", "mean_edge_error", "max_edge_error",
-                  "ns_per_pixel", "triangles"});
+                  "ns_per_pixel", "ns_per_pixel_low", "ns_per_pixel_high", "rounds", "triangles"});
     const auto row = [&](const std::string& family, const Variant& v, const Measure& m) {
         csv.add_row({"antialiasing", family, std::to_string(options.seed),
                      std::to_string(v.pattern->samples), v.pattern->name, filter_name(v.filter),
                      std::to_string(m.pixels), std::to_string(m.edge_pixels),
                      csv_number(m.mean_error()), csv_number(m.error_max),
                      csv_number(m.mean_edge_error()), csv_number(m.edge_error_max),
-                     csv_number(m.ns_per_pixel()), std::to_string(m.triangles)});
+                     csv_number(m.ns_per_pixel().median), csv_number(m.ns_per_pixel().low),
+                     csv_number(m.ns_per_pixel().high), std::to_string(m.rounds.size()),
+                     std::to_string(m.triangles)});
     };
     for (std::size_t fam = 0; fam < makers.size(); ++fam) {
         for (std::size_t vi = 0; vi < variants.size(); ++vi) {
@@ -572,11 +593,13 @@ StudyOutput run_antialiasing_study(const StudyOptions& options) {
                                 ? *it
                                 : panel.series.emplace_back(PlotSeries{p.name, {}, false});
             const Measure& m = find(p.name, p.samples, f);
-            s.points.push_back(
-                {m.ns_per_pixel(), m.mean_edge_error(), std::to_string(p.samples) + " " + p.name});
+            const Timing t = m.ns_per_pixel();
+            s.points.push_back({t.median, m.mean_edge_error(),
+                                std::to_string(p.samples) + " " + p.name, t.low, t.high});
         }
         panels.push_back(std::move(panel));
     }
+    for (PlotPanel& panel : panels) panel.x_label = "ns per pixel (median, range of rounds)";
     PlotPanel by_samples{"error against samples (all families)",
                          "samples per pixel",
                          "mean |error| on edge pixels",
@@ -601,7 +624,7 @@ StudyOutput run_antialiasing_study(const StudyOptions& options) {
     panels.push_back(std::move(by_samples));
     out.svg = svg_figure("refraster study antialiasing: error against run time (seed " +
                              std::to_string(options.seed) + (options.quick ? ", quick" : "") + ")",
-                         panels, 2);
+                         panels, 2, Legend::Shared);
 
     // Conclusions.
     for (const Filter f : kFilters) {
@@ -622,15 +645,19 @@ StudyOutput run_antialiasing_study(const StudyOptions& options) {
         std::vector<PlotPoint> points;
         for (const Pattern& p : patterns) {
             const Measure& m = find(p.name, p.samples, f);
-            points.push_back(
-                {m.ns_per_pixel(), m.mean_edge_error(), std::to_string(p.samples) + " " + p.name});
+            const Timing t = m.ns_per_pixel();
+            points.push_back({t.median, m.mean_edge_error(),
+                              std::to_string(p.samples) + " " + p.name, t.low, t.high});
         }
         std::string front;
         for (const std::size_t i : pareto_front(points)) {
             front += (front.empty() ? "" : ", ") + points[i].label + " (" +
                      short_number(points[i].x) + " ns/px, " + short_number(points[i].y) + ")";
         }
-        out.summary.push_back(fname + " Pareto front (ns per pixel, mean edge error): " + front);
+        out.summary.push_back(fname +
+                              " Pareto front (better beyond the timing spread; ns per pixel, "
+                              "mean edge error): " +
+                              front);
     }
     // Where regular grids alias: the near-axis family, per pattern.
     for (const int n : {16, 64}) {
@@ -645,6 +672,78 @@ StudyOutput run_antialiasing_study(const StudyOptions& options) {
             }
         }
         out.summary.push_back(line);
+    }
+
+    // The decision table: for each target of mean edge error, the cheapest variant meeting it.
+    const Timing one = find("centre", 1, Filter::box).ns_per_pixel();
+    std::ostringstream table;
+    table << "| mean edge error at most | the cheapest variant | ns per pixel, median (range) | "
+             "time against 1 sample (box) | as fast within the spread |\n"
+             "|---|---|---|---|---|\n";
+    for (const double target : {0.1, 0.03, 0.01, 0.003, 0.001}) {
+        std::vector<std::size_t> meeting;
+        for (std::size_t vi = 0; vi < variants.size(); ++vi)
+            if (totals[vi].mean_edge_error() <= target) meeting.push_back(vi);
+        if (meeting.empty()) {
+            table << "| " << short_number(target) << " | none of the variants | | | |\n";
+            continue;
+        }
+        const std::size_t best =
+            *std::min_element(meeting.begin(), meeting.end(), [&](std::size_t a, std::size_t b) {
+                return totals[a].ns_per_pixel().median < totals[b].ns_per_pixel().median;
+            });
+        const Timing bt = totals[best].ns_per_pixel();
+        std::string alike;
+        for (const std::size_t vi : meeting)
+            if (vi != best && totals[vi].ns_per_pixel().low <= bt.high)
+                alike += (alike.empty() ? "" : ", ") + variants[vi].name();
+        table << "| " << short_number(target) << " | " << variants[best].name() << " (error "
+              << short_number(totals[best].mean_edge_error()) << ") | " << short_number(bt.median)
+              << " (" << short_number(bt.low) << "-" << short_number(bt.high) << ") | "
+              << ratio_text(ratio_of(bt, one)) << " | " << (alike.empty() ? "none" : alike)
+              << " |\n";
+    }
+    out.decisions = table.str();
+
+    // In words.
+    {
+        const double e1 = find("centre", 1, Filter::box).mean_edge_error();
+        const double e4 = find("gl4", 4, Filter::box).mean_edge_error();
+        out.conclusions.push_back("GL's 4x pattern removes " +
+                                  short_number(100.0 * (1.0 - e4 / e1)) +
+                                  "% of one sample's mean edge error with the box filter (" +
+                                  short_number(e1) + " to " + short_number(e4) + ").");
+        const double r16 = find("rotated", 16, Filter::box).mean_edge_error();
+        const double r64 = find("rotated", 64, Filter::box).mean_edge_error();
+        const double g64 = find("regular", 64, Filter::box).mean_edge_error();
+        const double s64 = find("stratified", 64, Filter::box).mean_edge_error();
+        out.conclusions.push_back(
+            "Four times the samples cut the rotated grid's box error by " +
+            short_number(r16 / r64) + " (16 to 64 samples: " + short_number(r16) + " to " +
+            short_number(r64) + "); at 64 samples the rotated grid's " + short_number(r64) +
+            " beats the regular grid's " + short_number(g64) + " and stratified random's " +
+            short_number(s64) + ".");
+        const double t1 = find("centre", 1, Filter::tent).mean_edge_error();
+        const double t4 = find("gl4", 4, Filter::tent).mean_edge_error();
+        const double q4 = find("gl4", 4, Filter::gaussian).mean_edge_error();
+        out.conclusions.push_back(
+            "Against the coverage each filter defines, the tent and the "
+            "Gaussian reach a given error with fewer samples than the box "
+            "(GL 4x: " +
+            short_number(t4) + " and " + short_number(q4) + " against " + short_number(e4) +
+            "; one sample's tent error: " + short_number(t1) + ").");
+        double widest = 0.0;
+        for (const Measure& m : totals) {
+            const Timing t = m.ns_per_pixel();
+            if (t.median > 0.0) widest = std::max(widest, (t.high - t.low) / t.median);
+        }
+        out.conclusions.push_back(
+            "Times are medians of " + std::to_string(rounds) +
+            " interleaved rounds; the widest range of one variant's rounds was " +
+            short_number(100.0 * widest) + "% of its median" +
+            (widest > 0.2 ? ": the machine was loaded, and only differences beyond the ranges count"
+                          : "") +
+            ".");
     }
     return out;
 }

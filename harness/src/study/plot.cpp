@@ -63,15 +63,19 @@ enum class Marker { Circle, Square, Triangle, Diamond };
 constexpr std::array<Marker, 4> kMarkers = {Marker::Circle, Marker::Square, Marker::Triangle,
                                             Marker::Diamond};
 
-const char* colour_of(std::size_t series) {
-    return kPalette[series % kPalette.size()];
+// A series' style is its name's place among the figure's series names (in order of first
+// appearance), so that one name has one colour and marker in every panel.
+const char* colour_of(std::size_t style) {
+    return kPalette[style % kPalette.size()];
 }
 
 // The marker changes only once the colours have all been used, so that two series never share
 // both.
-Marker marker_of(std::size_t series) {
-    return kMarkers[(series / kPalette.size()) % kMarkers.size()];
+Marker marker_of(std::size_t style) {
+    return kMarkers[(style / kPalette.size()) % kMarkers.size()];
 }
+
+using StyleOf = std::vector<std::size_t>;  // per series of a panel, its style
 
 // A coordinate or length: at most two decimals, no trailing zeros, never "-0", and never
 // "nan" or "inf" (a non-finite value here would be a layout bug; 0 keeps the document valid).
@@ -391,6 +395,8 @@ PanelAxes axes_of(const PlotPanel& panel) {
             if (!drawable(p.x, panel.log_x) || !drawable(p.y, panel.log_y)) continue;
             xs.push_back(p.x);
             ys.push_back(p.y);
+            for (double x : {p.x_low, p.x_high})
+                if (drawable(x, panel.log_x)) xs.push_back(x);
         }
     }
     // Reference lines are there to be seen next to the data, so the range holds them.
@@ -512,7 +518,8 @@ std::string place_labels(const std::vector<Drawn>& drawn, std::vector<Box> taken
 }
 
 // One panel, drawn with (0, 0) at the plot area's top left corner.
-std::string panel_svg(const PlotPanel& panel, const PanelAxes& axes, double left_margin) {
+std::string panel_svg(const PlotPanel& panel, const PanelAxes& axes, double left_margin,
+                      const StyleOf& style, bool own_legend) {
     const Axis& ax = axes.x;
     const Axis& ay = axes.y;
     std::string s;
@@ -587,6 +594,8 @@ std::string panel_svg(const PlotPanel& panel, const PanelAxes& axes, double left
          "\" font-size=\"11.5\" text-anchor=\"middle\" transform=\"rotate(-90 " + num(ylx) + " " +
          num(kPlotHeight / 2.0) + ")\">" + markup::escape(panel.y_label) + "</text>\n";
 
+    // Labels keep off the reference lines' labels, the whiskers and the front.
+    std::vector<Box> front_boxes;
     // Reference lines, under the data.
     for (const auto& [x, label] : panel.x_marks) {
         const auto px = ax.map(x);
@@ -598,6 +607,8 @@ std::string panel_svg(const PlotPanel& panel, const PanelAxes& axes, double left
             const bool left = *px + 3.0 + w > kPlotWidth;
             s += text_svg(left ? *px - 3.0 : *px + 3.0, 11.0, label, 9.0, left ? "end" : "start",
                           "fill=\"#666666\"");
+            front_boxes.push_back(
+                {left ? *px - 3.0 - w : *px + 3.0, 2.0, left ? *px - 3.0 : *px + 3.0 + w, 14.0});
         }
     }
 
@@ -608,7 +619,7 @@ std::string panel_svg(const PlotPanel& panel, const PanelAxes& axes, double left
     std::string markers;
     for (std::size_t si = 0; si < panel.series.size(); ++si) {
         const PlotSeries& series = panel.series[si];
-        const char* colour = colour_of(si);
+        const char* colour = colour_of(style[si]);
         std::vector<std::pair<double, double>> run;
         auto flush = [&]() {
             if (run.size() >= 2) {
@@ -650,7 +661,19 @@ std::string panel_svg(const PlotPanel& panel, const PanelAxes& axes, double left
             const Drawn d{*px, *py, &p};
             drawn.push_back(d);
             if (!series.line) scatter.push_back(d);
-            markers += marker_svg(marker_of(si), *px, *py, series.line ? 3.0 : 4.5, colour) + "\n";
+            // The spread: a whisker with end caps from the fastest to the slowest round.
+            const auto lo = ax.map(p.x_low);
+            const auto hi = ax.map(p.x_high);
+            if (lo && hi && *hi - *lo >= 1.0) {
+                const std::string whisker =
+                    "stroke=\"" + std::string(colour) + "\" stroke-width=\"1.1\"";
+                curves += line_svg(*lo, *py, *hi, *py, whisker);
+                curves += line_svg(*lo, *py - 3.5, *lo, *py + 3.5, whisker);
+                curves += line_svg(*hi, *py - 3.5, *hi, *py + 3.5, whisker);
+                front_boxes.push_back({*lo - 1.0, *py - 4.0, *hi + 1.0, *py + 4.0});
+            }
+            markers +=
+                marker_svg(marker_of(style[si]), *px, *py, series.line ? 3.0 : 4.5, colour) + "\n";
         }
         flush();
     }
@@ -660,11 +683,10 @@ std::string panel_svg(const PlotPanel& panel, const PanelAxes& axes, double left
     std::vector<PlotPoint> all;
     std::vector<std::pair<double, double>> pixels;
     for (const Drawn& d : drawn) {
-        all.push_back({d.point->x, d.point->y, {}});
+        all.push_back({d.point->x, d.point->y, {}, d.point->x_low, d.point->x_high});
         pixels.emplace_back(d.px, d.py);
     }
     std::string front_svg;
-    std::vector<Box> front_boxes;
     bool front_drawn = false;
     if (panel.pareto) {
         const std::vector<std::size_t> front = pareto_front(all);
@@ -703,6 +725,7 @@ std::string panel_svg(const PlotPanel& panel, const PanelAxes& axes, double left
     }
     s += "<g>\n" + place_labels(scatter, front_boxes) + "</g>\n";
 
+    if (!own_legend) return s;
     // The legend, right of the plot area: one row per series, then the front.
     const LegendLayout legend = legend_layout(panel);
     double lx = kPlotWidth + kLegendGap;
@@ -719,12 +742,13 @@ std::string panel_svg(const PlotPanel& panel, const PanelAxes& axes, double left
     s += "<g>\n";
     for (std::size_t si = 0; si < panel.series.size(); ++si) {
         const PlotSeries& series = panel.series[si];
-        const char* colour = colour_of(si);
+        const char* colour = colour_of(style[si]);
         if (series.line) {
             s += line_svg(lx, ly, lx + 20.0, ly,
                           "stroke=\"" + std::string(colour) + "\" stroke-width=\"1.8\"");
         }
-        s += marker_svg(marker_of(si), lx + 10.0, ly, series.line ? 3.0 : 4.5, colour) + "\n";
+        s +=
+            marker_svg(marker_of(style[si]), lx + 10.0, ly, series.line ? 3.0 : 4.5, colour) + "\n";
         s += text_svg(lx + 27.0, ly + kLegendFont * 0.35, series.name, kLegendFont);
         next_entry();
     }
@@ -741,30 +765,89 @@ std::string panel_svg(const PlotPanel& panel, const PanelAxes& axes, double left
 
 }  // namespace
 
-std::string svg_figure(const std::string& title, const std::vector<PlotPanel>& panels,
-                       int columns) {
-    const std::size_t cols = std::clamp<std::size_t>(static_cast<std::size_t>(std::max(columns, 1)),
-                                                     1, std::max<std::size_t>(panels.size(), 1));
-    const std::size_t rows = std::max<std::size_t>(1, (panels.size() + cols - 1) / cols);
+std::string svg_figure(const std::string& title, const std::vector<PlotPanel>& panels, int columns,
+                       Legend legend) {
+    const bool shared = legend == Legend::Shared;
+    // One style per series name, in order of first appearance over the panels.
+    std::vector<std::string> names;
+    std::vector<StyleOf> styles;
+    for (const PlotPanel& panel : panels) {
+        StyleOf style;
+        for (const PlotSeries& series : panel.series) {
+            const auto it = std::find(names.begin(), names.end(), series.name);
+            style.push_back(static_cast<std::size_t>(it - names.begin()));
+            if (it == names.end()) names.push_back(series.name);
+        }
+        styles.push_back(std::move(style));
+    }
 
+    std::vector<PanelAxes> axes;
+    for (const PlotPanel& panel : panels) axes.push_back(axes_of(panel));
     // The cells of a grid column have the width of its widest panel: the tick labels on a
     // panel's left and its legend on its right vary, the plot area does not.
-    std::vector<PanelAxes> axes;
-    std::vector<double> left(cols, 60.0);
-    std::vector<double> right(cols, 110.0);
-    for (std::size_t i = 0; i < panels.size(); ++i) {
-        axes.push_back(axes_of(panels[i]));
-        const std::size_t c = i % cols;
-        left[c] = std::max(left[c], kYLabelSpace + tick_label_width(axes.back().y) + 14.0);
-        right[c] = std::max(right[c], legend_layout(panels[i]).width());
-    }
-    std::vector<double> cell_x(cols + 1, 0.0);
-    for (std::size_t c = 0; c < cols; ++c) {
-        cell_x[c + 1] = cell_x[c] + left[c] + kPlotWidth + kLegendGap + right[c] + kCellPadding;
-    }
+    struct Grid {
+        std::size_t cols, rows;
+        std::vector<double> left, right, cell_x;
+    };
+    const auto grid_of = [&](std::size_t cols) {
+        Grid g{cols, std::max<std::size_t>(1, (panels.size() + cols - 1) / cols),
+               std::vector<double>(cols, 60.0), std::vector<double>(cols, shared ? 0.0 : 110.0),
+               std::vector<double>(cols + 1, 0.0)};
+        for (std::size_t i = 0; i < panels.size(); ++i) {
+            const std::size_t c = i % cols;
+            g.left[c] = std::max(g.left[c], kYLabelSpace + tick_label_width(axes[i].y) + 14.0);
+            if (!shared) g.right[c] = std::max(g.right[c], legend_layout(panels[i]).width());
+        }
+        for (std::size_t c = 0; c < cols; ++c) {
+            g.cell_x[c + 1] = g.cell_x[c] + g.left[c] + kPlotWidth +
+                              (shared ? 0.0 : kLegendGap + g.right[c]) + kCellPadding;
+        }
+        return g;
+    };
+    std::size_t cols = std::clamp<std::size_t>(static_cast<std::size_t>(std::max(columns, 1)), 1,
+                                               std::max<std::size_t>(panels.size(), 1));
+    Grid grid = grid_of(cols);
+    while (cols > 1 && grid.cell_x[cols] > kMaxFigureWidth) grid = grid_of(--cols);
+    const std::size_t rows = grid.rows;
+    const std::vector<double>& left = grid.left;
+    const std::vector<double>& cell_x = grid.cell_x;
     const double cell_height = kPanelTop + kPlotHeight + kPanelBottom;
     const double width = std::max(cell_x[cols], text_width(title, 16.0) + 40.0);
-    const double height = kFigureTitle + cell_height * static_cast<double>(rows) + 8.0;
+
+    // The shared legend: entries in rows under the title, each a sample and the name.
+    struct Entry {
+        std::string name;
+        std::size_t style;  // or SIZE_MAX for the front
+        bool line;
+        double x, y;
+    };
+    std::vector<Entry> entries;
+    double legend_height = 0.0;
+    if (shared) {
+        for (std::size_t n = 0; n < names.size(); ++n) {
+            bool line = false;
+            for (const PlotPanel& panel : panels)
+                for (const PlotSeries& series : panel.series)
+                    line = line || (series.name == names[n] && series.line);
+            entries.push_back({names[n], n, line, 0.0, 0.0});
+        }
+        if (std::any_of(panels.begin(), panels.end(), [](const PlotPanel& p) { return p.pareto; }))
+            entries.push_back({"Pareto front", static_cast<std::size_t>(-1), true, 0.0, 0.0});
+        double x = 20.0, y = kFigureTitle + 4.0;
+        for (Entry& e : entries) {
+            const double w = 27.0 + text_width(e.name, kLegendFont) + 18.0;
+            if (x > 20.0 && x + w > width - 10.0) {
+                x = 20.0;
+                y += kLegendRow;
+            }
+            e.x = x;
+            e.y = y;
+            x += w;
+        }
+        if (!entries.empty()) legend_height = y - kFigureTitle + kLegendRow;
+    }
+    const double grid_top = kFigureTitle + legend_height;
+    const double height = grid_top + cell_height * static_cast<double>(rows) + 8.0;
 
     std::string s;
     s += "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
@@ -782,12 +865,33 @@ std::string svg_figure(const std::string& title, const std::vector<PlotPanel>& p
         s += text_svg(width / 2.0, kFigureTitle + cell_height / 2.0, "no data", 14.0, "middle",
                       "fill=\"#999999\"");
     }
+    if (!entries.empty()) {
+        s += "<g>\n";
+        for (const Entry& e : entries) {
+            if (e.style == static_cast<std::size_t>(-1)) {
+                s += line_svg(e.x, e.y, e.x + 20.0, e.y,
+                              "stroke=\"#222222\" stroke-width=\"1.2\" stroke-dasharray=\"5,3\"");
+                s += "<circle cx=\"" + num(e.x + 10.0) + "\" cy=\"" + num(e.y) +
+                     "\" r=\"6\" fill=\"#ffffff\" stroke=\"#222222\" stroke-width=\"1.3\"/>\n";
+            } else {
+                const char* colour = colour_of(e.style);
+                if (e.line) {
+                    s += line_svg(e.x, e.y, e.x + 20.0, e.y,
+                                  "stroke=\"" + std::string(colour) + "\" stroke-width=\"1.8\"");
+                }
+                s += marker_svg(marker_of(e.style), e.x + 10.0, e.y, e.line ? 3.0 : 4.5, colour) +
+                     "\n";
+            }
+            s += text_svg(e.x + 27.0, e.y + kLegendFont * 0.35, e.name, kLegendFont);
+        }
+        s += "</g>\n";
+    }
     for (std::size_t i = 0; i < panels.size(); ++i) {
         const std::size_t c = i % cols;
         const double ox = cell_x[c] + left[c];
-        const double oy = kFigureTitle + cell_height * static_cast<double>(i / cols) + kPanelTop;
+        const double oy = grid_top + cell_height * static_cast<double>(i / cols) + kPanelTop;
         s += "<g transform=\"translate(" + num(ox) + "," + num(oy) + ")\">\n";
-        s += panel_svg(panels[i], axes[i], left[c]);
+        s += panel_svg(panels[i], axes[i], left[c], styles[i], !shared);
         s += "</g>\n";
     }
     s += markup::svg_close() + "\n";
@@ -796,18 +900,25 @@ std::string svg_figure(const std::string& title, const std::vector<PlotPanel>& p
 
 std::vector<std::size_t> pareto_front(const std::vector<PlotPoint>& points) {
     // Quadratic, which is plenty for the few dozen variants of a study, and plainly the
-    // definition: a point is off the front when another is no worse in both and better in one.
+    // definition in plot.hpp.
+    const auto low = [](const PlotPoint& p) { return std::isfinite(p.x_low) ? p.x_low : p.x; };
+    const auto high = [](const PlotPoint& p) { return std::isfinite(p.x_high) ? p.x_high : p.x; };
+    const auto beats = [&](const PlotPoint& q, const PlotPoint& p) {
+        const bool not_slower = low(q) <= high(p);
+        const bool faster = high(q) < low(p);
+        return q.y <= p.y && not_slower && (q.y < p.y || faster);
+    };
     std::vector<std::size_t> front;
     for (std::size_t i = 0; i < points.size(); ++i) {
         const PlotPoint& p = points[i];
         if (!std::isfinite(p.x) || !std::isfinite(p.y)) continue;
-        bool dominated = false;
-        for (std::size_t j = 0; j < points.size() && !dominated; ++j) {
+        bool beaten = false;
+        for (std::size_t j = 0; j < points.size() && !beaten; ++j) {
             const PlotPoint& q = points[j];
             if (j == i || !std::isfinite(q.x) || !std::isfinite(q.y)) continue;
-            dominated = q.x <= p.x && q.y <= p.y && (q.x < p.x || q.y < p.y);
+            beaten = beats(q, p);
         }
-        if (!dominated) front.push_back(i);
+        if (!beaten) front.push_back(i);
     }
     std::stable_sort(front.begin(), front.end(), [&](std::size_t a, std::size_t b) {
         if (points[a].x != points[b].x) return points[a].x < points[b].x;

@@ -8,20 +8,33 @@
 //   hits (centres two or more triangles cover): the oracle has neither, by GL's tie rule;
 // - attribute error at the centres the oracle covers: in float32 units in the last place of the
 //   exact value (max and mean) and absolute (max);
-// - depth order inversions: pairs of triangles the oracle puts at one centre, drawn in order
-//   with GL_LESS, where the variant's stored depths let the later one pass and the exact depths
-//   do not, or the reverse; pairs whose exact depths are closer than 1e-12 (below the double
-//   rounding of the oracle's weights) are not counted.
+// - depth order: of the pairs of triangles the oracle puts at one centre (pairs whose exact
+//   depths are closer than 1e-12, below the double rounding of the oracle's weights, are not
+//   counted), the inversions, whose stored depths are strictly in the other order than the
+//   exact ones, and apart from them the ties, whose stored depths are equal: a depth test
+//   cannot order a tie, and which of its two surfaces wins is then the compare function's
+//   (GL_LESS keeps the first), not the arithmetic's. Quantising the exact depth never inverts
+//   a pair (rounding is monotonic); it only ties them.
 // Run time: the variant's kernel over the whole family (setup, traversal of each bounding box,
-// interpolation and depth at covered centres), the best of three runs (one with --quick),
-// with the errors computed afterwards and untimed. The fast core itself (refraster::render under
-// llvmpipe-22.3, one thread, depth test on z24) draws the same families as a calibration point.
+// interpolation and depth at covered centres), after an untimed pass that gives the errors and
+// warms the caches, in rounds interleaved over the variants (5, or 3 with --quick; the exact
+// oracle, hundreds of times slower, once: its errors' pass), as the median with the
+// range of the rounds (study_common.hpp's Timing), with the errors computed afterwards
+// and untimed. The fast core itself (refraster::render under llvmpipe-22.3, one thread, depth
+// test on z24) draws the same families as a calibration point.
+//
+// The decision table of summary.md: for each error target, the variant with the lowest median
+// time that meets it, its time as a ratio to the llvmpipe rule's (snap-8, fused, z24) with the
+// range the rounds allow, and the variants that meet the target too and are not slower beyond
+// the spread.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <iomanip>
 #include <map>
 #include <numeric>
+#include <optional>
 #include <sstream>
 
 #include "harness/study.hpp"
@@ -54,9 +67,9 @@ struct Errors {
     double sum_ulps = 0.0;
     double max_abs = 0.0;
     std::uint64_t depth_pairs = 0;
-    std::uint64_t depth_inversions = 0;
-    std::uint64_t degenerate = 0;  // triangles with no plane in the variant's arithmetic
-    double seconds = 0.0;
+    std::uint64_t depth_inversions = 0;  // stored strictly in the other order
+    std::uint64_t depth_ties = 0;        // stored equal, exact depths apart
+    std::uint64_t degenerate = 0;        // triangles with no plane in the variant's arithmetic
 };
 
 // Centres of one triangle that are in one row-major list and not the other.
@@ -83,17 +96,13 @@ ExactFamily exact_family(const Family& f) {
     return e;
 }
 
-double time_variant(const Variant& v, const Family& f, int repeats,
-                    std::vector<std::vector<Fragment>>& out) {
-    double best = 1e300;
+// One timed round of the variant's kernel over the family.
+double time_variant(const Variant& v, const Family& f, std::vector<std::vector<Fragment>>& out) {
     out.resize(f.triangles.size());
-    for (int r = 0; r < repeats; ++r) {
-        const auto t0 = std::chrono::steady_clock::now();
-        for (std::size_t i = 0; i < f.triangles.size(); ++i)
-            rasterize(v, f.triangles[i], f.viewport, out[i]);
-        best = std::min(best, seconds_since(t0));
-    }
-    return best;
+    const auto t0 = std::chrono::steady_clock::now();
+    for (std::size_t i = 0; i < f.triangles.size(); ++i)
+        rasterize(v, f.triangles[i], f.viewport, out[i]);
+    return seconds_since(t0);
 }
 
 Errors measure(const Variant& v, const Family& f, const ExactFamily& e,
@@ -146,9 +155,12 @@ Errors measure(const Variant& v, const Family& f, const ExactFamily& e,
                 const double ez = list[j].first - list[i].first;
                 if (std::fabs(ez) <= 1e-12) continue;
                 ++r.depth_pairs;
-                const bool exact_passes = ez < 0.0;
-                const bool variant_passes = list[j].second < list[i].second;
-                r.depth_inversions += exact_passes != variant_passes;
+                const double stored = list[j].second - list[i].second;
+                if (stored == 0.0) {
+                    ++r.depth_ties;
+                } else {
+                    r.depth_inversions += (ez < 0.0) != (stored < 0.0);
+                }
             }
         }
     }
@@ -156,7 +168,7 @@ Errors measure(const Variant& v, const Family& f, const ExactFamily& e,
 }
 
 // The fast core on the same family: refraster::render with the llvmpipe-22.3 profile.
-std::optional<double> time_fast_core(const Family& f, int repeats) {
+std::optional<Timing> time_fast_core(const Family& f, int rounds) {
     if (f.viewport.width > 4096) return std::nullopt;  // a 16384^2 target is 2 GiB of pixels
     refraster::DrawList list;
     list.target = {static_cast<std::uint32_t>(f.viewport.width),
@@ -176,28 +188,35 @@ std::optional<double> time_fast_core(const Family& f, int repeats) {
     refraster::RenderOptions o;
     o.profile = refraster::llvmpipe_22_3_profile();
     o.threads = 1;
-    double best = 1e300;
-    for (int r = 0; r < repeats; ++r) {
+    std::vector<double> seconds;
+    for (int r = 0; r < rounds; ++r) {
         refraster::Framebuffer fb;
         const auto t0 = std::chrono::steady_clock::now();
         refraster::render(list, o, fb);
-        best = std::min(best, seconds_since(t0));
+        seconds.push_back(seconds_since(t0));
     }
-    return best;
+    return timing_of(seconds);
 }
 
 struct Row {
     Variant variant;
     std::string family;
     Errors errors;
+    std::vector<double> seconds;  // per round
 };
+
+std::string percent(double v) {
+    std::ostringstream o;
+    o << std::setprecision(2) << v * 100.0 << "%";
+    return o.str();
+}
 
 }  // namespace
 
 StudyOutput run_precision_study(const StudyOptions& options) {
     const auto families = precision_families(options.seed, options.quick);
     const auto variants = all_variants();
-    const int repeats = options.quick ? 1 : 3;
+    const int rounds = options.quick ? 3 : 5;
     CsvTable csv({"study",
                   "family",
                   "seed",
@@ -217,32 +236,49 @@ StudyOutput run_precision_study(const StudyOptions& options) {
                   "attribute_max_abs",
                   "depth_pairs",
                   "depth_inversions",
+                  "depth_ties",
+                  "rounds",
                   "ms",
+                  "ms_low",
+                  "ms_high",
                   "ns_per_triangle"});
     std::vector<Row> rows;
-    std::map<std::string, double> fast_core_ms;
-    double fast_core_total = 0.0;
+    std::map<std::string, Timing> fast_core;
+    std::vector<double> fast_core_rounds(static_cast<std::size_t>(rounds), 0.0);
     std::size_t fast_core_triangles = 0;
+    const auto rounds_of = [&](const Variant& v) {
+        // The exact rule runs the oracle: once, it being by far the slowest.
+        return v.coverage == CoverageRule::Exact ? 1 : rounds;
+    };
     for (const Family& f : families) {
         report(options, "precision: family " + f.name + " (" + std::to_string(f.triangles.size()) +
                             " triangles): exact oracle");
         const ExactFamily e = exact_family(f);
         std::vector<std::vector<Fragment>> frags;
-        for (std::size_t vi = 0; vi < variants.size(); ++vi) {
-            const Variant& v = variants[vi];
-            report(options, "precision: family " + f.name + ", variant " + v.name() + " (" +
-                                std::to_string(vi + 1) + "/" + std::to_string(variants.size()) +
-                                ")");
-            // The exact rule runs the oracle: once, it being by far the slowest.
-            const double s =
-                time_variant(v, f, v.coverage == CoverageRule::Exact ? 1 : repeats, frags);
-            Errors err = measure(v, f, e, frags);
-            err.seconds = s;
-            rows.push_back({v, f.name, err});
+        const std::size_t first = rows.size();
+        // Pass 0 draws every variant for its errors, untimed, and warms the caches and the
+        // fragment lists; then the timed rounds. The exact rule's one round is its pass 0.
+        for (int r = 0; r <= rounds; ++r) {
+            for (std::size_t vi = 0; vi < variants.size(); ++vi) {
+                const Variant& v = variants[vi];
+                const bool exact = v.coverage == CoverageRule::Exact;
+                if (r == 0) {
+                    report(options, "precision: family " + f.name + ", variant " + v.name() + " (" +
+                                        std::to_string(vi + 1) + "/" +
+                                        std::to_string(variants.size()) + ")");
+                    const double t = time_variant(v, f, frags);
+                    rows.push_back({v, f.name, measure(v, f, e, frags), {}});
+                    if (exact) rows.back().seconds.push_back(t);
+                } else if (!exact) {
+                    rows[first + vi].seconds.push_back(time_variant(v, f, frags));
+                }
+            }
+            if (r == 0)
+                report(options, "precision: family " + f.name + ", " + std::to_string(rounds) +
+                                    " timed rounds of every variant");
         }
-        if (const auto fc = time_fast_core(f, repeats)) {
-            fast_core_ms[f.name] = *fc * 1e3;
-            fast_core_total += *fc;
+        if (const auto fc = time_fast_core(f, rounds)) {
+            fast_core[f.name] = *fc;
             fast_core_triangles += f.triangles.size();
         }
     }
@@ -251,6 +287,7 @@ StudyOutput run_precision_study(const StudyOptions& options) {
     for (const Row& r : rows) {
         const Errors& e = r.errors;
         const double n = static_cast<double>(triangles[r.family]);
+        const Timing t = timing_of(r.seconds);
         csv.add_row({"precision",
                      r.family,
                      std::to_string(options.seed),
@@ -274,10 +311,14 @@ StudyOutput run_precision_study(const StudyOptions& options) {
                      csv_number(e.max_abs),
                      std::to_string(e.depth_pairs),
                      std::to_string(e.depth_inversions),
-                     csv_number(e.seconds * 1e3),
-                     csv_number(e.seconds * 1e9 / n)});
+                     std::to_string(e.depth_ties),
+                     std::to_string(t.rounds),
+                     csv_number(t.median * 1e3),
+                     csv_number(t.low * 1e3),
+                     csv_number(t.high * 1e3),
+                     csv_number(t.median * 1e9 / n)});
     }
-    for (const auto& [family, ms] : fast_core_ms) {
+    for (const auto& [family, t] : fast_core) {
         csv.add_row({"precision",
                      family,
                      std::to_string(options.seed),
@@ -297,21 +338,29 @@ StudyOutput run_precision_study(const StudyOptions& options) {
                      "",
                      "",
                      "",
-                     csv_number(ms),
-                     csv_number(ms * 1e6 / static_cast<double>(triangles[family]))});
+                     "",
+                     std::to_string(t.rounds),
+                     csv_number(t.median * 1e3),
+                     csv_number(t.low * 1e3),
+                     csv_number(t.high * 1e3),
+                     csv_number(t.median * 1e9 / static_cast<double>(triangles[family]))});
     }
 
-    // Totals per variant over all families.
+    // Totals per variant over all families; a round's total is the sum of that round over the
+    // families (the exact rule's one round stands for all of its rounds).
     struct Total {
         Errors e;
         std::uint64_t triangles = 0;
+        std::vector<double> rounds;
+        Timing ns_per_triangle;
     };
     std::map<std::string, Total> total;
     std::vector<Variant> order;
     for (const Row& r : rows) {
         auto [it, fresh] = total.try_emplace(r.variant.name());
         if (fresh) order.push_back(r.variant);
-        Errors& t = it->second.e;
+        Total& tot = it->second;
+        Errors& t = tot.e;
         const Errors& e = r.errors;
         t.exact_centres += e.exact_centres;
         t.misclassified += e.misclassified;
@@ -324,16 +373,34 @@ StudyOutput run_precision_study(const StudyOptions& options) {
         t.max_abs = std::max(t.max_abs, e.max_abs);
         t.depth_pairs += e.depth_pairs;
         t.depth_inversions += e.depth_inversions;
-        t.seconds += e.seconds;
-        it->second.triangles += triangles[r.family];
+        t.depth_ties += e.depth_ties;
+        tot.rounds.resize(static_cast<std::size_t>(rounds_of(r.variant)), 0.0);
+        for (std::size_t k = 0; k < tot.rounds.size(); ++k)
+            tot.rounds[k] += r.seconds[std::min(k, r.seconds.size() - 1)];
+        tot.triangles += triangles[r.family];
     }
-    const auto ns_per_triangle = [&](const std::string& name) {
-        const Total& t = total[name];
-        return t.e.seconds * 1e9 / static_cast<double>(t.triangles);
+    for (auto& [name, t] : total)
+        t.ns_per_triangle = scaled(timing_of(t.rounds), 1e9 / static_cast<double>(t.triangles));
+    const auto ns = [&](const std::string& name) { return total.at(name).ns_per_triangle; };
+    const auto mean_ulps = [&](const std::string& name) {
+        const Total& t = total.at(name);
+        return t.e.attribute_samples == 0
+                   ? 0.0
+                   : t.e.sum_ulps / static_cast<double>(t.e.attribute_samples);
+    };
+    const auto coverage_ppm = [&](const std::string& name) {
+        const Errors& e = total.at(name).e;
+        return 1e6 * static_cast<double>(e.misclassified + e.holes + e.double_hits) /
+               static_cast<double>(std::max<std::uint64_t>(1, e.exact_centres));
+    };
+    const auto inversions_ppm = [&](const std::string& name) {
+        const Errors& e = total.at(name).e;
+        return 1e6 * static_cast<double>(e.depth_inversions) /
+               static_cast<double>(std::max<std::uint64_t>(1, e.depth_pairs));
     };
 
     PlotPanel coverage{"Coverage (fused, z24)",
-                       "ns per triangle (study kernel)",
+                       "ns per triangle (study kernel; median, range of rounds)",
                        "misclassified + holes + double hits per 10^6 centres",
                        true,
                        true,
@@ -341,53 +408,58 @@ StudyOutput run_precision_study(const StudyOptions& options) {
                        true,
                        {}};
     PlotPanel attributes{"Attributes (z24)",
-                         "ns per triangle (study kernel)",
+                         "ns per triangle (study kernel; median, range of rounds)",
                          "mean attribute error (float32 ulps)",
                          true,
                          true,
                          {},
                          true,
                          {}};
-    PlotPanel depth{"Depth order (fused)",
-                    "ns per triangle (study kernel)",
+    PlotPanel depth{"Depth order (fused): inversions, ties apart",
+                    "ns per triangle (study kernel; median, range of rounds)",
                     "depth order inversions per 10^6 overlapping pairs",
                     true,
                     true,
                     {},
                     true,
                     {}};
-    PlotSeries cov_s{"variants", {}, false}, attr_s{"variants", {}, false},
-        depth_s{"variants", {}, false};
+    // One series per coverage rule, so that a rule has one colour in all three panels.
+    const auto series_of = [](PlotPanel& panel, const std::string& name) -> PlotSeries& {
+        for (PlotSeries& s : panel.series)
+            if (s.name == name) return s;
+        panel.series.push_back({name, {}, false});
+        return panel.series.back();
+    };
+    const auto point = [&](const std::string& name, double y, std::string label) {
+        const Timing t = ns(name);
+        return PlotPoint{t.median, y, std::move(label), t.low, t.high};
+    };
     for (const Variant& v : order) {
-        const Total& t = total[v.name()];
-        const double x = ns_per_triangle(v.name());
+        const std::string name = v.name();
         const bool default_interp = v.coverage == CoverageRule::Exact || v.fused;
-        if (default_interp && v.depth == DepthFormat::Z24) {
-            const double bad = static_cast<double>(t.e.misclassified + t.e.holes + t.e.double_hits);
-            cov_s.points.push_back(
-                {x, 1e6 * bad / static_cast<double>(std::max<std::uint64_t>(1, t.e.exact_centres)),
-                 v.coverage_name()});
-        }
+        if (default_interp && v.depth == DepthFormat::Z24)
+            series_of(coverage, v.coverage_name())
+                .points.push_back(point(name, coverage_ppm(name), v.coverage_name()));
         if (v.depth == DepthFormat::Z24)
-            attr_s.points.push_back(
-                {x,
-                 t.e.attribute_samples == 0
-                     ? 0.0
-                     : t.e.sum_ulps / static_cast<double>(t.e.attribute_samples),
-                 v.coverage_name() +
-                     (v.coverage == CoverageRule::Exact ? "" : (v.fused ? " fma" : " no-fma"))});
+            series_of(attributes, v.coverage_name())
+                .points.push_back(point(
+                    name, mean_ulps(name),
+                    v.coverage == CoverageRule::Exact ? "exact" : (v.fused ? "fma" : "no-fma")));
         if (default_interp)
-            depth_s.points.push_back(
-                {x,
-                 1e6 * static_cast<double>(t.e.depth_inversions) /
-                     static_cast<double>(std::max<std::uint64_t>(1, t.e.depth_pairs)),
-                 v.coverage_name() + " " + v.depth_name()});
+            series_of(depth, v.coverage_name())
+                .points.push_back(point(name, inversions_ppm(name), v.depth_name()));
     }
-    coverage.series.push_back(cov_s);
-    attributes.series.push_back(attr_s);
-    depth.series.push_back(depth_s);
+    Timing fast_core_total;
     if (fast_core_triangles > 0) {
-        const double fc = fast_core_total * 1e9 / static_cast<double>(fast_core_triangles);
+        // Medians per family summed: the fast core's rounds ran per family, not interleaved.
+        double median = 0.0, low = 0.0, high = 0.0;
+        for (const auto& [family, t] : fast_core) {
+            median += t.median;
+            low += t.low;
+            high += t.high;
+        }
+        fast_core_total = {median, low, high, rounds};
+        const double fc = median * 1e9 / static_cast<double>(fast_core_triangles);
         // The fast core skips the large-coordinates family: its mark is over the others only.
         for (PlotPanel* p : {&coverage, &attributes, &depth})
             p->x_marks.push_back({fc, "fast core (llvmpipe-22.3), families <= 4096 px"});
@@ -398,33 +470,36 @@ StudyOutput run_precision_study(const StudyOptions& options) {
     out.csv = csv.text();
     out.svg = svg_figure("refraster study precision: error against run time (seed " +
                              std::to_string(options.seed) + (options.quick ? ", quick" : "") + ")",
-                         {coverage, attributes, depth}, 3);
+                         {coverage, attributes, depth}, 2, Legend::Shared);
 
-    // Conclusions the numbers support.
+    // Every number, one line per variant and finding.
     const auto line = [&](const std::string& name) {
-        const Total& t = total[name];
+        const Total& t = total.at(name);
+        const Timing time = ns(name);
         std::ostringstream o;
         o << name << ": " << t.e.misclassified << " misclassified of " << t.e.exact_centres
           << " centres, " << t.e.holes << " holes, " << t.e.double_hits
           << " double hits, attribute max " << short_number(t.e.max_ulps) << " ulps, "
-          << t.e.depth_inversions << "/" << t.e.depth_pairs << " depth inversions, "
-          << csv_number(std::round(ns_per_triangle(name))) << " ns/triangle";
+          << t.e.depth_inversions << " depth inversions and " << t.e.depth_ties << " ties of "
+          << t.e.depth_pairs << " pairs, " << csv_number(std::round(time.median))
+          << " ns/triangle (" << csv_number(std::round(time.low)) << "-"
+          << csv_number(std::round(time.high)) << ")";
         return o.str();
     };
     for (const Variant& v : order)
         if ((v.coverage == CoverageRule::Exact || v.fused) && v.depth == DepthFormat::Z24)
             out.summary.push_back(line(v.name()));
-    for (const auto& i : pareto_front(cov_s.points))
-        out.summary.push_back("coverage Pareto front: " + cov_s.points[i].label);
-    for (const auto& i : pareto_front(attr_s.points))
-        out.summary.push_back("attribute Pareto front: " + attr_s.points[i].label);
-    // Fusing: the float32 rule's mean error with and without fma.
-    const auto mean_ulps = [&](const std::string& name) {
-        const Total& t = total[name];
-        return t.e.attribute_samples == 0
-                   ? 0.0
-                   : t.e.sum_ulps / static_cast<double>(t.e.attribute_samples);
+    const auto front_line = [&](const std::string& what, const PlotPanel& panel) {
+        std::vector<PlotPoint> all;
+        for (const PlotSeries& s : panel.series)
+            all.insert(all.end(), s.points.begin(), s.points.end());
+        std::string names;
+        for (const std::size_t i : pareto_front(all))
+            names += (names.empty() ? "" : ", ") + all[i].label;
+        out.summary.push_back(what + " Pareto front (better beyond the timing spread): " + names);
     };
+    front_line("coverage", coverage);
+    front_line("attribute", attributes);
     for (const char* rule : {"float32", "float64"}) {
         const std::string f = std::string(rule) + "/fused/z24",
                           u = std::string(rule) + "/unfused/z24";
@@ -436,34 +511,195 @@ StudyOutput run_precision_study(const StudyOptions& options) {
           << ")";
         out.summary.push_back(o.str());
     }
-    // Depth formats: the exact rule's inversions are the format's own (exact depth, quantised).
+    // Depth formats: with the exact depth quantised a pair can only tie, never invert.
     for (const char* d : {"z16", "z24", "z32f"}) {
         const std::string name = std::string("exact/exact/") + d;
         const std::string f32 = std::string("float32/fused/") + d;
         if (!total.contains(name) || !total.contains(f32)) continue;
         std::ostringstream o;
-        o << d << ": " << total[name].e.depth_inversions << " of " << total[name].e.depth_pairs
-          << " overlapping pairs inverted with exact depth quantised, "
-          << total[f32].e.depth_inversions << " with float32 planes";
+        o << d << ": of " << total[name].e.depth_pairs << " overlapping pairs, the exact depth "
+          << "quantised ties " << total[name].e.depth_ties << " and inverts "
+          << total[name].e.depth_inversions << "; float32 planes tie " << total[f32].e.depth_ties
+          << " and invert " << total[f32].e.depth_inversions;
         out.summary.push_back(o.str());
     }
+    std::optional<Ratio> fast_core_ratio;
     if (fast_core_triangles > 0) {
         // The study's snap-8 kernel over the same families, for the ratio.
-        double kernel = 0.0;
+        std::vector<double> kernel(static_cast<std::size_t>(rounds), 0.0);
         for (const Row& r : rows)
-            if (r.variant.name() == "snap-8/fused/z24" && fast_core_ms.contains(r.family))
-                kernel += r.errors.seconds;
-        std::ostringstream o;
-        o << "the fast core draws the families it can hold (<= 4096 px) "
-          << csv_number(std::round(kernel / fast_core_total * 10) / 10)
-          << " times as fast as the study's snap-8 kernel";
-        out.summary.push_back(o.str());
-    }
-    if (fast_core_triangles > 0)
+            if (r.variant.name() == "snap-8/fused/z24" && fast_core.contains(r.family))
+                for (std::size_t k = 0; k < r.seconds.size(); ++k) kernel[k] += r.seconds[k];
+        fast_core_ratio = ratio_of(timing_of(kernel), fast_core_total);
+        out.summary.push_back("the fast core draws the families it can hold (<= 4096 px) " +
+                              ratio_text(*fast_core_ratio) +
+                              " times as fast as the study's snap-8 kernel" +
+                              (options.quick ? " (--quick: families too small to time the fast "
+                                               "core's setup away)"
+                                             : ""));
         out.summary.push_back("fast core (llvmpipe-22.3, one thread): " +
-                              csv_number(std::round(fast_core_total * 1e9 /
+                              csv_number(std::round(fast_core_total.median * 1e9 /
                                                     static_cast<double>(fast_core_triangles))) +
                               " ns/triangle over the families it draws");
+    }
+
+    // The decision table: for each target, the cheapest variant that meets it.
+    const std::string baseline = "snap-8/fused/z24";
+    struct Target {
+        std::string group;  // targets of one group get tighter down the list
+        std::string need;
+        std::function<bool(const Variant&)> eligible;
+        std::function<bool(const std::string&)> meets;
+    };
+    const auto fused_z24 = [](const Variant& v) {
+        return (v.coverage == CoverageRule::Exact || v.fused) && v.depth == DepthFormat::Z24;
+    };
+    const auto z24 = [](const Variant& v) { return v.depth == DepthFormat::Z24; };
+    const auto fused = [](const Variant& v) {
+        return v.coverage == CoverageRule::Exact || v.fused;
+    };
+    std::vector<Target> targets;
+    for (double ppm : {10000.0, 1000.0, 100.0, 10.0})
+        targets.push_back(
+            {"coverage", "coverage: at most " + csv_number(ppm) + " misclassified per 10^6 centres",
+             fused_z24, [&, ppm](const std::string& n) { return coverage_ppm(n) <= ppm; }});
+    targets.push_back({"coverage", "coverage: exact (no misclassified centre, hole or double hit)",
+                       fused_z24, [&](const std::string& n) { return coverage_ppm(n) == 0.0; }});
+    for (double ulps : {100.0, 1.0, 0.01})
+        targets.push_back({"attributes",
+                           "attributes: mean error at most " + csv_number(ulps) + " float32 ulps",
+                           z24, [&, ulps](const std::string& n) { return mean_ulps(n) <= ulps; }});
+    targets.push_back({"inversions", "depth: no pair inverted (ties apart)", fused,
+                       [&](const std::string& n) { return total.at(n).e.depth_inversions == 0; }});
+    targets.push_back(
+        {"ties", "depth: at most 1000 ties per 10^6 pairs", fused, [&](const std::string& n) {
+             const Errors& e = total.at(n).e;
+             return 1e6 * static_cast<double>(e.depth_ties) /
+                        static_cast<double>(std::max<std::uint64_t>(1, e.depth_pairs)) <=
+                    1000.0;
+         }});
+    // The cheapest variant meeting each target ("" when none does).
+    std::vector<std::string> answer;
+    for (const Target& t : targets) {
+        std::string best;
+        for (const Variant& v : order)
+            if (t.eligible(v) && t.meets(v.name()) &&
+                (best.empty() || ns(v.name()).median < ns(best).median))
+                best = v.name();
+        answer.push_back(best);
+    }
+    std::ostringstream table;
+    table << "| if you need | the cheapest variant | ns per triangle, median (range) | time "
+             "against llvmpipe's rule (snap-8/fused/z24) | as fast within the spread |\n"
+             "|---|---|---|---|---|\n";
+    for (std::size_t ti = 0; ti < targets.size(); ++ti) {
+        const Target& t = targets[ti];
+        // A looser target that the tighter one's answer already meets says nothing more.
+        if (ti + 1 < targets.size() && targets[ti + 1].group == t.group &&
+            answer[ti + 1] == answer[ti])
+            continue;
+        std::vector<std::string> meeting;
+        for (const Variant& v : order)
+            if (t.eligible(v) && t.meets(v.name())) meeting.push_back(v.name());
+        if (meeting.empty()) {
+            table << "| " << t.need << " | none of the variants | | | |\n";
+            continue;
+        }
+        const auto best = *std::min_element(meeting.begin(), meeting.end(), [&](auto& a, auto& b) {
+            return ns(a).median < ns(b).median;
+        });
+        std::string alike;
+        for (const std::string& m : meeting)
+            if (m != best && ns(m).low <= ns(best).high) alike += (alike.empty() ? "" : ", ") + m;
+        const Timing bt = ns(best);
+        table << "| " << t.need << " | " << best << " | " << csv_number(std::round(bt.median))
+              << " (" << csv_number(std::round(bt.low)) << "-" << csv_number(std::round(bt.high))
+              << ") | " << (total.contains(baseline) ? ratio_text(ratio_of(bt, ns(baseline))) : "")
+              << " | " << (alike.empty() ? "none" : alike) << " |\n";
+    }
+    out.decisions = table.str();
+
+    // A few conclusions, in words, from the same numbers.
+    double widest = 0.0;
+    for (const auto& [name, t] : total)
+        if (t.ns_per_triangle.rounds > 1)
+            widest = std::max(widest, (t.ns_per_triangle.high - t.ns_per_triangle.low) /
+                                          t.ns_per_triangle.median);
+    if (total.contains("snap-4/fused/z24") && total.contains("snap-10/fused/z24")) {
+        std::ostringstream o;
+        o << "Each two sub-pixel bits more cut the misclassified centres: snap-4, -6, -8, -10 "
+             "misclassify ";
+        bool first = true;
+        for (const char* n :
+             {"snap-4/fused/z24", "snap-6/fused/z24", "snap-8/fused/z24", "snap-10/fused/z24"}) {
+            if (!total.contains(n)) continue;
+            o << (first ? "" : ", ") << total.at(n).e.misclassified;
+            first = false;
+        }
+        // One integer kernel for every snapped rule: whether the rounds tell their times apart.
+        double slowest_low = 0.0, fastest_high = 1e300, lo = 1e300, hi = 0.0;
+        for (const auto& [name, t] : total)
+            if (name.rfind("snap-", 0) == 0) {
+                slowest_low = std::max(slowest_low, t.ns_per_triangle.low);
+                fastest_high = std::min(fastest_high, t.ns_per_triangle.high);
+                lo = std::min(lo, t.ns_per_triangle.median);
+                hi = std::max(hi, t.ns_per_triangle.median);
+            }
+        o << " centres; the snapped rules (one integer kernel) ";
+        if (slowest_low <= fastest_high)
+            o << "cost the same within the spread (medians " << csv_number(std::round(lo)) << " to "
+              << csv_number(std::round(hi)) << " ns per triangle).";
+        else
+            o << "differ in time beyond the spread (medians " << csv_number(std::round(lo))
+              << " to " << csv_number(std::round(hi))
+              << " ns per triangle): the machine's load changed between their rounds.";
+        out.conclusions.push_back(o.str());
+    }
+    if (total.contains("float64/fused/z24") && total.contains(baseline)) {
+        std::ostringstream o;
+        const Errors& e = total.at("float64/fused/z24").e;
+        o << "float64 unsnapped setup misclassifies " << e.misclassified << " centres (holes "
+          << e.holes << ", double hits " << e.double_hits << ") at "
+          << ratio_text(ratio_of(ns("float64/fused/z24"), ns(baseline)))
+          << " times the time of llvmpipe's snap-8 rule.";
+        out.conclusions.push_back(o.str());
+    }
+    {
+        std::ostringstream o;
+        o << "Depth order is the format's: quantising the exact depth never inverts a pair, it "
+             "ties them (ties: ";
+        bool first = true;
+        for (const char* d : {"z16", "z24", "z32f"}) {
+            const std::string n = std::string("exact/exact/") + d;
+            if (!total.contains(n)) continue;
+            o << (first ? "" : ", ") << d << " " << total.at(n).e.depth_ties;
+            first = false;
+        }
+        o << " of "
+          << (total.contains("exact/exact/z24") ? total.at("exact/exact/z24").e.depth_pairs : 0)
+          << " pairs); with float32 planes the inversions are ";
+        first = true;
+        for (const char* d : {"z16", "z24", "z32f"}) {
+            const std::string n = std::string("float32/fused/") + d;
+            if (!total.contains(n)) continue;
+            o << (first ? "" : ", ") << d << " " << total.at(n).e.depth_inversions;
+            first = false;
+        }
+        o << ".";
+        out.conclusions.push_back(o.str());
+    }
+    if (fast_core_ratio)
+        out.conclusions.push_back("The fast core is " + ratio_text(*fast_core_ratio) +
+                                  " times as fast as the study's scalar snap-8 kernel on the "
+                                  "families it can hold" +
+                                  (options.quick ? " (quick sizes: not a stable time)" : "") + ".");
+    out.conclusions.push_back(
+        "Times are medians of " + std::to_string(rounds) +
+        " interleaved rounds; the widest range of one variant's rounds was " + percent(widest) +
+        " of its median" +
+        (widest > 0.2 ? ": the machine was loaded, and only differences beyond the ranges count"
+                      : "") +
+        ".");
     return out;
 }
 

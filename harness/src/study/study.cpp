@@ -50,10 +50,16 @@ StudyOutput run_study(const std::string& name, const StudyOptions& options) {
 std::string study_summary_markdown(const StudyOutput& out, const std::string& command) {
     std::ostringstream o;
     o << "# refraster study " << out.name << "\n\n";
-    o << "Reproduce with `" << command << "`.\n\n";
+    if (!out.decisions.empty()) o << "## Decisions\n\n" << out.decisions << "\n";
+    if (!out.conclusions.empty()) {
+        o << "## Conclusions\n\n";
+        for (const std::string& line : out.conclusions) o << "- " << line << "\n";
+        o << "\n";
+    }
+    o << "## Provenance\n\nReproduce with `" << command << "`.\n\n";
     o << "| | |\n|---|---|\n";
     for (const auto& [k, v] : out.provenance) o << "| " << k << " | " << v << " |\n";
-    o << "\n## What the numbers say\n\n";
+    o << "\n## Every number\n\n";
     for (const std::string& line : out.summary) o << "- " << line << "\n";
     o << "\nThe table: study.csv. The figure: study.svg. What every column means: "
          "docs/precision-study.md.\n";

@@ -325,9 +325,14 @@ void add_step(Run& run, tb::Step step) {
     run.steps.push_back(std::move(step));
 }
 
+// The steps of one part of the scene (a segment, a polygon), each titled and grouped by the
+// part ("segment 2: ..." in group "segment 2") when the scene has several.
 void append_trace(Run& run, tb::Trace& t, const std::string& prefix) {
+    const std::string group =
+        prefix.size() > 2 ? prefix.substr(0, prefix.size() - 2) : std::string();
     for (auto& s : t.steps) {
         if (!prefix.empty()) s.title = prefix + s.title;
+        if (!group.empty()) s.group = group;
         add_step(run, std::move(s));
     }
     run.omitted += t.omitted;
@@ -1145,6 +1150,7 @@ nlohmann::json teach_json(const TeachResult& r, const Scene& scene, const std::s
     for (const auto& s : r.steps) {
         json st;
         st["title"] = s.title;
+        if (!s.group.empty()) st["group"] = s.group;
         json state = json::array();
         for (const auto& [k, v] : s.state) state.push_back(json::array({k, v}));
         st["state"] = state;

@@ -129,6 +129,18 @@ tr.diff{cursor:pointer}tr.diff:hover{background:#eef8ff}
 tr.diff.selected{background:#c9f3ff}
 #differences td.reason{max-width:50em}
 #command{user-select:all}
+#step-slider{width:100%;margin:.5em 0 .2em}
+#step-part{margin:.3em 0 0;font-size:.92em}
+/* On paper (a handout, a PDF for slides): the images and the current step, no controls. */
+@media print{
+  body{margin:0;max-width:none;font-size:10.5pt}
+  #controls,.buttons,#step-slider,#step-keys{display:none}
+  .frame,.swatch,.line{-webkit-print-color-adjust:exact;print-color-adjust:exact}
+  #views{gap:10px}
+  #stepper{border:none;background:none;padding:0;max-width:none}
+  figure,#stepper,#legends,table{break-inside:avoid}
+  tr.diff.selected{background:none}
+}
 </style>
 )CSS";
 
@@ -437,8 +449,61 @@ const char* kScript = R"JS(<script>
         shown.join(', ') + (px.length > shown.length ? ', ...' : '') + '.';
     buttons.first.disabled = buttons.prev.disabled = at === 0;
     buttons.next.disabled = buttons.last.disabled = at === steps.length - 1;
+    if (slider) slider.value = String(at + 1);
+    if (typeof showPart === 'function') showPart();
     drawBase(panels[0]); readout(); keepHash();
   }
+  // The slider, playing, and stepping a part (a segment, a polygon) at a time.
+  var slider = $('step-slider'), playButton = $('step-play'), speedInput = $('step-speed');
+  var parts = [];  // runs of consecutive steps of one group: {name, first, last}
+  steps.forEach(function (st, k) {
+    var g = st && typeof st.group === 'string' ? st.group : '';
+    if (parts.length && parts[parts.length - 1].name === g) parts[parts.length - 1].last = k;
+    else parts.push({ name: g, first: k, last: k });
+  });
+  function partOf(k) {
+    for (var i = 0; i < parts.length; ++i) if (k <= parts[i].last) return i;
+    return parts.length - 1;
+  }
+  var hasParts = parts.length > 1;
+  if (!hasParts) $('part-buttons').hidden = true;
+  function showPart() {
+    if (!hasParts || !steps.length) return;
+    var i = partOf(at), p = parts[i];
+    $('step-part').textContent = (p.name || 'before the first part') + ': steps ' +
+        (p.first + 1) + ' to ' + (p.last + 1) + ' (part ' + (i + 1) + ' of ' + parts.length + ')';
+    $('part-prev').disabled = at === 0;
+    $('part-next').disabled = i === parts.length - 1;
+  }
+  function previousPart() {
+    var i = partOf(at);
+    show(at > parts[i].first ? parts[i].first : parts[Math.max(0, i - 1)].first);
+  }
+  function nextPart() {
+    var i = partOf(at);
+    if (i + 1 < parts.length) show(parts[i + 1].first);
+  }
+  var timer = null;
+  function stop() {
+    if (timer !== null) clearInterval(timer);
+    timer = null;
+    playButton.textContent = 'Play';
+  }
+  function play() {
+    if (timer !== null) { stop(); return; }
+    if (at === steps.length - 1) show(0);
+    var rate = Math.max(1, Math.min(100, +speedInput.value || 4));
+    playButton.textContent = 'Pause';
+    timer = setInterval(function () {
+      if (at >= steps.length - 1) { stop(); return; }
+      show(at + 1);
+    }, 1000 / rate);
+  }
+  slider.addEventListener('input', function () { show(+slider.value - 1); });
+  playButton.addEventListener('click', play);
+  speedInput.addEventListener('change', function () { if (timer !== null) { stop(); play(); } });
+  $('part-prev').addEventListener('click', previousPart);
+  $('part-next').addEventListener('click', nextPart);
   buttons.first.addEventListener('click', function () { show(0); });
   buttons.prev.addEventListener('click', function () { show(at - 1); });
   buttons.next.addEventListener('click', function () { show(at + 1); });
@@ -447,6 +512,9 @@ const char* kScript = R"JS(<script>
     if (e.ctrlKey || e.altKey || e.metaKey || !steps.length) return;
     var t = e.target;
     if (t && t.closest && t.closest('input, select, textarea')) return;
+    if (e.key === 'p') { e.preventDefault(); play(); return; }
+    if (e.key === 'PageUp' && hasParts) { e.preventDefault(); previousPart(); return; }
+    if (e.key === 'PageDown' && hasParts) { e.preventDefault(); nextPart(); return; }
     var to = { ArrowRight: at + 1, ArrowLeft: at - 1, Home: 0, End: steps.length - 1 }[e.key];
     if (to === undefined) return;
     e.preventDefault(); show(to);
@@ -474,8 +542,9 @@ const char* kScript = R"JS(<script>
         "'" + dir.replace(/'/g, "'\\''") + "'";
   }
 
-  // The view a link asks for: #step=K (1-based), #pixel=X,Y, #view=final, then #press=a,b,... (buttons
-  // clicked and keys pressed, in order, as a reader would).
+  // The view a link asks for: #step=K (1-based), #pixel=X,Y, #view=final, #speed=N (steps a
+  // second when playing), then #press=a,b,... (buttons clicked: first, prev, next, last, play,
+  // part-prev, part-next; and keys pressed, in order, as a reader would).
   var hash = {};
   location.hash.replace(/^#/, '').split('&').forEach(function (kv) {
     var e = kv.indexOf('=');
@@ -486,13 +555,16 @@ const char* kScript = R"JS(<script>
   if (hash.view === 'final') modeInput.checked = false;
   applyZoom();
   // #step=K is the page's Step K, counted from 1 as the page counts them.
+  if (hash.speed !== undefined) speedInput.value = String(hash.speed);
   show(hash.step !== undefined ? +hash.step - 1 : 0);
   var pm = /^(\d+),(\d+)$/.exec(hash.pixel || '');
   if (pm && inside(+pm[1], +pm[2])) select({ x: +pm[1], y: +pm[2] });
   (hash.press ? hash.press.split(',') : []).forEach(function (a) {
     a = a.trim();
+    var more = { play: playButton, 'part-prev': $('part-prev'), 'part-next': $('part-next') };
     if (buttons[a]) buttons[a].click();
-    else if (['ArrowRight', 'ArrowLeft', 'Home', 'End'].indexOf(a) >= 0) {
+    else if (more[a]) more[a].click();
+    else if (['ArrowRight', 'ArrowLeft', 'Home', 'End', 'PageUp', 'PageDown', 'p'].indexOf(a) >= 0) {
       document.dispatchEvent(new KeyboardEvent('keydown', { key: a, bubbles: true, cancelable: true }));
     }
   });
@@ -561,8 +633,19 @@ std::string teach_page_html(const nlohmann::json& data) {
          "<div class=\"buttons\"><button id=\"step-first\" type=\"button\">First</button>"
          "<button id=\"step-prev\" type=\"button\">Previous</button>"
          "<button id=\"step-next\" type=\"button\">Next</button>"
-         "<button id=\"step-last\" type=\"button\">Last</button></div>"
-         "<p class=\"muted\">Keys: &larr; &rarr; Home End. A link to a step: "
+         "<button id=\"step-last\" type=\"button\">Last</button>"
+         "<button id=\"step-play\" type=\"button\">Play</button><label>at <select "
+         "id=\"step-speed\"><option value=\"1\">1</option><option value=\"4\" "
+         "selected>4</option><option value=\"15\">15</option><option "
+         "value=\"60\">60</option></select> steps a second</label></div>"
+         "<input id=\"step-slider\" type=\"range\" min=\"1\" max=\""
+      << std::max<std::size_t>(steps.size(), 1) << "\" value=\"1\" aria-label=\"step\""
+      << (steps.empty() ? " disabled" : "")
+      << "><div class=\"buttons\" id=\"part-buttons\"><button id=\"part-prev\" "
+         "type=\"button\">&larr; Part</button><button id=\"part-next\" "
+         "type=\"button\">Part &rarr;</button><p id=\"step-part\"></p></div>"
+         "<p class=\"muted\" id=\"step-keys\">Keys: &larr; &rarr; Home End, PageUp PageDown "
+         "by part (a segment, a polygon), p to play. A link to a step: "
          "<code>#step=K</code> opens step K.</p><p id=\"step-title\">";
     if (steps.empty()) {
         h << "This algorithm recorded no steps.";

@@ -29,6 +29,7 @@ CircleResult midpoint_circle(PixelIndex centre, int radius, int width, int heigh
         trace->algorithm = "midpoint circle";
         trace->input.push_back(
             {centre.x + 0.5, centre.y + 0.5, centre.x + 0.5 + radius, centre.y + 0.5, "circle"});
+        begin_part(trace, "circle");
     }
     const auto plot = [&](int x, int y, std::string title,
                           std::vector<std::pair<std::string, std::string>> state) {

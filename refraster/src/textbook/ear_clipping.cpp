@@ -33,6 +33,7 @@ EarClipResult ear_clip(const std::vector<Point2>& polygon, Trace* trace) {
     if (trace != nullptr) {
         trace->algorithm = "ear clipping";
         add_outline(trace->input, polygon);
+        begin_part(trace, "polygon");
     }
     if (n < 3) return out;
     std::vector<SnappedPoint> p(n);

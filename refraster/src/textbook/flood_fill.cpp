@@ -129,6 +129,7 @@ FloodResult flood_fill(const Raster& boundary, PixelIndex seed, Connectivity con
     if (trace != nullptr) {
         trace->algorithm = connectivity == Connectivity::Four ? "boundary fill, 4-connected"
                                                               : "boundary fill, 8-connected";
+        begin_part(trace, "fill");
     }
     std::vector<PixelIndex> stack{seed};
     while (!stack.empty()) {

@@ -96,6 +96,7 @@ std::string format_int128(Int128 v) {
 void describe_input(Trace* trace, const ClipTriangle& t, Viewport vp, const char* name) {
     if (trace == nullptr) return;
     trace->algorithm = name;
+    begin_part(trace, "triangle");
     // The projection of the vertices with w != 0, for orientation (w <= 0 ones are not drawn).
     for (std::size_t i = 0; i < 3; ++i) {
         const ClipVertex a = t[i];

@@ -50,6 +50,7 @@ Step* begin_trace(Trace* trace, const char* algorithm, Point2 a, Point2 b, const
     if (trace == nullptr) return nullptr;
     trace->algorithm = algorithm;
     trace->input.push_back({a.x, a.y, b.x, b.y, "line"});
+    begin_part(trace, "segment");
     Step& step =
         add_step(*trace, "endpoints to pixels: " + format_pixel(s.from.x, s.from.y) + " to " +
                              format_pixel(s.to.x, s.to.y) + ", " + major_name(s) + " major");

@@ -85,6 +85,7 @@ FillResult scanline_fill(const std::vector<Contour>& contours, FillRule rule, in
     if (trace != nullptr) {
         trace->algorithm = rule == FillRule::EvenOdd ? "scanline fill, even-odd"
                                                      : "scanline fill, non-zero winding";
+        begin_part(trace, "polygon");
     }
     // The edge table.
     std::vector<ActiveEdge> table;

@@ -75,7 +75,14 @@ Step& add_step(Trace& trace, std::string title) {
     }
     trace.steps.emplace_back();
     trace.steps.back().title = std::move(title);
+    trace.steps.back().group = trace.group;
     return trace.steps.back();
+}
+
+void begin_part(Trace* trace, std::string_view kind) {
+    if (trace == nullptr) return;
+    ++trace->parts;
+    trace->group = std::string(kind) + " " + std::to_string(trace->parts);
 }
 
 void trim_step(Step& step, std::size_t max_values, std::size_t max_value_chars) {

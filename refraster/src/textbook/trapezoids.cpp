@@ -50,6 +50,7 @@ std::vector<Trapezoid> trapezoidate(const std::vector<Point2>& polygon, Trace* t
     if (trace != nullptr) {
         trace->algorithm = "trapezoidal decomposition";
         add_outline(trace->input, polygon);
+        begin_part(trace, "polygon");
     }
     if (n < 3) return out;
     std::vector<SnappedPoint> p(n);

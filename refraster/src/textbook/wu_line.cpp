@@ -17,6 +17,7 @@ WuResult wu_line(Point2 a, Point2 b, int width, int height, Trace* trace) {
     if (trace != nullptr) {
         trace->algorithm = "Wu antialiased line";
         trace->input.push_back({a.x, a.y, b.x, b.y, "line"});
+        begin_part(trace, "segment");
     }
     // The centre lattice: pixel centres at the integers.
     double u0 = a.x - 0.5;

@@ -37,9 +37,14 @@ using FileExists = std::function<bool(const std::string& relative)>;
 
 // Every report of `lines` (results.jsonl's lines, in any order; empty ones skipped). Throws
 // std::runtime_error naming `source` and the line of a record that is not one (record_check).
+// `run_setup` is run.json's text (empty when there is none): its "inputs" (the baseline, skips
+// and flakes files: each as given, its copy under inputs/, its hash and what it holds) are
+// shown on the index, linked to the copies, and kept in results.json; a run.json that is not
+// JSON throws, naming `run_source`.
 std::vector<ReportFile> build_reports(const std::vector<std::string>& lines,
                                       const std::string& source, std::size_t selected_cases,
-                                      const FileExists& exists);
+                                      const FileExists& exists, const std::string& run_setup = "",
+                                      const std::string& run_source = "run.json");
 
 // Writes each file atomically, every path checked to lie inside `output` (records.hpp) before
 // the first is written.

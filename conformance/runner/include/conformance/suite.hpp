@@ -70,6 +70,7 @@ class NamePatterns {
     // Where the first matching expression was written ("skips.txt:3"), or nullopt.
     std::optional<std::string> match(const std::string& name) const;
     bool empty() const { return patterns_.empty(); }
+    std::size_t size() const { return patterns_.size(); }
 
   private:
     std::vector<std::pair<std::regex, std::string>> patterns_;

@@ -52,7 +52,10 @@ struct Segment {
 };
 
 struct Step {
-    std::string title;                                       // "x = 3: d = -2 < 0, keep y = 1"
+    std::string title;  // "x = 3: d = -2 < 0, keep y = 1"
+    // The part of the input the step works on ("segment 2", "polygon 1"), so that a reader can
+    // step a part at a time; empty when the algorithm has no parts.
+    std::string group;
     std::vector<std::pair<std::string, std::string>> state;  // {"d", "-2"}, {"AEL", "[...]"}
     std::vector<PixelMark> pixels;
     std::vector<Segment> overlay;
@@ -71,6 +74,10 @@ struct Trace {
     std::size_t max_values = std::numeric_limits<std::size_t>::max();
     std::size_t max_value_chars = std::numeric_limits<std::size_t>::max();
     std::size_t omitted = 0;  // steps added past a bound, not kept
+    // The part the next steps belong to (begin_part), copied into each step, and the number
+    // of parts begun.
+    std::string group;
+    std::size_t parts = 0;
     // Whether the next add_step is kept.
     bool recording() const;
 
@@ -113,6 +120,9 @@ std::string format_number(double v);
 std::string format_number(long long v);
 std::string format_pixel(int x, int y);  // "(3, 4)"
 Step& add_step(Trace& trace, std::string title);
+// Starts the next part of the input (a segment, a polygon): the steps from here on belong to
+// "<kind> <n>", n counting the parts from 1. Does nothing without a trace.
+void begin_part(Trace* trace, std::string_view kind);
 // Cuts `step` to `max_values` values (the last one kept says how many more there were) of at most
 // `max_value_chars` characters each (a cut value says how many characters it lost).
 void trim_step(Step& step, std::size_t max_values, std::size_t max_value_chars);
