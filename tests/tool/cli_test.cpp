@@ -319,6 +319,29 @@ const char* kTexturedScene = R"({"format": "refraster-scene/1", "requires": ["te
 // Explain writes down its arithmetic: the corners' order after setup's swap, the area's sign
 // convention against GL's winding, and the edge function's formula, which the printed values
 // obey (checked on every edge of the JSON trace).
+// Two reference profiles side by side: --against ref with its own profile, or with a rule of
+// the reference's changed; each side named by its profile. A GL backend has no profile.
+TEST(Cli, CompareTwoProfilesSideBySide) {
+    const std::string scene = std::string(REFRASTER_SOURCE_DIR) +
+                              "/conformance/scenes/triangles/coverage/square_through_centres.json";
+    const auto same = testutil::run_cli({"compare", scene, "--against", "ref"});
+    EXPECT_EQ(same.exit_code, 0) << same.out << same.err;
+    const auto two = testutil::run_cli(
+        {"compare", scene, "--against", "ref", "--against-profile", "softpipe-22.3"});
+    EXPECT_EQ(two.exit_code, 1) << two.out << two.err;  // the tie rules differ
+    EXPECT_NE(two.out.find("(ref llvmpipe-22.3 vs ref softpipe-22.3)"), std::string::npos)
+        << two.out;
+    const auto rule = testutil::run_cli(
+        {"compare", scene, "--against", "ref", "--against-profile-set", "tie_rule=right-top"});
+    EXPECT_EQ(rule.exit_code, 1) << rule.out << rule.err;
+    EXPECT_NE(rule.out.find("vs ref llvmpipe-22.3 tie_rule=right-top)"), std::string::npos)
+        << rule.out;
+    const auto gl = testutil::run_cli(
+        {"compare", scene, "--against", "osmesa", "--against-profile", "softpipe-22.3"});
+    EXPECT_EQ(gl.exit_code, 2);
+    EXPECT_NE(gl.err.find("a GL backend has no profile"), std::string::npos) << gl.err;
+}
+
 TEST(Cli, ExplainStatesTheWindingOrderAndEdgeFormula) {
     const std::string scene =
         std::string(REFRASTER_SOURCE_DIR) +

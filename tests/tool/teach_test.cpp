@@ -43,6 +43,75 @@ TEST(Teach, ReproduceCommandKeepsEveryOption) {
         << page.substr(page.find("Reproduce this page"), 400);
 }
 
+// The frames of a GIF: one graphic control extension (21 F9 04) before each image.
+std::size_t gif_frames(const std::string& bytes) {
+    std::size_t n = 0;
+    for (auto at = bytes.find("\x21\xF9\x04"); at != std::string::npos;
+         at = bytes.find("\x21\xF9\x04", at + 3))
+        ++n;
+    return n;
+}
+
+// Lecture frames: the chosen steps as SVG and PNG (the picture at the page's zoom, each step's
+// pixels outlined) and as an animated GIF of as many frames; bad ranges refused before anything
+// is written.
+TEST(Teach, FramesDrawTheChosenStepsForALecture) {
+    testutil::TempDir dir;
+    const auto scene = (kSource / "examples/teach/lines_fan.json").string();
+    const auto out = dir.path() / "t";
+    const auto r =
+        testutil::run_cli({"teach", scene, "--algorithm", "bresenham", "--frames", "--frame-steps",
+                           "2-4", "--zoom", "4", "--output", out.string()});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const json data = json::parse(testutil::read_text(out / "teach.json"));
+    EXPECT_FALSE(std::filesystem::exists(out / "frames" / "step-0001.svg"));
+    EXPECT_FALSE(std::filesystem::exists(out / "frames" / "step-0005.png"));
+    for (int k = 2; k <= 4; ++k) {
+        const std::string name = "step-000" + std::to_string(k);
+        const std::string svg = testutil::read_text(out / "frames" / (name + ".svg"));
+        // The step's number and title under the picture.
+        EXPECT_NE(
+            svg.find("Step " + std::to_string(k) + " of " + std::to_string(data["steps"].size())),
+            std::string::npos);
+        const auto png = harness::read_color_image(out / "frames" / (name + ".png"));
+        EXPECT_EQ(png.width, 4u * data["width"].get<std::uint32_t>());
+        EXPECT_EQ(png.height, 4u * data["height"].get<std::uint32_t>());
+        // The step's first pixel: outlined in yellow at its border, lit white at its centre.
+        const auto& p = data["steps"][static_cast<std::size_t>(k - 1)]["pixels"][0];
+        const std::uint32_t x = 4 * p[0].get<std::uint32_t>(), y = 4 * p[1].get<std::uint32_t>();
+        const std::size_t border = 4 * png.index(x, y), centre = 4 * png.index(x + 2, y + 2);
+        EXPECT_EQ(png.color8[border], 0xff) << name;
+        EXPECT_EQ(png.color8[border + 1], 0xd6) << name;
+        EXPECT_EQ(png.color8[border + 2], 0x00) << name;
+        // Lit: white, or the input line's green drawn over it (the path follows the line).
+        EXPECT_GE(std::max({png.color8[centre], png.color8[centre + 1], png.color8[centre + 2]}),
+                  200)
+            << name;
+    }
+    const std::string gif = testutil::read_text(out / "frames" / "steps.gif");
+    EXPECT_EQ(gif.rfind("GIF89a", 0), 0u);
+    EXPECT_EQ(gif_frames(gif), 3u);
+
+    for (const auto& [range, what] :
+         std::vector<std::pair<std::string, std::string>>{{"4-2", "not a range"},
+                                                          {"0-3", "not a range"},
+                                                          {"2-x", "not a range"},
+                                                          {"1-100000", "past the run's"}}) {
+        const auto bad = dir.path() / ("bad" + range);
+        const auto b = testutil::run_cli({"teach", scene, "--algorithm", "bresenham", "--frames",
+                                          "--frame-steps", range, "--output", bad.string()});
+        EXPECT_EQ(b.exit_code, 2) << range;
+        EXPECT_NE(b.err.find("--frame-steps: "), std::string::npos) << b.err;
+        EXPECT_NE(b.err.find(what), std::string::npos) << b.err;
+        EXPECT_FALSE(std::filesystem::exists(bad)) << range;  // nothing written
+    }
+    const auto alone =
+        testutil::run_cli({"teach", scene, "--algorithm", "bresenham", "--frame-steps", "1-2",
+                           "--output", (dir.path() / "alone").string()});
+    EXPECT_EQ(alone.exit_code, 2);
+    EXPECT_NE(alone.err.find("only with --frames"), std::string::npos) << alone.err;
+}
+
 const json* difference_at(const json& data, int x, int y) {
     for (const auto& d : data["differences"]) {
         if (d["x"] == x && d["y"] == y) return &d;

@@ -23,6 +23,10 @@ struct CompareArgs {
     BackendArgs reference{"ref"};
     BackendArgs against{"osmesa"};
     std::string reference_driver;  // empty: the same as --driver
+    // With --against ref: the compared reference's own profile (two profiles side by side);
+    // empty: the same as --profile.
+    std::string against_profile;
+    std::vector<std::string> against_overrides;
     std::string json;
     std::string diff;
 };
@@ -57,7 +61,22 @@ int run_compare(CompareArgs a) {
     if (a.reference_driver.empty()) a.reference_driver = a.against.driver;
     a.reference.driver = a.reference_driver;
     a.reference.timeout = a.against.timeout;
+    if ((!a.against_profile.empty() || !a.against_overrides.empty()) &&
+        a.against.backend != "ref") {
+        std::cerr << "--against-profile, --against-profile-set: the profile of a compared "
+                     "reference (--against ref); a GL backend has no profile\n";
+        return kExitBadInput;
+    }
     a.against.profile = a.reference.profile;
+    if (!a.against_profile.empty() || !a.against_overrides.empty()) {
+        // Two profiles side by side: the compared side starts from its own profile (or the
+        // reference's), with its own overrides.
+        if (!a.against_profile.empty()) {
+            a.against.profile.profile = a.against_profile;
+            a.against.profile.overrides.clear();
+        }
+        for (const auto& o : a.against_overrides) a.against.profile.overrides.push_back(o);
+    }
     a.against.threads = a.reference.threads;
     auto ref = backend_or_report(a.reference, a.scene);
     if (!ref) return kExitBackendFailure;
@@ -80,8 +99,17 @@ int run_compare(CompareArgs a) {
         std::cerr << harness::encode::terminal(e.what()) << "\n";
         return kExitBadInput;
     }
-    std::cout << to_string(r.status) << " " << r.name << " (" << r.reference_name << " vs "
-              << r.actual_name << ")";
+    // Two references: each side named by its profile and overrides.
+    const auto side = [&](const std::string& backend_name, const BackendArgs& b) {
+        if (b.backend != "ref") return backend_name;
+        std::string s = backend_name + " " + b.profile.profile;
+        for (const auto& o : b.profile.overrides) s += " " + o;
+        return s;
+    };
+    const bool two_profiles = a.reference.backend == "ref" && a.against.backend == "ref";
+    std::cout << to_string(r.status) << " " << r.name << " ("
+              << (two_profiles ? side(r.reference_name, a.reference) : r.reference_name) << " vs "
+              << (two_profiles ? side(r.actual_name, a.against) : r.actual_name) << ")";
     if (r.comparison) std::cout << ": " << r.comparison->summary();
     if (r.sample_comparison) std::cout << "; " << r.sample_comparison->summary();
     std::cout << "\n";
@@ -117,6 +145,12 @@ Command add_compare_command(CLI::App& app) {
     add_driver_options(cmd, a->against);
     add_profile_options(cmd, a->reference.profile);
     add_threads_option(cmd, a->reference.threads);
+    cmd->add_option("--against-profile", a->against_profile,
+                    "With --against ref: the compared reference's profile, to compare two "
+                    "profiles (default: --profile)");
+    cmd->add_option("--against-profile-set", a->against_overrides,
+                    "With --against ref: override one parameter of the compared reference's "
+                    "profile, key=value (repeatable)");
     cmd->add_option("--reference-driver", a->reference_driver,
                     "Mesa driver of a GL --reference (default: --driver)");
     cmd->add_option("--json", a->json, "Write the result record (JSON) here");

@@ -2,21 +2,28 @@
 // rules (from the reference or a GL backend), written as a teaching page with its images.
 #include "harness/teach.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
 #include <cctype>
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <memory>
 #include <new>
+#include <optional>
 #include <string_view>
+#include <utility>
+#include <variant>
 #include <vector>
 
 #include "commands/commands.hpp"
 #include "harness/encode.hpp"
 #include "harness/files.hpp"
 #include "harness/image_io.hpp"
+#include "harness/teach_frames.hpp"
 #include "harness/teach_page.hpp"
 
 namespace tool {
@@ -30,7 +37,42 @@ struct TeachArgs {
     BackendArgs backend{"ref"};
     std::string output;
     int zoom = 8;
+    // Lecture frames: each step of FIRST-LAST (1-based) as frames/step-NNNN.svg and .png, and
+    // the same steps as frames/steps.gif at `frame_rate` frames a second.
+    bool frames = false;
+    std::string frame_steps;
+    int frame_rate = 4;
 };
+
+// "K-L" (1-based, inclusive) or "K": the steps to draw as frames, checked against the run's
+// step count and kMaxTeachFrames. Returns the 0-based [first, last], or an error message.
+std::variant<std::pair<std::size_t, std::size_t>, std::string> frame_range(const std::string& text,
+                                                                           std::size_t steps) {
+    if (steps == 0) return std::string("the algorithm recorded no steps to draw");
+    std::size_t first = 1, last = std::min(steps, harness::kMaxTeachFrames);
+    if (!text.empty()) {
+        const auto dash = text.find('-');
+        const auto parse = [](const std::string& t) -> std::optional<std::size_t> {
+            if (t.empty() || t.size() > 9 ||
+                !std::all_of(t.begin(), t.end(), [](char c) { return c >= '0' && c <= '9'; }))
+                return std::nullopt;
+            return static_cast<std::size_t>(std::stoul(t));
+        };
+        const auto a = parse(text.substr(0, dash));
+        const auto b = dash == std::string::npos ? a : parse(text.substr(dash + 1));
+        if (!a || !b || *a < 1 || *b < *a)
+            return "'" + text + "' is not a range of steps K-L with 1 <= K <= L";
+        first = *a;
+        last = *b;
+    }
+    if (last > steps)
+        return "step " + std::to_string(last) + " is past the run's " + std::to_string(steps) +
+               " steps";
+    if (last - first + 1 > harness::kMaxTeachFrames)
+        return std::to_string(last - first + 1) + " frames, over the limit of " +
+               std::to_string(harness::kMaxTeachFrames) + " (choose fewer steps)";
+    return std::pair{first - 1, last - 1};
+}
 
 // An image of `w` x `h` pixels, each a `zoom` x `zoom` block of colour(x, y).
 template <class Color>
@@ -96,6 +138,18 @@ int run_teach(TeachArgs a) {
         std::cerr << harness::encode::terminal(a.scene) << ": "
                   << harness::encode::terminal(e.what()) << "\n";
         return exit_code(e.exit_class());
+    }
+    std::pair<std::size_t, std::size_t> frames{0, 0};
+    if (a.frames) {
+        const auto range = frame_range(a.frame_steps, r.steps.size());
+        if (const auto* error = std::get_if<std::string>(&range)) {
+            std::cerr << "--frame-steps: " << harness::encode::terminal(*error) << "\n";
+            return kExitBadInput;
+        }
+        frames = std::get<std::pair<std::size_t, std::size_t>>(range);
+    } else if (!a.frame_steps.empty()) {
+        std::cerr << "--frame-steps: draws frames only with --frames\n";
+        return kExitBadInput;
     }
     const auto prov = [&](const char* key) {
         const auto it = gl.provenance.find(key);
@@ -189,6 +243,25 @@ int run_teach(TeachArgs a) {
                                      {&mask_png, dir / "differences.png"}});
         harness::write_file_atomically(dir / "teach.json", json_text);
         harness::write_file_atomically(dir / "index.html", html);
+        if (a.frames) {
+            // The lecture frames: each step's SVG and PNG, then the animation of them all.
+            const auto fdir = dir / "frames";
+            std::filesystem::create_directories(fdir);
+            harness::TeachFrames f(r, a.zoom);
+            std::vector<refraster::Framebuffer> images;
+            for (std::size_t k = frames.first; k <= frames.second; ++k) {
+                f.seek(k);
+                char name[32];
+                std::snprintf(name, sizeof name, "step-%04zu", k + 1);
+                harness::write_file_atomically(fdir / (std::string(name) + ".svg"), f.svg());
+                images.push_back(f.image());
+                harness::write_color_image(images.back(), fdir / (std::string(name) + ".png"));
+                if (::isatty(STDERR_FILENO) != 0 && (k - frames.first) % 50 == 49)
+                    std::cerr << "frames: " << (k - frames.first + 1) << " of "
+                              << (frames.second - frames.first + 1) << "\n";
+            }
+            harness::write_color_animation(images, fdir / "steps.gif", a.frame_rate);
+        }
     } catch (const std::bad_alloc&) {
         throw;  // running out of memory: main reports it (exit 3)
     } catch (const std::exception& e) {
@@ -201,6 +274,10 @@ int run_teach(TeachArgs a) {
     if (r.omitted_steps > 0) std::cout << " (" << r.omitted_steps << " more not recorded)";
     std::cout << "\n";
     std::cout << "wrote " << (dir / "index.html").string() << "\n";
+    if (a.frames)
+        std::cout << "wrote " << (frames.second - frames.first + 1) << " frames (steps "
+                  << frames.first + 1 << " to " << frames.second + 1 << ") to "
+                  << (dir / "frames").string() << ": step-NNNN.svg, step-NNNN.png, steps.gif\n";
     return kExitOk;
 }
 
@@ -233,6 +310,15 @@ Command add_teach_command(CLI::App& app) {
         ->required();
     cmd->add_option("--zoom", a->zoom, "Screen pixels a pixel in the PNG images")
         ->check(CLI::Range(1, 64))
+        ->capture_default_str();
+    cmd->add_flag("--frames", a->frames,
+                  "Also write each step as frames/step-NNNN.svg and .png, and the steps as an "
+                  "animation, frames/steps.gif (for slides and handouts)");
+    cmd->add_option("--frame-steps", a->frame_steps,
+                    "The steps drawn by --frames, K-L counted from 1 (default: the first " +
+                        std::to_string(harness::kMaxTeachFrames) + ", the most one run draws)");
+    cmd->add_option("--frame-rate", a->frame_rate, "Frames a second in frames/steps.gif")
+        ->check(CLI::Range(1, 50))
         ->capture_default_str();
     add_driver_options(cmd, a->backend);
     add_profile_options(cmd, a->backend.profile);

@@ -41,6 +41,12 @@ void write_color_image(const refraster::Framebuffer& fb, const std::filesystem::
 using ImageToWrite = std::pair<const refraster::Framebuffer*, std::filesystem::path>;
 void write_color_images(const std::vector<ImageToWrite>& images);
 
+// Writes RGBA8 `frames` of one size as an animated GIF (its extension must be ".gif") that
+// shows `frames_per_second` frames a second and loops forever; written atomically like every
+// image. Throws ImageIoError for no frames, frames of another format or size, or a failed write.
+void write_color_animation(const std::vector<refraster::Framebuffer>& frames,
+                           const std::filesystem::path& path, int frames_per_second);
+
 // The files one image a sample goes to: PREFIX.s0.png .. PREFIX.s3.png (.exr for rgba32f).
 std::vector<std::filesystem::path> sample_image_paths(const std::filesystem::path& prefix,
                                                       std::uint32_t samples,

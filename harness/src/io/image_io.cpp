@@ -73,6 +73,45 @@ void write_nested(const std::vector<ImageToWrite>& images, std::size_t k) {
 
 }  // namespace
 
+void write_color_animation(const std::vector<refraster::Framebuffer>& frames,
+                           const std::filesystem::path& path, int frames_per_second) {
+    if (path.extension() != ".gif")
+        throw ImageIoError(path.string() + ": an animation is written as .gif");
+    if (frames.empty()) throw ImageIoError(path.string() + ": an animation of no frames");
+    for (const auto& f : frames) {
+        if (f.color_format != refraster::ColorFormat::Rgba8 || f.width != frames[0].width ||
+            f.height != frames[0].height || f.width == 0 || f.height == 0)
+            throw ImageIoError(path.string() +
+                               ": the frames of an animation are rgba8 images "
+                               "of one size");
+    }
+    write_atomically(path, [&](const std::filesystem::path& tmp) {
+        auto out = OIIO::ImageOutput::create(tmp.string());
+        if (!out || !out->supports("multiimage"))
+            throw ImageIoError(path.string() + ": cannot create an animated GIF writer");
+        OIIO::ImageSpec spec(static_cast<int>(frames[0].width), static_cast<int>(frames[0].height),
+                             4, OIIO::TypeDesc::UINT8);
+        spec.attribute("oiio:UnassociatedAlpha", 1);
+        const int rate[2] = {std::max(1, frames_per_second), 1};
+        spec.attribute("FramesPerSecond", OIIO::TypeRational, rate);
+        spec.attribute("gif:LoopCount", 0);  // forever
+        const std::size_t row_bytes = std::size_t{frames[0].width} * 4;
+        for (std::size_t k = 0; k < frames.size(); ++k) {
+            const auto mode =
+                k == 0 ? OIIO::ImageOutput::Create : OIIO::ImageOutput::AppendSubimage;
+            bool ok = out->open(tmp.string(), spec, mode);
+            // Image files store the top row first.
+            for (std::uint32_t row = 0; ok && row < frames[k].height; ++row) {
+                const std::uint32_t src = frames[k].height - 1 - row;
+                ok = out->write_scanline(static_cast<int>(row), 0, OIIO::TypeDesc::UINT8,
+                                         frames[k].color8.data() + src * row_bytes);
+            }
+            if (!ok) throw ImageIoError(path.string() + ": cannot write: " + out->geterror());
+        }
+        if (!out->close()) throw ImageIoError(path.string() + ": cannot write: " + out->geterror());
+    });
+}
+
 void write_color_image(const refraster::Framebuffer& fb, const std::filesystem::path& path) {
     check_extension(fb, path);
     // Written beside the destination and moved into place (files.hpp): never a partial image.
