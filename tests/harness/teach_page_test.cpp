@@ -53,6 +53,7 @@ json document(int width, int height, int step_count) {
         steps.push_back(
             {{"title", "row " + std::to_string(y) + ": fill the span, step " + std::to_string(k)},
              {"group", k < 2 ? "polygon 0" : "polygon 1"},
+             {"line", k == 0 ? 1 : 2},
              {"state", json::array({json::array({"y", std::to_string(y)}),
                                     json::array({"span", "1.." + std::to_string(width - 2)})})},
              {"pixels", pixels},
@@ -91,6 +92,7 @@ json document(int width, int height, int step_count) {
         {"input",
          {{{"x0", 0.5}, {"y0", 1.5}, {"x1", width - 1.5}, {"y1", height - 2.5}, {"role", "edge"}}}},
         {"steps", steps},
+        {"pseudo_code", {"build the edge table", "fill the row's spans <between> crossings"}},
         {"notes", {"Spans are filled between edge crossings at pixel centres."}}};
 }
 
@@ -332,6 +334,19 @@ TEST_F(TeachPageChromium, PartsAndPlayStep) {
     EXPECT_EQ(text_of(d, "step-index"), "4");
     EXPECT_EQ(text_of(d, "step-play"), "Play");
     EXPECT_EQ(attribute(d, "step-slider", "max"), "5");
+}
+
+// The pseudo-code beside the steps, the current step's line highlighted.
+TEST_F(TeachPageChromium, ThePseudoCodeHighlightsTheStepsLine) {
+    const auto current = [](const std::string& d) {
+        const auto at = d.find("<li class=\"current\"><code>");
+        if (at == std::string::npos) return std::string("<none>");
+        const auto text = at + std::string("<li class=\"current\"><code>").size();
+        return d.substr(text, d.find('<', text) - text);
+    };
+    EXPECT_EQ(current(dom("step=1")), "build the edge table");
+    EXPECT_EQ(current(dom("step=3")), "fill the row's spans &lt;between&gt; crossings");
+    EXPECT_EQ(current(dom("press=next")), "fill the row's spans &lt;between&gt; crossings");
 }
 
 TEST_F(TeachPageChromium, APixelLinkShowsItsValuesAndReason) {

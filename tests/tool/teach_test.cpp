@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
+#include <set>
 
 #include "harness/image_io.hpp"
 #include "test_util.hpp"
@@ -152,6 +153,19 @@ TEST(Teach, EveryAlgorithmWritesItsPage) {
             EXPECT_FALSE(d["reason"].get<std::string>().empty());
         const auto page = testutil::read_text(out / "index.html");
         EXPECT_NE(page.find("id=\"teach-data\""), std::string::npos);
+        // The algorithm's pseudo-code, shown on the page, and every step on one of its lines.
+        const auto& code = t.data["pseudo_code"];
+        ASSERT_GE(code.size(), 2u);
+        EXPECT_NE(page.find("<ol id=\"pseudo-code\"><li><code>"), std::string::npos);
+        std::set<int> lines;
+        for (const auto& st : t.data["steps"]) {
+            ASSERT_TRUE(st.contains("line")) << st["title"];
+            const int line = st["line"];
+            EXPECT_GE(line, 1) << st["title"];
+            EXPECT_LE(line, static_cast<int>(code.size())) << st["title"];
+            lines.insert(line);
+        }
+        EXPECT_GE(lines.size(), 2u);  // the steps walk the code, not one line of it
         for (const char* png : {"algorithm.png", "gl.png", "differences.png"}) {
             const auto img = harness::read_color_image(out / png);
             EXPECT_EQ(img.width, static_cast<std::uint32_t>(8 * w)) << png;

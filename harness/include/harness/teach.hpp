@@ -102,7 +102,8 @@ struct TeachResult {
     std::vector<TeachDifference> differences;
     std::vector<refraster::textbook::Segment> input;
     std::vector<refraster::textbook::Step> steps;
-    std::size_t omitted_steps = 0;  // steps past TeachLimits' step bounds, not recorded
+    std::vector<std::string> pseudo_code;  // the algorithm's, each step's `line` a line of it
+    std::size_t omitted_steps = 0;         // steps past TeachLimits' step bounds, not recorded
     std::vector<std::string> notes;
     std::string summary;
 };

@@ -285,6 +285,7 @@ struct Run {
     std::vector<std::array<std::uint8_t, 4>> colors;  // per pixel, when the algorithm colours
     std::vector<tb::Segment> input;
     std::vector<tb::Step> steps;
+    std::vector<std::string> pseudo_code;  // the first trace's
     std::vector<std::string> notes;
     // Why pixel (x, y) differs, given the algorithm's weight and GL's coverage.
     std::function<std::string(int, int, double, bool)> reason;
@@ -337,6 +338,7 @@ void append_trace(Run& run, tb::Trace& t, const std::string& prefix) {
     }
     run.omitted += t.omitted;
     for (auto& seg : t.input) run.input.push_back(std::move(seg));
+    if (run.pseudo_code.empty()) run.pseudo_code = t.pseudo_code;
 }
 
 void merge_max(tb::Raster& into, const tb::Raster& r) {
@@ -862,6 +864,12 @@ Run run_half_space(const Scene& s, int w, int h) {
     if (tris.empty()) throw TeachError("the scene has no triangle draw to rasterize");
     Run run;
     run.raster = tb::Raster(w, h);
+    run.pseudo_code = {
+        "snap the vertices to 1/256 pixel; orient the triangle counter-clockwise (area 0: "
+        "nothing to draw)",
+        "set up each edge's function E = c - a x + b y; an edge that owns its ties (a left edge, "
+        "or a bottom one) adds 1 to c",
+        "for each pixel centre of the bounding box:", "    covered when all three E > 0"};
     const refraster::Profile profile = refraster::llvmpipe_22_3_profile();
     std::vector<bool> clipped_any(tris.size(), false);
     for (std::size_t k = 0; k < tris.size(); ++k) {
@@ -884,6 +892,7 @@ Run run_half_space(const Scene& s, int w, int h) {
         }
         const std::string prefix =
             tris.size() > 1 ? "triangle " + std::to_string(k) + ": " : std::string();
+        const std::string group = tris.size() > 1 ? "triangle " + std::to_string(k) : std::string();
         for (std::size_t i = 0; i < 3; ++i) {
             const auto& a = st.t.position[i];
             const auto& b = st.t.position[(i + 1) % 3];
@@ -891,6 +900,8 @@ Run run_half_space(const Scene& s, int w, int h) {
         }
         if (!ok || clipped_any[k]) {
             tb::Step step;
+            step.group = group;
+            step.line = 1;
             step.title = prefix +
                          "a vertex outside the view volume: GL clips this triangle "
                          "first, which this lecture version does not";
@@ -901,6 +912,8 @@ Run run_half_space(const Scene& s, int w, int h) {
             (std::int64_t{v[0][0]} - v[1][0]) * (std::int64_t{v[2][1]} - v[0][1]) -
             (std::int64_t{v[2][0]} - v[0][0]) * (std::int64_t{v[0][1]} - v[1][1]);
         tb::Step head;
+        head.group = group;
+        head.line = 1;
         head.title = prefix + "snapped to 1/256 pixel (pixel centre at 0): (" +
                      std::to_string(v[0][0]) + ", " + std::to_string(v[0][1]) + ") (" +
                      std::to_string(v[1][0]) + ", " + std::to_string(v[1][1]) + ") (" +
@@ -912,6 +925,7 @@ Run run_half_space(const Scene& s, int w, int h) {
             continue;
         }
         if (area < 0) std::swap(v[0], v[1]);  // setup's orientation: counter-clockwise
+        head.line = 2;
         std::array<tb::GlEdgeFunction, 3> e;
         for (std::size_t i = 0; i < 3; ++i) {
             const auto& p = v[i];
@@ -952,6 +966,8 @@ Run run_half_space(const Scene& s, int w, int h) {
                     continue;
                 }
                 tb::Step step;
+                step.group = group;
+                step.line = 4;
                 std::string ties;
                 for (std::size_t i = 0; i < 3; ++i) {
                     const std::int64_t value = e[i].at(x, y, rule.subpixel_bits);
@@ -1107,6 +1123,7 @@ TeachResult teach(const Scene& scene, std::string_view algorithm,
     r.omitted_steps = run.omitted;
     r.input = std::move(run.input);
     r.steps = std::move(run.steps);
+    r.pseudo_code = std::move(run.pseudo_code);
     r.notes = std::move(run.notes);
     std::ostringstream sum;
     sum << r.differences.size() << " pixel" << (r.differences.size() == 1 ? "" : "s")
@@ -1151,6 +1168,7 @@ nlohmann::json teach_json(const TeachResult& r, const Scene& scene, const std::s
         json st;
         st["title"] = s.title;
         if (!s.group.empty()) st["group"] = s.group;
+        if (s.line > 0) st["line"] = s.line;
         json state = json::array();
         for (const auto& [k, v] : s.state) state.push_back(json::array({k, v}));
         st["state"] = state;
@@ -1163,6 +1181,7 @@ nlohmann::json teach_json(const TeachResult& r, const Scene& scene, const std::s
         steps.push_back(st);
     }
     j["steps"] = steps;
+    j["pseudo_code"] = r.pseudo_code;
     j["omitted_steps"] = r.omitted_steps;
     j["notes"] = r.notes;
     return j;

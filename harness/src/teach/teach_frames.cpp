@@ -67,7 +67,8 @@ std::string num(double v) {
 void blend(refraster::Framebuffer& fb, int x, int y, Rgba c) {
     if (x < 0 || y < 0 || x >= static_cast<int>(fb.width) || y >= static_cast<int>(fb.height))
         return;
-    const std::size_t i = 4 * fb.index(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y));
+    const std::size_t i =
+        4 * fb.index(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y));
     const double a = c.a / 255.0;
     const std::array<std::uint8_t, 3> src = {c.r, c.g, c.b};
     for (std::size_t k = 0; k < 3; ++k) {
@@ -81,8 +82,8 @@ void blend(refraster::Framebuffer& fb, int x, int y, Rgba c) {
 
 // A line of `width` pixels from (x0, y0) to (x1, y1), in `fb`'s pixel units: every pixel whose
 // centre lies within width / 2 of the segment.
-void draw_line(refraster::Framebuffer& fb, double x0, double y0, double x1, double y1,
-               double width, Rgba c) {
+void draw_line(refraster::Framebuffer& fb, double x0, double y0, double x1, double y1, double width,
+               Rgba c) {
     const double h = std::max(0.5, width / 2.0);
     const int xa = static_cast<int>(std::floor(std::min(x0, x1) - h));
     const int xb = static_cast<int>(std::ceil(std::max(x0, x1) + h));
@@ -251,9 +252,8 @@ std::string TeachFrames::svg() const {
             const double v = state_[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
                                     static_cast<std::size_t>(x)];
             int end = x + 1;
-            while (end < w &&
-                   state_[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
-                          static_cast<std::size_t>(end)] == v)
+            while (end < w && state_[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
+                                     static_cast<std::size_t>(end)] == v)
                 ++end;
             if (v >= 0.0)
                 s += "<rect x=\"" + num(x * z) + "\" y=\"" + num(sy(y + 1)) + "\" width=\"" +
@@ -297,8 +297,8 @@ std::string TeachFrames::svg() const {
     for (std::size_t i = 0; i < caption.size(); ++i)
         s += "<text x=\"4\" y=\"" + num(ph + 10.0 + 13.0 + 17.0 * static_cast<double>(i)) +
              "\" font-size=\"13\" fill=\"#222222\"" +
-             (i == 0 && caption[0].rfind("Step ", 0) != 0 ? " font-weight=\"bold\"" : "") +
-             ">" + markup::escape(caption[i]) + "</text>\n";
+             (i == 0 && caption[0].rfind("Step ", 0) != 0 ? " font-weight=\"bold\"" : "") + ">" +
+             markup::escape(caption[i]) + "</text>\n";
     s += markup::svg_close() + "\n";
     return s;
 }

@@ -130,6 +130,10 @@ tr.diff.selected{background:#c9f3ff}
 #differences td.reason{max-width:50em}
 #command{user-select:all}
 #step-slider{width:100%;margin:.5em 0 .2em}
+#pseudo-code{margin:.4em 0 .6em;padding-left:2.2em;font-size:.86em}
+#pseudo-code li{padding:1px 4px;border-radius:3px;white-space:pre-wrap}
+#pseudo-code li code{background:none;padding:0;font-size:1em}
+#pseudo-code li.current{background:#ffe082;font-weight:600}
 #step-part{margin:.3em 0 0;font-size:.92em}
 /* On paper (a handout, a PDF for slides): the images and the current step, no controls. */
 @media print{
@@ -432,6 +436,13 @@ const char* kScript = R"JS(<script>
     $('step-index').textContent = String(at);
     $('step-number').textContent = String(at + 1);
     $('step-title').textContent = String(s.title === undefined ? '' : s.title);
+    var code = $('pseudo-code');
+    if (code) {
+      var line = Math.floor(+s.line) || 0;
+      Array.prototype.forEach.call(code.children, function (li, k) {
+        li.classList.toggle('current', k + 1 === line);
+      });
+    }
     var body = $('step-state').tBodies[0];
     while (body.firstChild) body.removeChild(body.firstChild);
     (Array.isArray(s.state) ? s.state : []).forEach(function (pair) {
@@ -653,7 +664,18 @@ std::string teach_page_html(const nlohmann::json& data) {
         h << markup::escape(
             text_of(steps[0].is_object() ? steps[0].value("title", json()) : json()));
     }
-    h << "</p><table id=\"step-state\"><thead><tr><th>variable</th><th>value</th></tr></thead>"
+    h << "</p>";
+    // The algorithm's pseudo-code, the current step's line highlighted (by the script).
+    {
+        const json& code = array_field(d, "pseudo_code");
+        if (!code.empty()) {
+            h << "<ol id=\"pseudo-code\">";
+            for (const json& line : code)
+                h << "<li><code>" << markup::escape(text_of(line)) << "</code></li>";
+            h << "</ol>";
+        }
+    }
+    h << "<table id=\"step-state\"><thead><tr><th>variable</th><th>value</th></tr></thead>"
          "<tbody></tbody></table><p id=\"step-pixels\"></p></section>\n</div>\n";
 
     // The pixel under the pointer, and what the colours mean.

@@ -27,24 +27,31 @@ CircleResult midpoint_circle(PixelIndex centre, int radius, int width, int heigh
     CircleResult out{{}, {}, Raster(width, height)};
     if (trace != nullptr) {
         trace->algorithm = "midpoint circle";
+        set_pseudo_code(
+            trace, {"x = 0, y = R, d = 1 - R; plot (0, R) and its seven mirrors", "while y > x:",
+                    "    if d >= 0: M is outside, choose SE: d += 2 (x - y) + 5, y = "
+                    "y - 1",
+                    "    else: M is inside, choose E: d += 2 x + 3",
+                    "    x = x + 1; plot (x, y) and its seven mirrors"});
         trace->input.push_back(
             {centre.x + 0.5, centre.y + 0.5, centre.x + 0.5 + radius, centre.y + 0.5, "circle"});
         begin_part(trace, "circle");
     }
-    const auto plot = [&](int x, int y, std::string title,
+    const auto plot = [&](int x, int y, int line, std::string title,
                           std::vector<std::pair<std::string, std::string>> state) {
         out.octant.push_back({x, y});
         const auto points = mirrors(centre, x, y);
         for (const PixelIndex& p : points) out.raster.set(p.x, p.y, 1.0);
         if (trace == nullptr) return;
         Step& step = add_step(*trace, std::move(title));
+        step.line = line;
         step.state = std::move(state);
         for (const PixelIndex& p : points) step.pixels.push_back({p.x, p.y, 1.0});
     };
     int x = 0;
     int y = radius;
     long long d = 1 - static_cast<long long>(radius);
-    plot(x, y, "x = 0: start at (0, R)", {{"d", std::to_string(d)}});
+    plot(x, y, 1, "x = 0: start at (0, R)", {{"d", std::to_string(d)}});
     while (y > x) {
         const long long before = d;
         out.decisions.push_back(d);
@@ -63,7 +70,7 @@ CircleResult midpoint_circle(PixelIndex centre, int radius, int width, int heigh
                                 : " < 0, F(M) < 0: M inside, choose E, y = ") +
                     std::to_string(y);
         }
-        plot(x, y, std::move(title),
+        plot(x, y, south_east ? 3 : 4, std::move(title),
              {{"d", std::to_string(before)},
               {"M", "(" + std::to_string(x) + ", " + std::to_string(y + (south_east ? 1 : 0)) +
                         " - 1/2)"},

@@ -32,6 +32,13 @@ EarClipResult ear_clip(const std::vector<Point2>& polygon, Trace* trace) {
     const std::size_t n = polygon.size();
     if (trace != nullptr) {
         trace->algorithm = "ear clipping";
+        set_pseudo_code(trace, {"orient the polygon counter-clockwise; remaining = every vertex",
+                                "while more than 3 vertices remain:",
+                                "    find the next vertex v whose corner (u, v, w) is convex and "
+                                "holds no other vertex: an ear",
+                                "    cut the triangle (u, v, w) off; remove v",
+                                "    if no vertex is an ear: the polygon is not simple; stop",
+                                "the last three vertices are the last triangle"});
         add_outline(trace->input, polygon);
         begin_part(trace, "polygon");
     }
@@ -102,6 +109,7 @@ EarClipResult ear_clip(const std::vector<Point2>& polygon, Trace* trace) {
                 Step& s = add_step(*trace, "ear at v" + std::to_string(v) + ": cut triangle (v" +
                                                std::to_string(u) + ", v" + std::to_string(v) +
                                                ", v" + std::to_string(w) + ")");
+                s.line = 4;
                 s.state.push_back({"remaining", index_list(remaining)});
                 std::string skipped;
                 for (const std::string& r : rejected) skipped += (skipped.empty() ? "" : "; ") + r;
@@ -124,6 +132,7 @@ EarClipResult ear_clip(const std::vector<Point2>& polygon, Trace* trace) {
         if (!cut) {
             if (trace != nullptr) {
                 Step& s = add_step(*trace, "no ear: the polygon is not simple");
+                s.line = 5;
                 s.state.push_back({"remaining", index_list(remaining)});
             }
             return out;
@@ -135,6 +144,7 @@ EarClipResult ear_clip(const std::vector<Point2>& polygon, Trace* trace) {
         Step& s = add_step(*trace, "the last triangle (v" + std::to_string(remaining[0]) + ", v" +
                                        std::to_string(remaining[1]) + ", v" +
                                        std::to_string(remaining[2]) + ")");
+        s.line = 6;
         s.state.push_back({"remaining", index_list(remaining)});
         for (std::size_t i = 0; i < 3; ++i) {
             const Point2 a = polygon[static_cast<std::size_t>(remaining[i])];

@@ -130,6 +130,10 @@ FloodResult flood_fill(const Raster& boundary, PixelIndex seed, Connectivity con
         trace->algorithm = connectivity == Connectivity::Four ? "boundary fill, 4-connected"
                                                               : "boundary fill, 8-connected";
         begin_part(trace, "fill");
+        set_pseudo_code(trace,
+                        {"push the seed", "while the stack is not empty:", "    pop a pixel p",
+                         "    if p is outside, on the boundary or already filled: skip it",
+                         "    else: fill p and push its neighbours (4 or 8)"});
     }
     std::vector<PixelIndex> stack{seed};
     while (!stack.empty()) {
@@ -155,6 +159,7 @@ FloodResult flood_fill(const Raster& boundary, PixelIndex seed, Connectivity con
         Step& step = add_step(*trace, "pop " + format_pixel(p.x, p.y) + ": " +
                                           (reject == nullptr ? "fill, push its neighbours"
                                                              : std::string(reject) + ", skip"));
+        step.line = reject == nullptr ? 5 : 4;
         step.state.push_back({"stack", describe_stack(stack)});
         step.state.push_back({"filled", std::to_string(out.order.size())});
         step.pixels.push_back({p.x, p.y, reject == nullptr ? 1.0 : 0.0});

@@ -116,6 +116,13 @@ Raster homogeneous_rasterize(const ClipTriangle& triangle, Viewport viewport, in
     describe_input(trace, triangle, viewport,
                    w_positive_test ? "homogeneous rasterization"
                                    : "homogeneous rasterization without the w > 0 test");
+    set_pseudo_code(trace, {"M = the clip-space vertices (x, y, w) as columns: the edge "
+                            "functions are the rows of adj(M), det(M) gives their sign",
+                            "for each row j, for each pixel centre (i, j):",
+                            "    evaluate the three edge functions at the centre (x, y, 1)",
+                            std::string("    covered when all three are > 0 (times the sign of "
+                                        "det)") +
+                                (w_positive_test ? "" : ", or all three < 0")});
     Raster out(width, height);
     const Setup s = setup(triangle, viewport);
     const int det_sign = sign_of(s.det);
@@ -123,6 +130,7 @@ Raster homogeneous_rasterize(const ClipTriangle& triangle, Viewport viewport, in
         Step& step = add_step(
             *trace, "the edge functions: rows of adj(M), det(M) " +
                         std::string(det_sign > 0 ? "> 0" : (det_sign < 0 ? "< 0" : "= 0")));
+        step.line = 1;
         step.state.push_back({"det", format_int128(s.det)});
         for (std::size_t k = 0; k < 3; ++k) {
             step.state.push_back({"e" + std::to_string(k), format_int128(s.edge[k].x) + " x + " +
@@ -136,6 +144,7 @@ Raster homogeneous_rasterize(const ClipTriangle& triangle, Viewport viewport, in
         Step* step = nullptr;
         if (trace != nullptr) {
             step = &add_step(*trace, "row " + std::to_string(j));
+            step->line = 4;
         }
         for (int i = 0; i < width; ++i) {
             std::array<int, 3> sg{};
@@ -171,6 +180,10 @@ Raster homogeneous_rasterize(const ClipTriangle& triangle, Viewport viewport, in
 Raster clip_then_rasterize(const ClipTriangle& triangle, Viewport viewport, double near_w,
                            int width, int height, Trace* trace) {
     describe_input(trace, triangle, viewport, "clip, then rasterize");
+    set_pseudo_code(trace, {"clip the triangle against the plane w = near (Sutherland-Hodgman): "
+                            "a polygon",
+                            "for each row j, for each pixel centre: covered when inside every "
+                            "edge of the projected polygon (GL's rule)"});
     Raster out(width, height);
     REFRASTER_ASSERT(near_w > 0.0, "a near plane at w > 0");
     const std::int64_t near = 2 * snap_clip(near_w);  // in the 512 w scale of HVertex
@@ -195,6 +208,7 @@ Raster clip_then_rasterize(const ClipTriangle& triangle, Viewport viewport, doub
     if (trace != nullptr) {
         Step& step = add_step(*trace, "clip against w = " + format_number(near_w) + ": " +
                                           std::to_string(poly.size()) + " vertices");
+        step.line = 1;
         for (std::size_t k = 0; k < poly.size(); ++k) {
             const HVertex& p = poly[k];
             const HVertex& q = poly[(k + 1) % poly.size()];
@@ -233,6 +247,7 @@ Raster clip_then_rasterize(const ClipTriangle& triangle, Viewport viewport, doub
     if (orient_sign == 0) return out;
     for (int j = 0; j < height; ++j) {
         Step* step = trace != nullptr ? &add_step(*trace, "row " + std::to_string(j)) : nullptr;
+        if (step != nullptr) step->line = 2;
         const BigInt cy = BigInt::from_int(2 * std::int64_t{j} + 1);
         const BigInt two = BigInt::from_int(2);
         for (int i = 0; i < width; ++i) {

@@ -46,14 +46,17 @@ const char* minor_name(const LineSetup& s) {
 }
 
 // The first step of a line's trace (valid until the next add_step), or null without a trace.
-Step* begin_trace(Trace* trace, const char* algorithm, Point2 a, Point2 b, const LineSetup& s) {
+Step* begin_trace(Trace* trace, const char* algorithm, std::vector<std::string> code, Point2 a,
+                  Point2 b, const LineSetup& s) {
     if (trace == nullptr) return nullptr;
     trace->algorithm = algorithm;
+    set_pseudo_code(trace, std::move(code));
     trace->input.push_back({a.x, a.y, b.x, b.y, "line"});
     begin_part(trace, "segment");
     Step& step =
         add_step(*trace, "endpoints to pixels: " + format_pixel(s.from.x, s.from.y) + " to " +
                              format_pixel(s.to.x, s.to.y) + ", " + major_name(s) + " major");
+    step.line = 1;
     step.state.push_back({"dx", std::to_string(s.to.x - s.from.x)});
     step.state.push_back({"dy", std::to_string(s.to.y - s.from.y)});
     step.overlay.push_back({s.from.x + 0.5, s.from.y + 0.5, s.to.x + 0.5, s.to.y + 0.5, "line"});
@@ -61,12 +64,13 @@ Step* begin_trace(Trace* trace, const char* algorithm, Point2 a, Point2 b, const
 }
 
 // Appends a path pixel and its step.
-void emit(LineResult& out, Trace* trace, PixelIndex p, std::string title,
+void emit(LineResult& out, Trace* trace, PixelIndex p, int line, std::string title,
           std::vector<std::pair<std::string, std::string>> state) {
     out.path.push_back(p);
     out.raster.set(p.x, p.y, 1.0);
     if (trace == nullptr) return;
     Step& step = add_step(*trace, std::move(title));
+    step.line = line;
     step.state = std::move(state);
     step.pixels.push_back({p.x, p.y, 1.0});
 }
@@ -111,7 +115,14 @@ bool tie_takes_step(MinorTie tie, int minor_sign) {
 
 LineResult dda_line(Point2 a, Point2 b, int width, int height, Trace* trace) {
     const LineSetup s = setup_line(a, b);
-    Step* const first = begin_trace(trace, "DDA line", a, b, s);
+    Step* const first =
+        begin_trace(trace, "DDA line",
+                    {"round both endpoints to pixels; the axis of the larger "
+                     "extent is the major one",
+                     "slope = d(minor) / d(major); minor = the first pixel's",
+                     "for each pixel along the major axis:", "    plot (major, round(minor))",
+                     "    minor = minor + slope"},
+                    a, b, s);
     LineResult out{{}, Raster(width, height)};
     // The minor coordinate as the pixel index of the major axis' start plus the running sum
     // of slope increments, in double: the textbook's float accumulation.
@@ -131,7 +142,7 @@ LineResult dda_line(Point2 a, Point2 b, int width, int height, Trace* trace) {
                     minor_name(s) + " = " + format_number(minor) + ", rounds to " +
                     std::to_string(rounded);
         }
-        emit(out, trace, p, std::move(title), {{minor_name(s), format_number(minor)}});
+        emit(out, trace, p, 4, std::move(title), {{minor_name(s), format_number(minor)}});
         minor += slope;
     }
     return out;
@@ -139,7 +150,14 @@ LineResult dda_line(Point2 a, Point2 b, int width, int height, Trace* trace) {
 
 LineResult bresenham_line(Point2 a, Point2 b, int width, int height, MinorTie tie, Trace* trace) {
     const LineSetup s = setup_line(a, b);
-    begin_trace(trace, "Bresenham line", a, b, s);
+    begin_trace(trace, "Bresenham line",
+                {"round both endpoints to pixels; the axis of the larger extent is the major one",
+                 "nabla = 2 d(minor) - d(major); plot the first endpoint",
+                 "for each step along the major axis:",
+                 "    if nabla > 0 (or = 0 and ties step): step the minor axis, nabla += 2 "
+                 "d(minor) - 2 d(major)",
+                 "    else: keep the minor coordinate, nabla += 2 d(minor)", "    plot the pixel"},
+                a, b, s);
     LineResult out{{}, Raster(width, height)};
     const bool step_on_tie = tie_takes_step(tie, s.minor_sign);
     // nabla_i = 2*b*i - 2*a*k - a: twice the major length times (exact minor offset at step i
@@ -148,7 +166,7 @@ LineResult bresenham_line(Point2 a, Point2 b, int width, int height, MinorTie ti
     const std::int64_t two_a = 2 * std::int64_t{s.major_length};
     std::int64_t nabla = two_b - s.major_length;
     PixelIndex p = s.from;
-    emit(out, trace, p, coordinate_title(s, p) + ": the first endpoint",
+    emit(out, trace, p, 2, coordinate_title(s, p) + ": the first endpoint",
          {{"nabla", std::to_string(nabla)}});
     const int major_step = s.major_sign;
     const int minor_step = s.minor_sign;
@@ -170,7 +188,7 @@ LineResult bresenham_line(Point2 a, Point2 b, int width, int height, MinorTie ti
                     (step ? ", step " : ", keep ") + minor_name(s) + " = " +
                     std::to_string(minor_of(s, p));
         }
-        emit(out, trace, p, std::move(title),
+        emit(out, trace, p, step ? 4 : 5, std::move(title),
              {{"nabla", std::to_string(before)}, {"next nabla", std::to_string(nabla)}});
     }
     return out;
@@ -178,7 +196,13 @@ LineResult bresenham_line(Point2 a, Point2 b, int width, int height, MinorTie ti
 
 LineResult midpoint_line(Point2 a, Point2 b, int width, int height, MinorTie tie, Trace* trace) {
     const LineSetup s = setup_line(a, b);
-    begin_trace(trace, "midpoint line", a, b, s);
+    begin_trace(trace, "midpoint line",
+                {"round both endpoints to pixels; reflect the line into the first octant (u "
+                 "major, v minor)",
+                 "d = 2 F(1, 1/2) = 2 dv - du; plot the first endpoint", "while u < du:",
+                 "    if d > 0 (or = 0 and ties choose NE): v = v + 1 (NE), d += 2 (dv - du)",
+                 "    else: (E) d += 2 dv", "    u = u + 1; plot (u, v)"},
+                a, b, s);
     LineResult out{{}, Raster(width, height)};
     const bool step_on_tie = tie_takes_step(tie, s.minor_sign);
     // In the reflected frame (u along the major axis, v along the minor, both increasing) the
@@ -191,7 +215,7 @@ LineResult midpoint_line(Point2 a, Point2 b, int width, int height, MinorTie tie
     const std::int64_t increment_ne = 2 * (dv - du);
     int u = 0;
     int v = 0;
-    emit(out, trace, at_offsets(s, u, v),
+    emit(out, trace, at_offsets(s, u, v), 2,
          coordinate_title(s, at_offsets(s, u, v)) + ": the first endpoint",
          {{"d", std::to_string(d)}});
     while (u < s.major_length) {
@@ -213,7 +237,7 @@ LineResult midpoint_line(Point2 a, Point2 b, int width, int height, MinorTie tie
             title = coordinate_title(s, p) + ": d = 2F(M) = " + std::to_string(before) + relation +
                     (north_east ? ", choose NE" : ", choose E");
         }
-        emit(out, trace, p, std::move(title),
+        emit(out, trace, p, north_east ? 4 : 5, std::move(title),
              {{"d", std::to_string(before)},
               {"M (reflected)",
                "(" + std::to_string(u) + ", " + std::to_string(v - (north_east ? 1 : 0)) + ".5)"}});

@@ -125,6 +125,10 @@ bool covers_centre(const DepthTriangle& triangle, int x, int y) {
 VisibilityResult painter(const std::vector<DepthTriangle>& triangles, PainterKey key, int width,
                          int height, Trace* trace) {
     describe_input(trace, triangles, "painter's algorithm");
+    set_pseudo_code(trace, {"sort the triangles back to front by their key (the farthest "
+                            "vertex's depth, or the mean depth)",
+                            "for each triangle in that order:",
+                            "    draw it over what is there, no depth test"});
     VisibilityResult out = empty_result(width, height);
     std::vector<Prepared> prepared;
     std::vector<std::int64_t> keys;
@@ -146,6 +150,7 @@ VisibilityResult painter(const std::vector<DepthTriangle>& triangles, PainterKey
         Step& s = add_step(
             *trace, std::string("sort back to front by ") +
                         (key == PainterKey::FarthestVertex ? "farthest vertex" : "mean depth"));
+        s.line = 1;
         s.state.push_back({"order", "[" + order + "]"});
     }
     for (const int ti : out.order) {
@@ -159,6 +164,7 @@ VisibilityResult painter(const std::vector<DepthTriangle>& triangles, PainterKey
                 (key == PainterKey::MeanDepth ? 3.0 : 1.0);
             step = &add_step(*trace,
                              "draw T" + std::to_string(ti) + " (key " + format_number(k) + ")");
+            step->line = 3;
             add_outline(*step, triangles[static_cast<std::size_t>(ti)]);
         }
         for (int y = 0; y < height; ++y) {
@@ -184,6 +190,10 @@ VisibilityResult painter(const std::vector<DepthTriangle>& triangles, PainterKey
 VisibilityResult z_buffer(const std::vector<DepthTriangle>& triangles, int width, int height,
                           Trace* trace) {
     describe_input(trace, triangles, "z-buffer");
+    set_pseudo_code(
+        trace, {"clear the depth buffer to the far plane", "for each triangle in the draw order:",
+                "    at each covered centre: draw it where its depth is less than "
+                "the stored one, and store its depth"});
     VisibilityResult out = empty_result(width, height);
     // The stored depth per pixel as numerator / denominator.
     std::vector<Int128> depth_num(out.visible.size(), 0);
@@ -196,6 +206,7 @@ VisibilityResult z_buffer(const std::vector<DepthTriangle>& triangles, int width
         Step* step = nullptr;
         if (trace != nullptr) {
             step = &add_step(*trace, "draw T" + std::to_string(ti) + " with the depth test");
+            step->line = 3;
             add_outline(*step, triangles[ti]);
         }
         for (int y = 0; y < height; ++y) {

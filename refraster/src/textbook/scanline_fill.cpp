@@ -86,6 +86,16 @@ FillResult scanline_fill(const std::vector<Contour>& contours, FillRule rule, in
         trace->algorithm = rule == FillRule::EvenOdd ? "scanline fill, even-odd"
                                                      : "scanline fill, non-zero winding";
         begin_part(trace, "polygon");
+        set_pseudo_code(trace,
+                        {"build the edge table: each non-horizontal edge in the bucket of the "
+                         "first row whose centre it crosses",
+                         "for each row y from the lowest to the highest:",
+                         "    move the row's bucket into the active edge list (AEL); sort it by "
+                         "crossing x",
+                         "    walk the crossings left to right: fill the centres between one and "
+                         "the next while inside (even-odd: an odd count; non-zero: a winding "
+                         "sum other than 0)",
+                         "    drop the edges that end on this row; advance the rest by 1/m"});
     }
     // The edge table.
     std::vector<ActiveEdge> table;
@@ -137,6 +147,7 @@ FillResult scanline_fill(const std::vector<Contour>& contours, FillRule rule, in
     if (trace != nullptr) {
         Step& step = add_step(
             *trace, "the edge table: " + std::to_string(table.size()) + " non-horizontal edges");
+        step.line = 1;
         for (const auto& [row, edges] : buckets) {
             std::string list;
             for (const ActiveEdge& e : edges) {
@@ -211,6 +222,7 @@ FillResult scanline_fill(const std::vector<Contour>& contours, FillRule rule, in
             Step& step = add_step(*trace, "y = " + std::to_string(row) + " (centre " +
                                               format_number(yc) + "): AEL [" + ael + "], spans " +
                                               (spans.empty() ? "none" : spans));
+            step.line = 4;
             step.state.push_back({"AEL", "[" + ael + "]"});
             step.state.push_back({"spans", spans});
             step.overlay.push_back({0.0, yc, static_cast<double>(width), yc, "scanline"});

@@ -79,6 +79,10 @@ Step& add_step(Trace& trace, std::string title) {
     return trace.steps.back();
 }
 
+void set_pseudo_code(Trace* trace, std::vector<std::string> lines) {
+    if (trace != nullptr) trace->pseudo_code = std::move(lines);
+}
+
 void begin_part(Trace* trace, std::string_view kind) {
     if (trace == nullptr) return;
     ++trace->parts;

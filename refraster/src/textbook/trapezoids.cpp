@@ -49,6 +49,13 @@ std::vector<Trapezoid> trapezoidate(const std::vector<Point2>& polygon, Trace* t
     const std::size_t n = polygon.size();
     if (trace != nullptr) {
         trace->algorithm = "trapezoidal decomposition";
+        set_pseudo_code(trace, {"sort the vertices' heights: each two neighbouring heights bound "
+                                "a slab",
+                                "for each slab from the bottom:",
+                                "    list the edges that span it, sorted by x at its middle",
+                                "    pair them left to right: each pair bounds a trapezoid "
+                                "(continued from the slab below when the same pair did)",
+                                "split each trapezoid into triangles"});
         add_outline(trace->input, polygon);
         begin_part(trace, "polygon");
     }
@@ -122,6 +129,7 @@ std::vector<Trapezoid> trapezoidate(const std::vector<Point2>& polygon, Trace* t
             Step& s =
                 add_step(*trace, "slab y in [" + format_number(yb) + ", " + format_number(yt) +
                                      "]: " + (pairs.empty() ? "outside" : pairs));
+            s.line = 4;
             s.state.push_back({"edges by x", "[" + crossing + "]"});
             for (std::size_t j = 0; j + 1 < spanning.size(); j += 2) {
                 const SweepEdge& l = spanning[j];
@@ -149,6 +157,7 @@ std::vector<Trapezoid> trapezoidate(const std::vector<Point2>& polygon, Trace* t
     }
     if (trace != nullptr) {
         Step& s = add_step(*trace, std::to_string(out.size()) + " trapezoids");
+        s.line = 5;
         for (std::size_t i = 0; i < out.size(); ++i) {
             const Trapezoid& t = out[i];
             s.state.push_back({"T" + std::to_string(i), "e" + std::to_string(t.left_edge) + " | e" +

@@ -16,6 +16,14 @@ WuResult wu_line(Point2 a, Point2 b, int width, int height, Trace* trace) {
     WuResult out{{}, Raster(width, height)};
     if (trace != nullptr) {
         trace->algorithm = "Wu antialiased line";
+        set_pseudo_code(trace,
+                        {"swap x and y if the line is steep; order the endpoints; gradient = dv "
+                         "/ du",
+                         "for each column c from the first endpoint's to the last's:",
+                         "    minor = the line's height at the column's centre; frac = its "
+                         "fraction",
+                         "    the pixel below gets (1 - frac) x the column's length, the one "
+                         "above frac x it"});
         trace->input.push_back({a.x, a.y, b.x, b.y, "line"});
         begin_part(trace, "segment");
     }
@@ -42,6 +50,7 @@ WuResult wu_line(Point2 a, Point2 b, int width, int height, Trace* trace) {
         Step& step = add_step(
             *trace, std::string(steep ? "steep: y is the major axis" : "x is the major axis") +
                         ", gradient " + format_number(gradient));
+        step.line = 1;
         step.state.push_back({"gradient", format_number(gradient)});
         step.state.push_back({"first column", std::to_string(first)});
         step.state.push_back({"last column", std::to_string(last)});
@@ -85,6 +94,7 @@ WuResult wu_line(Point2 a, Point2 b, int width, int height, Trace* trace) {
                                      " gets " + format_number(col.weight_low) + ", " +
                                      format_pixel(col.x_high, col.y_high) + " gets " +
                                      format_number(col.weight_high));
+            step.line = 4;
             step.state.push_back({"column length", format_number(length)});
             step.state.push_back({"frac", format_number(frac)});
             step.pixels.push_back({col.x_low, col.y_low, col.weight_low});

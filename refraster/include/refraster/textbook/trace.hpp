@@ -56,13 +56,19 @@ struct Step {
     // The part of the input the step works on ("segment 2", "polygon 1"), so that a reader can
     // step a part at a time; empty when the algorithm has no parts.
     std::string group;
+    // The line of the algorithm's pseudo-code (Trace::pseudo_code, counted from 1) that the step
+    // carries out; 0 when none.
+    int line = 0;
     std::vector<std::pair<std::string, std::string>> state;  // {"d", "-2"}, {"AEL", "[...]"}
     std::vector<PixelMark> pixels;
     std::vector<Segment> overlay;
 };
 
 struct Trace {
-    std::string algorithm;       // "Bresenham line", set by the algorithm that fills the trace
+    std::string algorithm;  // "Bresenham line", set by the algorithm that fills the trace
+    // The algorithm in a few lines of pseudo-code, as a lecture would write it; each step names
+    // the line it carries out (Step::line).
+    std::vector<std::string> pseudo_code;
     std::vector<Segment> input;  // the input geometry, drawn under every step
     std::vector<Step> steps;
     // The bounds: the most steps kept, and the most pixel marks and overlay segments in them
@@ -120,6 +126,8 @@ std::string format_number(double v);
 std::string format_number(long long v);
 std::string format_pixel(int x, int y);  // "(3, 4)"
 Step& add_step(Trace& trace, std::string title);
+// Sets the trace's pseudo-code (Trace::pseudo_code); does nothing without a trace.
+void set_pseudo_code(Trace* trace, std::vector<std::string> lines);
 // Starts the next part of the input (a segment, a polygon): the steps from here on belong to
 // "<kind> <n>", n counting the parts from 1. Does nothing without a trace.
 void begin_part(Trace* trace, std::string_view kind);
