@@ -129,6 +129,7 @@ TEST(Teach, EveryAlgorithmWritesItsPage) {
         {"midpoint", "lines_fan"},
         {"wu", "lines_fan"},
         {"circle", "points_circles"},
+        {"circle", "circle_loops"},
         {"scanline-evenodd", "star_evenodd"},
         {"scanline-nonzero", "star_evenodd"},
         {"flood4", "arrow_polygon"},
@@ -141,7 +142,7 @@ TEST(Teach, EveryAlgorithmWritesItsPage) {
     testutil::TempDir dir;
     for (const auto& [algorithm, scene] : runs) {
         SCOPED_TRACE(algorithm + " on " + scene);
-        const auto out = dir.path() / algorithm;
+        const auto out = dir.path() / (algorithm + "-" + scene);
         const auto t = teach(kSource / "examples/teach" / (scene + ".json"), algorithm, out);
         ASSERT_EQ(t.cli.exit_code, 0) << t.cli.err;
         EXPECT_EQ(t.data["algorithm"], algorithm);
@@ -172,6 +173,29 @@ TEST(Teach, EveryAlgorithmWritesItsPage) {
             EXPECT_EQ(img.height, static_cast<std::uint32_t>(8 * h)) << png;
         }
     }
+}
+
+// A circle drawn as GL draws one, a line loop of chords: the midpoint circle takes the loop's
+// circle, and every pixel where they part is explained by the chords (never by a square point:
+// before, the circle could only be compared with GL's square points, whose insides were most of
+// the differences).
+TEST(Teach, TheCircleIsComparedWithGlsLoopOfChords) {
+    testutil::TempDir dir;
+    const auto t = teach(kSource / "examples/teach/circle_loops.json", "circle", dir.path() / "c");
+    ASSERT_EQ(t.cli.exit_code, 0) << t.cli.err;
+    const auto& diffs = t.data["differences"];
+    ASSERT_GT(diffs.size(), 0u);
+    // Outline against outline: few pixels part, a small share of the pixels either side lights.
+    std::size_t lit = 0;  // the circle's pixels: red above 0
+    const auto& rgba = t.data["algorithm_rgba"];
+    for (std::size_t i = 0; i < rgba.size(); i += 4) lit += rgba[i].get<int>() > 0 ? 1u : 0u;
+    EXPECT_LT(diffs.size() * 4, lit);  // fewer than a quarter of the circle's pixels
+    for (const auto& d : diffs) {
+        const std::string reason = d["reason"];
+        EXPECT_NE(reason.find("straight chords"), std::string::npos) << reason;
+        EXPECT_EQ(reason.find("square"), std::string::npos) << reason;
+    }
+    EXPECT_NE(t.data["notes"].dump().find("line loop"), std::string::npos);
 }
 
 // Known causes. A line ending on the centre of pixel (22, 16): Bresenham lights that pixel and

@@ -34,7 +34,8 @@ const std::vector<TeachAlgorithmInfo>& teach_algorithms() {
         {"midpoint", "the midpoint line algorithm", "the segments of line draws"},
         {"wu", "Xiaolin Wu's antialiased line", "the segments of line draws"},
         {"circle", "the midpoint circle",
-         "point draws: each point a circle of diameter point_size"},
+         "point draws: each point a circle of diameter point_size; line loops of 8 or more "
+         "vertices on a circle: that circle"},
         {"scanline-evenodd", "scanline polygon fill (edge table, active edge list), even-odd",
          "polygon, triangle_fan and triangle draws as outlines"},
         {"scanline-nonzero", "scanline polygon fill (edge table, active edge list), non-zero",
@@ -455,38 +456,121 @@ Run run_circle(const Scene& s, int w, int h) {
     struct Circle {
         tb::PixelIndex centre;
         int radius;
-        float size;
+        std::size_t chords;            // 0: from a point; else the line loop's vertex count
+        std::vector<tb::Point2> loop;  // the loop's window vertices
     };
     std::vector<Circle> circles;
     for (std::size_t d = 0; d < s.draw_list.draws.size(); ++d) {
         const auto& draw = s.draw_list.draws[d];
-        if (draw.primitive != PrimitiveType::Points) continue;
-        for (const auto& p : window_points(s, d)) {
-            const int r = static_cast<int>(std::lround(draw.state.point_size / 2.0f));
-            circles.push_back({tb::pixel_containing(p), r, draw.state.point_size});
+        if (draw.primitive == PrimitiveType::Points) {
+            for (const auto& p : window_points(s, d)) {
+                const int r = static_cast<int>(std::lround(draw.state.point_size / 2.0f));
+                circles.push_back({tb::pixel_containing(p), r, 0, {}});
+            }
+        } else if (draw.primitive == PrimitiveType::LineLoop) {
+            // A loop of 8 or more vertices about equally far from their mean is a circle
+            // drawn as GL draws one: a polygon of chords.
+            const auto pts = window_points(s, d);
+            if (pts.size() < 8) continue;
+            double cx = 0.0, cy = 0.0;
+            for (const auto& p : pts) {
+                cx += p.x;
+                cy += p.y;
+            }
+            cx /= static_cast<double>(pts.size());
+            cy /= static_cast<double>(pts.size());
+            double mean = 0.0, lo = 1e300, hi = 0.0;
+            for (const auto& p : pts) {
+                const double r = std::hypot(p.x - cx, p.y - cy);
+                mean += r;
+                lo = std::min(lo, r);
+                hi = std::max(hi, r);
+            }
+            mean /= static_cast<double>(pts.size());
+            if (mean < 1.0 || hi - lo > std::max(0.75, 0.05 * mean)) continue;
+            circles.push_back({tb::pixel_containing({cx, cy}), static_cast<int>(std::lround(mean)),
+                               pts.size(), pts});
         }
     }
     if (circles.empty())
-        throw TeachError("the scene has no point draws; \"circle\" draws a circle for each point");
+        throw TeachError(
+            "the scene has no point draws and no line loop of 8 or more vertices on "
+            "a circle; \"circle\" draws a circle for each");
+    bool any_point = false, any_loop = false;
     for (std::size_t k = 0; k < circles.size(); ++k) {
         tb::Trace t = bounded_trace(run);
         const auto r = tb::midpoint_circle(circles[k].centre, circles[k].radius, w, h, &t);
         merge_max(run.raster, r.raster);
         append_trace(run, t, circles.size() > 1 ? "circle " + std::to_string(k) + ": " : "");
+        (circles[k].chords == 0 ? any_point : any_loop) = true;
     }
-    run.notes.push_back(
-        "Each point of the scene becomes a circle centred on the pixel holding the vertex, of "
-        "radius point_size / 2 rounded. GL has no circles: its point is a square of side "
-        "point_size (smooth points aside), so the two agree only where the circle's outline "
-        "meets the square.");
-    run.reason = [](int x, int y, double a, bool gl) -> std::string {
-        (void)x;
-        (void)y;
-        if (a > 0.0 && !gl) {
-            return "on the circle's outline, outside GL's square point (GL draws no circles).";
+    if (any_point)
+        run.notes.push_back(
+            "Each point of the scene becomes a circle centred on the pixel holding the vertex, of "
+            "radius point_size / 2 rounded. GL has no circles: its point is a square of side "
+            "point_size (smooth points aside), so the two agree only where the circle's outline "
+            "meets the square.");
+    if (any_loop)
+        run.notes.push_back(
+            "Each line loop of 8 or more vertices on a circle becomes a circle centred on the "
+            "pixel holding the vertices' mean, of their mean distance from it, rounded. GL draws "
+            "the loop as it draws any line loop: straight chords between the vertices, each lit "
+            "by the diamond-exit rule. The midpoint circle lights, column by column, the pixel "
+            "whose centre is nearest the exact circle; the chords cut inside the arc between "
+            "vertices, and a chord crossing a pixel's diamond lights it where the circle's "
+            "nearest pixel is its neighbour.");
+    // Which circle a pixel belongs to: the one whose outline passes nearest its centre.
+    const auto nearest = [circles](int x, int y) {
+        const Circle* best = &circles.front();
+        double best_d = 1e300;
+        for (const Circle& c : circles) {
+            const double d = std::fabs(std::hypot(x - c.centre.x, y - c.centre.y) - c.radius);
+            if (d < best_d) {
+                best_d = d;
+                best = &c;
+            }
         }
-        return "inside GL's square point: the midpoint circle draws only the outline, the pixel "
-               "nearest the exact circle at each step.";
+        return *best;
+    };
+    run.reason = [nearest](int x, int y, double a, bool gl) -> std::string {
+        const Circle c = nearest(x, y);
+        const double d = std::hypot(x - c.centre.x, y - c.centre.y);
+        const std::string where = "its centre is " + tb::format_number(std::round(d * 100) / 100) +
+                                  " px from the circle's centre, radius " +
+                                  std::to_string(c.radius);
+        if (c.chords == 0) {
+            if (a > 0.0 && !gl) {
+                return "on the circle's outline, outside GL's square point (GL draws no "
+                       "circles).";
+            }
+            return "inside GL's square point: the midpoint circle draws only the outline, the "
+                   "pixel nearest the exact circle at each step.";
+        }
+        // The chord nearest the pixel's centre, and how far it passes.
+        const double px = x + 0.5, py = y + 0.5;
+        double gap = 1e300;
+        bool vertex = false;
+        for (std::size_t i = 0; i < c.loop.size(); ++i) {
+            const tb::Point2 p = c.loop[i], q = c.loop[(i + 1) % c.loop.size()];
+            const double dx = q.x - p.x, dy = q.y - p.y, len2 = dx * dx + dy * dy;
+            const double t =
+                len2 > 0.0 ? std::clamp(((px - p.x) * dx + (py - p.y) * dy) / len2, 0.0, 1.0) : 0.0;
+            gap = std::min(gap, std::hypot(px - p.x - t * dx, py - p.y - t * dy));
+            vertex = vertex || (p.x == px && p.y == py);
+        }
+        const std::string chord =
+            vertex ? "a vertex of the loop lies on its centre, where one chord ends (half-open) "
+                     "and the next begins"
+                   : "the nearest chord passes " + tb::format_number(std::round(gap * 100) / 100) +
+                         " px from its centre";
+        if (a > 0.0 && !gl)
+            return "the midpoint circle's pixel (" + where + "), not lit by GL's loop of " +
+                   std::to_string(c.chords) + " straight chords: " + chord +
+                   ", and GL's line rule gives the pixel to a neighbour.";
+        return "lit by GL's loop of " + std::to_string(c.chords) + " straight chords (" + chord +
+               "), not by the midpoint circle, which lit the pixel nearest the exact circle in "
+               "this column or row (" +
+               where + ").";
     };
     return run;
 }

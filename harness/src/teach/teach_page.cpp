@@ -130,6 +130,7 @@ tr.diff.selected{background:#c9f3ff}
 #differences td.reason{max-width:50em}
 #command{user-select:all}
 #step-slider{width:100%;margin:.5em 0 .2em}
+[hidden]{display:none !important}
 #pseudo-code{margin:.4em 0 .6em;padding-left:2.2em;font-size:.86em}
 #pseudo-code li{padding:1px 4px;border-radius:3px;white-space:pre-wrap}
 #pseudo-code li code{background:none;padding:0;font-size:1em}
