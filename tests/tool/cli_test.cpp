@@ -206,6 +206,51 @@ TEST(Cli, ReadmeLibrarySnippetIsTheExamplesCode) {
     EXPECT_GE(lines, 5u);
 }
 
+// README's tour runs as written: each line of its block, from the source tree, with the
+// binary of this build and out/tour/ in a temporary directory; a line whose comment says
+// "exit 1" must exit 1, every other 0.
+TEST(Cli, ReadmeTourRunsAsWritten) {
+    const std::filesystem::path source = REFRASTER_SOURCE_DIR;
+    const std::string readme = testutil::read_text(source / "README.md");
+    const auto heading = readme.find("## A tour to copy and paste");
+    ASSERT_NE(heading, std::string::npos);
+    const auto open = readme.find("```sh\n", heading);
+    const auto close = readme.find("```", open + 6);
+    std::istringstream block(readme.substr(open + 6, close - open - 6));
+    testutil::TempDir dir;
+    const std::string bin = std::string(REFRASTER_BIN_DIR) + "/refraster";
+    std::string prelude;  // variable assignments, kept for the lines after them
+    std::size_t commands = 0;
+    for (std::string line; std::getline(block, line);) {
+        if (line.empty()) continue;
+        // Each occurrence once, searching on after what replaced it (which may hold the text).
+        const auto replace_all = [&line](const std::string& what, const std::string& with) {
+            for (std::size_t at = line.find(what); at != std::string::npos;
+                 at = line.find(what, at + with.size()))
+                line.replace(at, what.size(), with);
+        };
+        replace_all("out/tour", (dir.path() / "tour").string());
+        replace_all("build/bin/refraster", testutil::shell_quote(bin));
+        if (line.find(bin) == std::string::npos) {
+            prelude += line + "\n";
+            continue;
+        }
+        const bool fails = line.find("# exit 1") != std::string::npos;
+        if (const auto comment = line.find("  # "); comment != std::string::npos)
+            line.erase(comment);
+        const std::string out = testutil::command_output(
+            "cd " + testutil::shell_quote(source.string()) + " && mkdir -p " +
+            testutil::shell_quote((dir.path() / "tour").string()) + " && " + prelude + line +
+            " >/dev/null 2>&1; echo \"rc=$?\"");
+        EXPECT_EQ(out.substr(out.rfind("rc=") + 3, 1), fails ? "1" : "0") << line;
+        ++commands;
+    }
+    EXPECT_GE(commands, 8u);
+    for (const char* f : {"square.png", "pixel.svg", "run/index.html", "teach/frames/steps.gif",
+                          "painter/index.html", "study/summary.md"})
+        EXPECT_TRUE(std::filesystem::exists(dir.path() / "tour" / f)) << f;
+}
+
 // `bench --help` names every standard workload a default run measures, and their number.
 TEST(Cli, BenchHelpNamesTheWorkloadsItRuns) {
     const auto r = testutil::run_cli({"bench", "--help"});
@@ -326,9 +371,14 @@ TEST(Cli, CompareTwoProfilesSideBySide) {
                               "/conformance/scenes/triangles/coverage/square_through_centres.json";
     const auto same = testutil::run_cli({"compare", scene, "--against", "ref"});
     EXPECT_EQ(same.exit_code, 0) << same.out << same.err;
-    const auto two = testutil::run_cli(
-        {"compare", scene, "--against", "ref", "--against-profile", "softpipe-22.3"});
+    testutil::TempDir dir;
+    const auto mask = dir.path() / "mask.png";
+    const auto two = testutil::run_cli({"compare", scene, "--against", "ref", "--against-profile",
+                                        "softpipe-22.3", "--diff", mask.string()});
     EXPECT_EQ(two.exit_code, 1) << two.out << two.err;  // the tie rules differ
+    // Both sides' images, named by side (both are "ref").
+    for (const char* f : {"mask.png", "mask.reference.png", "mask.against.png"})
+        EXPECT_TRUE(std::filesystem::exists(dir.path() / f)) << f;
     EXPECT_NE(two.out.find("(ref llvmpipe-22.3 vs ref softpipe-22.3)"), std::string::npos)
         << two.out;
     const auto rule = testutil::run_cli(

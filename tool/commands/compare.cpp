@@ -31,8 +31,9 @@ struct CompareArgs {
     std::string diff;
 };
 
-// Writes the mask to `diff` and both images beside it: OUT.<backend>.png, and for a 4x target
-// the sample mask as OUT.samples.png; all or none.
+// Writes the mask to `diff` and both images beside it: OUT.<backend>.png (OUT.reference.png and
+// OUT.against.png when both sides are one backend), and for a 4x target the sample mask as
+// OUT.samples.png; all or none.
 void write_diff_images(const harness::CaseResult& r, const std::filesystem::path& diff) {
     const auto beside = [&](const std::string& what, std::string_view ext) {
         auto p = diff;
@@ -40,8 +41,12 @@ void write_diff_images(const harness::CaseResult& r, const std::filesystem::path
         return p;
     };
     std::vector<harness::ImageToWrite> images{{&r.comparison->mask, diff}};
+    // Two sides of one backend (two reference profiles, two drivers of one API) are named by
+    // their side instead.
+    const bool same = r.reference_name == r.actual_name;
     for (const auto& [rr, who] :
-         {std::pair{&*r.reference, r.reference_name}, std::pair{&*r.actual, r.actual_name}}) {
+         {std::pair{&*r.reference, same ? std::string("reference") : r.reference_name},
+          std::pair{&*r.actual, same ? std::string("against") : r.actual_name}}) {
         images.emplace_back(&rr->image,
                             beside(who, harness::image_extension(rr->image.color_format)));
     }
@@ -156,8 +161,9 @@ Command add_compare_command(CLI::App& app) {
     cmd->add_option("--json", a->json, "Write the result record (JSON) here");
     cmd->add_option(
         "--diff", a->diff,
-        "Write the error mask here (.png), both images beside it as NAME.<backend>.png and, "
-        "for a 4x target, the sample mask as NAME.samples.png");
+        "Write the error mask here (.png), both images beside it as NAME.<backend>.png "
+        "(NAME.reference.png and NAME.against.png when both sides are one backend) and, for a "
+        "4x target, the sample mask as NAME.samples.png");
     return {cmd, [a] { return run_compare(*a); }};
 }
 
