@@ -175,6 +175,38 @@ TEST(Teach, EveryAlgorithmWritesItsPage) {
     }
 }
 
+// Two algorithms side by side (--beside): the second's image where GL's is, the differences
+// where the two part, each with both runs' reasons against GL; an algorithm beside itself
+// differs nowhere.
+TEST(Teach, TwoAlgorithmsSideBySide) {
+    testutil::TempDir dir;
+    const auto scene = (kSource / "examples/teach/lines_fan.json").string();
+    const auto out = dir.path() / "b";
+    const auto r = testutil::run_cli(
+        {"teach", scene, "--algorithm", "bresenham", "--beside", "dda", "--output", out.string()});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const json data = json::parse(testutil::read_text(out / "teach.json"));
+    EXPECT_EQ(data["beside"], "the DDA line");
+    const auto alone = teach(kSource / "examples/teach/lines_fan.json", "dda", dir.path() / "d");
+    ASSERT_EQ(alone.cli.exit_code, 0);
+    EXPECT_EQ(data["gl_rgba"], alone.data["algorithm_rgba"]);  // the DDA's image in the middle
+    ASSERT_GT(data["differences"].size(), 0u);
+    for (const auto& d : data["differences"]) {
+        const std::string reason = d["reason"];
+        EXPECT_EQ(reason.rfind("Bresenham's line algorithm: ", 0), 0u) << reason;
+        EXPECT_NE(reason.find("; the DDA line: "), std::string::npos) << reason;
+    }
+    const std::string page = testutil::read_text(out / "index.html");
+    EXPECT_NE(page.find("beside the DDA line"), std::string::npos);
+    EXPECT_NE(page.find("--algorithm bresenham --beside dda"), std::string::npos);
+    const auto same = testutil::run_cli({"teach", scene, "--algorithm", "dda", "--beside", "dda",
+                                         "--output", (dir.path() / "s").string()});
+    ASSERT_EQ(same.exit_code, 0) << same.err;
+    EXPECT_EQ(
+        json::parse(testutil::read_text(dir.path() / "s" / "teach.json"))["differences"].size(),
+        0u);
+}
+
 // A circle drawn as GL draws one, a line loop of chords: the midpoint circle takes the loop's
 // circle, and every pixel where they part is explained by the chords (never by a square point:
 // before, the circle could only be compared with GL's square points, whose insides were most of

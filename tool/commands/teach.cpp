@@ -33,6 +33,7 @@ struct TeachArgs {
     std::string scene;
     SceneArgs scene_args;  // --texture-root
     std::string algorithm;
+    std::string beside;           // a second algorithm, drawn where GL's image is
     std::string against = "ref";  // ref, or a GL backend: gl (OSMesa), osmesa, egl
     BackendArgs backend{"ref"};
     std::string output;
@@ -103,6 +104,7 @@ int run_teach(TeachArgs a) {
     // Every bound on the input before any work (docs/limits.md, "Teaching pages").
     try {
         harness::check_teach_input(*scene, a.algorithm);
+        if (!a.beside.empty()) harness::check_teach_input(*scene, a.beside);
     } catch (const harness::TeachError& e) {
         std::cerr << a.scene << ": " << e.what() << "\n";
         return exit_code(e.exit_class());
@@ -134,6 +136,8 @@ int run_teach(TeachArgs a) {
     harness::TeachResult r;
     try {
         r = harness::teach(*scene, a.algorithm, gl.image);
+        if (!a.beside.empty())
+            r = harness::teach_beside(r, harness::teach(*scene, a.beside, gl.image));
     } catch (const harness::TeachError& e) {
         std::cerr << harness::encode::terminal(a.scene) << ": "
                   << harness::encode::terminal(e.what()) << "\n";
@@ -155,9 +159,11 @@ int run_teach(TeachArgs a) {
         const auto it = gl.provenance.find(key);
         return it == gl.provenance.end() ? std::string("?") : it->second;
     };
-    const std::string source = a.against == "ref"
-                                   ? "the reference rasterizer, profile " + prov("profile")
-                                   : backend->name() + " (" + prov("renderer") + ")";
+    std::string source = a.against == "ref" ? "the reference rasterizer, profile " + prov("profile")
+                                            : backend->name() + " (" + prov("renderer") + ")";
+    if (!a.beside.empty())
+        source += "; the middle image is " + r.beside +
+                  "'s, and each difference gives both algorithms' reasons against GL's rules";
     auto data = harness::teach_json(r, *scene, a.scene, source);
     // The options that chose this page's GL image and pictures, for its "Reproduce this page"
     // command (defaults left out), each a shell word.
@@ -177,6 +183,7 @@ int run_teach(TeachArgs a) {
             options += std::string(" ") + flag + " " + word(value);
         };
         if (!a.scene_args.texture_root.empty()) add("--texture-root", a.scene_args.texture_root);
+        if (!a.beside.empty()) add("--beside", a.beside);
         if (a.against != "ref") add("--against", a.against);
         if (!a.backend.driver.empty()) add("--driver", a.backend.driver);
         if (!a.backend.mesa_prefix.empty()) add("--mesa-prefix", a.backend.mesa_prefix);
@@ -298,6 +305,10 @@ Command add_teach_command(CLI::App& app) {
     }
     cmd->add_option("--algorithm", a->algorithm, algorithm_help)
         ->required()
+        ->check(CLI::IsMember(algorithm_names));
+    cmd->add_option("--beside", a->beside,
+                    "A second algorithm, drawn where GL's image is: two algorithms side by side, "
+                    "each difference with both one's reasons against GL's rules")
         ->check(CLI::IsMember(algorithm_names));
     cmd->add_option("--against", a->against,
                     "GL's rules from the reference (ref) or a GL backend (gl: OSMesa, osmesa, "

@@ -106,6 +106,9 @@ struct TeachResult {
     std::size_t omitted_steps = 0;         // steps past TeachLimits' step bounds, not recorded
     std::vector<std::string> notes;
     std::string summary;
+    // Empty, or the second algorithm's title when the GL side holds another algorithm's image
+    // (teach_beside).
+    std::string beside;
 };
 
 // Runs `algorithm` on `scene` and compares it with `gl_image`, the scene under GL's rules
@@ -113,6 +116,13 @@ struct TeachResult {
 // holds nothing the algorithm draws.
 TeachResult teach(const Scene& scene, std::string_view algorithm,
                   const refraster::Framebuffer& gl_image);
+
+// Two algorithms side by side: `a` (its image, steps and pseudo-code) with `b`'s image where
+// GL's would be, both runs of one scene against one GL image. The differences are where the two
+// light different pixels (or colour them differently), each with both runs' reasons against GL
+// ("Bresenham's line algorithm: as GL; the DDA line: the rounding of ..."), so that the page
+// says why each algorithm did what it did.
+TeachResult teach_beside(const TeachResult& a, const TeachResult& b);
 
 // The page's data (docs/teaching.md, "The teaching page"): the result, the scene's name and file
 // and where the GL image came from.

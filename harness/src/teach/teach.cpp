@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <functional>
 #include <limits>
+#include <map>
 #include <optional>
 #include <sstream>
 
@@ -1219,6 +1220,64 @@ TeachResult teach(const Scene& scene, std::string_view algorithm,
     return r;
 }
 
+TeachResult teach_beside(const TeachResult& a, const TeachResult& b) {
+    TeachResult r;
+    r.algorithm = a.algorithm;
+    r.title = a.title;
+    r.beside = b.title;
+    r.width = a.width;
+    r.height = a.height;
+    r.algorithm_rgba = a.algorithm_rgba;
+    r.gl_rgba = b.algorithm_rgba;
+    r.input = a.input;
+    r.steps = a.steps;
+    r.pseudo_code = a.pseudo_code;
+    r.omitted_steps = a.omitted_steps;
+    for (const auto& n : a.notes) r.notes.push_back(a.title + ": " + n);
+    for (const auto& n : b.notes) r.notes.push_back(b.title + ": " + n);
+    // Each run's reason at a pixel where it parts from GL.
+    std::map<std::pair<int, int>, const TeachDifference*> by_a, by_b;
+    for (const auto& d : a.differences) by_a[{d.x, d.y}] = &d;
+    for (const auto& d : b.differences) by_b[{d.x, d.y}] = &d;
+    const auto why = [](const TeachResult& t, const auto& by, int x, int y) {
+        const auto it = by.find(std::pair{x, y});
+        std::string reason = it == by.end() ? std::string("as GL") : it->second->reason;
+        if (!reason.empty() && reason.back() == '.') reason.pop_back();
+        return t.title + ": " + reason;
+    };
+    const std::size_t n = static_cast<std::size_t>(a.width) * static_cast<std::size_t>(a.height);
+    r.gl_lit.resize(n);
+    int only_a = 0, only_b = 0, both = 0;
+    for (int y = 0; y < a.height; ++y) {
+        for (int x = 0; x < a.width; ++x) {
+            const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(a.width) +
+                                  static_cast<std::size_t>(x);
+            const auto lit = [&](const std::vector<std::uint8_t>& rgba) {
+                return rgba[4 * i] != 0 || rgba[4 * i + 1] != 0 || rgba[4 * i + 2] != 0;
+            };
+            const bool la = lit(a.algorithm_rgba), lb = lit(b.algorithm_rgba);
+            r.gl_lit[i] = lb;
+            if (std::equal(a.algorithm_rgba.begin() + static_cast<long>(4 * i),
+                           a.algorithm_rgba.begin() + static_cast<long>(4 * i + 4),
+                           b.algorithm_rgba.begin() + static_cast<long>(4 * i)))
+                continue;
+            (la && lb ? both : la ? only_a : only_b) += 1;
+            const double weight = std::max({a.algorithm_rgba[4 * i], a.algorithm_rgba[4 * i + 1],
+                                            a.algorithm_rgba[4 * i + 2]}) /
+                                  255.0;
+            r.differences.push_back(
+                {x, y, weight, lb, why(a, by_a, x, y) + "; " + why(b, by_b, x, y) + "."});
+        }
+    }
+    std::ostringstream sum;
+    sum << r.differences.size() << " pixel" << (r.differences.size() == 1 ? "" : "s")
+        << " differ: " << only_a << " lit by " << a.title << " only, " << only_b << " by "
+        << b.title << " only";
+    if (both > 0) sum << ", " << both << " lit by both, differently";
+    r.summary = sum.str();
+    return r;
+}
+
 nlohmann::json teach_json(const TeachResult& r, const Scene& scene, const std::string& scene_file,
                           const std::string& gl_source) {
     using nlohmann::json;
@@ -1266,6 +1325,7 @@ nlohmann::json teach_json(const TeachResult& r, const Scene& scene, const std::s
     }
     j["steps"] = steps;
     j["pseudo_code"] = r.pseudo_code;
+    if (!r.beside.empty()) j["beside"] = r.beside;
     j["omitted_steps"] = r.omitted_steps;
     j["notes"] = r.notes;
     return j;

@@ -376,7 +376,7 @@ const char* kScript = R"JS(<script>
     var i = px.y * W + px.x, k = diffAt[i], d = k >= 0 ? diffs[k] : null;
     var s = 'pixel (' + px.x + ', ' + px.y + '): algorithm ' + rgbaText(algRgba, i);
     if (d) s += ', weight ' + num(d.algorithm);
-    s += '; GL ' + rgbaText(glRgba, i);
+    s += '; ' + (data.beside ? String(data.beside) : 'GL') + ' ' + rgbaText(glRgba, i);
     if (d) s += isLit(d.gl) ? ', lit' : ', not lit';
     if (steps.length) {
       var w = state[i];
@@ -595,6 +595,7 @@ std::string teach_page_html(const nlohmann::json& data) {
     const std::string algorithm = field(d, "algorithm");
     const std::string scene = field(d, "scene");
     const std::string scene_file = field(d, "scene_file");
+    const std::string beside = field(d, "beside");  // another algorithm where GL's image is
     const long long width = std::max(0LL, int_field(d, "width"));
     const long long height = std::max(0LL, int_field(d, "height"));
     const long long zoom = std::clamp(
@@ -612,10 +613,11 @@ std::string teach_page_html(const nlohmann::json& data) {
 
     // What this page is.
     h << "<header><h1>" << markup::escape(title) << " <span class=\"algo\">("
-      << markup::escape(algorithm)
-      << ") against GL's rules</span></h1>\n<p id=\"meta\">Scene <code id=\"scene\">"
-      << markup::escape(scene) << "</code> from <code>" << markup::escape(scene_file)
-      << "</code>, a " << width << "&times;" << height
+      << markup::escape(algorithm) << ") "
+      << (beside.empty() ? std::string("against GL's rules") : "beside " + markup::escape(beside))
+      << "</span></h1>\n<p id=\"meta\">Scene <code id=\"scene\">" << markup::escape(scene)
+      << "</code> from <code>" << markup::escape(scene_file) << "</code>, a " << width << "&times;"
+      << height
       << " target (pixel (x, y), y up from the bottom row as GL counts it). GL's rules: <span "
          "id=\"gl-source\">"
       << markup::escape(field(d, "gl_source")) << "</span>.</p>\n<p id=\"summary\">"
@@ -635,7 +637,8 @@ std::string teach_page_html(const nlohmann::json& data) {
           << caption << "</figcaption></figure>\n";
     };
     panel("algorithm", "<b>" + markup::escape(title.empty() ? algorithm : title) + "</b>");
-    panel("gl", "<b>GL's rules</b>");
+    panel("gl", beside.empty() ? std::string("<b>GL's rules</b>")
+                               : "<b>" + markup::escape(beside) + "</b>");
     panel("mask", "<b>difference mask</b> (" + std::to_string(differences.size()) +
                       (differences.size() == 1 ? " pixel differs" : " pixels differ") + ")");
     h << "<section id=\"stepper\"><h2>Step-through</h2><p id=\"step-position\">Step <b "
@@ -686,7 +689,9 @@ std::string teach_page_html(const nlohmann::json& data) {
          "<div id=\"legends\"><div><b>difference mask</b><ul id=\"mask-legend\">"
          "<li><span class=\"swatch\" style=\"background:#ff6d00\"></span>lit by the algorithm "
          "only</li>"
-         "<li><span class=\"swatch\" style=\"background:#2979ff\"></span>lit by GL only</li>"
+         "<li><span class=\"swatch\" style=\"background:#2979ff\"></span>lit by "
+      << (beside.empty() ? std::string("GL") : markup::escape(beside))
+      << " only</li>"
          "<li><span class=\"swatch\" style=\"background:#ffd600\"></span>partial weights that "
          "differ (or both lit, differently)</li>"
          "<li><span class=\"swatch\" style=\"background:#333\"></span>equal (dark greys: GL's "
@@ -707,11 +712,14 @@ std::string teach_page_html(const nlohmann::json& data) {
     // Where they differ.
     h << "<h2>Where they differ</h2>\n";
     if (differences.empty()) {
-        h << "<p id=\"no-differences\">No pixel differs: the algorithm and GL's rules light the "
-             "same pixels here.</p>\n";
+        h << "<p id=\"no-differences\">No pixel differs: the algorithm and "
+          << (beside.empty() ? std::string("GL's rules") : markup::escape(beside))
+          << " light the same pixels here.</p>\n";
     } else {
         h << "<table id=\"differences\"><thead><tr><th>x</th><th>y</th><th>algorithm's "
-             "weight</th><th>GL</th><th>reason</th></tr></thead><tbody>\n";
+             "weight</th><th>"
+          << (beside.empty() ? std::string("GL") : markup::escape(beside))
+          << "</th><th>reason</th></tr></thead><tbody>\n";
         std::size_t i = 0;
         for (const auto& e : differences) {
             const json& diff = e.is_object() ? e : empty;
