@@ -761,10 +761,12 @@ std::string run_inputs_html(const json& inputs, const FileExists& exists) {
         return j.is_object() && j.contains(key) && j[key].is_string() ? j[key].get<std::string>()
                                                                       : std::string();
     };
-    const auto count = [](const json& j, const char* key) {
-        return j.is_object() && j.contains(key) && j[key].is_number_unsigned()
-                   ? std::to_string(j[key].get<std::uint64_t>())
-                   : std::string("?");
+    // "1 pattern", "2 patterns", "? patterns" when the record lacks the count.
+    const auto count = [](const json& j, const char* key, const std::string& noun) {
+        if (!(j.is_object() && j.contains(key) && j[key].is_number_unsigned()))
+            return "? " + noun + "s";
+        const std::uint64_t n = j[key].get<std::uint64_t>();
+        return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
     };
     const auto file = [&](const json& j) {
         const std::string copy = text(j, "copy");
@@ -778,15 +780,15 @@ std::string run_inputs_html(const json& inputs, const FileExists& exists) {
     std::vector<std::string> items;
     if (inputs.contains("baseline") && inputs["baseline"].is_object()) {
         const json& b = inputs["baseline"];
-        items.push_back("baseline " + file(b) + ": " + count(b, "cases") + " cases listed");
+        items.push_back("baseline " + file(b) + ": " + count(b, "cases", "case") + " listed");
     }
     for (const char* kind : {"skips", "flakes"}) {
         if (!inputs.contains(kind) || !inputs[kind].is_array()) continue;
         for (const json& f : inputs[kind]) {
             std::string item =
-                std::string(kind) + " " + file(f) + ": " + count(f, "patterns") + " patterns";
+                std::string(kind) + " " + file(f) + ": " + count(f, "patterns", "pattern");
             if (std::string(kind) == "skips")
-                item += ", " + count(f, "skipped_cases") + " cases left out";
+                item += ", " + count(f, "skipped_cases", "case") + " left out";
             items.push_back(item);
         }
     }
