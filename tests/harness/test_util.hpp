@@ -119,4 +119,71 @@ inline std::size_t count_lines(const std::string& s) {
     return n;
 }
 
+// A page in a real browser: headless Chromium renders it (scripts included) in a window of
+// `window` pixels and returns its DOM.
+inline std::string chromium_dom(const std::filesystem::path& page,
+                                const std::filesystem::path& profile_dir,
+                                const std::string& window = "1280,900") {
+    const std::string cmd =
+        "timeout 120 chromium --headless --no-sandbox --disable-gpu --disable-quic --no-first-run "
+        "--disable-background-networking --disable-component-update --disable-sync "
+        "--hide-scrollbars --window-size=" +
+        window + " --user-data-dir=" + testutil::shell_quote(profile_dir.string()) +
+        " --virtual-time-budget=2000 --dump-dom " +
+        testutil::shell_quote("file://" + page.string()) + " 2>/dev/null";
+    return testutil::command_output(cmd);
+}
+
+// The page laid out by Chromium in a 1,280 px wide window: a copy beside it with a script that,
+// once loaded, lists every element whose box reaches past the window's right edge and every
+// pair of text boxes (leaf elements with text; each of their line boxes) that overlap. Returns the
+// probe's line: "scroll=W client=W outside=N overlaps=M" and the first few offenders.
+inline std::string layout_probe(const std::filesystem::path& page,
+                                const std::filesystem::path& chrome) {
+    const auto copy = page.parent_path() / ("layout-probe-" + page.filename().string());
+    std::string html = testutil::read_text(page);
+    const std::string script = R"js(<script>
+window.addEventListener('load', function () {
+  var W = document.documentElement.clientWidth, out = [], texts = [];
+  document.querySelectorAll('body *').forEach(function (e) {
+    var r = e.getBoundingClientRect();
+    if (r.width > 0 && r.right > W + 0.5)
+      out.push(e.tagName + (e.id ? '#' + e.id : '') + '@' + Math.round(r.right));
+    // A text box's line boxes, one a line (an inline element that wraps has a rectangle per
+    // line, and its bounding box would overlap the text beside it on each).
+    if (e.children.length === 0 && e.textContent.trim() !== '' && r.width > 0 &&
+        getComputedStyle(e).visibility !== 'hidden')
+      texts.push([e, Array.prototype.slice.call(e.getClientRects())]);
+  });
+  var overlaps = [];
+  function hit(a, b) {
+    return Math.min(a.right, b.right) - Math.max(a.left, b.left) > 1 &&
+        Math.min(a.bottom, b.bottom) - Math.max(a.top, b.top) > 1;
+  }
+  for (var i = 0; i < texts.length; ++i) for (var j = i + 1; j < texts.length; ++j) {
+    if (texts[i][0].contains(texts[j][0]) || texts[j][0].contains(texts[i][0])) continue;
+    var any = texts[i][1].some(function (a) {
+      return texts[j][1].some(function (b) { return hit(a, b); });
+    });
+    if (any)
+      overlaps.push(texts[i][0].textContent.slice(0, 20) + '|' + texts[j][0].textContent.slice(0, 20));
+  }
+  var p = document.createElement('pre');
+  p.id = 'layout-probe';
+  p.textContent = 'scroll=' + document.documentElement.scrollWidth + ' client=' + W +
+    ' outside=' + out.length + ' overlaps=' + overlaps.length + ' ' +
+    out.slice(0, 6).join(' ') + ' ' + overlaps.slice(0, 4).join(' ; ');
+  document.body.appendChild(p);
+});
+</script>)js";
+    const auto at = html.rfind("</body>");
+    html.insert(at == std::string::npos ? html.size() : at, script);
+    std::ofstream(copy) << html;
+    const std::string dom = chromium_dom(copy, chrome);
+    const auto open = dom.find("<pre id=\"layout-probe\">");
+    if (open == std::string::npos) return "no probe";
+    const auto start = open + std::string("<pre id=\"layout-probe\">").size();
+    return dom.substr(start, dom.find("</pre>", start) - start);
+}
+
 }  // namespace testutil

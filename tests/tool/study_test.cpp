@@ -2,6 +2,7 @@
 // and bad requests are refused with the bad-input exit code.
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <string>
 
 #include "test_util.hpp"
@@ -52,6 +53,14 @@ TEST(StudyCli, EachStudyWritesItsOutputs) {
         const auto w = svg.find(" width=\"");
         ASSERT_NE(w, std::string::npos);
         EXPECT_LE(std::stod(svg.substr(w + 8)), 1000.0) << svg.substr(w, 40);
+        // Laid out by Chromium: nothing past a 1,280 px window, no two text boxes overlapping.
+        const auto page = out / "figure.html";
+        std::ofstream(page) << "<!DOCTYPE html><html><body style=\"margin:8px\">"
+                            << svg.substr(svg.find("<svg")) << "</body></html>\n";
+        const std::string probe = testutil::layout_probe(page, dir.path() / "chrome");
+        ASSERT_NE(probe, "no probe") << "(is the chromium package installed?)";
+        EXPECT_NE(probe.find("outside=0 "), std::string::npos) << probe;
+        EXPECT_NE(probe.find("overlaps=0 "), std::string::npos) << probe;
     }
 }
 

@@ -2,6 +2,7 @@
 // reasons it names for pixels whose cause is known by construction, and its refusals.
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
 
@@ -205,6 +206,43 @@ TEST(Teach, TwoAlgorithmsSideBySide) {
     EXPECT_EQ(
         json::parse(testutil::read_text(dir.path() / "s" / "teach.json"))["differences"].size(),
         0u);
+}
+
+// Teaching pages as Chromium lays them out in a 1,280 px window: nothing past the right edge,
+// no two text boxes overlapping, for pages with long step titles, pseudo-code, parts and a
+// second algorithm; and a lecture frame's SVG the same at its own size.
+TEST(Teach, ChromiumLayoutFitsA1280PixelWindow) {
+    testutil::TempDir dir;
+    const std::vector<std::vector<std::string>> runs = {{"lines_fan", "bresenham"},
+                                                        {"arrow_polygon", "scanline-evenodd"},
+                                                        {"bars_cycle", "painter"},
+                                                        {"shared_edges", "half-space"},
+                                                        {"lines_fan", "wu", "--beside", "dda"}};
+    for (const auto& run : runs) {
+        SCOPED_TRACE(run[1]);
+        const auto out = dir.path() / (run[0] + "-" + run[1]);
+        std::vector<std::string> args = {
+            "teach",       (kSource / "examples/teach" / (run[0] + ".json")).string(),
+            "--algorithm", run[1],
+            "--frames",    "--frame-steps",
+            "1-2",         "--output",
+            out.string()};
+        args.insert(args.end(), run.begin() + 2, run.end());
+        const auto r = testutil::run_cli(args);
+        ASSERT_EQ(r.exit_code, 0) << r.err;
+        const std::string probe = testutil::layout_probe(out / "index.html", dir.path() / "chrome");
+        ASSERT_NE(probe, "no probe") << "(is the chromium package installed?)";
+        EXPECT_NE(probe.find("client=1280"), std::string::npos) << probe;
+        EXPECT_NE(probe.find("outside=0 "), std::string::npos) << probe;
+        EXPECT_NE(probe.find("overlaps=0 "), std::string::npos) << probe;
+        const auto frame = out / "frames" / "frame.html";
+        std::ofstream(frame) << "<!DOCTYPE html><html><body style=\"margin:8px\">"
+                             << testutil::read_text(out / "frames" / "step-0002.svg")
+                             << "</body></html>\n";
+        const std::string fprobe = testutil::layout_probe(frame, dir.path() / "chrome");
+        EXPECT_NE(fprobe.find("outside=0 "), std::string::npos) << fprobe;
+        EXPECT_NE(fprobe.find("overlaps=0 "), std::string::npos) << fprobe;
+    }
 }
 
 // A circle drawn as GL draws one, a line loop of chords: the midpoint circle takes the loop's

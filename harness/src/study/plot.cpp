@@ -603,12 +603,14 @@ std::string panel_svg(const PlotPanel& panel, const PanelAxes& axes, double left
         s += line_svg(*px, 0.0, *px, kPlotHeight,
                       "stroke=\"#888888\" stroke-width=\"1\" stroke-dasharray=\"4,3\"");
         if (!label.empty()) {
+            // Right of the line, else left of it, else wherever inside the plot area it fits
+            // best: never over the tick labels outside it.
             const double w = text_width(label, 9.0);
-            const bool left = *px + 3.0 + w > kPlotWidth;
-            s += text_svg(left ? *px - 3.0 : *px + 3.0, 11.0, label, 9.0, left ? "end" : "start",
-                          "fill=\"#666666\"");
-            front_boxes.push_back(
-                {left ? *px - 3.0 - w : *px + 3.0, 2.0, left ? *px - 3.0 : *px + 3.0 + w, 14.0});
+            double x0 = *px + 3.0;
+            if (x0 + w > kPlotWidth) x0 = *px - 3.0 - w;
+            if (x0 < 0.0) x0 = std::clamp(*px - w / 2.0, 0.0, std::max(0.0, kPlotWidth - w));
+            s += text_svg(x0, 11.0, label, 9.0, "start", "fill=\"#666666\"");
+            front_boxes.push_back({x0, 2.0, x0 + w, 14.0});
         }
     }
 
