@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "harness/markup.hpp"
+#include "test_util.hpp"
 
 namespace {
 
@@ -25,6 +26,21 @@ TEST(Encode, HtmlAndXmlEscapeAndReplaceWhatXmlForbids) {
     EXPECT_EQ(encode::html_text("\xED\xA0\x80"), "\xEF\xBF\xBD\xEF\xBF\xBD\xEF\xBF\xBD");
     // The markup helper every page uses is the same encoder.
     EXPECT_EQ(harness::markup::escape("\x1b<"), "\xEF\xBF\xBD&lt;");
+}
+
+// One shell word: safe words as they are, anything else single-quoted with its quotes escaped,
+// so that `sh -c "printf %s WORD"` prints the text back.
+TEST(Encode, ShellWordReadsBackAsTheText) {
+    EXPECT_EQ(harness::encode::shell_word("conformance/scenes/a_b-1.json"),
+              "conformance/scenes/a_b-1.json");
+    EXPECT_EQ(harness::encode::shell_word("tie_rule=right-top"), "tie_rule=right-top");
+    EXPECT_EQ(harness::encode::shell_word(""), "''");
+    EXPECT_EQ(harness::encode::shell_word("a b"), "'a b'");
+    for (const std::string text : {"it's", "$(rm -rf /)", "a\nb", "`x` ; y", "*?[]~#&|<>\"!"}) {
+        const std::string out =
+            testutil::command_output("printf %s " + harness::encode::shell_word(text));
+        EXPECT_EQ(out, text) << harness::encode::shell_word(text);
+    }
 }
 
 TEST(Encode, JsonInScriptCannotCloseTheScript) {

@@ -168,16 +168,7 @@ int run_teach(TeachArgs a) {
     // The options that chose this page's GL image and pictures, for its "Reproduce this page"
     // command (defaults left out), each a shell word.
     {
-        const auto word = [](const std::string& w) {
-            const bool plain = !w.empty() && std::all_of(w.begin(), w.end(), [](char c) {
-                return std::isalnum(static_cast<unsigned char>(c)) != 0 ||
-                       std::string_view("_./=,:+@%-").find(c) != std::string_view::npos;
-            });
-            if (plain) return w;
-            std::string q = "'";
-            for (char c : w) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-            return q + "'";
-        };
+        const auto word = [](const std::string& w) { return harness::encode::shell_word(w); };
         std::string options;
         const auto add = [&](const char* flag, const std::string& value) {
             options += std::string(" ") + flag + " " + word(value);

@@ -104,17 +104,7 @@ std::string deqp_status(const json& r) {
 // The command that explains a case's pixel exactly as the run compared it: the same backend
 // and driver, and the same profile (its file and overrides).
 std::string explain_command(const json& r, int x, int y) {
-    const auto quote = [](const std::string& s) {
-        if (!s.empty() &&
-            s.find_first_not_of(
-                "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-.,/=+:") ==
-                std::string::npos) {
-            return s;
-        }
-        std::string q = "'";
-        for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-        return q + "'";
-    };
+    const auto quote = [](const std::string& s) { return encode::shell_word(s); };
     std::string cmd = "refraster explain " + quote(r.value("scene", "")) + " --pixel " +
                       std::to_string(x) + "," + std::to_string(y);
     const json none = json::object();

@@ -25,8 +25,11 @@
 //   overrides and isolates (U+202A..U+202E, U+2066..U+2069), U+2028/U+2029 and bytes that are
 //   not UTF-8 become visible escapes: \n, \t, \r, \xHH (a byte) or \u{HHHH} (a character).
 //
+// - shell_word: one word for a POSIX shell, as it is when it holds only letters, digits and
+//   _./-=,:+@% (and is not empty), else in single quotes, each quote written '\''.
+//
 // Deliberately does not: decide what may be named (conformance/case_name.hpp does for case
-// names), or quote for a shell.
+// names).
 #pragma once
 
 #include <string>
@@ -43,6 +46,7 @@ std::string script_safe_json(std::string_view json_text);
 std::string json_in_script(std::string_view text);
 std::string csv_field(std::string_view text);
 std::string terminal(std::string_view text);
+std::string shell_word(std::string_view text);
 
 // The length of the UTF-8 character at the start of `text` and its code point: 0 when the
 // bytes there are not one (a stray continuation byte, an overlong form, a surrogate, above

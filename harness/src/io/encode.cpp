@@ -1,6 +1,7 @@
 // encode.cpp: the encoders of encode.hpp.
 #include "harness/encode.hpp"
 
+#include <algorithm>
 #include <cstdio>
 
 namespace harness::encode {
@@ -197,6 +198,17 @@ std::string terminal(std::string_view text) {
         i += n;
     }
     return out;
+}
+
+std::string shell_word(std::string_view text) {
+    const bool plain = !text.empty() && std::all_of(text.begin(), text.end(), [](char c) {
+        return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+               std::string_view("_./-=,:+@%").find(c) != std::string_view::npos;
+    });
+    if (plain) return std::string(text);
+    std::string q = "'";
+    for (char c : text) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
 }
 
 }  // namespace harness::encode

@@ -61,18 +61,6 @@ const json& array_field(const json& d, const char* key) {
     return it != d.end() && it->is_array() ? *it : empty;
 }
 
-// A word for a POSIX shell: as it is when it holds only safe characters, else single-quoted.
-std::string shell_word(const std::string& s) {
-    const bool plain = !s.empty() && std::all_of(s.begin(), s.end(), [](char c) {
-        return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
-               std::string_view("_./-=,:+@%").find(c) != std::string_view::npos;
-    });
-    if (plain) return s;
-    std::string q = "'";
-    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-}
-
 // The document as JSON text safe inside a <script> element (encode.hpp, script_safe_json).
 std::string embedded_json(const json& data) {
     return encode::script_safe_json(data.dump(-1, ' ', false, json::error_handler_t::replace));
@@ -745,8 +733,8 @@ std::string teach_page_html(const nlohmann::json& data) {
     }
 
     h << "<h2>Reproduce this page</h2>\n<p><code id=\"command\">refraster teach "
-      << markup::escape(shell_word(scene_file)) << " --algorithm "
-      << markup::escape(shell_word(algorithm))
+      << markup::escape(encode::shell_word(scene_file)) << " --algorithm "
+      << markup::escape(encode::shell_word(algorithm))
       << markup::escape(d.contains("command_options") && d["command_options"].is_string()
                             ? d["command_options"].get<std::string>()
                             : std::string())
