@@ -16,6 +16,7 @@
 #include "conformance/deqp_runner.hpp"
 #include "conformance/records.hpp"
 #include "harness/case_result.hpp"
+#include "harness/compare.hpp"
 #include "harness/encode.hpp"
 #include "harness/files.hpp"
 #include "harness/markup.hpp"
@@ -235,10 +236,7 @@ std::string units(const json& m) {
 std::string depth_value(const json& m, const char* side) {
     const auto v = m.value(side, std::uint32_t{0});
     if (m.value("units", "") != "ULPs") return std::to_string(v);
-    std::ostringstream o;
-    o.precision(9);
-    o << std::bit_cast<float>(v);
-    return o.str();
+    return harness::float_text(std::bit_cast<float>(v));
 }
 
 std::string channel_values(const json& values) {

@@ -197,4 +197,8 @@ SampleComparison compare_samples(const refraster::Framebuffer& reference,
 
 std::array<std::uint8_t, 4> mask_color(PixelClass c);
 
+// A float as the fewest digits that read back as it (0.1f is "0.1", not 0.100000001): how
+// comparisons and reports print float colours and z32f depths.
+std::string float_text(float v);
+
 }  // namespace harness

@@ -339,11 +339,7 @@ PixelClass SampleComparison::class_at(std::uint32_t x, std::uint32_t y, std::uin
     return classes[(std::size_t{y} * w + x) * samples + s];
 }
 
-namespace {
-
-// A float as the fewest digits that read back as it (0.1f is "0.1", not 0.100000001).
-std::string float_text(double v) {
-    const auto f = static_cast<float>(v);
+std::string float_text(float f) {
     std::ostringstream t;
     for (int digits = 1; digits <= std::numeric_limits<float>::max_digits10; ++digits) {
         t.str("");
@@ -353,6 +349,8 @@ std::string float_text(double v) {
     }
     return t.str();
 }
+
+namespace {
 
 // "colour error 3 @ (x, y, G): reference 1,2,3,4, backend 1,2,6,4" (rgba8 units), or with
 // "ULPs" and the float values (rgba32f); the sample after the pixel when `sampled`.
@@ -367,7 +365,7 @@ std::string color_error_text(const ChannelDifference& m, bool sampled) {
         for (std::size_t k = 0; k < 4; ++k) {
             s << (k ? "," : "");
             if (m.float_values) {
-                s << float_text(v[k]);
+                s << float_text(static_cast<float>(v[k]));
             } else {
                 s << static_cast<int>(v[k]);
             }
