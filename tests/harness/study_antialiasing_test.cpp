@@ -125,9 +125,12 @@ TEST(StudyAntialiasing, QuickRunTableAndFigure) {
     const auto rows = parse_csv(out.csv);
     ASSERT_FALSE(rows.empty());
     const std::vector<std::string> header = {
-        "study",           "family",         "seed",         "samples",    "pattern",
-        "filter",          "pixels",         "edge_pixels",  "mean_error", "max_error",
-        "mean_edge_error", "max_edge_error", "ns_per_pixel", "triangles"};
+        "study",        "family",           "seed",
+        "samples",      "pattern",          "filter",
+        "pixels",       "edge_pixels",      "mean_error",
+        "max_error",    "mean_edge_error",  "max_edge_error",
+        "ns_per_pixel", "ns_per_pixel_low", "ns_per_pixel_high",
+        "rounds",       "triangles"};
     EXPECT_EQ(rows[0], header);
     // 8 sample patterns x 3 filters, for 3 families and their total.
     ASSERT_EQ(rows.size(), 1u + 24u * 4u);
@@ -149,6 +152,10 @@ TEST(StudyAntialiasing, QuickRunTableAndFigure) {
         EXPECT_LE(std::stod(r[8]), std::stod(r[10]));  // edge pixels hold all the error
         EXPECT_LE(std::stod(r[10]), std::stod(r[11]));
         EXPECT_GT(std::stod(r[12]), 0.0);
+        // A time is the median of its rounds, within their range; a quick run times 3 rounds.
+        EXPECT_LE(std::stod(r[13]), std::stod(r[12]));
+        EXPECT_LE(std::stod(r[12]), std::stod(r[14]));
+        EXPECT_EQ(r[15], "3");
     }
     EXPECT_EQ(per_family, (std::map<std::string, int>{
                               {"all", 24}, {"medium", 24}, {"near-axis", 24}, {"sliver", 24}}));
@@ -203,12 +210,12 @@ TEST(StudyAntialiasing, SameSeedSameErrors) {
     ASSERT_EQ(a.size(), b.size());
     for (std::size_t i = 1; i < a.size(); ++i) {
         for (std::size_t c = 0; c < a[i].size(); ++c) {
-            if (c == 12) continue;  // the run time
+            if (c >= 12 && c <= 14) continue;  // the run time and its range
             EXPECT_EQ(a[i][c], b[i][c]) << "row " << i << " column " << c;
         }
     }
-    // A line per family's exact answers and per family and variant.
-    EXPECT_EQ(lines.size(), 3u * (1u + 24u));
+    // A line per family's exact answers, its timing rounds and per family and variant.
+    EXPECT_EQ(lines.size(), 3u * (1u + 1u + 24u));
 }
 
 }  // namespace

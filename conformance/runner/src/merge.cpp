@@ -229,9 +229,10 @@ MergeSummary merge_shards(const std::vector<fs::path>& shards, const fs::path& o
     clear_run_output(output);
     fs::create_directories(output);
     harness::write_file_atomically(output_file(output, "", "results.jsonl"), text);
-    for (const auto& [from, to] : copies) {
-        fs::create_directories(to.parent_path());
-        harness::write_atomically(to, [&](const fs::path& partial) {
+    for (const auto& copy : copies) {
+        const fs::path& from = copy.first;
+        fs::create_directories(copy.second.parent_path());
+        harness::write_atomically(copy.second, [&](const fs::path& partial) {
             fs::copy_file(from, partial, fs::copy_options::overwrite_existing);
         });
     }

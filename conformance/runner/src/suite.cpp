@@ -738,8 +738,9 @@ RunSummary run_suite(const RunOptions& options, std::ostream& console) {
             copies.emplace_back(options.skips[i], "skips-" + std::to_string(i + 1) + ".txt");
         for (std::size_t i = 0; i < options.flakes.size(); ++i)
             copies.emplace_back(options.flakes[i], "flakes-" + std::to_string(i + 1) + ".txt");
-        for (const auto& [from, name] : copies) {
-            const auto to = output_file(options.output, "inputs", name);
+        for (const auto& copy : copies) {
+            const auto& from = copy.first;
+            const auto to = output_file(options.output, "inputs", copy.second);
             if (options.resume && std::filesystem::exists(to)) continue;
             std::filesystem::create_directories(to.parent_path());
             harness::write_atomically(to, [&](const std::filesystem::path& partial) {

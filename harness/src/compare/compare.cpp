@@ -188,8 +188,8 @@ Comparison compare_classified(const refraster::Framebuffer& ref, const refraster
                 m.channel = px.channel;
                 for (std::size_t k = 0; k < 4; ++k) {
                     const std::size_t j = 4 * slot + k;
-                    m.reference[k] = is8 ? ref.color8[j] : double{ref.color32f[j]};
-                    m.actual[k] = is8 ? act.color8[j] : double{act.color32f[j]};
+                    m.reference[k] = is8 ? ref.color8[j] : static_cast<double>(ref.color32f[j]);
+                    m.actual[k] = is8 ? act.color8[j] : static_cast<double>(act.color32f[j]);
                 }
                 m.float_values = !is8;
                 c.max_color = m;

@@ -64,9 +64,10 @@ void write_image_file(const refraster::Framebuffer& fb, const std::filesystem::p
 // first is moved into place, and a failure removes every partial file.
 void write_nested(const std::vector<ImageToWrite>& images, std::size_t k) {
     if (k == images.size()) return;
-    const auto& [fb, path] = images[k];
+    const refraster::Framebuffer& fb = *images[k].first;
+    const std::filesystem::path& path = images[k].second;
     write_atomically(path, [&](const std::filesystem::path& tmp) {
-        write_image_file(*fb, path, tmp);
+        write_image_file(fb, path, tmp);
         write_nested(images, k + 1);
     });
 }

@@ -123,12 +123,13 @@ std::vector<tb::Point2> window_points(const Scene& s, std::size_t d) {
     for (std::size_t i = 0; i < draw.element_count(); ++i) {
         const std::uint32_t e = draw.element(i);
         if (file.space == VertexSpace::Window) {
-            out.push_back({file.vertices[e].position[0], file.vertices[e].position[1]});
+            out.push_back({static_cast<double>(file.vertices[e].position[0]),
+                           static_cast<double>(file.vertices[e].position[1])});
             continue;
         }
         const auto p = draw.vertices.position(e);
         const auto& v = draw.state.viewport;
-        const double w = p[3];
+        const auto w = static_cast<double>(p[3]);
         out.push_back({v.x + (static_cast<double>(p[0]) / w + 1.0) * v.width / 2.0,
                        v.y + (static_cast<double>(p[1]) / w + 1.0) * v.height / 2.0});
     }
@@ -809,12 +810,10 @@ std::vector<SceneTriangle> scene_triangles(const Scene& s) {
                 const std::uint32_t e = prims[p][k];
                 st.t.position[k] = pts[e];
                 const auto pos = draw.vertices.position(draw.element(e));
-                const auto& v = draw.state.viewport;
-                (void)v;
                 // Window depth through the depth range, as the viewport transform gives it.
                 const double zn = static_cast<double>(pos[2]) / static_cast<double>(pos[3]);
-                const double n = draw.state.depth_near;
-                const double f = draw.state.depth_far;
+                const auto n = static_cast<double>(draw.state.depth_near);
+                const auto f = static_cast<double>(draw.state.depth_far);
                 st.t.depth[k] = n + (zn + 1.0) / 2.0 * (f - n);
                 st.clip[k] = {pos[0], pos[1], pos[2], pos[3]};
             }
@@ -909,7 +908,9 @@ Run run_homogeneous(const Scene& s, int w, int h) {
     for (std::size_t k = 0; k < tris.size(); ++k) {
         const auto& st = tris[k];
         tb::ClipTriangle ct;
-        for (std::size_t i = 0; i < 3; ++i) ct[i] = {st.clip[i][0], st.clip[i][1], st.clip[i][3]};
+        for (std::size_t i = 0; i < 3; ++i)
+            ct[i] = {static_cast<double>(st.clip[i][0]), static_cast<double>(st.clip[i][1]),
+                     static_cast<double>(st.clip[i][3])};
         const auto& v = s.draw_list.draws[st.draw].state.viewport;
         const tb::Viewport vp{v.x, v.y, v.width, v.height};
         tb::Trace t = bounded_trace(run);

@@ -29,8 +29,8 @@ CircleResult midpoint_circle(PixelIndex centre, int radius, int width, int heigh
         trace->algorithm = "midpoint circle";
         set_pseudo_code(
             trace, {"x = 0, y = R, d = 1 - R; plot (0, R) and its seven mirrors", "while y > x:",
-                    "    if d >= 0: M is outside, choose SE: d += 2 (x - y) + 5, y = "
-                    "y - 1",
+                    ("    if d >= 0: M is outside, choose SE: d += 2 (x - y) + 5, y = "
+                     "y - 1"),
                     "    else: M is inside, choose E: d += 2 x + 3",
                     "    x = x + 1; plot (x, y) and its seven mirrors"});
         trace->input.push_back(

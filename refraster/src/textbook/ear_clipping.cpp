@@ -34,8 +34,8 @@ EarClipResult ear_clip(const std::vector<Point2>& polygon, Trace* trace) {
         trace->algorithm = "ear clipping";
         set_pseudo_code(trace, {"orient the polygon counter-clockwise; remaining = every vertex",
                                 "while more than 3 vertices remain:",
-                                "    find the next vertex v whose corner (u, v, w) is convex and "
-                                "holds no other vertex: an ear",
+                                ("    find the next vertex v whose corner (u, v, w) is convex and "
+                                 "holds no other vertex: an ear"),
                                 "    cut the triangle (u, v, w) off; remove v",
                                 "    if no vertex is an ear: the polygon is not simple; stop",
                                 "the last three vertices are the last triangle"});

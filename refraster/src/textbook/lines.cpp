@@ -117,8 +117,8 @@ LineResult dda_line(Point2 a, Point2 b, int width, int height, Trace* trace) {
     const LineSetup s = setup_line(a, b);
     Step* const first =
         begin_trace(trace, "DDA line",
-                    {"round both endpoints to pixels; the axis of the larger "
-                     "extent is the major one",
+                    {("round both endpoints to pixels; the axis of the larger "
+                      "extent is the major one"),
                      "slope = d(minor) / d(major); minor = the first pixel's",
                      "for each pixel along the major axis:", "    plot (major, round(minor))",
                      "    minor = minor + slope"},
@@ -154,8 +154,8 @@ LineResult bresenham_line(Point2 a, Point2 b, int width, int height, MinorTie ti
                 {"round both endpoints to pixels; the axis of the larger extent is the major one",
                  "nabla = 2 d(minor) - d(major); plot the first endpoint",
                  "for each step along the major axis:",
-                 "    if nabla > 0 (or = 0 and ties step): step the minor axis, nabla += 2 "
-                 "d(minor) - 2 d(major)",
+                 ("    if nabla > 0 (or = 0 and ties step): step the minor axis, nabla += 2 "
+                  "d(minor) - 2 d(major)"),
                  "    else: keep the minor coordinate, nabla += 2 d(minor)", "    plot the pixel"},
                 a, b, s);
     LineResult out{{}, Raster(width, height)};
@@ -197,8 +197,8 @@ LineResult bresenham_line(Point2 a, Point2 b, int width, int height, MinorTie ti
 LineResult midpoint_line(Point2 a, Point2 b, int width, int height, MinorTie tie, Trace* trace) {
     const LineSetup s = setup_line(a, b);
     begin_trace(trace, "midpoint line",
-                {"round both endpoints to pixels; reflect the line into the first octant (u "
-                 "major, v minor)",
+                {("round both endpoints to pixels; reflect the line into the first octant (u "
+                  "major, v minor)"),
                  "d = 2 F(1, 1/2) = 2 dv - du; plot the first endpoint", "while u < du:",
                  "    if d > 0 (or = 0 and ties choose NE): v = v + 1 (NE), d += 2 (dv - du)",
                  "    else: (E) d += 2 dv", "    u = u + 1; plot (u, v)"},

@@ -87,14 +87,14 @@ FillResult scanline_fill(const std::vector<Contour>& contours, FillRule rule, in
                                                      : "scanline fill, non-zero winding";
         begin_part(trace, "polygon");
         set_pseudo_code(trace,
-                        {"build the edge table: each non-horizontal edge in the bucket of the "
-                         "first row whose centre it crosses",
+                        {("build the edge table: each non-horizontal edge in the bucket of the "
+                          "first row whose centre it crosses"),
                          "for each row y from the lowest to the highest:",
-                         "    move the row's bucket into the active edge list (AEL); sort it by "
-                         "crossing x",
-                         "    walk the crossings left to right: fill the centres between one and "
-                         "the next while inside (even-odd: an odd count; non-zero: a winding "
-                         "sum other than 0)",
+                         ("    move the row's bucket into the active edge list (AEL); sort it by "
+                          "crossing x"),
+                         ("    walk the crossings left to right: fill the centres between one and "
+                          "the next while inside (even-odd: an odd count; non-zero: a winding "
+                          "sum other than 0)"),
                          "    drop the edges that end on this row; advance the rest by 1/m"});
     }
     // The edge table.

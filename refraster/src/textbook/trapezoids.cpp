@@ -49,12 +49,12 @@ std::vector<Trapezoid> trapezoidate(const std::vector<Point2>& polygon, Trace* t
     const std::size_t n = polygon.size();
     if (trace != nullptr) {
         trace->algorithm = "trapezoidal decomposition";
-        set_pseudo_code(trace, {"sort the vertices' heights: each two neighbouring heights bound "
-                                "a slab",
+        set_pseudo_code(trace, {("sort the vertices' heights: each two neighbouring heights bound "
+                                 "a slab"),
                                 "for each slab from the bottom:",
                                 "    list the edges that span it, sorted by x at its middle",
-                                "    pair them left to right: each pair bounds a trapezoid "
-                                "(continued from the slab below when the same pair did)",
+                                ("    pair them left to right: each pair bounds a trapezoid "
+                                 "(continued from the slab below when the same pair did)"),
                                 "split each trapezoid into triangles"});
         add_outline(trace->input, polygon);
         begin_part(trace, "polygon");
