@@ -62,7 +62,11 @@ std::string first_difference(const refraster::Framebuffer& a, const refraster::F
 
 class SceneMaker {
   public:
-    explicit SceneMaker(std::uint64_t seed) : rng_(seed) {}
+    // `textured`: every draw samples the texture, into single-sample rgba8 targets (the
+    // vector sampler's draws, vector_texture_body.hpp), mostly with the 8-bit path's wraps.
+    explicit SceneMaker(std::uint64_t seed, bool textured = false)
+        : rng_(seed), seed_(seed), textured_(textured) {}
+    std::uint64_t seed() const { return seed_; }
 
     refraster::DrawList scene() {
         refraster::DrawList l;
@@ -71,13 +75,19 @@ class SceneMaker {
         const auto h = static_cast<std::uint32_t>(big ? 130 + pick(200) : 1 + pick(90));
         l.target = {w, h, pick(4) == 0 ? ColorFormat::Rgba32f : ColorFormat::Rgba8,
                     static_cast<DepthFormat>(pick(4)), pick(8) == 0 ? 4u : 1u};
+        if (textured_) {
+            l.target.color = ColorFormat::Rgba8;
+            l.target.samples = 1;
+        }
         l.clear.color = {uniform(0, 1), uniform(0, 1), uniform(0, 1), uniform(0, 1)};
         l.clear.depth = pick(6) == 0 ? 1e-40f : uniform(0, 1);
         // A texture some draws sample (texture.cpp: every filter and wrap, both paths).
         refraster::Texture tex;
         refraster::TextureImage img;
-        img.width = 1 + pick(20);
-        img.height = 1 + pick(20);
+        // Sizes of any kind, and powers of two up to 64 (the repeat wrap's other code, and
+        // more mip levels for the vector sampler's per-lane levels).
+        img.width = pick(3) == 0 ? 1u << pick(7) : 1 + pick(20);
+        img.height = pick(3) == 0 ? 1u << pick(7) : 1 + pick(20);
         for (std::uint32_t i = 0; i < img.width * img.height * 4; ++i)
             img.rgba.push_back(static_cast<std::uint8_t>(pick(256)));
         tex.levels.push_back(std::move(img));
@@ -143,7 +153,7 @@ class SceneMaker {
         if (pick(3) == 0) s.point_size = 1.0f + static_cast<float>(pick(9));
         s.multisample = pick(4) != 0;
         d.vertices.attributes = {{"color", 4}};
-        const bool textured = pick(4) == 0;
+        const bool textured = textured_ || pick(4) == 0;
         if (textured) {
             d.vertices.attributes.push_back({"texcoord", 4});
             refraster::TextureState ts;
@@ -151,6 +161,13 @@ class SceneMaker {
             ts.mag_filter = static_cast<refraster::TextureFilter>(pick(2));
             ts.wrap_s = static_cast<refraster::TextureWrap>(pick(4));
             ts.wrap_t = static_cast<refraster::TextureWrap>(pick(4));
+            if (textured_ && pick(4) != 0) {
+                // Repeat or clamp to edge: the 8-bit path.
+                ts.wrap_s = pick(2) == 0 ? refraster::TextureWrap::Repeat
+                                         : refraster::TextureWrap::ClampToEdge;
+                ts.wrap_t = pick(2) == 0 ? refraster::TextureWrap::Repeat
+                                         : refraster::TextureWrap::ClampToEdge;
+            }
             ts.border_color = {uniform(-0.2f, 1.2f), uniform(0, 1), uniform(0, 1), uniform(0, 1)};
             ts.env = static_cast<refraster::TextureEnv>(pick(2));
             ts.coord_replace = pick(3) == 0;  // sprite coordinates where points are drawn
@@ -190,13 +207,29 @@ class SceneMaker {
     }
 
     std::mt19937_64 rng_;
+    std::uint64_t seed_;
+    bool textured_ = false;
 };
 
 class Sameness : public ::testing::TestWithParam<std::uint64_t> {};
 
+void expect_every_path_gives_the_models_bytes(SceneMaker& maker, int scenes);
+
 TEST_P(Sameness, EveryPathAndThreadCountGivesTheModelsBytes) {
     SceneMaker maker(GetParam());
-    const int scenes = scene_count();
+    expect_every_path_gives_the_models_bytes(maker, scene_count());
+}
+
+// Every draw textured: the vector sampler against the scalar one, filters, wraps, levels.
+TEST_P(Sameness, TexturedDrawsGiveTheModelsBytes) {
+    SceneMaker maker(GetParam() + 1000, true);
+    expect_every_path_gives_the_models_bytes(maker, scene_count() / 2);
+}
+
+INSTANTIATE_TEST_SUITE_P(Seeds, Sameness, ::testing::Values(1u, 2u, ci_seed()));
+
+void expect_every_path_gives_the_models_bytes(SceneMaker& maker, int scenes) {
+    const std::uint64_t seed = maker.seed();
     int drawn = 0;
     int compared = 0;
     for (int n = 0; n < scenes; ++n) {
@@ -224,7 +257,7 @@ TEST_P(Sameness, EveryPathAndThreadCountGivesTheModelsBytes) {
                 ASSERT_EQ(refraster::render(l, fast, got).status, refraster::RenderStatus::Ok);
                 const std::string where = first_difference(expected, got);
                 ASSERT_TRUE(where.empty())
-                    << "seed " << GetParam() << " scene " << n << " (" << l.target.width << "x"
+                    << "seed " << seed << " scene " << n << " (" << l.target.width << "x"
                     << l.target.height << ", " << l.draws.size() << " draws): path "
                     << refraster::to_string(path) << " with " << threads
                     << " threads differs from the model at " << where;
@@ -236,8 +269,6 @@ TEST_P(Sameness, EveryPathAndThreadCountGivesTheModelsBytes) {
     EXPECT_GT(drawn, scenes / 2);
     EXPECT_GT(compared, 0);
 }
-
-INSTANTIATE_TEST_SUITE_P(Seeds, Sameness, ::testing::Values(1u, 2u, ci_seed()));
 
 // The comparison can fail: a render under another tie rule differs from the model somewhere
 // over the same scenes.

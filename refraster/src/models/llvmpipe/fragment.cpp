@@ -436,7 +436,15 @@ FragmentKernel make_kernel(KernelState state) {
     const KernelPath path = state.options.kernels;
     if (path == KernelPath::Model) return {state, &K::shade, &K::trace};
     if (state.texture != nullptr) {
-        // Quads only: the level of detail is a quad's. Where the profile flushes and the CPU
+        if constexpr (C == ColorFormat::Rgba8) {
+            // Row blocks on the vector paths where the vector sampler serves the unit: each
+            // lane evaluates its own quad's coordinates for the level of detail.
+            if (vector_sampler_serves(*state.texture, state.point_coords)) {
+                if (auto* fn = vector_textured_shade_rows(path, S, D, B))
+                    return {state, &K::shade, &K::trace, fn, state.options.flush_denormals};
+            }
+        }
+        // Otherwise quads: the level of detail is a quad's. Where the profile flushes and the CPU
         // has the modes, the kernel runs under them (hardware_denormals) with plain operations:
         // the same results as the emulated flushes, depth compares included (depth_outcome).
         KernelState plain = state;

@@ -128,7 +128,8 @@ class FragmentKernel {
 
 // The kernel for a draw's state into `target`; `options` are the per-pixel stage's; `texture`
 // the draw's texture unit (null without one), which must outlive the kernel. A textured draw
-// shades quad packets only (its level of detail is a quad's), never row blocks.
+// shades row blocks on the vector paths where the vector sampler serves its unit
+// (vector_kernels.hpp), quad packets otherwise (its level of detail is a quad's).
 FragmentKernel choose_fragment_kernel(const Draw& draw, const Target& target,
                                       FragmentOptions options,
                                       const TextureUnit* texture = nullptr);

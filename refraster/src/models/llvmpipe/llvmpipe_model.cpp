@@ -21,6 +21,17 @@ LlvmpipeModel::RenderState::RenderState(const DrawList& list, const Profile& pro
         levels_.push_back(list.textures[t].generate_mipmaps ? &generated_[t]
                                                             : &list.textures[t].levels);
     }
+    packed_.resize(levels_.size());
+    packed_tried_.resize(levels_.size());
+}
+
+const PackedLevels* LlvmpipeModel::RenderState::packed(std::uint32_t texture) {
+    REFRASTER_ASSERT(texture < levels_.size(), "a texture the draw list holds");
+    if (!packed_tried_[texture]) {
+        packed_[texture] = pack_levels(*levels_[texture]);
+        packed_tried_[texture] = true;
+    }
+    return packed_[texture] ? &*packed_[texture] : nullptr;
 }
 
 const std::vector<TextureImage>& LlvmpipeModel::RenderState::levels(std::uint32_t texture) const {
@@ -39,6 +50,10 @@ LlvmpipeModel::LlvmpipeModel(const DrawContext& ctx, RenderState& state) : DrawM
         unit_->flush_border = ctx.profile.gl.flush_denormals;
         unit_->rho_approx = ctx.profile.gl.texture_rho == TextureRho::Approx;
         unit_->brilinear = ctx.profile.gl.texture_mip_blend == MipBlend::Brilinear;
+        // Only the vector kernels gather from packed levels.
+        const KernelPath path = resolve_kernel_path(ctx.kernels);
+        if (path == KernelPath::Avx2 || path == KernelPath::Avx512)
+            unit_->packed = state.packed(d.state.texture->texture);
     }
 }
 

@@ -52,10 +52,15 @@ class LlvmpipeModel : public DrawModule<LlvmpipeModel, SetupList> {
       public:
         RenderState(const DrawList& list, const Profile& profile, Framebuffer& fb);
         const std::vector<TextureImage>& levels(std::uint32_t texture) const;
+        // The levels packed for the vector sampler, made at the first draw that asks (on the
+        // thread that sets draws up) and kept for the render; null when they do not fit.
+        const PackedLevels* packed(std::uint32_t texture);
 
       private:
         std::vector<std::vector<TextureImage>> generated_;
         std::vector<const std::vector<TextureImage>*> levels_;
+        std::vector<std::optional<PackedLevels>> packed_;
+        std::vector<bool> packed_tried_;
     };
 
     LlvmpipeModel(const DrawContext& ctx, RenderState& state);

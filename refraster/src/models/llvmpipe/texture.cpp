@@ -463,6 +463,36 @@ QuadLod quad_lod(const TextureUnit& u, const std::array<float, 4>& s,
 
 }  // namespace
 
+std::optional<PackedLevels> pack_levels(const std::vector<TextureImage>& levels) {
+    if (levels.empty() || levels.size() > PackedLevels::kMaxLevels) return std::nullopt;
+    std::size_t total = 0;
+    for (const TextureImage& l : levels) {
+        if (l.width > PackedLevels::kMaxSize || l.height > PackedLevels::kMaxSize)
+            return std::nullopt;
+        total += std::size_t{l.width} * l.height;
+    }
+    if (total > PackedLevels::kMaxTexels) return std::nullopt;
+    PackedLevels p;
+    p.texels.resize(total);
+    std::size_t at = 0;
+    for (std::size_t i = 0; i < levels.size(); ++i) {
+        const TextureImage& l = levels[i];
+        const std::size_t n = std::size_t{l.width} * l.height;
+        REFRASTER_ASSERT(l.rgba.size() == 4 * n, "a level of width * height texels");
+        p.offset[i] = static_cast<std::int32_t>(at);
+        p.width[i] = static_cast<std::int32_t>(l.width);
+        p.height[i] = static_cast<std::int32_t>(l.height);
+        for (std::size_t k = 0; k < n; ++k) {
+            const std::uint8_t* t = l.rgba.data() + 4 * k;
+            p.texels[at + k] = std::uint32_t{t[0]} | std::uint32_t{t[1]} << 8 |
+                               std::uint32_t{t[2]} << 16 | std::uint32_t{t[3]} << 24;
+        }
+        at += n;
+    }
+    p.count = static_cast<std::uint32_t>(levels.size());
+    return p;
+}
+
 float unorm8_to_float(std::uint8_t v) {
     constexpr float kInv255 = 1.0f / 255.0f;
     return static_cast<float>(v) * kInv255;

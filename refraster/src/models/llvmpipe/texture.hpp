@@ -20,6 +20,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "refraster/draw.hpp"
@@ -28,9 +29,35 @@
 
 namespace refraster::detail {
 
+// A texture's levels one after another as 32-bit texels (r | g << 8 | b << 16 | a << 24,
+// the bytes of TextureImage::rgba read as one little-endian word), the layout the vector
+// sampler gathers from (vector_texture_body.hpp): texel (x, y) of level l at
+// offset[l] + y * width[l] + x.
+struct PackedLevels {
+    // A level's size and offset are read per lane from tables of this many entries.
+    static constexpr std::size_t kMaxLevels = 16;
+    // Gather indices are int32 lanes.
+    static constexpr std::size_t kMaxTexels = std::size_t{1} << 30;
+    // The 8.8 coordinate scale n * 256 is a float made from an int32 lane: exact up to 2^24.
+    static constexpr std::uint32_t kMaxSize = std::uint32_t{1} << 15;
+    static_assert(std::uint64_t{kMaxSize} * 256 <= (std::uint64_t{1} << 24),
+                  "n * 256 is exact in float and fits int32");
+    std::vector<std::uint32_t> texels;
+    std::array<std::int32_t, kMaxLevels> offset{};
+    std::array<std::int32_t, kMaxLevels> width{};
+    std::array<std::int32_t, kMaxLevels> height{};
+    std::uint32_t count = 0;
+};
+
+// The packed form of `levels`, or nothing when they exceed kMaxLevels levels, kMaxTexels
+// texels or kMaxSize texels a side (such a texture is sampled by the scalar sampler only).
+std::optional<PackedLevels> pack_levels(const std::vector<TextureImage>& levels);
+
 // A draw's texture unit with everything the sampler derives once per draw.
 struct TextureUnit {
     const std::vector<TextureImage>* levels = nullptr;  // base first, every level present
+    // The same levels packed for the vector sampler (null: the scalar sampler only).
+    const PackedLevels* packed = nullptr;
     TextureState state;
     // lp_build_sample_soa_code: the 8-bit path needs both wraps repeat or clamp-to-edge, and
     // the profile's texture_filtering=fixed-point (GALLIVM_PERF=no_aos_sampling clears use_aos).

@@ -82,15 +82,111 @@ struct VectorKernel {
         }
     }
 
+    // The draw's depth test as the lanes read it.
+    struct DepthTest {
+        PlaneV zp;
+        F z_offset;
+        M want_lt, want_eq, want_gt;
+        bool write;
+        bool daz;  // compare z32f values as the CPU's denormals-are-zero mode reads them
+    };
+    static DepthTest depth_test_of(const KernelState& k, const Plane* planes,
+                                   const SetupPrimitive& prim) {
+        return {splat(planes[kZPlane]),
+                V::splat(prim.z_offset),
+                V::mask_if((k.depth_pass & 1u) != 0),
+                V::mask_if((k.depth_pass & 2u) != 0),
+                V::mask_if((k.depth_pass & 4u) != 0),
+                k.depth_write,
+                k.options.flush_denormals};
+    }
+
+    // The depth test of the lanes at (px, py) against dp[0..kLanes) (`inside`: every lane lies
+    // in the row, else only `live` lanes are read and written): the live lanes that pass, their
+    // depths written when the draw writes depth.
+    [[gnu::always_inline]] static M depth_stage(const DepthTest& t, F px, F py, bool fma,
+                                                std::uint32_t* dp, bool inside, M live) {
+        F z = V::add(at(t.zp, px, py, fma), t.z_offset);
+        z = V::max(V::min(z, V::splat(1.0f)), V::splat(0.0f));
+        I value;
+        if constexpr (D == DepthFormat::Z32f) {
+            value = V::as_int(z);
+        } else {
+            value = V::to_int_rne(V::mul(z, V::splat(static_cast<float>(depth_unorm_max(D)))));
+        }
+        const I stored = inside ? V::load(dp) : V::load_masked(dp, live);
+        M lt, eq;
+        if constexpr (D == DepthFormat::Z32f) {
+            // Compared as integers ordered as the floats are (neither side is NaN; -0 equals
+            // +0), a stored denormal (a cleared depth may be one) as 0 where the profile
+            // flushes: llvmpipe compares under the rasterizer's denormals-are-zero mode
+            // (fragment.cpp, depth_outcome).
+            const I kz = t.daz ? ordered_key_daz(value) : ordered_key(value);
+            const I ks = t.daz ? ordered_key_daz(stored) : ordered_key(stored);
+            lt = V::lt_i(kz, ks);
+            eq = V::eq_i(kz, ks);
+        } else {
+            // Values below 2^24: signed compares order them as unsigned ones.
+            lt = V::lt_i(value, stored);
+            eq = V::eq_i(value, stored);
+        }
+        const M pass = V::m_or(V::m_or(V::m_and(lt, t.want_lt), V::m_and(eq, t.want_eq)),
+                               V::m_andnot(V::m_or(lt, eq), t.want_gt));
+        live = V::m_and(live, pass);
+        if (t.write && !V::none(live)) {
+            if (inside) {
+                V::store(dp, V::select(live, stored, value));
+            } else {
+                V::store_masked(dp, live, value);
+            }
+        }
+        return live;
+    }
+
+    // The source colour `src` (packed rgba8) blended into cp[0..kLanes) in the live lanes, and
+    // the owner written beside it (op, when the target records owners).
+    [[gnu::always_inline]] static void color_stage(I src, std::uint32_t* cp, std::uint32_t* op,
+                                                   I owner, bool inside, M live) {
+        if (inside) {
+            const I dst = V::load(cp);
+            V::store(cp, V::select(live, dst, blend(src, dst)));
+            if (op != nullptr) V::store(op, V::select(live, V::load(op), owner));
+        } else {
+            if constexpr (B == BlendPreset::None) {
+                V::store_masked(cp, live, src);
+            } else {
+                V::store_masked(cp, live, blend(src, V::load_masked(cp, live)));
+            }
+            if (op != nullptr) V::store_masked(op, live, owner);
+        }
+    }
+
+    // A primitive's rows lie a framebuffer row apart in the depth and colour buffers (a page
+    // apart at 1024 pixels), a stride the hardware prefetchers do not follow: the lines a row
+    // covers are asked for kAhead rows ahead (measured on medium triangles on a loaded machine:
+    // about 5% fewer profile samples in the kernel, 8 rows ahead slightly better than 4). A
+    // prefetch changes no value.
+    static constexpr int kAhead = 8;
+    [[gnu::always_inline]] static void prefetch_row(const RowBlock& b, int r, Framebuffer& fb) {
+        const std::uint64_t pm = b.mask[r];
+        if (pm == 0) return;
+        const std::size_t row =
+            static_cast<std::size_t>(b.y0 + r) * fb.width + static_cast<std::size_t>(b.x0);
+        const std::size_t first = row + static_cast<std::size_t>(std::countr_zero(pm));
+        const std::size_t last = row + static_cast<std::size_t>(63 - std::countl_zero(pm));
+        if constexpr (D != DepthFormat::None) prefetch_pixels<1, 3>(fb.depth.data(), first, last);
+        prefetch_pixels<1, 3>(reinterpret_cast<const std::uint32_t*>(fb.color8.data()), first,
+                              last);
+    }
+
     static void shade_rows(const KernelState& k, const SetupList& list, const SetupPrimitive& prim,
                            const RowBlock& b, Framebuffer& fb) {
         const Plane* planes = list.planes.data() + prim.planes;
         const float* flat = list.flat.data() + prim.flat;
         const bool fma = k.options.fma;
-        [[maybe_unused]] const bool daz = k.options.flush_denormals;
         const bool owners = !fb.owner.empty();
         const auto width = static_cast<std::int32_t>(fb.width);
-        const PlaneV zp = splat(planes[kZPlane]);
+        const DepthTest depth = depth_test_of(k, planes, prim);
         const PlaneV wp = splat(planes[kWPlane]);
         PlaneV cp[4];
         if constexpr (S != ShadeModel::Flat) {
@@ -105,36 +201,13 @@ struct VectorKernel {
                 packed |= std::uint32_t{color_to_unorm8(flat[j])} << (8 * j);
             flat_color = V::splati(static_cast<std::int32_t>(packed));
         }
-        const F z_offset = V::splat(prim.z_offset);
-        const M want_lt = V::mask_if((k.depth_pass & 1u) != 0);
-        const M want_eq = V::mask_if((k.depth_pass & 2u) != 0);
-        const M want_gt = V::mask_if((k.depth_pass & 4u) != 0);
         const I owner = V::splati(static_cast<std::int32_t>(prim.owner));
         const F lanes = V::lane_index();
         constexpr std::uint64_t kLaneBits = (std::uint64_t{1} << kLanes) - 1;
 
-        // A primitive's rows lie a framebuffer row apart in the depth and colour buffers (a
-        // page apart at 1024 pixels), a stride the hardware prefetchers do not follow: the
-        // lines a row covers are asked for kAhead rows ahead (measured on medium triangles on
-        // a loaded machine: about 5% fewer profile samples in the kernel, 8 rows ahead
-        // slightly better than 4). A prefetch changes no value.
-        constexpr int kAhead = 8;
-        const auto prefetch_row = [&](int r) {
-            const std::uint64_t pm = b.mask[r];
-            if (pm == 0) return;
-            const std::size_t row =
-                static_cast<std::size_t>(b.y0 + r) * fb.width + static_cast<std::size_t>(b.x0);
-            const std::size_t first = row + static_cast<std::size_t>(std::countr_zero(pm));
-            const std::size_t last = row + static_cast<std::size_t>(63 - std::countl_zero(pm));
-            if constexpr (D != DepthFormat::None)
-                prefetch_pixels<1, 3>(fb.depth.data(), first, last);
-            prefetch_pixels<1, 3>(reinterpret_cast<const std::uint32_t*>(fb.color8.data()), first,
-                                  last);
-        };
-        for (int r = 0; r < kAhead && r < b.rows; ++r) prefetch_row(r);
-
+        for (int r = 0; r < kAhead && r < b.rows; ++r) prefetch_row(b, r, fb);
         for (int r = 0; r < b.rows; ++r) {
-            if (r + kAhead < b.rows) prefetch_row(r + kAhead);
+            if (r + kAhead < b.rows) prefetch_row(b, r + kAhead, fb);
             std::uint64_t m = b.mask[r];
             if (m == 0) continue;
             const std::int32_t y = b.y0 + r;
@@ -153,43 +226,8 @@ struct VectorKernel {
                 M live = V::from_bits(bits);
                 const F px = V::add(V::splat(static_cast<float>(x)), lanes);
                 if constexpr (D != DepthFormat::None) {
-                    F z = V::add(at(zp, px, py, fma), z_offset);
-                    z = V::max(V::min(z, V::splat(1.0f)), V::splat(0.0f));
-                    I value;
-                    if constexpr (D == DepthFormat::Z32f) {
-                        value = V::as_int(z);
-                    } else {
-                        value = V::to_int_rne(
-                            V::mul(z, V::splat(static_cast<float>(depth_unorm_max(D)))));
-                    }
-                    std::uint32_t* dp = depth_row + x;
-                    const I stored = inside ? V::load(dp) : V::load_masked(dp, live);
-                    M lt, eq;
-                    if constexpr (D == DepthFormat::Z32f) {
-                        // Compared as integers ordered as the floats are (neither side is
-                        // NaN; -0 equals +0), a stored denormal (a cleared depth may be one)
-                        // as 0 where the profile flushes: llvmpipe compares under the
-                        // rasterizer's denormals-are-zero mode (fragment.cpp, depth_outcome).
-                        const I kz = daz ? ordered_key_daz(value) : ordered_key(value);
-                        const I ks = daz ? ordered_key_daz(stored) : ordered_key(stored);
-                        lt = V::lt_i(kz, ks);
-                        eq = V::eq_i(kz, ks);
-                    } else {
-                        // Values below 2^24: signed compares order them as unsigned ones.
-                        lt = V::lt_i(value, stored);
-                        eq = V::eq_i(value, stored);
-                    }
-                    const M pass = V::m_or(V::m_or(V::m_and(lt, want_lt), V::m_and(eq, want_eq)),
-                                           V::m_andnot(V::m_or(lt, eq), want_gt));
-                    live = V::m_and(live, pass);
+                    live = depth_stage(depth, px, py, fma, depth_row + x, inside, live);
                     if (V::none(live)) continue;
-                    if (k.depth_write) {
-                        if (inside) {
-                            V::store(dp, V::select(live, stored, value));
-                        } else {
-                            V::store_masked(dp, live, value);
-                        }
-                    }
                 }
                 I src;
                 if constexpr (S == ShadeModel::Flat) {
@@ -202,27 +240,18 @@ struct VectorKernel {
                     } else {
                         for (int j = 0; j < 4; ++j) c[j] = at(cp[j], px, py, fma);
                     }
-                    src = V::or_i(V::or_i(unorm8(c[0]), V::sll32(unorm8(c[1]), 8)),
-                                  V::or_i(V::sll32(unorm8(c[2]), 16), V::sll32(unorm8(c[3]), 24)));
+                    src = pack_unorm8(c);
                 }
-                std::uint32_t* cp_ = color_row + x;
-                if (inside) {
-                    const I dst = V::load(cp_);
-                    V::store(cp_, V::select(live, dst, blend(src, dst)));
-                    if (owners) {
-                        std::uint32_t* op = owner_row + x;
-                        V::store(op, V::select(live, V::load(op), owner));
-                    }
-                } else {
-                    if constexpr (B == BlendPreset::None) {
-                        V::store_masked(cp_, live, src);
-                    } else {
-                        V::store_masked(cp_, live, blend(src, V::load_masked(cp_, live)));
-                    }
-                    if (owners) V::store_masked(owner_row + x, live, owner);
-                }
+                color_stage(src, color_row + x, owners ? owner_row + x : nullptr, owner, inside,
+                            live);
             }
         }
+    }
+
+    // Four channels as packed rgba8 (color_to_unorm8 of each).
+    [[gnu::always_inline]] static I pack_unorm8(const F* c) {
+        return V::or_i(V::or_i(unorm8(c[0]), V::sll32(unorm8(c[1]), 8)),
+                       V::or_i(V::sll32(unorm8(c[2]), 16), V::sll32(unorm8(c[3]), 24)));
     }
 };
 

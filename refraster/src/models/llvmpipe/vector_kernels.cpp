@@ -5,6 +5,8 @@ namespace refraster::detail {
 
 FragmentKernel::ShadeRowsFn avx2_shade_rows(ShadeModel s, DepthFormat d, BlendPreset b);
 FragmentKernel::ShadeRowsFn avx512_shade_rows(ShadeModel s, DepthFormat d, BlendPreset b);
+FragmentKernel::ShadeRowsFn avx2_textured_shade_rows(ShadeModel s, DepthFormat d, BlendPreset b);
+FragmentKernel::ShadeRowsFn avx512_textured_shade_rows(ShadeModel s, DepthFormat d, BlendPreset b);
 RowMaskFn avx2_row_masks();
 RowMaskFn avx512_row_masks();
 
@@ -14,6 +16,12 @@ FragmentKernel::ShadeRowsFn avx2_shade_rows(ShadeModel, DepthFormat, BlendPreset
     return nullptr;
 }
 FragmentKernel::ShadeRowsFn avx512_shade_rows(ShadeModel, DepthFormat, BlendPreset) {
+    return nullptr;
+}
+FragmentKernel::ShadeRowsFn avx2_textured_shade_rows(ShadeModel, DepthFormat, BlendPreset) {
+    return nullptr;
+}
+FragmentKernel::ShadeRowsFn avx512_textured_shade_rows(ShadeModel, DepthFormat, BlendPreset) {
     return nullptr;
 }
 RowMaskFn avx2_row_masks() {
@@ -34,6 +42,23 @@ FragmentKernel::ShadeRowsFn vector_shade_rows(KernelPath path, ShadeModel shade,
         default:
             return nullptr;
     }
+}
+
+FragmentKernel::ShadeRowsFn vector_textured_shade_rows(KernelPath path, ShadeModel shade,
+                                                       DepthFormat depth, BlendPreset blend) {
+    switch (resolve_kernel_path(path)) {
+        case KernelPath::Avx512:
+            return avx512_textured_shade_rows(shade, depth, blend);
+        case KernelPath::Avx2:
+            return avx2_textured_shade_rows(shade, depth, blend);
+        default:
+            return nullptr;
+    }
+}
+
+bool vector_sampler_serves(const TextureUnit& unit, bool point_coords) {
+    return unit.aos && unit.packed != nullptr && !unit.rho_approx && !unit.brilinear &&
+           !point_coords;
 }
 
 RowMaskFn vector_row_masks(KernelPath path) {

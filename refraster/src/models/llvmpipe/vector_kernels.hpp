@@ -11,6 +11,9 @@
 // threads run, lp_rast.c util_fpstate_set_denorms_to_zero) where the profile flushes; the
 // scalar model emulates the same modes operation by operation (float_ops.hpp).
 //
+// Textured draws have a kernel of their own (vector_texture_body.hpp) where llvmpipe samples on
+// its 8-bit path.
+//
 // Deliberately does not: rgba32f targets or 4x targets (the scalar kernels serve them), or
 // compile anything for an instruction set at build time: every vector kernel is compiled for
 // its target with a function-level target and called only when the CPU reports it.
@@ -28,6 +31,16 @@ namespace refraster::detail {
 // path or the CPU lacks its instructions.
 FragmentKernel::ShadeRowsFn vector_shade_rows(KernelPath path, ShadeModel shade, DepthFormat depth,
                                               BlendPreset blend);
+
+// The textured vector kernel (vector_texture_body.hpp) for `path` and the draw's state on an
+// rgba8 single-sample target, for a texture unit the vector sampler serves
+// (vector_sampler_serves); nullptr as above.
+FragmentKernel::ShadeRowsFn vector_textured_shade_rows(KernelPath path, ShadeModel shade,
+                                                       DepthFormat depth, BlendPreset blend);
+
+// Whether the vector sampler reproduces the scalar sampler for this unit: the 8-bit path, the
+// levels packed, exact rho, no brilinear blend, and not point sprite coordinates.
+bool vector_sampler_serves(const TextureUnit& unit, bool point_coords);
 
 // The vector row-mask builder (RowMaskFn, row_block.hpp) of `path` (as above); nullptr when
 // the path is not a vector path or the CPU lacks its instructions: small_convex_rows then

@@ -99,14 +99,40 @@ struct V {
     static void store_masked(std::uint32_t* p, M m, I v) {
         _mm256_maskstore_epi32(reinterpret_cast<int*>(p), m, v);
     }
+    // The textured kernel's operations (vector_texture_body.hpp).
+    static F sub(F a, F b) { return _mm256_sub_ps(a, b); }
+    static F floor(F a) { return _mm256_floor_ps(a); }
+    // cvttps2dq: truncates; 0x80000000 where the result does not fit (NaN too).
+    static I to_int_trunc(F a) { return _mm256_cvttps_epi32(a); }
+    static F to_float(I a) { return _mm256_cvtepi32_ps(a); }
+    static M lt_f(F a, F b) { return as_int(_mm256_cmp_ps(a, b, _CMP_LT_OQ)); }
+    // Not less or equal: true for NaN.
+    static M nle_f(F a, F b) { return as_int(_mm256_cmp_ps(a, b, _CMP_NLE_UQ)); }
+    static F select_f(M m, F a, F b) { return _mm256_blendv_ps(a, b, as_float(m)); }
+    static I sra32(I a, int n) { return _mm256_sra_epi32(a, _mm_cvtsi32_si128(n)); }
+    static I min_i32(I a, I b) { return _mm256_min_epi32(a, b); }
+    static I max_i32(I a, I b) { return _mm256_max_epi32(a, b); }
+    static I mulhrs16(I a, I b) { return _mm256_mulhrs_epi16(a, b); }
+    // Lane 2k's value in lanes 2k and 2k + 1 (dup_odd: lane 2k + 1's).
+    static F dup_even(F a) { return _mm256_moveldup_ps(a); }
+    static F dup_odd(F a) { return _mm256_movehdup_ps(a); }
+    // base[idx] in the lanes of the mask, 0 elsewhere (nothing read there).
+    static I gather(const std::uint32_t* base, I idx, M m) {
+        return _mm256_mask_i32gather_epi32(_mm256_setzero_si256(),
+                                           reinterpret_cast<const int*>(base), idx, m, 4);
+    }
 };
 
 #include "models/llvmpipe/vector_kernel_body.hpp"
 #include "models/llvmpipe/vector_row_masks_body.hpp"
+#include "models/llvmpipe/vector_texture_body.hpp"
 
 // Instantiated here, inside the target region.
 FragmentKernel::ShadeRowsFn pick(ShadeModel s, DepthFormat d, BlendPreset b) {
     return pick_vector_kernel<V>(s, d, b);
+}
+FragmentKernel::ShadeRowsFn pick_textured(ShadeModel s, DepthFormat d, BlendPreset b) {
+    return pick_vector_textured_kernel<V>(s, d, b);
 }
 RowMaskFn row_masks() {
     return &vector_row_masks<V>;
@@ -125,6 +151,10 @@ namespace refraster::detail {
 // The entry points vector_kernels.cpp calls once the CPU has reported the instructions.
 FragmentKernel::ShadeRowsFn avx2_shade_rows(ShadeModel s, DepthFormat d, BlendPreset b) {
     return avx2::pick(s, d, b);
+}
+
+FragmentKernel::ShadeRowsFn avx2_textured_shade_rows(ShadeModel s, DepthFormat d, BlendPreset b) {
+    return avx2::pick_textured(s, d, b);
 }
 
 RowMaskFn avx2_row_masks() {
