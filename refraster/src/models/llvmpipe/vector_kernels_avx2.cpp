@@ -116,6 +116,14 @@ struct V {
     // Lane 2k's value in lanes 2k and 2k + 1 (dup_odd: lane 2k + 1's).
     static F dup_even(F a) { return _mm256_moveldup_ps(a); }
     static F dup_odd(F a) { return _mm256_movehdup_ps(a); }
+    // table[idx] for idx in 0..15: a permute of each half, the half idx names.
+    static I lookup16(const std::int32_t* table, I idx) {
+        const I low = _mm256_permutevar8x32_epi32(
+            _mm256_loadu_si256(reinterpret_cast<const __m256i*>(table)), idx);
+        const I high = _mm256_permutevar8x32_epi32(
+            _mm256_loadu_si256(reinterpret_cast<const __m256i*>(table + 8)), idx);
+        return select(_mm256_cmpgt_epi32(idx, _mm256_set1_epi32(7)), low, high);
+    }
     // base[idx] in the lanes of the mask, 0 elsewhere (nothing read there).
     static I gather(const std::uint32_t* base, I idx, M m) {
         return _mm256_mask_i32gather_epi32(_mm256_setzero_si256(),

@@ -114,6 +114,10 @@ struct V {
     // Lane 2k's value in lanes 2k and 2k + 1 (dup_odd: lane 2k + 1's).
     static F dup_even(F a) { return _mm512_moveldup_ps(a); }
     static F dup_odd(F a) { return _mm512_movehdup_ps(a); }
+    // table[idx] for idx in 0..15: one permute.
+    static I lookup16(const std::int32_t* table, I idx) {
+        return _mm512_permutexvar_epi32(idx, _mm512_loadu_si512(table));
+    }
     // base[idx] in the lanes of the mask, 0 elsewhere (nothing read there).
     static I gather(const std::uint32_t* base, I idx, M m) {
         return _mm512_mask_i32gather_epi32(_mm512_setzero_si512(), m, idx, base, 4);

@@ -152,15 +152,14 @@ struct VectorTexturedKernel {
         return a;
     }
 
-    // A level's size and place per lane.
+    // A level's size and place per lane (levels 0 to 15: PackedLevels::kMaxLevels).
     struct LevelLanes {
         I offset, width, height;
     };
-    [[gnu::always_inline]] static LevelLanes level_lanes(const Unit& u, I level, M live) {
+    [[gnu::always_inline]] static LevelLanes level_lanes(const Unit& u, I level) {
         if (u.single_level) return {V::splati(0), u.width0, u.height0};
-        return {V::gather(reinterpret_cast<const std::uint32_t*>(u.offset), level, live),
-                V::gather(reinterpret_cast<const std::uint32_t*>(u.width), level, live),
-                V::gather(reinterpret_cast<const std::uint32_t*>(u.height), level, live)};
+        return {V::lookup16(u.offset, level), V::lookup16(u.width, level),
+                V::lookup16(u.height, level)};
     }
 
     // The texel (x, y) of a level in the live lanes; coordinates are clamped into the level
@@ -270,18 +269,20 @@ struct VectorTexturedKernel {
     // The texture's rgba8 for the lanes (the min and mag image filters as each lane's quad
     // decides, one or two levels).
     [[gnu::always_inline]] static I sample(const Unit& u, const Lod& q, F s, F t, M live) {
-        const auto level_sample = [&](I level) {
-            const LevelLanes l = level_lanes(u, level, live);
-            const M lin = V::m_and(q.linear, live);
-            const M near = V::m_andnot(q.linear, live);
-            if (V::none(near)) return sample_level(u, l, s, t, true, live);
-            if (V::none(lin)) return sample_level(u, l, s, t, false, live);
-            return V::select(q.linear, sample_level(u, l, s, t, false, near),
-                             sample_level(u, l, s, t, true, lin));
-        };
-        const I c0 = level_sample(q.level0);
+        const I c0 = sample_filtered(u, q, q.level0, s, t, live);
         if (!q.two_levels) return c0;
-        return lerp_bytes(q.frac8, c0, level_sample(q.level1));
+        return lerp_bytes(q.frac8, c0, sample_filtered(u, q, q.level1, s, t, live));
+    }
+    // One level per lane, each lane's image filter.
+    [[gnu::always_inline]] static I sample_filtered(const Unit& u, const Lod& q, I level, F s, F t,
+                                                    M live) {
+        const LevelLanes l = level_lanes(u, level);
+        const M lin = V::m_and(q.linear, live);
+        const M near = V::m_andnot(q.linear, live);
+        if (V::none(near)) return sample_level(u, l, s, t, true, live);
+        if (V::none(lin)) return sample_level(u, l, s, t, false, live);
+        return V::select(q.linear, sample_level(u, l, s, t, false, near),
+                         sample_level(u, l, s, t, true, lin));
     }
 
     // The texture coordinates (and, for the pixel's own row, the colour) at (px, py).
@@ -369,7 +370,10 @@ struct VectorTexturedKernel {
                         live = Base::depth_stage(depth, px, py, fma, depth_row + x, inside, live);
                         if (V::none(live)) continue;
                     }
-                    const Attributes own = attributes_at<true>(ap, flat, wp, px, py, fma);
+                    // The colour is read only to modulate.
+                    const Attributes own = u.modulate
+                                               ? attributes_at<true>(ap, flat, wp, px, py, fma)
+                                               : attributes_at<false>(ap, flat, wp, px, py, fma);
                     Lod q;
                     if (u.needs_lod) {
                         const Attributes other =
