@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "harness/scene_text.hpp"
 #include "refraster/renderer.hpp"
 
 namespace {
@@ -289,6 +290,21 @@ TEST(BenchWorkloads, SoftpipeRowsDrawTheirCounterparts) {
     EXPECT_FALSE(harness::bench_softpipe_counterpart("medium-smooth"));
     EXPECT_FALSE(harness::bench_softpipe_counterpart("softpipe-huge"));
     EXPECT_THROW((void)harness::make_bench_workload("softpipe-huge", 1), std::invalid_argument);
+}
+
+// The scene file the whole-process runs load gives the in-memory draw list back, bit for bit:
+// the two columns time the same scene. Scaled down: each kind of workload once.
+TEST(BenchWorkloads, SceneFileLoadsToTheSameDrawList) {
+    for (const char* name :
+         {"medium-smooth", "full-perspective", "medium-textured-trilinear", "full-smooth-4x",
+          "wide-lines", "points-4x", "polygons-evenodd", "full-flat-allpass"}) {
+        const auto b = harness::make_bench_workload(name, 9, 0.01);
+        const std::string text = harness::scene_json_text(harness::bench_scene_file(name, b.list),
+                                                          harness::VertexForm::Base64);
+        const auto loaded = harness::load_scene_text(text, std::string(name) + ".json");
+        EXPECT_TRUE(loaded.unsupported_extensions.empty()) << name;
+        EXPECT_EQ(loaded.draw_list, b.list) << name;
+    }
 }
 
 TEST(BenchWorkloads, ScalingWorkloadsScaleTheirCounterparts) {

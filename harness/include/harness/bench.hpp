@@ -35,6 +35,7 @@
 #include <string_view>
 #include <vector>
 
+#include "harness/scene.hpp"
 #include "refraster/draw.hpp"
 #include "refraster/profile.hpp"
 #include "refraster/renderer.hpp"
@@ -72,6 +73,12 @@ std::optional<std::string> bench_softpipe_counterpart(const std::string& name);
 // Throws std::invalid_argument for an unknown name. `scale` (0, 1] keeps that fraction of the
 // triangles, at least one (for quick runs and tests).
 BenchWorkload make_bench_workload(const std::string& name, std::uint64_t seed, double scale = 1.0);
+
+// The scene file of a draw list, for the whole-process runs (BenchOptions::process):
+// clip-space positions exactly as the list holds them, the textures named by index, and
+// "polygons" required when a draw needs it, so that loading the file's text gives the same
+// draw list back.
+SceneFile bench_scene_file(const std::string& name, const refraster::DrawList& list);
 
 // The heap bound of the performance target: twice the framebuffer (colour and depth, every
 // sample) plus the scene's vertex data (every draw's floats and indices), in bytes.

@@ -536,16 +536,16 @@ std::optional<std::string> difference(const Rendered& a, const Rendered& b) {
     return std::nullopt;
 }
 
-// The scene file of a draw list: clip-space positions exactly as the draw list holds them (so
-// that the loader's front end gives the same list back), the textures by index ("t0", ...).
-SceneFile scene_file_of(const std::string& name, const refraster::DrawList& list) {
+}  // namespace
+
+SceneFile bench_scene_file(const std::string& name, const refraster::DrawList& list) {
     SceneFile f;
     f.name = name;
     f.target = list.target;
     f.clear = list.clear;
     const auto texture_name = [](std::size_t i) {
         // Zero-padded, so that the file's name order is the draw list's index order.
-        std::string n = std::to_string(i);
+        const std::string n = std::to_string(i);
         return "t" + std::string(6 - std::min<std::size_t>(6, n.size()), '0') + n;
     };
     for (std::size_t i = 0; i < list.textures.size(); ++i)
@@ -579,6 +579,8 @@ SceneFile scene_file_of(const std::string& name, const refraster::DrawList& list
     if (polygons) f.requires_extensions.emplace_back("polygons");
     return f;
 }
+
+namespace {
 
 // A whole process's wall and CPU time (its own and its waited-for children's, wait4's
 // rusage), or the first line of what it wrote to stderr when it failed.
@@ -820,9 +822,9 @@ BenchReport run_bench(const BenchOptions& options, std::ostream& log) {
         std::filesystem::path scene_path;
         if (process_dir && !softpipe_row) {
             scene_path = process_dir->path / (name + ".json");
-            write_file_atomically(scene_path,
-                                  scene_json_text(scene_file_of("bench." + name, scene.draw_list),
-                                                  VertexForm::Base64));
+            write_file_atomically(
+                scene_path, scene_json_text(bench_scene_file("bench." + name, scene.draw_list),
+                                            VertexForm::Base64));
         }
         std::vector<double> ref_proc_ms, ref_proc_cpu_ms, gl_proc_ms, gl_proc_cpu_ms;
         std::vector<double> ref_ms, ref2_ms;
