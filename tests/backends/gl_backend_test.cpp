@@ -145,6 +145,22 @@ TEST_P(GlBackend, ClearColour) {
     }
 }
 
+// The time a result carries is the worker's own (first GL call to finished read-back), the
+// round trip with the transfer of the scene and the images beside it: the bench times GL by
+// the former.
+TEST_P(GlBackend, RenderTimeIsTheWorkersOwnAndTheRoundTripIsKeptBeside) {
+    auto b = make();
+    DrawList list;
+    list.target = Target{512, 512, ColorFormat::Rgba8, DepthFormat::Z24, 1};
+    const std::array<float, 4> red{1, 0, 0, 1};
+    list.draws.push_back(lower_left_triangle(list.target, red, red, red));
+    const auto r = b->render(make_scene("timed", list));
+    ASSERT_EQ(r.status, RenderStatus::Ok) << r.message;
+    EXPECT_GT(r.seconds, 0.0);
+    EXPECT_GT(r.round_trip_seconds, 0.0);
+    EXPECT_GE(r.round_trip_seconds, r.seconds);
+}
+
 TEST_P(GlBackend, LowerLeftTriangleCoversExactlyItsPixels) {
     auto b = make();
     DrawList list;

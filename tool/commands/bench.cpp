@@ -3,6 +3,7 @@
 // whether the targets were met.
 #include "harness/bench.hpp"
 
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <new>
@@ -23,6 +24,7 @@ struct BenchArgs {
     bool no_gl = false;
     bool no_softpipe = false;
     bool scaling = false;
+    bool process = false;
     unsigned threads = 1;
     unsigned second_threads = 2;
     std::string kernels = "fastest";
@@ -40,6 +42,17 @@ int run_bench(const BenchArgs& a) {
     o.gl = !a.no_gl;
     o.softpipe = !a.no_softpipe;
     o.scaling = a.scaling;
+    o.process = a.process;
+    if (a.process) {
+        // The process runs start this very executable.
+        std::error_code error;
+        o.refraster_path = std::filesystem::read_symlink("/proc/self/exe", error).string();
+        if (error) {
+            std::cerr << "refraster bench: --process: cannot find this executable: "
+                      << error.message() << "\n";
+            return kExitBackendFailure;
+        }
+    }
     o.threads = a.threads;
     o.second_threads = a.second_threads;
     o.kernels = *harness::parse_kernel_path(a.kernels);  // CLI checks the name
@@ -97,6 +110,9 @@ Command add_bench_command(CLI::App& app) {
         ->check(CLI::Range(1e-6, 1.0))
         ->capture_default_str();
     cmd->add_option("--seed", a->seed, "Seed of the generated workloads")->capture_default_str();
+    cmd->add_flag("--process", a->process,
+                  "Also time whole processes from scene file to PNG: `refraster render` on the "
+                  "reference and with --backend osmesa (LP_NUM_THREADS=0)");
     cmd->add_flag("--no-gl", a->no_gl, "Time the reference alone");
     cmd->add_flag("--no-softpipe", a->no_softpipe, "Leave softpipe out (llvmpipe only)");
     cmd->add_option("--threads", a->threads,

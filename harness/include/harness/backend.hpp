@@ -81,7 +81,12 @@ struct RenderResult {
     // sample); empty (0 x 0) for a single-sample target.
     refraster::Framebuffer samples;
     Provenance provenance;
-    double seconds = 0.0;  // time spent rendering, as the backend measured it
+    // Time spent rendering, as the renderer measured it: for a GL worker its own clock from
+    // the first GL call to the finished read-back, the transfer between processes excluded.
+    double seconds = 0.0;
+    // A worker backend's round trip from sending the scene to the decoded reply (the render
+    // plus the piping of the vertices and images); 0 for an in-process backend.
+    double round_trip_seconds = 0.0;
 };
 
 class Backend {

@@ -575,7 +575,8 @@ RenderResult GlWorkerBackend::render_frame(const Scene& scene, bool owners) {
         return failure(RenderStatus::InternalError,
                        who + ": bad reply for " + label + ": " + e.what());
     }
-    r.seconds = seconds;
+    // r.seconds stays the worker's own render time; the round trip is kept beside it.
+    r.round_trip_seconds = seconds;
     Provenance p = base_provenance();
     for (auto& [k, v] : r.provenance) p.insert_or_assign(k, std::move(v));
     r.provenance = std::move(p);

@@ -121,6 +121,7 @@ ojson render_json(const std::string& name, const RenderResult& r) {
     j["status"] = to_string(r.status);
     if (!r.message.empty()) j["message"] = r.message;
     j["seconds"] = r.seconds;
+    if (r.round_trip_seconds > 0.0) j["round_trip_seconds"] = r.round_trip_seconds;
     j["provenance"] = ojson(r.provenance);
     return j;
 }

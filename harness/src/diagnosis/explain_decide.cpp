@@ -493,6 +493,7 @@ Explanation Explainer::explain(int x, int y, bool full) {
         outcome.message = backend_result_->message;
         outcome.provenance = backend_result_->provenance;
         outcome.seconds = backend_result_->seconds;
+        outcome.round_trip_seconds = backend_result_->round_trip_seconds;
         e.backend = std::move(outcome);
     }
     e.backend_color = color_at(backend_view_, x, y);
