@@ -297,7 +297,7 @@ TEST(Cli, BenchOptionsReachTheJson) {
     EXPECT_NE(r.out.find("kernels scalar (asked: scalar); ref: 1 thread; ref 2T: off"),
               std::string::npos)
         << r.out;
-    EXPECT_NE(r.out.find("| tiny-flat | 100 |"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("| tiny-flat | 100 triangles |"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("\ntargets: tiny-flat -/3.0 not measured"), std::string::npos) << r.out;
     const std::string j = testutil::read_text(json);
     for (const char* key : {"\"kernels\": \"scalar\"", "\"threads\": 1", "\"second_threads\": 0",

@@ -916,9 +916,13 @@ BenchReport run_bench(const BenchOptions& options, std::ostream& log) {
                     log << "  process runs dropped: "
                         << (ref_run.failure.empty() ? "llvmpipe" : "ref") << ": " << failure
                         << "\n";
+                    std::error_code ignored;
+                    std::filesystem::remove(scene_path, ignored);
                     scene_path.clear();
                     ref_proc_ms.clear();
+                    ref_proc_cpu_ms.clear();
                     gl_proc_ms.clear();
+                    gl_proc_cpu_ms.clear();
                 } else {
                     if (file_bytes(dir / "ref.png") != file_bytes(dir / "llvmpipe.png"))
                         throw std::runtime_error("bench " + name +
@@ -942,6 +946,11 @@ BenchReport run_bench(const BenchOptions& options, std::ostream& log) {
                 log << ", ref proc " << ref_proc_ms.back() << " ms, llvmpipe proc "
                     << gl_proc_ms.back() << " ms";
             log << "\n" << std::flush;
+        }
+        if (!scene_path.empty()) {
+            // The tiny workloads' files are over 100 MB: one at a time on the disk.
+            std::error_code ignored;
+            std::filesystem::remove(scene_path, ignored);
         }
         row.ref_ms = median(ref_ms);
         if (row_second) row.ref2_ms = median(ref2_ms);
