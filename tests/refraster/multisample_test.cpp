@@ -5,6 +5,7 @@
 
 #include <array>
 #include <bit>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -239,6 +240,39 @@ TEST(Multisample, ResolveIsTheFloatMeanInSampleOrder) {
     EXPECT_EQ(plane.color32f[0], 0.3f);
     EXPECT_EQ(plane.depth[0], 102u);
     EXPECT_EQ(plane.owner, std::vector<std::uint32_t>{9});
+}
+
+// A pixel whose samples are equal resolves to their bytes (the shortcut resolve.cpp takes for
+// them), beside pixels whose samples differ, in one image.
+TEST(Multisample, ResolveOfEqualSamplesKeepsTheirBytes) {
+    refraster::Framebuffer ms(256, 2, ColorFormat::Rgba8, DepthFormat::None, 4);
+    for (std::size_t x = 0; x < 256; ++x) {
+        for (std::size_t s = 0; s < 4; ++s) {
+            for (std::size_t c = 0; c < 4; ++c) {
+                const auto v = static_cast<std::uint8_t>((x + 85 * c) % 256);
+                ms.color8[(x * 4 + s) * 4 + c] = v;
+                // Row 1: sample 3 one above (255 wraps to 0).
+                ms.color8[((256 + x) * 4 + s) * 4 + c] =
+                    s == 3 ? static_cast<std::uint8_t>(v + 1) : v;
+            }
+        }
+    }
+    const auto r = refraster::resolve_samples(ms);
+    for (std::size_t x = 0; x < 256; ++x) {
+        for (std::size_t c = 0; c < 4; ++c) {
+            const auto v = static_cast<std::uint8_t>((x + 85 * c) % 256);
+            ASSERT_EQ(r.color8[x * 4 + c], v) << "pixel " << x << " channel " << c;
+            // The float mean in sample order: (((v + v) + v) + (v + 1)) / 4 in unorm8 units.
+            const float k = 1.0f / 255.0f;
+            const auto w = static_cast<std::uint8_t>(v + 1);
+            float sum = 0.0f;
+            for (const std::uint8_t b : {v, v, v, w}) sum += static_cast<float>(b) * k;
+            const float mean = sum * 0.25f;
+            const auto expected = static_cast<std::uint8_t>(
+                mean >= 1.0f ? 255.0f : (mean > 0.0f ? std::nearbyint(mean * 255.0f) : 0.0f));
+            ASSERT_EQ(r.color8[(256 + x) * 4 + c], expected) << "pixel " << x << " channel " << c;
+        }
+    }
 }
 
 TEST(Multisample, OwnersArePerSample) {

@@ -62,10 +62,13 @@ std::string first_difference(const refraster::Framebuffer& a, const refraster::F
 
 class SceneMaker {
   public:
-    // `textured`: every draw samples the texture, into single-sample rgba8 targets (the
-    // vector sampler's draws, vector_texture_body.hpp), mostly with the 8-bit path's wraps.
-    explicit SceneMaker(std::uint64_t seed, bool textured = false)
-        : rng_(seed), seed_(seed), textured_(textured) {}
+    // Textured: every draw samples the texture, into single-sample rgba8 targets (the vector
+    // sampler's draws, vector_texture_body.hpp), mostly with the 8-bit path's wraps.
+    // Multisample: every target 4x, mostly rgba8 (the vector 4x kernels and 4x row blocks,
+    // vector_kernel_body.hpp shade_rows_4x, traverse.hpp convex_row_blocks_4x).
+    enum class Kind { Mixed, Textured, Multisample };
+    explicit SceneMaker(std::uint64_t seed, Kind kind = Kind::Mixed)
+        : rng_(seed), seed_(seed), textured_(kind == Kind::Textured), kind_(kind) {}
     std::uint64_t seed() const { return seed_; }
 
     refraster::DrawList scene() {
@@ -78,6 +81,10 @@ class SceneMaker {
         if (textured_) {
             l.target.color = ColorFormat::Rgba8;
             l.target.samples = 1;
+        }
+        if (kind_ == Kind::Multisample) {
+            l.target.color = pick(6) == 0 ? ColorFormat::Rgba32f : ColorFormat::Rgba8;
+            l.target.samples = 4;
         }
         l.clear.color = {uniform(0, 1), uniform(0, 1), uniform(0, 1), uniform(0, 1)};
         l.clear.depth = pick(6) == 0 ? 1e-40f : uniform(0, 1);
@@ -209,6 +216,7 @@ class SceneMaker {
     std::mt19937_64 rng_;
     std::uint64_t seed_;
     bool textured_ = false;
+    Kind kind_ = Kind::Mixed;
 };
 
 class Sameness : public ::testing::TestWithParam<std::uint64_t> {};
@@ -222,7 +230,14 @@ TEST_P(Sameness, EveryPathAndThreadCountGivesTheModelsBytes) {
 
 // Every draw textured: the vector sampler against the scalar one, filters, wraps, levels.
 TEST_P(Sameness, TexturedDrawsGiveTheModelsBytes) {
-    SceneMaker maker(GetParam() + 1000, true);
+    SceneMaker maker(GetParam() + 1000, SceneMaker::Kind::Textured);
+    expect_every_path_gives_the_models_bytes(maker, scene_count() / 2);
+}
+
+// Every target 4x: per-sample row blocks and the vector 4x kernels against the quad packets of
+// the scalar model, the scissor leak of multisampled boxes, bands and threads.
+TEST_P(Sameness, MultisampleTargetsGiveTheModelsBytes) {
+    SceneMaker maker(GetParam() + 2000, SceneMaker::Kind::Multisample);
     expect_every_path_gives_the_models_bytes(maker, scene_count() / 2);
 }
 

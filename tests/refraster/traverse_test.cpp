@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 #include <span>
 #include <vector>
@@ -180,6 +181,98 @@ TEST(Traversal, SmallBoxRowMasksEqualPerPixelTest) {
         }
     }
     EXPECT_GT(wide, 10000);  // rows of several vectors, and the scalar path's divisions
+}
+
+// The 4x row blocks (convex_row_blocks_4x) hold exactly the samples the per-pixel multisample
+// traversal (convex_quads_4x) covers: small boxes and tiles, every row builder, scissors whose
+// leak widens the box, and boxes cut into 64-row bands as the band workers cut them.
+TEST(Traversal, MultisampleRowBlocksEqualQuadPackets) {
+    constexpr int kW = 260;
+    constexpr int kH = 200;
+    std::vector<refraster::detail::RowMaskFn> builders = {nullptr};
+    for (auto path : {refraster::KernelPath::Avx2, refraster::KernelPath::Avx512}) {
+        if (!refraster::kernel_path_available(path)) continue;
+        builders.push_back(refraster::detail::vector_row_masks(path));
+    }
+    std::mt19937 rng(20261207);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    std::uniform_int_distribution<int> coin(0, 3);
+    std::uniform_int_distribution<int> at_x(0, kW - 1);
+    std::uniform_int_distribution<int> at_y(0, kH - 1);
+    const auto index = [](int x, int y, unsigned s) {
+        return (static_cast<std::size_t>(y) * kW + static_cast<std::size_t>(x)) * 4 + s;
+    };
+    int drawn = 0;
+    int leaking = 0;
+    int tiled_boxes = 0;
+    for (int n = 0; drawn < 4000; ++n) {
+        SetupParams p;
+        p.multisample = true;
+        p.pixel_center_offset = 0.0f;
+        p.tie_rule = static_cast<refraster::TieRule>(coin(rng));
+        p.framebuffer = {0, 0, kW - 1, kH - 1};
+        p.draw_region = p.framebuffer;
+        if (coin(rng) == 0) {
+            const int x0 = at_x(rng);
+            const int y0 = at_y(rng);
+            p.draw_region = {x0, y0, std::min(kW - 1, x0 + at_x(rng)),
+                             std::min(kH - 1, y0 + at_y(rng))};
+        }
+        const float size = 1.0f + unit(rng) * (n % 4 == 0 ? 300.0f : 60.0f);
+        const auto v = random_vertices(rng, kW, kH, size, n % 3 == 0);
+        TriangleSetup t;
+        if (refraster::detail::setup_triangle(v, p, t) != SetupOutcome::Ok) continue;
+        if (t.llvmpipe_walk) continue;
+        ++drawn;
+        leaking += t.scissor_leak != 0;
+        tiled_boxes += (t.bbox.x1 - t.bbox.x0) >= 64 || (t.bbox.y1 - t.bbox.y0) >= 64;
+        std::vector<std::uint8_t> expected(static_cast<std::size_t>(kW) * kH * 4, 0);
+        refraster::detail::convex_quads_4x<3>(
+            t, [&](std::span<const refraster::detail::QuadPacket> qs) {
+                for (const auto& q : qs) {
+                    for (unsigned i = 0; i < 4; ++i) {
+                        for (unsigned s = 0; s < 4; ++s) {
+                            if (q.mask & (1u << refraster::detail::quad_bit(i, s)))
+                                ++expected[index(q.x + static_cast<int>(i & 1u),
+                                                 q.y + static_cast<int>(i >> 1), s)];
+                        }
+                    }
+                }
+            });
+        for (auto* builder : builders) {
+            for (const bool bands : {false, true}) {
+                std::vector<std::uint8_t> got(expected.size(), 0);
+                const auto mark = [&](const refraster::detail::RowBlock& b) {
+                    ASSERT_EQ(b.samples, 4);
+                    for (unsigned s = 0; s < 4; ++s) {
+                        for (int r = 0; r < b.rows; ++r) {
+                            for (int i = 0; i < 64; ++i) {
+                                if ((b.sample_rows(static_cast<int>(s))[r] >> i) & 1u)
+                                    ++got[index(b.x0 + i, b.y0 + r, s)];
+                            }
+                        }
+                    }
+                };
+                if (!bands) {
+                    refraster::detail::convex_row_blocks_4x<3>(t, mark, builder, t.bbox.x0,
+                                                               t.bbox.y0);
+                } else {
+                    for (int y0 = 0; y0 < kH; y0 += 64) {
+                        TriangleSetup c = t;
+                        c.bbox.y0 = std::max(c.bbox.y0, y0);
+                        c.bbox.y1 = std::min(c.bbox.y1, y0 + 63);
+                        if (c.bbox.empty()) continue;
+                        refraster::detail::convex_row_blocks_4x<3>(c, mark, builder, t.bbox.x0,
+                                                                   t.bbox.y0);
+                    }
+                }
+                ASSERT_EQ(got, expected) << "triangle " << n << (bands ? " in bands" : "")
+                                         << (builder ? " (vector)" : " (scalar)");
+            }
+        }
+    }
+    EXPECT_GT(leaking, 100);      // the scissor leak's samples were exercised
+    EXPECT_GT(tiled_boxes, 500);  // and the tile path, not only small boxes
 }
 
 }  // namespace

@@ -6,8 +6,13 @@
 // small primitive's box another. A kernel that reads row masks walks a row in runs of as many
 // pixels as its vector holds and never rebuilds 2x2 quads.
 //
-// Deliberately does not: carry samples (4x targets use quad packets, quad.hpp), or promise
-// that x0 or y0 is aligned: every bit set names a pixel inside the framebuffer, nothing else.
+// A 4x block (samples 4) holds one such set of rows per sample: the rows of sample s start at
+// mask[s * kMaxBlockRows], so that a tile of llvmpipe's multisample walk (llvmpipe_walk.hpp,
+// Walk::rows) is a block as it stands; sample 0's rows come first, where a single-sample
+// reader looks.
+//
+// Deliberately does not: promise that x0 or y0 is aligned: every bit set names a pixel (or a
+// sample of it) inside the framebuffer, nothing else.
 #pragma once
 
 #include <bit>
@@ -16,14 +21,17 @@
 
 namespace refraster::detail {
 
+inline constexpr int kMaxBlockRows = 64;
+
 struct RowBlock {
     std::int32_t x0 = 0;
     std::int32_t y0 = 0;
     std::int32_t rows = 0;  // at most 64
     const std::uint64_t* mask = nullptr;
-};
+    std::int32_t samples = 1;  // 1, or 4: the rows of sample s at mask + s * kMaxBlockRows
 
-inline constexpr int kMaxBlockRows = 64;
+    const std::uint64_t* sample_rows(int s) const { return mask + s * kMaxBlockRows; }
+};
 
 // The row masks of a box of w <= 64 pixels by h <= kMaxBlockRows rows, from each of `edges`
 // edges' q = (E - 1) >> bits at the box's first pixel and its int32 steps along a row (sx) and
@@ -48,6 +56,7 @@ inline void prefetch_pixels(const std::uint32_t* buffer, std::size_t first, std:
     }
 }
 
+// The covered pixels (sample 0's, on a 4x block: what covered_pixels of quad packets counts).
 inline int covered_pixels(const RowBlock& b) {
     int n = 0;
     for (int r = 0; r < b.rows; ++r) n += std::popcount(b.mask[r]);

@@ -428,12 +428,23 @@ struct Kernel {
 
 template <ShadeModel S, DepthFormat D, ColorFormat C, BlendPreset B>
 FragmentKernel make_kernel(KernelState state) {
+    const KernelPath path = state.options.kernels;
     if (state.samples == kMsaaSamples) {
         using K4 = Kernel<S, D, C, B, kMsaaSamples>;
+        if (path == KernelPath::Model) return {state, &K4::shade, &K4::trace};
+        if constexpr (C == ColorFormat::Rgba8) {
+            // 4x row blocks on the vector paths for untextured draws with multisampling on.
+            if (state.texture == nullptr && state.options.multisample) {
+                if (auto* fn = vector_shade_rows(path, S, D, B, kMsaaSamples))
+                    return {state, &K4::shade, &K4::trace, fn, state.options.flush_denormals};
+            }
+        }
+#if REFRASTER_KERNEL_ISA_VARIANTS
+        if (host_runs_fma_sse41()) return {state, &K4::shade_fma, &K4::trace};
+#endif
         return {state, &K4::shade, &K4::trace};
     }
     using K = Kernel<S, D, C, B, 1>;
-    const KernelPath path = state.options.kernels;
     if (path == KernelPath::Model) return {state, &K::shade, &K::trace};
     if (state.texture != nullptr) {
         if constexpr (C == ColorFormat::Rgba8) {

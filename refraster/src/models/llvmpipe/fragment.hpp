@@ -21,7 +21,8 @@
 //
 //  - 4x targets: kernels for four samples a pixel (colour once at the centre, depth and the
 //    output merge per sample), or the single-sample result repeated into every sample when
-//    the draw turns multisampling off.
+//    the draw turns multisampling off; on the vector paths, untextured multisampled draws
+//    into rgba8 read 4x row blocks (vector_kernel_body.hpp, shade_rows_4x).
 //
 // Deliberately does not: stencil, colour masks, blend equations other than the two presets,
 // sample shading or centroid interpolation.
@@ -98,7 +99,8 @@ class FragmentKernel {
                Framebuffer& fb) const {
         shade_(state_, list, prim, quads, fb);
     }
-    // Whether the kernel reads row blocks (single-sample targets, every path but the model);
+    // Whether the kernel reads row blocks (single-sample targets on every path but the model;
+    // 4x row blocks for untextured multisampled draws into rgba8 on the vector paths);
     // shade_rows then replaces shade.
     bool shades_rows() const { return shade_rows_ != nullptr; }
     void shade_rows(const SetupList& list, const SetupPrimitive& prim, const RowBlock& block,

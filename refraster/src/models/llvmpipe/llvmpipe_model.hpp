@@ -93,19 +93,21 @@ class LlvmpipeModel : public DrawModule<LlvmpipeModel, SetupList> {
         }
     }
 
-    // Single-sample primitives can also be traversed into row blocks (row_block.hpp), which
-    // the fast fragment kernels read: llvmpipe's walk a tile at a time, convex primitives
-    // through the small-box path (with the vector row-mask builder `masks`, when given: the
-    // same rows) or a tile at a time.
+    // Primitives can also be traversed into row blocks (row_block.hpp), which the fast fragment
+    // kernels read: llvmpipe's walk a tile at a time, convex primitives through the small-box
+    // path (with the vector row-mask builder `masks`, when given: the same rows) or a tile at a
+    // time; on a multisample list, 4x blocks of the same samples traverse() finds.
     static constexpr bool kRowBlocks = true;
     template <class OnBlock>
     static void traverse_rows(const SetupList& list, const SetupPrimitive& p, RowMaskFn masks,
                               OnBlock&& on_block) {
+        const int samples = list.multisample ? 4 : 1;
         if (p.walk >= 0) {
-            lp::walk_tiles(list.walks[static_cast<std::size_t>(p.walk)],
-                           [&](const std::uint64_t* rows, int tx, int ty) {
-                               on_block(RowBlock{tx, ty, kTileSize, rows});
-                           });
+            lp::walk_binned(list.walks[static_cast<std::size_t>(p.walk)], [&](const lp::Walk& w) {
+                on_block(RowBlock{w.tile_x, w.tile_y, kTileSize, &w.rows[0][0], samples});
+            });
+        } else if (list.multisample) {
+            convex_blocks_4x(p, masks, p.bbox.x0, p.bbox.y0, on_block);
         } else if (p.edge_count == 3) {
             convex_row_blocks<3>(p, on_block, masks);
         } else {
@@ -115,25 +117,29 @@ class LlvmpipeModel : public DrawModule<LlvmpipeModel, SetupList> {
 
     // The covered pixels of `p` in the 64-row band from row y0 (band_workers.hpp), as row
     // blocks: a convex primitive's box clipped to the band (the same pixels, as coverage
-    // does not depend on the box), llvmpipe's walk by its tiles in the band.
+    // does not depend on the box; the scissor leak stays at the whole box's first row),
+    // llvmpipe's walk by its tiles in the band.
     template <class OnBlock>
     static void traverse_band(const SetupList& list, const SetupPrimitive& p, RowMaskFn masks,
                               int y0, std::uint64_t* scratch, OnBlock&& on_block) {
         (void)scratch;
         const int y1 = y0 + kBandRows - 1;
+        const int samples = list.multisample ? 4 : 1;
         if (p.walk >= 0) {
-            lp::walk_tiles(list.walks[static_cast<std::size_t>(p.walk)],
-                           [&](const std::uint64_t* rows, int tx, int ty) {
-                               // Tiles and bands are both 64 rows from row 0.
-                               if (ty == y0) on_block(RowBlock{tx, ty, kTileSize, rows});
-                           });
+            lp::walk_binned(list.walks[static_cast<std::size_t>(p.walk)], [&](const lp::Walk& w) {
+                // Tiles and bands are both 64 rows from row 0.
+                if (w.tile_y == y0)
+                    on_block(RowBlock{w.tile_x, w.tile_y, kTileSize, &w.rows[0][0], samples});
+            });
             return;
         }
         SetupPrimitive c = p;
         c.bbox.y0 = std::max(c.bbox.y0, y0);
         c.bbox.y1 = std::min(c.bbox.y1, y1);
         if (c.bbox.empty()) return;
-        if (p.edge_count == 3) {
+        if (list.multisample) {
+            convex_blocks_4x(c, masks, p.bbox.x0, p.bbox.y0, on_block);
+        } else if (p.edge_count == 3) {
             convex_row_blocks<3>(c, on_block, masks);
         } else {
             convex_row_blocks<4>(c, on_block, masks);
@@ -171,6 +177,16 @@ class LlvmpipeModel : public DrawModule<LlvmpipeModel, SetupList> {
                                  const std::vector<bool>& segment_clipped) const;
     template <class Observer>
     PlaneNeeds plane_needs() const;
+
+    template <class OnBlock>
+    static void convex_blocks_4x(const SetupPrimitive& p, RowMaskFn masks, int leak_x, int leak_y,
+                                 OnBlock&& on_block) {
+        if (p.edge_count == 3) {
+            convex_row_blocks_4x<3>(p, on_block, masks, leak_x, leak_y);
+        } else {
+            convex_row_blocks_4x<4>(p, on_block, masks, leak_x, leak_y);
+        }
+    }
 
     std::optional<TextureUnit> unit_;  // the draw's texture unit, if it samples one
     // Triangle setup runs with the CPU's flush modes set and plain float operations where

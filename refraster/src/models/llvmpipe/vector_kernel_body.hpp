@@ -18,7 +18,14 @@
 // lanes are not covered or fail the depth test writes the same bytes: only covered lanes that
 // pass are stored.
 //
-// Deliberately does not: rgba32f or 4x targets.
+// 4x targets with multisampling on (shade_rows_4x, the scalar Kernel::shade_4x): the colour
+// once a pixel at its centre, then per sample the depth at the sample's position, the test,
+// blending and stores. A pixel's four samples lie side by side in memory (framebuffer.hpp), so
+// each vector of the sample stages holds kLanes / 4 pixels' samples, lane l sample l % 4 of
+// pixel l / 4, and the pixels' colours are permuted into it.
+//
+// Deliberately does not: rgba32f targets, or draws that turn multisampling off on a 4x target
+// (the scalar kernels serve both).
 
 template <class V, ShadeModel S, DepthFormat D, BlendPreset B>
 struct VectorKernel {
@@ -168,12 +175,15 @@ struct VectorKernel {
     // prefetch changes no value.
     static constexpr int kAhead = 8;
     [[gnu::always_inline]] static void prefetch_row(const RowBlock& b, int r, Framebuffer& fb) {
-        const std::uint64_t pm = b.mask[r];
+        std::uint64_t pm = b.mask[r];
+        for (int s = 1; s < b.samples; ++s) pm |= b.sample_rows(s)[r];
         if (pm == 0) return;
+        const auto n = static_cast<std::size_t>(b.samples);
         const std::size_t row =
             static_cast<std::size_t>(b.y0 + r) * fb.width + static_cast<std::size_t>(b.x0);
-        const std::size_t first = row + static_cast<std::size_t>(std::countr_zero(pm));
-        const std::size_t last = row + static_cast<std::size_t>(63 - std::countl_zero(pm));
+        const std::size_t first = (row + static_cast<std::size_t>(std::countr_zero(pm))) * n;
+        const std::size_t last =
+            (row + static_cast<std::size_t>(63 - std::countl_zero(pm))) * n + (n - 1);
         if constexpr (D != DepthFormat::None) prefetch_pixels<1, 3>(fb.depth.data(), first, last);
         prefetch_pixels<1, 3>(reinterpret_cast<const std::uint32_t*>(fb.color8.data()), first,
                               last);
@@ -187,20 +197,7 @@ struct VectorKernel {
         const bool owners = !fb.owner.empty();
         const auto width = static_cast<std::int32_t>(fb.width);
         const DepthTest depth = depth_test_of(k, planes, prim);
-        const PlaneV wp = splat(planes[kWPlane]);
-        PlaneV cp[4];
-        if constexpr (S != ShadeModel::Flat) {
-            for (std::size_t j = 0; j < 4; ++j) cp[j] = splat(planes[kFirstAttributePlane + j]);
-        }
-        I flat_color = V::splati(0);
-        if constexpr (S == ShadeModel::Flat) {
-            // Converted once per primitive, as the scalar model does (with the same results
-            // under the CPU's denormal modes: a denormal channel becomes 0 either way).
-            std::uint32_t packed = 0;
-            for (std::size_t j = 0; j < 4; ++j)
-                packed |= std::uint32_t{color_to_unorm8(flat[j])} << (8 * j);
-            flat_color = V::splati(static_cast<std::int32_t>(packed));
-        }
+        const Source source = source_of(planes, flat);
         const I owner = V::splati(static_cast<std::int32_t>(prim.owner));
         const F lanes = V::lane_index();
         constexpr std::uint64_t kLaneBits = (std::uint64_t{1} << kLanes) - 1;
@@ -229,21 +226,143 @@ struct VectorKernel {
                     live = depth_stage(depth, px, py, fma, depth_row + x, inside, live);
                     if (V::none(live)) continue;
                 }
-                I src;
-                if constexpr (S == ShadeModel::Flat) {
-                    src = flat_color;
-                } else {
-                    F c[4];
-                    if constexpr (S == ShadeModel::Smooth) {
-                        const F w = V::div(V::splat(1.0f), at(wp, px, py, fma));
-                        for (int j = 0; j < 4; ++j) c[j] = V::mul(at(cp[j], px, py, fma), w);
-                    } else {
-                        for (int j = 0; j < 4; ++j) c[j] = at(cp[j], px, py, fma);
-                    }
-                    src = pack_unorm8(c);
-                }
+                const I src = source_color(source, px, py, fma);
                 color_stage(src, color_row + x, owners ? owner_row + x : nullptr, owner, inside,
                             live);
+            }
+        }
+    }
+
+    // The source colours of the pixels (x .. x + kLanes - 1, y) as packed rgba8, evaluated at
+    // (px, py) (flat: the primitive's, converted once).
+    struct Source {
+        PlaneV wp;
+        PlaneV cp[4];
+        I flat_color;
+    };
+    static Source source_of(const Plane* planes, const float* flat) {
+        Source src{};
+        if constexpr (S != ShadeModel::Flat) {
+            src.wp = splat(planes[kWPlane]);
+            for (std::size_t j = 0; j < 4; ++j) src.cp[j] = splat(planes[kFirstAttributePlane + j]);
+        } else {
+            // Converted once per primitive, as the scalar model does (with the same results
+            // under the CPU's denormal modes: a denormal channel becomes 0 either way).
+            std::uint32_t packed = 0;
+            for (std::size_t j = 0; j < 4; ++j)
+                packed |= std::uint32_t{color_to_unorm8(flat[j])} << (8 * j);
+            src.flat_color = V::splati(static_cast<std::int32_t>(packed));
+        }
+        return src;
+    }
+    [[gnu::always_inline]] static I source_color(const Source& src, F px, F py, bool fma) {
+        if constexpr (S == ShadeModel::Flat) {
+            return src.flat_color;
+        } else {
+            F c[4];
+            if constexpr (S == ShadeModel::Smooth) {
+                const F w = V::div(V::splat(1.0f), at(src.wp, px, py, fma));
+                for (int j = 0; j < 4; ++j) c[j] = V::mul(at(src.cp[j], px, py, fma), w);
+            } else {
+                for (int j = 0; j < 4; ++j) c[j] = at(src.cp[j], px, py, fma);
+            }
+            return pack_unorm8(c);
+        }
+    }
+
+    // A 4x target, multisampling on: kLanes pixels of a row at a time, their samples in
+    // kGroups vectors of kGroupPixels pixels each.
+    static constexpr int kGroupPixels = kLanes / static_cast<int>(kMsaaSamples);
+    static constexpr std::size_t kGroups = kMsaaSamples;
+    // Lane l of a sample vector: bit l of its mask is sample l % 4 of pixel l / 4; sample 0 of
+    // each of a run's kLanes pixels, four bits apart.
+    static constexpr std::uint64_t kSample0Bits = kLanes == 16 ? 0x1111111111111111u : 0x11111111u;
+    static_assert(kLanes == 8 || kLanes == 16, "two or four pixels' samples a vector");
+
+    static void shade_rows_4x(const KernelState& k, const SetupList& list,
+                              const SetupPrimitive& prim, const RowBlock& b, Framebuffer& fb) {
+        const Plane* planes = list.planes.data() + prim.planes;
+        const float* flat = list.flat.data() + prim.flat;
+        const bool fma = k.options.fma;
+        const bool owners = !fb.owner.empty();
+        const auto width = static_cast<std::int32_t>(fb.width);
+        const DepthTest depth = depth_test_of(k, planes, prim);
+        const Source source = source_of(planes, flat);
+        const I owner = V::splati(static_cast<std::int32_t>(prim.owner));
+        // Colour at the pixel centre: px + 0.5 (planes set up without the pixel offset, as the
+        // scalar model evaluates them: fragment.cpp shade_4x); every value here is exact.
+        const F centre_x = V::add(V::lane_index(), V::splat(0.5f));
+        // Depth at the sample: px + sx, py + sy (samples.hpp: multiples of 1/8, exact).
+        constexpr auto kN = static_cast<std::size_t>(kLanes);
+        alignas(64) float sample_x[kN];
+        alignas(64) float sample_y[kN];
+        alignas(64) std::uint32_t pick[kGroups][kN];
+        for (std::size_t l = 0; l < kN; ++l) {
+            const auto& pos = kSamplePositions4x[l % kMsaaSamples];
+            sample_x[l] = static_cast<float>(l / kMsaaSamples) + pos.x;
+            sample_y[l] = pos.y;
+            for (std::size_t g = 0; g < kGroups; ++g)
+                pick[g][l] = static_cast<std::uint32_t>(g * (kN / kMsaaSamples) + l / kMsaaSamples);
+        }
+        const F sample_dx = V::load_f(sample_x);
+        const F sample_dy = V::load_f(sample_y);
+        I group_pick[kGroups];
+        for (std::size_t g = 0; g < kGroups; ++g) group_pick[g] = V::load(pick[g]);
+        constexpr std::uint64_t kLaneBits = (std::uint64_t{1} << kLanes) - 1;
+        const std::uint64_t* sample_rows[kMsaaSamples];
+        for (int s = 0; s < static_cast<int>(kMsaaSamples); ++s) sample_rows[s] = b.sample_rows(s);
+
+        for (int r = 0; r < kAhead && r < b.rows; ++r) prefetch_row(b, r, fb);
+        for (int r = 0; r < b.rows; ++r) {
+            if (r + kAhead < b.rows) prefetch_row(b, r + kAhead, fb);
+            const std::uint64_t m[kMsaaSamples] = {sample_rows[0][r], sample_rows[1][r],
+                                                   sample_rows[2][r], sample_rows[3][r]};
+            std::uint64_t u = m[0] | m[1] | m[2] | m[3];
+            if (u == 0) continue;
+            const std::int32_t y = b.y0 + r;
+            const float fy = static_cast<float>(y);
+            const F py_centre = V::splat(fy + 0.5f);
+            const F py_sample = V::add(V::splat(fy), sample_dy);
+            const std::size_t row = static_cast<std::size_t>(y) * fb.width * kMsaaSamples;
+            std::uint32_t* depth_row = fb.depth.empty() ? nullptr : fb.depth.data() + row;
+            auto* color_row = reinterpret_cast<std::uint32_t*>(fb.color8.data()) + row;
+            std::uint32_t* owner_row = owners ? fb.owner.data() + row : nullptr;
+            while (u != 0) {
+                const int base = std::countr_zero(u) & ~(kLanes - 1);
+                u &= ~(kLaneBits << base);
+                const std::int32_t x = b.x0 + base;
+                M live[kGroups];
+                bool any = false;
+                // Bit 4i + s: sample s of pixel x + i; group g's lanes are its bits from
+                // g * kLanes on.
+                std::uint64_t samples = 0;
+                for (unsigned s = 0; s < kMsaaSamples; ++s)
+                    samples |= _pdep_u64((m[s] >> base) & kLaneBits, kSample0Bits) << s;
+                for (std::size_t g = 0; g < kGroups; ++g) {
+                    const auto bits = static_cast<unsigned>((samples >> (g * kLanes)) & kLaneBits);
+                    live[g] = V::from_bits(bits);
+                    if (bits == 0) continue;
+                    if constexpr (D != DepthFormat::None) {
+                        const std::int32_t xg = x + static_cast<int>(g) * kGroupPixels;
+                        const F px = V::add(V::splat(static_cast<float>(xg)), sample_dx);
+                        live[g] = depth_stage(depth, px, py_sample, fma,
+                                              depth_row + static_cast<std::size_t>(xg) * 4,
+                                              xg + kGroupPixels <= width, live[g]);
+                        if (V::none(live[g])) continue;
+                    }
+                    any = true;
+                }
+                if (!any) continue;
+                const F px_centre = V::add(V::splat(static_cast<float>(x)), centre_x);
+                const I src = source_color(source, px_centre, py_centre, fma);
+                for (std::size_t g = 0; g < kGroups; ++g) {
+                    if (V::none(live[g])) continue;
+                    const std::int32_t xg = x + static_cast<int>(g) * kGroupPixels;
+                    const std::size_t at_sample = static_cast<std::size_t>(xg) * 4;
+                    color_stage(V::permute(src, group_pick[g]), color_row + at_sample,
+                                owners ? owner_row + at_sample : nullptr, owner,
+                                xg + kGroupPixels <= width, live[g]);
+                }
             }
         }
     }
@@ -256,16 +375,22 @@ struct VectorKernel {
 };
 
 // The kernel for a draw's state, as a function pointer.
+// `samples`: 1, or 4 (shade_rows_4x).
 template <class V>
-FragmentKernel::ShadeRowsFn pick_vector_kernel(ShadeModel s, DepthFormat d, BlendPreset b) {
+FragmentKernel::ShadeRowsFn pick_vector_kernel(ShadeModel s, DepthFormat d, BlendPreset b,
+                                               unsigned samples) {
     const auto by_blend = [&]<ShadeModel kS, DepthFormat kD>() -> FragmentKernel::ShadeRowsFn {
+        const auto of = [&]<BlendPreset kB>() -> FragmentKernel::ShadeRowsFn {
+            using K = VectorKernel<V, kS, kD, kB>;
+            return samples == kMsaaSamples ? &K::shade_rows_4x : &K::shade_rows;
+        };
         switch (b) {
             case BlendPreset::None:
-                return &VectorKernel<V, kS, kD, BlendPreset::None>::shade_rows;
+                return of.template operator()<BlendPreset::None>();
             case BlendPreset::Alpha:
-                return &VectorKernel<V, kS, kD, BlendPreset::Alpha>::shade_rows;
+                return of.template operator()<BlendPreset::Alpha>();
             case BlendPreset::Add:
-                return &VectorKernel<V, kS, kD, BlendPreset::Add>::shade_rows;
+                return of.template operator()<BlendPreset::Add>();
         }
         return nullptr;
     };

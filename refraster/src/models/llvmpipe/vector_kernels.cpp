@@ -3,8 +3,10 @@
 
 namespace refraster::detail {
 
-FragmentKernel::ShadeRowsFn avx2_shade_rows(ShadeModel s, DepthFormat d, BlendPreset b);
-FragmentKernel::ShadeRowsFn avx512_shade_rows(ShadeModel s, DepthFormat d, BlendPreset b);
+FragmentKernel::ShadeRowsFn avx2_shade_rows(ShadeModel s, DepthFormat d, BlendPreset b,
+                                            unsigned samples);
+FragmentKernel::ShadeRowsFn avx512_shade_rows(ShadeModel s, DepthFormat d, BlendPreset b,
+                                              unsigned samples);
 FragmentKernel::ShadeRowsFn avx2_textured_shade_rows(ShadeModel s, DepthFormat d, BlendPreset b);
 FragmentKernel::ShadeRowsFn avx512_textured_shade_rows(ShadeModel s, DepthFormat d, BlendPreset b);
 RowMaskFn avx2_row_masks();
@@ -12,10 +14,10 @@ RowMaskFn avx512_row_masks();
 
 #if !REFRASTER_VECTOR_KERNELS
 // No vector kernels in this build: resolve_kernel_path never picks them.
-FragmentKernel::ShadeRowsFn avx2_shade_rows(ShadeModel, DepthFormat, BlendPreset) {
+FragmentKernel::ShadeRowsFn avx2_shade_rows(ShadeModel, DepthFormat, BlendPreset, unsigned) {
     return nullptr;
 }
-FragmentKernel::ShadeRowsFn avx512_shade_rows(ShadeModel, DepthFormat, BlendPreset) {
+FragmentKernel::ShadeRowsFn avx512_shade_rows(ShadeModel, DepthFormat, BlendPreset, unsigned) {
     return nullptr;
 }
 FragmentKernel::ShadeRowsFn avx2_textured_shade_rows(ShadeModel, DepthFormat, BlendPreset) {
@@ -33,12 +35,12 @@ RowMaskFn avx512_row_masks() {
 #endif
 
 FragmentKernel::ShadeRowsFn vector_shade_rows(KernelPath path, ShadeModel shade, DepthFormat depth,
-                                              BlendPreset blend) {
+                                              BlendPreset blend, unsigned samples) {
     switch (resolve_kernel_path(path)) {
         case KernelPath::Avx512:
-            return avx512_shade_rows(shade, depth, blend);
+            return avx512_shade_rows(shade, depth, blend, samples);
         case KernelPath::Avx2:
-            return avx2_shade_rows(shade, depth, blend);
+            return avx2_shade_rows(shade, depth, blend, samples);
         default:
             return nullptr;
     }

@@ -3,7 +3,7 @@
 //
 // Implements: the choice of a vector fragment kernel (8 lanes with AVX2 and FMA, 16 with
 // AVX-512) for a draw's state, the CPU checks behind that choice, and the floating-point mode
-// the kernels run under. A vector kernel reads row blocks (row_block.hpp) of a single-sample
+// the kernels run under. A vector kernel reads row blocks (row_block.hpp) of a single-sample or 4x
 // rgba8 target and performs, lane by lane, exactly the float operations of the scalar model
 // (fragment.cpp, Kernel): the same planes evaluated in the same order, fused exactly where
 // the profile fuses, the same clamps, roundings and integer blending. Denormals are flushed
@@ -14,7 +14,8 @@
 // Textured draws have a kernel of their own (vector_texture_body.hpp) where llvmpipe samples on
 // its 8-bit path.
 //
-// Deliberately does not: rgba32f targets or 4x targets (the scalar kernels serve them), or
+// Deliberately does not: rgba32f targets, textured draws on 4x targets, or draws that turn
+// multisampling off on a 4x target (the scalar kernels serve them), or
 // compile anything for an instruction set at build time: every vector kernel is compiled for
 // its target with a function-level target and called only when the CPU reports it.
 #pragma once
@@ -27,10 +28,11 @@
 namespace refraster::detail {
 
 // The vector kernel for `path` (Avx2 or Avx512; Fastest takes the widest this CPU runs) and
-// the draw's state on an rgba8 single-sample target; nullptr when the path is not a vector
+// the draw's state on an rgba8 target of `samples` samples (1, or 4 for an untextured draw with
+// multisampling on: the kernel then reads 4x row blocks); nullptr when the path is not a vector
 // path or the CPU lacks its instructions.
 FragmentKernel::ShadeRowsFn vector_shade_rows(KernelPath path, ShadeModel shade, DepthFormat depth,
-                                              BlendPreset blend);
+                                              BlendPreset blend, unsigned samples = 1);
 
 // The textured vector kernel (vector_texture_body.hpp) for `path` and the draw's state on an
 // rgba8 single-sample target, for a texture unit the vector sampler serves

@@ -7,12 +7,14 @@
 // instruction set and can never be picked for a CPU without AVX2.
 #include <immintrin.h>
 
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 
 #include "models/llvmpipe/fragment.hpp"
 #include "models/llvmpipe/vector_kernels.hpp"
 #include "stages/rules.hpp"
+#include "stages/samples.hpp"
 
 #if REFRASTER_VECTOR_KERNELS
 #if defined(__clang__)
@@ -99,6 +101,9 @@ struct V {
     static void store_masked(std::uint32_t* p, M m, I v) {
         _mm256_maskstore_epi32(reinterpret_cast<int*>(p), m, v);
     }
+    // The 4x kernel's operations (shade_rows_4x): a float load, and lane idx[i] of v in lane i.
+    static F load_f(const float* p) { return _mm256_loadu_ps(p); }
+    static I permute(I v, I idx) { return _mm256_permutevar8x32_epi32(v, idx); }
     // The textured kernel's operations (vector_texture_body.hpp).
     static F sub(F a, F b) { return _mm256_sub_ps(a, b); }
     static F floor(F a) { return _mm256_floor_ps(a); }
@@ -136,8 +141,8 @@ struct V {
 #include "models/llvmpipe/vector_texture_body.hpp"
 
 // Instantiated here, inside the target region.
-FragmentKernel::ShadeRowsFn pick(ShadeModel s, DepthFormat d, BlendPreset b) {
-    return pick_vector_kernel<V>(s, d, b);
+FragmentKernel::ShadeRowsFn pick(ShadeModel s, DepthFormat d, BlendPreset b, unsigned samples) {
+    return pick_vector_kernel<V>(s, d, b, samples);
 }
 FragmentKernel::ShadeRowsFn pick_textured(ShadeModel s, DepthFormat d, BlendPreset b) {
     return pick_vector_textured_kernel<V>(s, d, b);
@@ -157,8 +162,9 @@ RowMaskFn row_masks() {
 namespace refraster::detail {
 
 // The entry points vector_kernels.cpp calls once the CPU has reported the instructions.
-FragmentKernel::ShadeRowsFn avx2_shade_rows(ShadeModel s, DepthFormat d, BlendPreset b) {
-    return avx2::pick(s, d, b);
+FragmentKernel::ShadeRowsFn avx2_shade_rows(ShadeModel s, DepthFormat d, BlendPreset b,
+                                            unsigned samples) {
+    return avx2::pick(s, d, b, samples);
 }
 
 FragmentKernel::ShadeRowsFn avx2_textured_shade_rows(ShadeModel s, DepthFormat d, BlendPreset b) {

@@ -12,12 +12,14 @@
 #endif
 #include <immintrin.h>
 
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 
 #include "models/llvmpipe/fragment.hpp"
 #include "models/llvmpipe/vector_kernels.hpp"
 #include "stages/rules.hpp"
+#include "stages/samples.hpp"
 
 #if REFRASTER_VECTOR_KERNELS
 #if defined(__clang__)
@@ -95,6 +97,9 @@ struct V {
     static void store(std::uint32_t* p, I v) { _mm512_storeu_si512(p, v); }
     static I load_masked(const std::uint32_t* p, M m) { return _mm512_maskz_loadu_epi32(m, p); }
     static void store_masked(std::uint32_t* p, M m, I v) { _mm512_mask_storeu_epi32(p, m, v); }
+    // The 4x kernel's operations (shade_rows_4x): a float load, and lane idx[i] of v in lane i.
+    static F load_f(const float* p) { return _mm512_loadu_ps(p); }
+    static I permute(I v, I idx) { return _mm512_permutexvar_epi32(idx, v); }
     // The textured kernel's operations (vector_texture_body.hpp).
     static F sub(F a, F b) { return _mm512_sub_ps(a, b); }
     static F floor(F a) {
@@ -129,8 +134,8 @@ struct V {
 #include "models/llvmpipe/vector_texture_body.hpp"
 
 // Instantiated here, inside the target region.
-FragmentKernel::ShadeRowsFn pick(ShadeModel s, DepthFormat d, BlendPreset b) {
-    return pick_vector_kernel<V>(s, d, b);
+FragmentKernel::ShadeRowsFn pick(ShadeModel s, DepthFormat d, BlendPreset b, unsigned samples) {
+    return pick_vector_kernel<V>(s, d, b, samples);
 }
 FragmentKernel::ShadeRowsFn pick_textured(ShadeModel s, DepthFormat d, BlendPreset b) {
     return pick_vector_textured_kernel<V>(s, d, b);
@@ -150,8 +155,9 @@ RowMaskFn row_masks() {
 namespace refraster::detail {
 
 // The entry points vector_kernels.cpp calls once the CPU has reported the instructions.
-FragmentKernel::ShadeRowsFn avx512_shade_rows(ShadeModel s, DepthFormat d, BlendPreset b) {
-    return avx512::pick(s, d, b);
+FragmentKernel::ShadeRowsFn avx512_shade_rows(ShadeModel s, DepthFormat d, BlendPreset b,
+                                              unsigned samples) {
+    return avx512::pick(s, d, b, samples);
 }
 
 FragmentKernel::ShadeRowsFn avx512_textured_shade_rows(ShadeModel s, DepthFormat d, BlendPreset b) {
