@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <array>
-#include <cmath>
 
 #include "models/llvmpipe/line_point.hpp"
 #include "models/llvmpipe/llvmpipe_model.hpp"
@@ -58,49 +57,6 @@ inline void prefetch_rows(const PixelRect& box, const Framebuffer& fb) {
         const std::size_t first = row + static_cast<std::size_t>(box.x0);
         const std::size_t last = row + static_cast<std::size_t>(box.x1);
         // Locality 2: into the second-level cache and the levels below it.
-        prefetch_pixels<0, 2>(color, first, last);
-        if (!fb.depth.empty()) prefetch_pixels<0, 2>(fb.depth.data(), first, last);
-    }
-}
-
-// The same for a line: its box may be 50 rows high and as wide, of which each row holds a
-// few pixels, so each row asks for the span the line's centre crosses there, widened by its
-// half width across the minor axis and a pixel of slack (a prefetch need not be exact: a
-// missed line is fetched when shaded, as before).
-inline void prefetch_line_rows(const LineSetup& L, const Framebuffer& fb) {
-    constexpr int kMaxRows = 64;
-    const PixelRect& box = L.bbox;
-    if (box.empty() || box.y1 - box.y0 >= kMaxRows || fb.color8.empty()) return;
-    // The centre line from the parallelogram's corners (line_point.cpp: 0 and 3 at the start,
-    // 1 and 2 at the end), in pixels.
-    const float unit = 1.0f / static_cast<float>(1 << L.bits);
-    const float xa = 0.5f * unit * static_cast<float>(L.x[0] + L.x[3]);
-    const float ya = 0.5f * unit * static_cast<float>(L.y[0] + L.y[3]);
-    const float xb = 0.5f * unit * static_cast<float>(L.x[1] + L.x[2]);
-    const float yb = 0.5f * unit * static_cast<float>(L.y[1] + L.y[2]);
-    const float half =
-        0.5f * unit * static_cast<float>(L.x_major ? L.y[3] - L.y[0] : L.x[3] - L.x[0]);
-    const float hy = (L.x_major ? half : 0.0f) + 1.0f;  // reach across rows
-    const float hx = (L.x_major ? 0.0f : half) + 1.0f;  // reach along a row
-    const float dy = yb - ya;
-    const bool level = std::fabs(dy) < 1.0f;  // a row's span is then the box's
-    const float dxdy = level ? 0.0f : (xb - xa) / dy;
-    const auto* color = reinterpret_cast<const std::uint32_t*>(fb.color8.data());
-    for (int y = box.y0; y <= box.y1; ++y) {
-        int x0 = box.x0;
-        int x1 = box.x1;
-        if (!level) {
-            const float u = xa + (static_cast<float>(y) - hy - ya) * dxdy;
-            const float v = xa + (static_cast<float>(y) + hy - ya) * dxdy;
-            const float lo = std::min(u, v) - hx;
-            const float hi = std::max(u, v) + hx;
-            if (lo > static_cast<float>(x0)) x0 = static_cast<int>(lo);
-            if (hi < static_cast<float>(x1)) x1 = static_cast<int>(hi);
-            if (x0 > x1) continue;
-        }
-        const std::size_t row = static_cast<std::size_t>(y) * fb.width;
-        const std::size_t first = row + static_cast<std::size_t>(x0);
-        const std::size_t last = row + static_cast<std::size_t>(x1);
         prefetch_pixels<0, 2>(color, first, last);
         if (!fb.depth.empty()) prefetch_pixels<0, 2>(fb.depth.data(), first, last);
     }
@@ -257,8 +213,6 @@ void LlvmpipeModel::segment(const VertexStage& stage, const StageVertex& v1, con
     line_planes(v1, v2, stage, ctx_.draw, ctx_.params.provoking_first, fragment_options(ctx_),
                 list_, prim);
     obs.line_drawn(v1, v2, *setup, list_.primitives.size() - 1);
-    if (prefetch_fb_ != nullptr && !ctx_.params.multisample)
-        llvmpipe_setup::prefetch_line_rows(*setup, *prefetch_fb_);
 }
 
 // One point that survived clipping: try_setup_point and its planes.
