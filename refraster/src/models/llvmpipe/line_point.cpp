@@ -31,13 +31,39 @@ float fracf(float f) {
     return f - std::floor(f);
 }
 
+// make_edge (edge_rules.cpp), its arithmetic inline here: a line or point makes four, and
+// the call returns the edge through memory.
 EdgeFunction edge(std::int32_t xi, std::int32_t yi, std::int32_t xj, std::int32_t yj,
                   TieRule rule) {
-    return make_edge(xi, yi, xj, yj, rule);
+    EdgeFunction e;
+    e.a = checked_sub(yi, yj);
+    e.b = checked_sub(xi, xj);
+    e.owns_ties = owns_ties(e.a, e.b, rule);
+    e.c = checked_add(checked_sub(wide_mul(e.a, xi), wide_mul(e.b, yi)),
+                      std::int64_t{e.owns_ties ? 1 : 0});
+    return e;
 }
 
 int ceil_shift(std::int32_t v, int bits) {
     return (v + (1 << bits) - 1) >> bits;
+}
+
+// linear_coef's shared terms (lp_setup_line.c): the start's position less the pixel offset,
+// the gradient's direction and 1 / area.
+struct LinearTerms {
+    float x0c, y0c, info_dx, info_dy, oneoverarea;
+};
+
+// lp_setup_line.c linear_coef for one attribute from its values at the two ends, each result
+// rounded to float and flushed as the model's FTZ says. Inline: every line makes six or more.
+[[gnu::always_inline]] inline Plane linear_coef(const Fp& fp, const LinearTerms& t, float a1,
+                                                float a2) {
+    const float da21 = fp.f(a1 - a2);
+    Plane pl;
+    pl.dadx = fp.f(fp.f(da21 * t.info_dx) * t.oneoverarea);
+    pl.dady = fp.f(fp.f(da21 * t.info_dy) * t.oneoverarea);
+    pl.a0 = fp.f(a1 - fp.f(fp.f(pl.dadx * t.x0c) + fp.f(pl.dady * t.y0c)));
+    return pl;
 }
 
 }  // namespace
@@ -62,7 +88,10 @@ std::optional<LineSetup> setup_line(const StageVertex& sv1, const StageVertex& s
     const auto iw = iround(width);
     if (!iw) return std::nullopt;
     const std::int32_t fixed_width = *iw * (1 << p.bits);
-    LineSetup L;
+    // Copied from a constant: a block copy, where a fresh value clears the struct with a
+    // string instruction whose start-up cost a short line notices.
+    static constexpr LineSetup kInitial{};
+    LineSetup L = kInitial;
     L.bits = p.bits;
     bool draw_start = false;
     bool draw_end = false;
@@ -304,7 +333,8 @@ void line_planes(const StageVertex& v1, const StageVertex& v2, const VertexStage
                  const Draw& draw, bool provoking_first, FragmentOptions options, SetupList& list,
                  SetupPrimitive& prim) {
     // setup_line_coefficients: C arithmetic (no fusion: baseline x86-64), under FTZ.
-    const auto f = [fp = Fp{options.flush_denormals}](float v) { return fp.f(v); };
+    const Fp fp{options.flush_denormals};
+    const auto f = [fp](float v) { return fp.f(v); };
     const float* a = v1.window.data();
     const float* b = v2.window.data();
     const float dx = f(a[0] - b[0]);
@@ -328,18 +358,9 @@ void line_planes(const StageVertex& v1, const StageVertex& v2, const VertexStage
     // linear_coef: setup->pixel_offset, which stays 0.5 under multisampling (only the
     // snap drops it there, and the shader then evaluates at the pixel centre): measured,
     // docs/precision.md "Multisampling".
-    const float x0c = f(a[0] - 0.5f);
-    const float y0c = f(a[1] - 0.5f);
-    const auto linear = [&](float a1, float a2) {
-        const float da21 = f(a1 - a2);
-        Plane pl;
-        pl.dadx = f(f(da21 * info_dx) * oneoverarea);
-        pl.dady = f(f(da21 * info_dy) * oneoverarea);
-        pl.a0 = f(a1 - f(f(pl.dadx * x0c) + f(pl.dady * y0c)));
-        return pl;
-    };
+    const LinearTerms t{f(a[0] - 0.5f), f(a[1] - 0.5f), info_dx, info_dy, oneoverarea};
     PlaneWriter out(list, prim, options.flush_denormals);
-    out.depth(linear(a[2], b[2]), linear(a[3], b[3]), 0.0f);
+    out.depth(linear_coef(fp, t, a[2], b[2]), linear_coef(fp, t, a[3], b[3]), 0.0f);
     const auto c1 = stage.attributes(v1);
     const auto c2 = stage.attributes(v2);
     for (std::size_t k = 0; k < c1.size(); ++k) {
@@ -348,10 +369,10 @@ void line_planes(const StageVertex& v1, const StageVertex& v2, const VertexStage
                 out.constant(provoking_first ? c1[k] : c2[k]);
                 break;
             case ShadeModel::Smooth:
-                out.attribute(linear(f(c1[k] * a[3]), f(c2[k] * b[3])));
+                out.attribute(linear_coef(fp, t, f(c1[k] * a[3]), f(c2[k] * b[3])));
                 break;  // perspective_coef
             case ShadeModel::NoPerspective:
-                out.attribute(linear(c1[k], c2[k]));
+                out.attribute(linear_coef(fp, t, c1[k], c2[k]));
                 break;
         }
     }
@@ -370,7 +391,8 @@ std::optional<PointSetup> setup_point(const StageVertex& v, float size, const Se
     const std::int32_t y0 = *ys - fw / 2;
     const std::int32_t x1 = x0 + fw;
     const std::int32_t y1 = y0 + fw;
-    PointSetup s;
+    static constexpr PointSetup kInitial{};  // a block copy, as setup_line's
+    PointSetup s = kInitial;
     s.bits = p.bits;
     s.fixed_width = fw;
     // Left, right, bottom, top, oriented like a set-up triangle (interior where E > 0): the

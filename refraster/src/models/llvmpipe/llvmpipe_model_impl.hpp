@@ -27,6 +27,14 @@ inline void copy_coverage(const TriangleSetup& t, SetupPrimitive& p, SetupList& 
     }
 }
 
+// A new primitive at the end of the list, copied from a constant: a block copy, where a
+// value-initialised one is cleared with a string instruction whose start-up cost a line or a
+// point notices.
+inline SetupPrimitive& new_primitive(SetupList& list) {
+    static constexpr SetupPrimitive kInitial{};
+    return list.primitives.emplace_back(kInitial);
+}
+
 template <class Setup>
 inline void copy_quad_coverage(const Setup& s, SetupPrimitive& p) {
     p.bits = s.bits;
@@ -199,7 +207,7 @@ void LlvmpipeModel::segment(const VertexStage& stage, const StageVertex& v1, con
     const auto setup = ctx_.params.multisample ? setup_rect_line(v1, v2, width, ctx_.params)
                                                : setup_line(v1, v2, width, ctx_.params);
     if (!setup) return;
-    SetupPrimitive& prim = list_.primitives.emplace_back();
+    SetupPrimitive& prim = llvmpipe_setup::new_primitive(list_);
     llvmpipe_setup::copy_quad_coverage(*setup, prim);
     prim.owner = owner_;
     line_planes(v1, v2, stage, ctx_.draw, ctx_.params.provoking_first, fragment_options(ctx_),
@@ -212,11 +220,12 @@ template <class Observer>
 void LlvmpipeModel::point(const VertexStage& stage, const StageVertex& v, Observer& obs) {
     const auto setup = setup_point(v, ctx_.draw.state.point_size, ctx_.params);
     if (!setup) return;
-    SetupPrimitive& prim = list_.primitives.emplace_back();
+    SetupPrimitive& prim = llvmpipe_setup::new_primitive(list_);
     llvmpipe_setup::copy_quad_coverage(*setup, prim);
     prim.owner = owner_;
     point_planes(v, *setup, ctx_.params, stage, ctx_.draw, fragment_options(ctx_), list_, prim);
     obs.point_drawn(v, *setup, list_.primitives.size() - 1);
+    if (prefetch_fb_ != nullptr) llvmpipe_setup::prefetch_rows(setup->bbox, *prefetch_fb_);
 }
 
 }  // namespace refraster::detail

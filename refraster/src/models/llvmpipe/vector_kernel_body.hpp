@@ -299,7 +299,8 @@ struct VectorKernel {
         alignas(64) std::uint32_t pick[kGroups][kN];
         for (std::size_t l = 0; l < kN; ++l) {
             const auto& pos = kSamplePositions4x[l % kMsaaSamples];
-            sample_x[l] = static_cast<float>(l / kMsaaSamples) + pos.x;
+            const std::size_t pixel = l / kMsaaSamples;  // the lane's pixel in its group
+            sample_x[l] = static_cast<float>(pixel) + pos.x;
             sample_y[l] = pos.y;
             for (std::size_t g = 0; g < kGroups; ++g)
                 pick[g][l] = static_cast<std::uint32_t>(g * (kN / kMsaaSamples) + l / kMsaaSamples);
