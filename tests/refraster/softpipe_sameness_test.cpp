@@ -173,7 +173,8 @@ class SoftpipeSceneMaker {
             ts.mag_filter = static_cast<refraster::TextureFilter>(pick(2));
             ts.wrap_s = static_cast<refraster::TextureWrap>(pick(4));
             ts.wrap_t = static_cast<refraster::TextureWrap>(pick(4));
-            ts.border_color = {uniform(-0.2f, 1.2f), uniform(0, 1), uniform(0, 1), edge_value(0, 1)};
+            ts.border_color = {uniform(-0.2f, 1.2f), uniform(0, 1), uniform(0, 1),
+                               edge_value(0, 1)};
             ts.env = static_cast<refraster::TextureEnv>(pick(2));
             ts.coord_replace = pick(3) == 0;
             ts.point_coord_origin = static_cast<refraster::PointCoordOrigin>(pick(2));

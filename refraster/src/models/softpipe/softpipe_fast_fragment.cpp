@@ -40,6 +40,32 @@ std::int32_t truncate_to_int32(float v) {
     return static_cast<std::int32_t>(v);
 }
 
+// cvttss2si with a 64-bit destination, as softpipe_fragment.cpp's: truncation towards zero,
+// 0x8000000000000000 for NaN and values outside int64's range.
+std::int64_t truncate_to_int64(float v) {
+    if (!(v >= -9223372036854775808.0f && v < 9223372036854775808.0f)) return INT64_MIN;
+    return static_cast<std::int64_t>(v);
+}
+
+// softpipe_depth_value (sp_quad_depth_test.c convert_quad_depth), here where it can be
+// inlined: it runs once a pixel.
+[[gnu::always_inline]] inline std::uint32_t depth_value(float z, DepthFormat format, bool nearest) {
+    const auto convert = [nearest](float v) {
+        return static_cast<std::uint32_t>(truncate_to_int64(nearest ? std::nearbyint(v) : v));
+    };
+    switch (format) {
+        case DepthFormat::Z16:
+            return convert(z * 65535.0f);
+        case DepthFormat::Z24:
+            return convert(z * 16777215.0f);
+        case DepthFormat::Z32f:
+            return std::bit_cast<std::uint32_t>(z);
+        case DepthFormat::None:
+            break;
+    }
+    return 0;
+}
+
 unsigned depth_outcome(std::uint32_t frag, std::uint32_t stored, bool is_float) {
     if (is_float) {
         const float f = std::bit_cast<float>(frag);
@@ -96,7 +122,7 @@ bool ScanlineKernel::depth_test_fast(const ScanlineList& list, const ScanlinePri
                 float zk = z[k];
                 // depth_test_quads_fallback's clamp (the point sprites: depth clipping off).
                 if (p.clamp_depth) zk = std::min(std::max(zk, depth_min_), depth_max_);
-                value = softpipe_depth_value(zk, fb.depth_format, depth_nearest_);
+                value = depth_value(zk, fb.depth_format, depth_nearest_);
                 stored_value = value & keep;
             }
             if ((depth_pass_ & depth_outcome(value, fb.depth[i], is_float)) == 0) {

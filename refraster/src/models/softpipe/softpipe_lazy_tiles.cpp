@@ -4,10 +4,43 @@
 
 #include <algorithm>
 #include <bit>
+#include <cstring>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "stages/output_merge.hpp"
 
 namespace refraster::detail {
+
+namespace {
+
+// util_format pack of one pixel, as SoftpipeTileCache::write_back: float_to_ubyte for
+// R8G8B8A8_UNORM (color_to_unorm8: 0 for NaN and c <= 0, 255 from 1 on, else RNE(fl(c * 255)),
+// the rounding in the current mode), the float itself for R32G32B32A32_FLOAT.
+void store_pixel(const float* c, Framebuffer& fb, std::size_t i) {
+    if (fb.color_format != ColorFormat::Rgba8) {
+        std::copy(c, c + 4, fb.color32f.begin() + static_cast<std::ptrdiff_t>(i));
+        return;
+    }
+#if defined(__SSE2__)
+    // The four channels at once: cvtps2dq rounds in the current mode as nearbyintf does, and
+    // the compares take denormals as the scalar compares do under the same mode.
+    const __m128 v = _mm_loadu_ps(c);
+    __m128i r = _mm_cvtps_epi32(_mm_mul_ps(v, _mm_set1_ps(255.0f)));
+    r = _mm_and_si128(r, _mm_castps_si128(_mm_cmpgt_ps(v, _mm_setzero_ps())));
+    const __m128i full = _mm_castps_si128(_mm_cmpge_ps(v, _mm_set1_ps(1.0f)));
+    r = _mm_or_si128(_mm_andnot_si128(full, r), _mm_and_si128(full, _mm_set1_epi32(255)));
+    r = _mm_packs_epi32(r, r);
+    r = _mm_packus_epi16(r, r);
+    const auto packed = static_cast<std::uint32_t>(_mm_cvtsi128_si32(r));
+    std::memcpy(fb.color8.data() + i, &packed, 4);
+#else
+    for (std::size_t k = 0; k < 4; ++k) fb.color8[i + k] = color_to_unorm8(c[k]);
+#endif
+}
+
+}  // namespace
 
 SoftpipeLazyTiles::SoftpipeLazyTiles(Framebuffer& fb,
                                      const std::optional<std::array<float, 4>>& clear)
@@ -38,7 +71,6 @@ void SoftpipeLazyTiles::write_back(Slot& s) {
     const int y0 = (s.tile / tiles_x_) * kTileSize;
     const int rows = std::min(kTileSize, static_cast<int>(fb_.height) - y0);
     const int cols = std::min(kTileSize, static_cast<int>(fb_.width) - x0);
-    const bool rgba8 = fb_.color_format == ColorFormat::Rgba8;
     for (int r = 0; r < rows; ++r) {
         std::uint64_t bits = s.written[static_cast<std::size_t>(r)];
         s.written[static_cast<std::size_t>(r)] = 0;
@@ -60,17 +92,9 @@ void SoftpipeLazyTiles::write_back(Slot& s) {
             const int ox = std::countr_zero(bits);
             bits &= bits - 1;
             const float* c = s.data.data() + 4 * static_cast<std::size_t>(r * kTileSize + ox);
-            const std::size_t i = 4 * fb_.index(static_cast<std::uint32_t>(x0 + ox),
-                                                static_cast<std::uint32_t>(y0 + r));
-            // util_format pack, as SoftpipeTileCache::write_back: float_to_ubyte for
-            // R8G8B8A8_UNORM (color_to_unorm8), the float itself for R32G32B32A32_FLOAT.
-            for (std::size_t k = 0; k < 4; ++k) {
-                if (rgba8) {
-                    fb_.color8[i + k] = color_to_unorm8(c[k]);
-                } else {
-                    fb_.color32f[i + k] = c[k];
-                }
-            }
+            store_pixel(c, fb_,
+                        4 * fb_.index(static_cast<std::uint32_t>(x0 + ox),
+                                      static_cast<std::uint32_t>(y0 + r)));
         }
     }
     s.tile = -1;

@@ -44,7 +44,7 @@ class SoftpipeLazyTiles {
         int tile = -1;  // -1: empty
         bool from_clear = false;
         std::array<std::uint64_t, kTileSize> written{};  // a row of the tile a word
-        std::vector<float> data;                          // 64 * 64 * 4
+        std::vector<float> data;                         // 64 * 64 * 4
     };
 
     // The blend stage touches the tile holding pixel (x, y) (SoftpipeTileCache::fetch); the

@@ -209,7 +209,7 @@ class SoftpipeModel : public DrawModule<SoftpipeModel, ScanlineList> {
     ScanlinePrimitive& add_primitive(std::span<const ScanlineRow> rows, ScanlineInterp interp);
 
     std::optional<SoftpipeTileCache> own_tiles_;
-    SoftpipeTileCache* tiles_ = nullptr;      // the render's cache, or the draw's own
+    SoftpipeTileCache* tiles_ = nullptr;         // the render's cache, or the draw's own
     std::optional<SoftpipeLazyTiles> own_lazy_;  // the same on the fast path
     SoftpipeLazyTiles* lazy_ = nullptr;
     std::optional<SoftpipeSampler> sampler_;  // of the draw's texture, if it samples one
