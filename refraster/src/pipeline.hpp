@@ -60,8 +60,12 @@ struct ModelStates {
     SoftpipeModel::RenderState softpipe;
     ExactModel::RenderState exact;
 
-    ModelStates(const DrawList& list, const Profile& profile, Framebuffer& fb)
-        : llvmpipe(list, profile, fb), softpipe(list, profile, fb), exact(list, profile, fb) {}
+    // `fast_scanline`: the render's scanline draws take the softpipe model's fast path.
+    ModelStates(const DrawList& list, const Profile& profile, Framebuffer& fb,
+                bool fast_scanline = false)
+        : llvmpipe(list, profile, fb),
+          softpipe(list, profile, fb, fast_scanline),
+          exact(list, profile, fb) {}
 
     // The render's end: whatever a model still holds is written back.
     void finish_render() { softpipe.flush_shared_tiles(); }

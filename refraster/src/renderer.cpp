@@ -185,6 +185,13 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
                             options.profile.gl.color_rounding == Rounding::Truncate;
     const KernelPath kernels =
         trace != nullptr || model_only ? KernelPath::Model : resolve_kernel_path(options.kernels);
+    // The scanline model's fast path rounds depth either way; it needs colours rounded to
+    // nearest, under which a byte survives softpipe's tile cache (load, then write-back) as it
+    // is (softpipe_lazy_tiles.hpp).
+    const KernelPath scanline_kernels =
+        trace != nullptr || options.profile.gl.color_rounding == Rounding::Truncate
+            ? KernelPath::Model
+            : resolve_kernel_path(options.kernels);
     // Threads only for the paths that shade row blocks; a traced render stays on one.
     unsigned threads =
         options.threads == 0 ? std::max(1u, std::thread::hardware_concurrency()) : options.threads;
@@ -194,7 +201,7 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
     stop.throw_if_requested();
     std::optional<detail::BandWorkers> workers;
     if (threads > 1) workers.emplace(threads);
-    detail::ModelStates states(list, options.profile, out);
+    detail::ModelStates states(list, options.profile, out, scanline_kernels != KernelPath::Model);
     RenderOutcome outcome;
     for (std::size_t i = 0; i < list.draws.size(); ++i) {
         const Draw& d = list.draws[i];
@@ -208,7 +215,7 @@ RenderOutcome render(const DrawList& list, const RenderOptions& options, Framebu
                                 detail::setup_params(options.profile, d.state, list.target),
                                 fma,
                                 !out.owner.empty(),
-                                kernels,
+                                model == CoverageModel::Scanline ? scanline_kernels : kernels,
                                 workers ? &*workers : nullptr,
                                 model};
         ctx.stop = &stop;

@@ -71,10 +71,25 @@ ScanlineKernel::ScanlineKernel(const Draw& draw, const Target& target, SoftpipeT
                                bool flush_denormals, bool depth_nearest,
                                const SoftpipeSampler* sampler)
     : draw_(draw),
-      tiles_(tiles),
+      tiles_(&tiles),
       flush_(flush_denormals && cpu_flush_modes_available()),
       depth_nearest_(depth_nearest),
       sampler_(sampler) {
+    init(draw, target);
+}
+
+ScanlineKernel::ScanlineKernel(const Draw& draw, const Target& target, SoftpipeLazyTiles& tiles,
+                               bool flush_denormals, bool depth_nearest,
+                               const SoftpipeSampler* sampler)
+    : draw_(draw),
+      lazy_(&tiles),
+      flush_(flush_denormals && cpu_flush_modes_available()),
+      depth_nearest_(depth_nearest),
+      sampler_(sampler) {
+    init(draw, target);
+}
+
+void ScanlineKernel::init(const Draw& draw, const Target& target) {
     rgba8_ = target.color == ColorFormat::Rgba8;
     depth_ = draw.state.depth_test.has_value() && target.depth != DepthFormat::None;
     if (depth_) {
@@ -183,6 +198,7 @@ void ScanlineKernel::merge(const std::array<float, 4>& c, float* dst) const {
 
 void ScanlineKernel::shade(const ScanlineList& list, const ScanlinePrimitive& p,
                            std::span<const QuadPacket> quads, Framebuffer& fb) const {
+    if (lazy_ != nullptr) return shade_fast(list, p, quads, fb);
     if (quads.empty()) return;
     const ScopedDenormalMode plain(flush_ && !p.flush, false);
     const ScanlinePlane& zp = list.planes[p.planes + kScanlineZPlane];
@@ -244,7 +260,7 @@ void ScanlineKernel::shade(const ScanlineList& list, const ScanlinePrimitive& p,
         any = any || mask != 0;
     }
     if (!any) return;  // the batch never reaches the blend stage: no tile is fetched
-    tiles_.fetch(quads[0].x, quads[0].y);
+    tiles_->fetch(quads[0].x, quads[0].y);
     for (std::size_t q = 0; q < quads.size(); ++q) {
         const QuadPacket& quad = quads[q];
         if (alive[q] == 0) continue;
@@ -253,7 +269,7 @@ void ScanlineKernel::shade(const ScanlineList& list, const ScanlinePrimitive& p,
             if ((alive[q] & (1u << k)) == 0) continue;
             const int x = quad.x + static_cast<int>(k & 1u);
             const int y = quad.y + static_cast<int>(k >> 1);
-            merge(colors[k], tiles_.pixel(x, y));
+            merge(colors[k], tiles_->pixel(x, y));
             if (!fb.owner.empty())
                 fb.owner[fb.index(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y))] =
                     p.owner;
@@ -287,7 +303,7 @@ FragmentTrace ScanlineKernel::trace(const ScanlineList& list, const ScanlinePrim
     }
     t.shader_color = quad_colors(list, p, x0, y0)[k];
     t.textured = sampler_ != nullptr;
-    t.destination = tiles_.peek(x, y);
+    t.destination = tiles_->peek(x, y);
     std::array<float, 4> written = t.destination;
     if (t.depth_pass) merge(t.shader_color, written.data());
     if (rgba8_) {

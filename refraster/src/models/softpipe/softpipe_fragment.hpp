@@ -72,6 +72,9 @@ struct ScanlineList {
     std::vector<QuadPacket> quads;
     std::vector<ScanlinePlane> planes;
     std::size_t attribute_floats = 0;
+    // Set up for the fast path: SoftpipeModel::traverse makes the same batches with masks of
+    // runs rather than pixel by pixel.
+    bool fast = false;
 
     bool full() const { return primitives.size() >= kCapacity; }
     void clear() {
@@ -91,6 +94,7 @@ inline constexpr std::uint32_t kScanlineWPlane = 1;
 inline constexpr std::uint32_t kScanlineFirstAttribute = 2;
 
 class SoftpipeTileCache;
+class SoftpipeLazyTiles;
 class SoftpipeSampler;
 
 // The per-pixel stage of one draw under the scanline model; colours go through `tiles`.
@@ -104,6 +108,11 @@ class ScanlineKernel {
     // interpolated colour times it (modulate), sampled a quad at a time at s/q and t/q (TXP) or
     // at the sprite coordinate.
     ScanlineKernel(const Draw& draw, const Target& target, SoftpipeTileCache& tiles,
+                   bool flush_denormals, bool depth_nearest = false,
+                   const SoftpipeSampler* sampler = nullptr);
+    // The fast path (softpipe_fast_fragment.cpp): the same bytes, colours through the lazy
+    // tile cache (softpipe_lazy_tiles.hpp) and each quad's planes evaluated once.
+    ScanlineKernel(const Draw& draw, const Target& target, SoftpipeLazyTiles& tiles,
                    bool flush_denormals, bool depth_nearest = false,
                    const SoftpipeSampler* sampler = nullptr);
 
@@ -128,9 +137,21 @@ class ScanlineKernel {
                                                     int y0) const;
     // The output merge of colour `c` into the tile cache's float pixel `dst`.
     void merge(const std::array<float, 4>& c, float* dst) const;
+    // The fast path's shade and quad colours (softpipe_fast_fragment.cpp).
+    void shade_fast(const ScanlineList& list, const ScanlinePrimitive& p,
+                    std::span<const QuadPacket> quads, Framebuffer& fb) const;
+    void quad_colors_fast(const ScanlineList& list, const ScanlinePrimitive& p, int x0, int y0,
+                          std::array<std::array<float, 4>, 4>& c) const;
+    // The depth test of a batch (as shade's), the surviving pixels of each quad in `alive`;
+    // whether any survives.
+    bool depth_test_fast(const ScanlineList& list, const ScanlinePrimitive& p,
+                         std::span<const QuadPacket> quads, Framebuffer& fb,
+                         std::uint16_t* alive) const;
+    void init(const Draw& draw, const Target& target);
 
     const Draw& draw_;
-    SoftpipeTileCache& tiles_;
+    SoftpipeTileCache* tiles_ = nullptr;  // the model's cache, or
+    SoftpipeLazyTiles* lazy_ = nullptr;   // the fast path's
     bool rgba8_ = true;
     bool flush_ = false;
     bool depth_nearest_ = false;

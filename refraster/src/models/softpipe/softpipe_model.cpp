@@ -7,18 +7,23 @@
 namespace refraster::detail {
 
 SoftpipeModel::RenderState::RenderState(const DrawList& list, const Profile& profile,
-                                        Framebuffer& fb)
+                                        Framebuffer& fb, bool fast)
     : list_(list),
       fb_(fb),
       truncate_colors_(profile.gl.color_rounding == Rounding::Truncate),
+      fast_(fast),
       generated_levels_(list.textures.size()) {
     // The tile cache of a scanline render. glGenerateMipmap's blit, which the GL backends run
     // after the clear, flushes it.
     if (profile.model != CoverageModel::Scanline) return;
-    tiles_.emplace(fb, list.clear.color, truncate_colors_);
+    if (fast_) {
+        lazy_.emplace(fb, list.clear.color);
+    } else {
+        tiles_.emplace(fb, list.clear.color, truncate_colors_);
+    }
     for (const auto& t : list.textures) {
         if (t.generate_mipmaps) {
-            tiles_->flush();
+            flush_shared_tiles();
             break;
         }
     }
@@ -27,8 +32,14 @@ SoftpipeModel::RenderState::RenderState(const DrawList& list, const Profile& pro
 SoftpipeModel::SoftpipeModel(const DrawContext& ctx, RenderState& state) : DrawModule(ctx) {
     // A scanline draw in a snapped render (the profile's line or point rule) gets a cache of its
     // own over the surface.
-    if (!state.tiles_) own_tiles_.emplace(state.fb_, std::nullopt, state.truncate_colors_);
-    tiles_ = state.tiles_ ? &*state.tiles_ : &*own_tiles_;
+    if (state.fast_) {
+        if (!state.lazy_) own_lazy_.emplace(state.fb_, std::nullopt);
+        lazy_ = state.lazy_ ? &*state.lazy_ : &*own_lazy_;
+        list_.fast = true;
+    } else {
+        if (!state.tiles_) own_tiles_.emplace(state.fb_, std::nullopt, state.truncate_colors_);
+        tiles_ = state.tiles_ ? &*state.tiles_ : &*own_tiles_;
+    }
     // softpipe's sampler of the draw's texture; generated levels are made once a texture.
     const Draw& d = ctx.draw;
     if (!d.state.texture) return;

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "models/softpipe/softpipe_fragment.hpp"
+#include "models/softpipe/softpipe_lazy_tiles.hpp"
 #include "models/softpipe/softpipe_sampler.hpp"
 #include "models/softpipe/softpipe_tiles.hpp"
 #include "stages/draw_module.hpp"
@@ -40,14 +41,17 @@ class SoftpipeModel : public DrawModule<SoftpipeModel, ScanlineList> {
 
     // What softpipe keeps for a whole render: under a scanline profile its colour tile cache,
     // in which colours stay float until written back (softpipe_tiles.hpp); the levels its
-    // sampler generates for a texture with generated mipmaps, made once a texture.
+    // sampler generates for a texture with generated mipmaps, made once a texture. `fast`:
+    // the render's scanline draws take the fast path, whose tile cache is SoftpipeLazyTiles.
     class RenderState {
       public:
-        RenderState(const DrawList& list, const Profile& profile, Framebuffer& fb);
+        RenderState(const DrawList& list, const Profile& profile, Framebuffer& fb,
+                    bool fast = false);
         // Writes the render's tile cache back before a draw of another model's family (the
         // profile's line or point rule) reads or writes the surface, and at the render's end.
         void flush_shared_tiles() {
             if (tiles_) tiles_->flush();
+            if (lazy_) lazy_->flush();
         }
 
       private:
@@ -55,7 +59,9 @@ class SoftpipeModel : public DrawModule<SoftpipeModel, ScanlineList> {
         const DrawList& list_;
         Framebuffer& fb_;
         bool truncate_colors_ = false;
+        bool fast_ = false;
         std::optional<SoftpipeTileCache> tiles_;
+        std::optional<SoftpipeLazyTiles> lazy_;
         std::vector<std::vector<TextureImage>> generated_levels_;
     };
 
@@ -77,6 +83,7 @@ class SoftpipeModel : public DrawModule<SoftpipeModel, ScanlineList> {
             return;
         }
         const auto rows = list.rows_of(p);
+        if (list.fast) return traverse_fast(rows, emit);
         std::array<QuadPacket, 8> batch;
         std::size_t r = 0;
         while (r < rows.size()) {
@@ -111,7 +118,61 @@ class SoftpipeModel : public DrawModule<SoftpipeModel, ScanlineList> {
         }
     }
 
+    // traverse's batches of a triangle's rows, each chunk's quads from two 16-bit masks of the
+    // rows' runs: the same packets in the same order.
+    template <class Emit>
+    static void traverse_fast(std::span<const ScanlineRow> rows, Emit&& emit) {
+        std::array<QuadPacket, 8> batch;
+        std::size_t r = 0;
+        // The pixels of [chunk, chunk + 16) in `row` (none for no row), bit i for chunk + i.
+        const auto run_bits = [](const ScanlineRow* row, int chunk) -> std::uint32_t {
+            if (row == nullptr) return 0;
+            const int a = std::max(row->x0, chunk) - chunk;
+            const int b = std::min(row->x1, chunk + 16) - chunk;
+            if (a >= b) return 0;
+            return ((1u << b) - 1u) & ~((1u << a) - 1u);
+        };
+        while (r < rows.size()) {
+            const int y0 = rows[r].y & ~1;
+            const ScanlineRow* lo = nullptr;
+            const ScanlineRow* hi = nullptr;
+            if (rows[r].y == y0) {
+                lo = &rows[r++];
+                if (r < rows.size() && rows[r].y == y0 + 1) hi = &rows[r++];
+            } else {
+                hi = &rows[r++];
+            }
+            const int left =
+                std::min(lo != nullptr ? lo->x0 : hi->x0, hi != nullptr ? hi->x0 : lo->x0);
+            const int right =
+                std::max(lo != nullptr ? lo->x1 : hi->x1, hi != nullptr ? hi->x1 : lo->x1);
+            for (int chunk = left & ~15; chunk < right; chunk += 16) {
+                const std::uint32_t lo_bits = run_bits(lo, chunk);
+                const std::uint32_t hi_bits = run_bits(hi, chunk);
+                std::size_t n = 0;
+                for (unsigned j = 0; j < 8; ++j) {
+                    // Pixels 0 and 1 of the quad on the lower row, 2 and 3 on the upper one
+                    // (quad_bit(k, 0) = k).
+                    const std::uint32_t mask =
+                        ((lo_bits >> (2 * j)) & 3u) | (((hi_bits >> (2 * j)) & 3u) << 2);
+                    if (mask != 0)
+                        batch[n++] = {chunk + 2 * static_cast<int>(j), y0,
+                                      static_cast<std::uint16_t>(mask)};
+                }
+                if (n != 0) emit(std::span<const QuadPacket>(batch.data(), n));
+            }
+        }
+    }
+
     ScanlineKernel kernel() const {
+        if (lazy_ != nullptr) {
+            return {ctx_.draw,
+                    ctx_.target,
+                    *lazy_,
+                    ctx_.profile.gl.flush_denormals,
+                    ctx_.profile.gl.depth_rounding == Rounding::Nearest,
+                    sampler_ ? &*sampler_ : nullptr};
+        }
         return {ctx_.draw,
                 ctx_.target,
                 *tiles_,
@@ -124,6 +185,7 @@ class SoftpipeModel : public DrawModule<SoftpipeModel, ScanlineList> {
     // back at the draw's end.
     void finish_draw() {
         if (own_tiles_) own_tiles_->flush();
+        if (own_lazy_) own_lazy_->flush();
     }
 
   private:
@@ -147,7 +209,9 @@ class SoftpipeModel : public DrawModule<SoftpipeModel, ScanlineList> {
     ScanlinePrimitive& add_primitive(std::span<const ScanlineRow> rows, ScanlineInterp interp);
 
     std::optional<SoftpipeTileCache> own_tiles_;
-    SoftpipeTileCache* tiles_ = nullptr;      // the render's cache, or the draw's own
+    SoftpipeTileCache* tiles_ = nullptr;         // the render's cache, or the draw's own
+    std::optional<SoftpipeLazyTiles> own_lazy_;  // the same on the fast path
+    SoftpipeLazyTiles* lazy_ = nullptr;
     std::optional<SoftpipeSampler> sampler_;  // of the draw's texture, if it samples one
     ScanlineTriangle triangle_;  // the triangle being set up (its rows' storage is reused)
     std::vector<ScanlineRow> rows_;

@@ -99,6 +99,10 @@ void SoftpipeModel::triangles(VertexStage& stage, Observer& obs) {
     const std::vector<bool> flushed = pipeline_batches_flushed(ctx_, stage, tris, segment_clipped);
     std::size_t pipeline_output = 0;
     std::vector<StageTriangle> staged;
+    // The fast paths compute an unclipped triangle's window positions with plain operations
+    // under the CPU's flush modes, which setup() has set where the profile flushes (the same
+    // results, VertexStage::vertex).
+    const bool cpu_flushes = ctx_.cpu_flushes();
     for (std::size_t p = 0; p < tris.size(); ++p) {
         next_primitive(p, obs);
         const auto& at = tris[p];
@@ -107,7 +111,18 @@ void SoftpipeModel::triangles(VertexStage& stage, Observer& obs) {
         const bool in_pipeline = segment_clipped[at.segment];
         obs.begin_primitive("triangle", ctx_.index, p, idx, stage, in_pipeline);
         staged.clear();
-        stage.clip_triangle(idx, first, staged, obs.clip_polygons());
+        if (cpu_flushes && obs.clip_polygons() == nullptr &&
+            (stage.clipmask(idx[0]) | stage.clipmask(idx[1]) | stage.clipmask(idx[2])) == 0) {
+            // Inside the view volume: the clipper hands the triangle on unchanged
+            // (VertexStage::clip_triangle).
+            staged.push_back({{stage.vertex(idx[0], true), stage.vertex(idx[1], true),
+                               stage.vertex(idx[2], true)},
+                              false,
+                              false,
+                              kEdgeFlagsAll});
+        } else {
+            stage.clip_triangle(idx, first, staged, obs.clip_polygons());
+        }
         obs.clipped(staged.empty());
         for (auto& t : staged) {
             const bool flush = !in_pipeline || flushed.empty() || flushed[pipeline_output];

@@ -1,0 +1,242 @@
+// softpipe_fast_fragment.cpp: the fast path of softpipe's quad pipeline (softpipe_fragment.hpp).
+//
+// The same float operations as ScanlineKernel::shade, in the same order for every value, under
+// the same floating-point mode (the pipeline sets the CPU's flush modes around a list where
+// the profile flushes, and shade clears them for a primitive the draw pipeline's last batch
+// hands on after draw_vbo); what differs is how often they run and where colours go:
+//  - each plane of a quad is evaluated once (tgsi_exec.c eval_linear_coef: four values from
+//    one (a0 + dadx*x0) + dady*y0), not once a pixel and channel;
+//  - colours go through SoftpipeLazyTiles, whose loads and evictions cost nothing beyond the
+//    pixels written (softpipe_lazy_tiles.hpp), fetched in the model's order: once a batch
+//    with a surviving pixel, at its first quad.
+// The depth test, the blend (ScanlineKernel::merge) and the sampler are the model's own code.
+#include <algorithm>
+#include <bit>
+#include <cmath>
+
+#include "common/cpu.hpp"
+#include "models/softpipe/softpipe_fragment.hpp"
+#include "models/softpipe/softpipe_lazy_tiles.hpp"
+#include "models/softpipe/softpipe_sampler.hpp"
+#include "stages/output_merge.hpp"
+
+namespace refraster::detail {
+
+namespace {
+
+// tgsi_exec.c eval_linear_coef, as scanline_quad: q = (a0 + dadx*x0) + dady*y0, then
+// q + dadx, q + dady and (q + dadx) + dady. Unfused.
+[[gnu::always_inline]] inline void quad_values(const ScanlinePlane& p, float fx, float fy,
+                                               std::array<float, 4>& out) {
+    const float q = (p.a0 + p.dadx * fx) + p.dady * fy;
+    const float qx = q + p.dadx;
+    out = {q, qx, q + p.dady, qx + p.dady};
+}
+
+// cvttss2si with a 32-bit destination, as shade's: 0x80000000 for NaN and values outside
+// int32's range.
+std::int32_t truncate_to_int32(float v) {
+    if (!(v >= -2147483648.0f && v < 2147483648.0f)) return INT32_MIN;
+    return static_cast<std::int32_t>(v);
+}
+
+// cvttss2si with a 64-bit destination, as softpipe_fragment.cpp's: truncation towards zero,
+// 0x8000000000000000 for NaN and values outside int64's range.
+std::int64_t truncate_to_int64(float v) {
+    if (!(v >= -9223372036854775808.0f && v < 9223372036854775808.0f)) return INT64_MIN;
+    return static_cast<std::int64_t>(v);
+}
+
+// softpipe_depth_value (sp_quad_depth_test.c convert_quad_depth), here where it can be
+// inlined: it runs once a pixel.
+[[gnu::always_inline]] inline std::uint32_t depth_value(float z, DepthFormat format, bool nearest) {
+    const auto convert = [nearest](float v) {
+        return static_cast<std::uint32_t>(truncate_to_int64(nearest ? std::nearbyint(v) : v));
+    };
+    switch (format) {
+        case DepthFormat::Z16:
+            return convert(z * 65535.0f);
+        case DepthFormat::Z24:
+            return convert(z * 16777215.0f);
+        case DepthFormat::Z32f:
+            return std::bit_cast<std::uint32_t>(z);
+        case DepthFormat::None:
+            break;
+    }
+    return 0;
+}
+
+unsigned depth_outcome(std::uint32_t frag, std::uint32_t stored, bool is_float) {
+    if (is_float) {
+        const float f = std::bit_cast<float>(frag);
+        const float s = std::bit_cast<float>(stored);
+        return f < s ? 1u : f == s ? 2u : 4u;
+    }
+    return frag < stored ? 1u : frag == stored ? 2u : 4u;
+}
+
+}  // namespace
+
+bool ScanlineKernel::depth_test_fast(const ScanlineList& list, const ScanlinePrimitive& p,
+                                     std::span<const QuadPacket> quads, Framebuffer& fb,
+                                     std::uint16_t* alive) const {
+    bool any = false;
+    if (!depth_) {
+        for (std::size_t q = 0; q < quads.size(); ++q) {
+            alive[q] = quads[q].mask & kSample0Pixels;
+            any = any || alive[q] != 0;
+        }
+        return any;
+    }
+    const ScanlinePlane& zp = list.planes[p.planes + kScanlineZPlane];
+    // sp_quad_depth_test_tmp.h: exact values at the batch's first quad, a truncated step on.
+    const bool fast_z16 = z16_fast_path_ && !p.clamp_depth;
+    std::array<std::int32_t, 4> init{};
+    std::int32_t step = 0;
+    if (fast_z16) {
+        const auto z = scanline_quad(zp, quads[0].x, quads[0].y);
+        for (std::size_t j = 0; j < 4; ++j) init[j] = truncate_to_int32(z[j] * 65535.0f) & 0xffff;
+        step = truncate_to_int32(zp.dadx * 65535.0f) & 0xffff;
+    }
+    const bool is_float = fb.depth_format == DepthFormat::Z32f;
+    const std::uint32_t keep = fb.depth_format == DepthFormat::Z16   ? 0xffffu
+                               : fb.depth_format == DepthFormat::Z24 ? 0xffffffu
+                                                                     : 0xffffffffu;
+    for (std::size_t q = 0; q < quads.size(); ++q) {
+        const QuadPacket& quad = quads[q];
+        std::uint16_t mask = quad.mask & kSample0Pixels;
+        std::array<float, 4> z{};
+        if (!fast_z16) z = scanline_quad(zp, quad.x, quad.y);
+        for (unsigned k = 0; k < 4; ++k) {
+            if ((mask & (1u << k)) == 0) continue;
+            const auto x = static_cast<std::uint32_t>(quad.x + static_cast<int>(k & 1u));
+            const auto y = static_cast<std::uint32_t>(quad.y + static_cast<int>(k >> 1));
+            const std::size_t i = fb.index(x, y);
+            std::uint32_t value = 0;
+            std::uint32_t stored_value = 0;
+            if (fast_z16) {
+                const std::int32_t dx = quad.x - quads[0].x;
+                value = static_cast<std::uint32_t>(init[k] + dx * step) & 0xffffu;
+                stored_value = value;
+            } else {
+                float zk = z[k];
+                // depth_test_quads_fallback's clamp (the point sprites: depth clipping off).
+                if (p.clamp_depth) zk = std::min(std::max(zk, depth_min_), depth_max_);
+                value = depth_value(zk, fb.depth_format, depth_nearest_);
+                stored_value = value & keep;
+            }
+            if ((depth_pass_ & depth_outcome(value, fb.depth[i], is_float)) == 0) {
+                mask = static_cast<std::uint16_t>(mask & ~(1u << k));
+            } else if (depth_write_) {
+                fb.depth[i] = stored_value;
+            }
+        }
+        alive[q] = mask;
+        any = any || mask != 0;
+    }
+    return any;
+}
+
+void ScanlineKernel::quad_colors_fast(const ScanlineList& list, const ScanlinePrimitive& p, int x0,
+                                      int y0, std::array<std::array<float, 4>, 4>& c) const {
+    const ScanlinePlane* planes = list.planes.data() + p.planes;
+    const auto fx = static_cast<float>(x0);
+    const auto fy = static_cast<float>(y0);
+    std::array<float, 4> w{};
+    if (p.interp == ScanlineInterp::Perspective || p.point_coords)
+        quad_values(planes[kScanlineWPlane], fx, fy, w);
+    // Channel `ch` of attribute floats from `first` for the four pixels, as
+    // ScanlineKernel::attributes computes it.
+    const auto channel = [&](std::size_t first, std::size_t ch, std::array<float, 4>& out) {
+        const ScanlinePlane& a = planes[kScanlineFirstAttribute + first + ch];
+        switch (p.interp) {
+            case ScanlineInterp::Constant:
+                out.fill(a.a0);
+                break;
+            case ScanlineInterp::Linear:
+                quad_values(a, fx, fy, out);
+                break;
+            case ScanlineInterp::Perspective:
+                quad_values(a, fx, fy, out);
+                for (std::size_t k = 0; k < 4; ++k) out[k] = out[k] / w[k];
+                break;
+        }
+    };
+    std::array<std::array<float, 4>, 4> by_channel{};  // [channel][pixel]
+    for (std::size_t ch = 0; ch < 4; ++ch) channel(0, ch, by_channel[ch]);
+    for (std::size_t k = 0; k < 4; ++k) {
+        for (std::size_t ch = 0; ch < 4; ++ch) c[k][ch] = by_channel[ch][k];
+    }
+    if (sampler_ == nullptr) return;
+    // ScanlineKernel::quad_colors: s/q and t/q (TXP), or the sprite coordinate over 1/w.
+    std::array<float, 4> s{}, t{};
+    if (p.point_coords) {
+        const std::size_t pc = kScanlineFirstAttribute + list.attribute_floats;
+        quad_values(planes[pc], fx, fy, s);
+        quad_values(planes[pc + 1], fx, fy, t);
+        for (std::size_t k = 0; k < 4; ++k) {
+            s[k] = s[k] / w[k];
+            t[k] = t[k] / w[k];
+        }
+    } else {
+        std::array<float, 4> tq{};
+        channel(4, 0, s);
+        channel(4, 1, t);
+        channel(4, 3, tq);
+        for (std::size_t k = 0; k < 4; ++k) {
+            s[k] = s[k] / tq[k];
+            t[k] = t[k] / tq[k];
+        }
+    }
+    std::array<std::array<float, 4>, 4> texel{};
+    sampler_->sample_quad(s, t, texel);
+    const bool replace = draw_.state.texture->env == TextureEnv::Replace;
+    for (std::size_t k = 0; k < 4; ++k) {
+        for (std::size_t ch = 0; ch < 4; ++ch)
+            c[k][ch] = replace ? texel[k][ch] : c[k][ch] * texel[k][ch];
+    }
+}
+
+void ScanlineKernel::shade_fast(const ScanlineList& list, const ScanlinePrimitive& p,
+                                std::span<const QuadPacket> quads, Framebuffer& fb) const {
+    if (quads.empty()) return;
+    const ScopedDenormalMode plain(flush_ && !p.flush, false);
+    std::array<std::uint16_t, 8> live{};
+    std::vector<std::uint16_t> live_more;
+    std::uint16_t* alive = live.data();
+    if (quads.size() > live.size()) {
+        live_more.resize(quads.size());
+        alive = live_more.data();
+    }
+    // A batch none of whose pixels survives never reaches the blend stage: no tile is fetched.
+    if (!depth_test_fast(list, p, quads, fb, alive)) return;
+    // Every quad of a batch lies in the tile of its first: a batch is one quad of a line, or
+    // quads of one 16-pixel aligned chunk of one 2-row block.
+    SoftpipeLazyTiles::Slot& tile = lazy_->fetch(quads[0].x, quads[0].y);
+    const bool blends = draw_.state.blend != BlendPreset::None;
+    std::array<std::array<float, 4>, 4> colors{};
+    for (std::size_t q = 0; q < quads.size(); ++q) {
+        const QuadPacket& quad = quads[q];
+        if (alive[q] == 0) continue;
+        quad_colors_fast(list, p, quad.x, quad.y, colors);
+        for (unsigned k = 0; k < 4; ++k) {
+            if ((alive[q] & (1u << k)) == 0) continue;
+            const int x = quad.x + static_cast<int>(k & 1u);
+            const int y = quad.y + static_cast<int>(k >> 1);
+            if (blends) {
+                std::array<float, 4> dst{};
+                lazy_->read(tile, x, y, dst.data());
+                merge(colors[k], dst.data());
+                std::copy(dst.begin(), dst.end(), SoftpipeLazyTiles::written(tile, x, y));
+            } else {
+                std::copy(colors[k].begin(), colors[k].end(),
+                          SoftpipeLazyTiles::written(tile, x, y));
+            }
+            if (!fb.owner.empty())
+                fb.owner[fb.index(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y))] =
+                    p.owner;
+        }
+    }
+}
+
+}  // namespace refraster::detail
