@@ -1,5 +1,5 @@
-// The edge functions of line and point setup (line_point.cpp): setup_line and setup_point
-// compute their four edges inline, and each must be exactly make_edge (edge_rules.hpp) of its
+// The edge functions of line and point setup (line_point.cpp): each of the four edges of
+// setup_line and setup_point must be exactly make_edge (edge_rules.hpp) of its
 // parallelogram's or square's snapped corners, tie bias included, under every tie rule. The
 // sameness test cannot tell: every path it compares shares this setup.
 #include <gtest/gtest.h>

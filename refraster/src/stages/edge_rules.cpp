@@ -58,17 +58,6 @@ bool owns_ties(std::int32_t a, std::int32_t b, TieRule rule) {
     return (b > 0) == owns_bottom_edges(rule);
 }
 
-EdgeFunction make_edge(std::int32_t xi, std::int32_t yi, std::int32_t xj, std::int32_t yj,
-                       TieRule rule) {
-    EdgeFunction e;
-    e.a = checked_sub(yi, yj);
-    e.b = checked_sub(xi, xj);
-    e.owns_ties = owns_ties(e.a, e.b, rule);
-    e.c = checked_add(checked_sub(wide_mul(e.a, xi), wide_mul(e.b, yi)),
-                      std::int64_t{e.owns_ties ? 1 : 0});
-    return e;
-}
-
 std::optional<std::array<std::int32_t, 2>> snap_position(float x, float y, const SetupParams& p) {
     bool beyond = false;
     const std::int32_t sx = snap_to_subpixel(x, p, beyond);

@@ -98,9 +98,18 @@ SetupParams setup_params(const Profile& profile, const DrawState& state, const T
 bool owns_ties(std::int32_t a, std::int32_t b, TieRule rule);
 
 // The edge function of the snapped edge (xi, yi) -> (xj, yj), tie bias included; the
-// interior of a polygon oriented as set-up triangles are is where it is positive.
-EdgeFunction make_edge(std::int32_t xi, std::int32_t yi, std::int32_t xj, std::int32_t yj,
-                       TieRule rule);
+// interior of a polygon oriented as set-up triangles are is where it is positive. Inline: a
+// line or point makes four, and a call would return each through memory.
+inline EdgeFunction make_edge(std::int32_t xi, std::int32_t yi, std::int32_t xj, std::int32_t yj,
+                              TieRule rule) {
+    EdgeFunction e;
+    e.a = checked_sub(yi, yj);
+    e.b = checked_sub(xi, xj);
+    e.owns_ties = owns_ties(e.a, e.b, rule);
+    e.c = checked_add(checked_sub(wide_mul(e.a, xi), wide_mul(e.b, yi)),
+                      std::int64_t{e.owns_ties ? 1 : 0});
+    return e;
+}
 
 // One window position snapped as setup_triangle snaps a vertex (calc_fixed_position): the
 // pixel centre of (px, py) is (px << bits, py << bits). nullopt for a position outside the

@@ -31,19 +31,6 @@ float fracf(float f) {
     return f - std::floor(f);
 }
 
-// make_edge (edge_rules.cpp), its arithmetic inline here: a line or point makes four, and
-// the call returns the edge through memory.
-EdgeFunction edge(std::int32_t xi, std::int32_t yi, std::int32_t xj, std::int32_t yj,
-                  TieRule rule) {
-    EdgeFunction e;
-    e.a = checked_sub(yi, yj);
-    e.b = checked_sub(xi, xj);
-    e.owns_ties = owns_ties(e.a, e.b, rule);
-    e.c = checked_add(checked_sub(wide_mul(e.a, xi), wide_mul(e.b, yi)),
-                      std::int64_t{e.owns_ties ? 1 : 0});
-    return e;
-}
-
 int ceil_shift(std::int32_t v, int bits) {
     return (v + (1 << bits) - 1) >> bits;
 }
@@ -225,7 +212,7 @@ std::optional<LineSetup> setup_line(const StageVertex& sv1, const StageVertex& s
     }
     for (std::size_t i = 0; i < 4; ++i) {
         const std::size_t j = (i + 1) % 4;
-        L.edges[i] = edge(L.x[i], L.y[i], L.x[j], L.y[j], p.tie_rule);
+        L.edges[i] = make_edge(L.x[i], L.y[i], L.x[j], L.y[j], p.tie_rule);
     }
     // The box: inclusive x0, y0 rounded up; x1, y1 one below the rounded-up maximum (the
     // driver's, for rules owning left and bottom edges); rules owning right or top edges keep
@@ -268,7 +255,7 @@ std::optional<LineSetup> setup_rect_line(const StageVertex& sv1, const StageVert
     L.y = {*y1 - *ty, *y2 - *ty, *y2 + *ty, *y1 + *ty};
     for (std::size_t i = 0; i < 4; ++i) {
         const std::size_t j = (i + 1) % 4;
-        L.edges[i] = edge(L.x[i], L.y[i], L.x[j], L.y[j], p.tie_rule);
+        L.edges[i] = make_edge(L.x[i], L.y[i], L.x[j], L.y[j], p.tie_rule);
     }
     const auto [xmin, xmax] = std::minmax_element(L.x.begin(), L.x.end());
     const auto [ymin, ymax] = std::minmax_element(L.y.begin(), L.y.end());
@@ -397,8 +384,8 @@ std::optional<PointSetup> setup_point(const StageVertex& v, float size, const Se
     s.fixed_width = fw;
     // Left, right, bottom, top, oriented like a set-up triangle (interior where E > 0): the
     // planes of try_setup_point, with the tie rule's +1 on the owned sides.
-    s.edges = {edge(x0, y0, x0, y1, p.tie_rule), edge(x1, y1, x1, y0, p.tie_rule),
-               edge(x1, y0, x0, y0, p.tie_rule), edge(x0, y1, x1, y1, p.tie_rule)};
+    s.edges = {make_edge(x0, y0, x0, y1, p.tie_rule), make_edge(x1, y1, x1, y0, p.tie_rule),
+               make_edge(x1, y0, x0, y0, p.tie_rule), make_edge(x0, y1, x1, y1, p.tie_rule)};
     const int bx1 = owns_right_edges(p.tie_rule) ? (x1 >> p.bits) : ceil_shift(x1, p.bits) - 1;
     const int by1 = owns_top_edges(p.tie_rule) ? (y1 >> p.bits) : ceil_shift(y1, p.bits) - 1;
     s.bbox = intersect({x0 >> p.bits, y0 >> p.bits, bx1, by1}, p.draw_region);
