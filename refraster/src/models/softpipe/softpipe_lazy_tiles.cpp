@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <bit>
 #include <cstring>
+#include <memory>
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -50,7 +51,6 @@ SoftpipeLazyTiles::SoftpipeLazyTiles(Framebuffer& fb,
     flagged_clear_.assign(static_cast<std::size_t>(tiles_x_) * static_cast<std::size_t>(tiles_y),
                           clear ? 1 : 0);
     for (std::size_t k = 0; k < 4; ++k) clear8_[k] = color_to_unorm8(clear_[k]);
-    for (Slot& s : slots_) s.data.resize(std::size_t{kTileSize} * kTileSize * 4);
 }
 
 void SoftpipeLazyTiles::store_clear(int y, int x0, int x1) {
@@ -91,7 +91,7 @@ void SoftpipeLazyTiles::write_back(Slot& s) {
         while (bits != 0) {
             const int ox = std::countr_zero(bits);
             bits &= bits - 1;
-            const float* c = s.data.data() + 4 * static_cast<std::size_t>(r * kTileSize + ox);
+            const float* c = s.data.get() + 4 * static_cast<std::size_t>(r * kTileSize + ox);
             store_pixel(c, fb_,
                         4 * fb_.index(static_cast<std::uint32_t>(x0 + ox),
                                       static_cast<std::uint32_t>(y0 + r)));
@@ -101,6 +101,7 @@ void SoftpipeLazyTiles::write_back(Slot& s) {
 }
 
 void SoftpipeLazyTiles::load(Slot& s, int tile) {
+    if (!s.data) s.data = std::make_unique_for_overwrite<float[]>(std::size_t{kTileSize} * kTileSize * 4);
     s.tile = tile;
     auto& flag = flagged_clear_[static_cast<std::size_t>(tile)];
     s.from_clear = flag != 0;

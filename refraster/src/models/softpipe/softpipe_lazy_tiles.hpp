@@ -25,6 +25,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -44,7 +45,9 @@ class SoftpipeLazyTiles {
         int tile = -1;  // -1: empty
         bool from_clear = false;
         std::array<std::uint64_t, kTileSize> written{};  // a row of the tile a word
-        std::vector<float> data;                         // 64 * 64 * 4
+        // 64 * 64 * 4, allocated at the slot's first load and never cleared: only the pixels
+        // `written` marks are read, so a draw that touches one tile pays for one slot.
+        std::unique_ptr<float[]> data;
     };
 
     // The blend stage touches the tile holding pixel (x, y) (SoftpipeTileCache::fetch); the
@@ -64,7 +67,7 @@ class SoftpipeLazyTiles {
         const int ox = x & (kTileSize - 1);
         const int oy = y & (kTileSize - 1);
         if (((s.written[static_cast<std::size_t>(oy)] >> ox) & 1u) != 0) {
-            const float* c = s.data.data() + 4 * static_cast<std::size_t>(oy * kTileSize + ox);
+            const float* c = s.data.get() + 4 * static_cast<std::size_t>(oy * kTileSize + ox);
             for (std::size_t k = 0; k < 4; ++k) rgba[k] = c[k];
             return;
         }
@@ -75,7 +78,7 @@ class SoftpipeLazyTiles {
         const int ox = x & (kTileSize - 1);
         const int oy = y & (kTileSize - 1);
         s.written[static_cast<std::size_t>(oy)] |= std::uint64_t{1} << ox;
-        return s.data.data() + 4 * static_cast<std::size_t>(oy * kTileSize + ox);
+        return s.data.get() + 4 * static_cast<std::size_t>(oy * kTileSize + ox);
     }
     // Everything written back into the framebuffer; the cache is empty afterwards.
     void flush();

@@ -2,6 +2,7 @@
 #include "models/softpipe/softpipe_tiles.hpp"
 
 #include <algorithm>
+#include <memory>
 
 #include "stages/output_merge.hpp"
 
@@ -21,7 +22,7 @@ SoftpipeTileCache::SoftpipeTileCache(Framebuffer& fb,
     flagged_clear_.assign(static_cast<std::size_t>(tiles_x_) * static_cast<std::size_t>(tiles_y),
                           clear ? 1 : 0);
     slot_tile_.fill(-1);
-    data_.resize(kSlots * kTileFloats);
+    data_ = std::make_unique_for_overwrite<float[]>(kSlots * kTileFloats);
 }
 
 std::uint8_t SoftpipeTileCache::to_unorm8(float c) const {
@@ -33,7 +34,7 @@ void SoftpipeTileCache::write_back(int slot) {
     if (tile < 0) return;
     const int x0 = (tile % tiles_x_) * kTileSize;
     const int y0 = (tile / tiles_x_) * kTileSize;
-    const float* src = data_.data() + static_cast<std::size_t>(slot) * kTileFloats;
+    const float* src = data_.get() + static_cast<std::size_t>(slot) * kTileFloats;
     for (int y = y0; y < std::min(y0 + kTileSize, static_cast<int>(fb_.height)); ++y) {
         for (int x = x0; x < std::min(x0 + kTileSize, static_cast<int>(fb_.width)); ++x) {
             const float* c = src + 4 * (static_cast<std::size_t>(y - y0) * kTileSize +
@@ -55,7 +56,7 @@ void SoftpipeTileCache::write_back(int slot) {
 }
 
 void SoftpipeTileCache::load(int slot, int tile) {
-    float* dst = data_.data() + static_cast<std::size_t>(slot) * kTileFloats;
+    float* dst = data_.get() + static_cast<std::size_t>(slot) * kTileFloats;
     const auto t = static_cast<std::size_t>(tile);
     if (flagged_clear_[t] != 0) {
         for (std::size_t i = 0; i < kTileFloats; i += 4)
@@ -92,7 +93,7 @@ void SoftpipeTileCache::fetch(int x, int y) {
 
 float* SoftpipeTileCache::pixel(int x, int y) {
     const int slot = slot_of(tile_of(x, y));
-    return data_.data() + static_cast<std::size_t>(slot) * kTileFloats +
+    return data_.get() + static_cast<std::size_t>(slot) * kTileFloats +
            4 * (static_cast<std::size_t>(y % kTileSize) * kTileSize +
                 static_cast<std::size_t>(x % kTileSize));
 }
@@ -101,7 +102,7 @@ std::array<float, 4> SoftpipeTileCache::peek(int x, int y) const {
     const int tile = tile_of(x, y);
     const int slot = slot_of(tile);
     if (slot_tile_[static_cast<std::size_t>(slot)] == tile) {
-        const float* c = data_.data() + static_cast<std::size_t>(slot) * kTileFloats +
+        const float* c = data_.get() + static_cast<std::size_t>(slot) * kTileFloats +
                          4 * (static_cast<std::size_t>(y % kTileSize) * kTileSize +
                               static_cast<std::size_t>(x % kTileSize));
         return {c[0], c[1], c[2], c[3]};

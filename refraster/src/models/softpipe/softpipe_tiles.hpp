@@ -21,6 +21,7 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <memory>
 #include <vector>
 
 #include "refraster/framebuffer.hpp"
@@ -60,7 +61,9 @@ class SoftpipeTileCache {
     int tiles_x_ = 1;
     std::vector<std::uint8_t> flagged_clear_;  // a tile
     std::array<int, kSlots> slot_tile_{};      // -1: empty
-    std::vector<float> data_;                  // kSlots tiles of 64 * 64 * 4 floats
+    // kSlots tiles of 64 * 64 * 4 floats, never cleared: a load writes every pixel the tile
+    // has in the surface before anything reads it, so untouched slots cost no page.
+    std::unique_ptr<float[]> data_;
 };
 
 }  // namespace refraster::detail
