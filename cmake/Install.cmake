@@ -28,6 +28,9 @@ if(NOT REFRASTER_CORE_ONLY)
   install(EXPORT refrasterHarnessTargets NAMESPACE refraster::
     DESTINATION ${REFRASTER_INSTALL_CMAKEDIR})
   install(TARGETS refraster_cli RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+  # The image codec module image_io.cpp loads for EXR, GIF and other files: lib/refraster,
+  # found from bin/ or from the configured prefix (harness/CMakeLists.txt).
+  install(TARGETS harness_oiio_codec LIBRARY DESTINATION ${REFRASTER_CODEC_INSTALL_DIR})
   foreach(_worker refraster-worker-osmesa refraster-worker-egl)
     if(TARGET ${_worker})
       install(TARGETS ${_worker} RUNTIME DESTINATION ${REFRASTER_INSTALL_WORKERDIR})

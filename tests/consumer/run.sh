@@ -32,6 +32,12 @@ step "the installed CLI finds its installed worker"
 env -u REFRASTER_WORKER_DIR "$prefix/bin/refraster" compare \
   "$src/conformance/scenes/smoke/depth.json" --against osmesa || fail "installed refraster compare"
 
+step "the installed CLI writes an EXR through its installed image codec module"
+[[ -n $(find "$prefix" -name 'libharness_oiio_codec.so') ]] || fail "the installation lacks the codec module"
+env -u REFRASTER_CODEC_DIR "$prefix/bin/refraster" render "$src/conformance/scenes/points/rgba32f.json" \
+  -o "$work/points.exr" || fail "installed refraster render to .exr"
+[[ -s $work/points.exr ]] || fail "no EXR written"
+
 step "examples/ against the installed package"
 cmake -S "$src/examples" -B "$work/examples" -G Ninja -DCMAKE_BUILD_TYPE=Release \
   -DCMAKE_PREFIX_PATH="$prefix" >"$work/examples-configure.log"

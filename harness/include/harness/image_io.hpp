@@ -1,4 +1,5 @@
-// image_io.hpp: image files, and nothing else (the only OpenImageIO and libpng user).
+// image_io.hpp: image files, and nothing else (the only libpng user, and the only user of the
+// OpenImageIO codec module: src/io/oiio_codec.hpp).
 //
 // Implements: writing a Framebuffer's colour as an 8-bit RGBA PNG (rgba8) or a float32 EXR
 // (rgba32f), top row first as image files are, atomically (a temporary file renamed into
@@ -7,8 +8,11 @@
 // alone, which this library installs as the loader's texture file reader (scene.hpp,
 // set_texture_file_reader).
 //
-// Deliberately does not: compare files by their bytes. OpenImageIO stamps metadata into PNGs;
-// comparisons work on decoded pixels.
+// PNGs are written and 8-bit RGB(A) PNGs read with libpng in the program itself; EXRs, GIFs and
+// every other file read back go through OpenImageIO in a module loaded the first time one is met
+// (docs/library.md), so a program that only writes PNGs never loads OpenImageIO.
+//
+// Deliberately does not: compare files by their bytes (comparisons work on decoded pixels).
 #pragma once
 
 #include <cstdint>

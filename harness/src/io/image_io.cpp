@@ -1,179 +1,76 @@
 #include "harness/image_io.hpp"
 
-#include <OpenImageIO/imageio.h>
+#include <dlfcn.h>
 #include <png.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <array>
-#include <csetjmp>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <fstream>
+#include <optional>
 #include <system_error>
 
 #include "harness/files.hpp"
+#include "oiio_codec.hpp"
 
 namespace harness {
 
-namespace OIIO = OIIO_NAMESPACE;
-
-std::string_view image_extension(refraster::ColorFormat f) {
-    return f == refraster::ColorFormat::Rgba8 ? ".png" : ".exr";
-}
-
 namespace {
 
-void check_extension(const refraster::Framebuffer& fb, const std::filesystem::path& path) {
-    const std::string ext = path.extension().string();
-    if (ext != std::string(image_extension(fb.color_format))) {
-        throw ImageIoError(path.string() + ": a " + std::string(to_string(fb.color_format)) +
-                           " target is written as " +
-                           std::string(image_extension(fb.color_format)) + ", not " +
-                           (ext.empty() ? "a file without extension" : ext));
+// The OpenImageIO codec module (oiio_codec.hpp), loaded the first time it is needed and kept.
+// It is looked for in $REFRASTER_CODEC_DIR when that is set, beside the running program (a build
+// tree keeps it in bin/ with the tools), at REFRASTER_CODEC_RELATIVE_DIR from the program's
+// directory (an installation: lib/refraster beside bin/) and in the directory the build was
+// configured to install it to (programs installed elsewhere that link this library).
+struct LoadedCodec {
+    const detail::OiioCodec* codec = nullptr;
+    std::string error;
+};
+
+LoadedCodec load_codec() {
+    std::vector<std::filesystem::path> dirs;
+    if (const char* dir = std::getenv("REFRASTER_CODEC_DIR"); dir != nullptr && *dir != '\0') {
+        dirs.emplace_back(dir);
+    } else {
+        std::error_code ec;
+        const auto self = std::filesystem::read_symlink("/proc/self/exe", ec);
+        if (!ec) {
+            dirs.push_back(self.parent_path());
+            dirs.push_back(self.parent_path() / REFRASTER_CODEC_RELATIVE_DIR);
+        }
+        dirs.emplace_back(REFRASTER_CODEC_INSTALL_DIR);
     }
+    std::string looked;
+    for (const auto& dir : dirs) {
+        const auto file = (dir / REFRASTER_CODEC_NAME).lexically_normal();
+        looked += (looked.empty() ? "" : ", ") + file.string();
+        if (::access(file.c_str(), R_OK) != 0) continue;
+        void* module = ::dlopen(file.c_str(), RTLD_NOW | RTLD_LOCAL);
+        if (module == nullptr)
+            return {nullptr, "cannot load " + file.string() + ": " + ::dlerror()};
+        using Entry = const detail::OiioCodec* (*)();
+        auto entry = reinterpret_cast<Entry>(::dlsym(module, "refraster_oiio_codec"));
+        const detail::OiioCodec* codec = entry != nullptr ? entry() : nullptr;
+        if (codec == nullptr || codec->version != detail::kOiioCodecVersion) {
+            return {nullptr, file.string() + " is not this build's image codec module"};
+        }
+        return {codec, {}};
+    }
+    return {nullptr, "this image format needs the OpenImageIO codec module " +
+                         std::string(REFRASTER_CODEC_NAME) + ", found in none of " + looked +
+                         " (set REFRASTER_CODEC_DIR to the directory that holds it)"};
 }
 
-// Writes `fb` into the file `tmp`; messages name `path`, the file it becomes.
-void write_image_file(const refraster::Framebuffer& fb, const std::filesystem::path& path,
-                      const std::filesystem::path& tmp) {
-    const bool is8 = fb.color_format == refraster::ColorFormat::Rgba8;
-    const std::string ext = path.extension().string();
-    auto out = OIIO::ImageOutput::create(tmp.string());
-    if (!out) throw ImageIoError(path.string() + ": cannot create an image writer for " + ext);
-    const OIIO::TypeDesc type = is8 ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT;
-    OIIO::ImageSpec spec(static_cast<int>(fb.width), static_cast<int>(fb.height), 4, type);
-    // Pixels are stored as rendered: PNG alpha is unassociated, and without this attribute
-    // OpenImageIO would divide the colour by alpha on the way out.
-    spec.attribute("oiio:UnassociatedAlpha", 1);
-    if (!out->open(tmp.string(), spec)) {
-        throw ImageIoError(path.string() + ": cannot write: " + out->geterror());
-    }
-    // Image files store the top row first: file row 0 is window row height-1.
-    const std::size_t row_floats = std::size_t{fb.width} * 4;
-    bool ok = true;
-    for (std::uint32_t row = 0; ok && row < fb.height; ++row) {
-        const std::uint32_t src = fb.height - 1 - row;
-        const void* data = is8 ? static_cast<const void*>(fb.color8.data() + src * row_floats)
-                               : static_cast<const void*>(fb.color32f.data() + src * row_floats);
-        ok = out->write_scanline(static_cast<int>(row), 0, type, data);
-    }
-    ok = out->close() && ok;
-    if (!ok) throw ImageIoError(path.string() + ": cannot write: " + out->geterror());
-}
-
-// Writes images[k..] inside one another's write_atomically: every file is written before the
-// first is moved into place, and a failure removes every partial file.
-void write_nested(const std::vector<ImageToWrite>& images, std::size_t k) {
-    if (k == images.size()) return;
-    const refraster::Framebuffer& fb = *images[k].first;
-    const std::filesystem::path& path = images[k].second;
-    write_atomically(path, [&](const std::filesystem::path& tmp) {
-        write_image_file(fb, path, tmp);
-        write_nested(images, k + 1);
-    });
+const detail::OiioCodec& oiio_codec(const std::filesystem::path& file) {
+    static const LoadedCodec loaded = load_codec();
+    if (loaded.codec == nullptr) throw ImageIoError(file.string() + ": " + loaded.error);
+    return *loaded.codec;
 }
 
 }  // namespace
-
-void write_color_animation(const std::vector<refraster::Framebuffer>& frames,
-                           const std::filesystem::path& path, int frames_per_second) {
-    if (path.extension() != ".gif")
-        throw ImageIoError(path.string() + ": an animation is written as .gif");
-    if (frames.empty()) throw ImageIoError(path.string() + ": an animation of no frames");
-    for (const auto& f : frames) {
-        if (f.color_format != refraster::ColorFormat::Rgba8 || f.width != frames[0].width ||
-            f.height != frames[0].height || f.width == 0 || f.height == 0)
-            throw ImageIoError(path.string() +
-                               ": the frames of an animation are rgba8 images "
-                               "of one size");
-    }
-    write_atomically(path, [&](const std::filesystem::path& tmp) {
-        auto out = OIIO::ImageOutput::create(tmp.string());
-        if (!out || !out->supports("multiimage"))
-            throw ImageIoError(path.string() + ": cannot create an animated GIF writer");
-        OIIO::ImageSpec spec(static_cast<int>(frames[0].width), static_cast<int>(frames[0].height),
-                             4, OIIO::TypeDesc::UINT8);
-        spec.attribute("oiio:UnassociatedAlpha", 1);
-        const int rate[2] = {std::max(1, frames_per_second), 1};
-        spec.attribute("FramesPerSecond", OIIO::TypeRational, rate);
-        spec.attribute("gif:LoopCount", 0);  // forever
-        const std::size_t row_bytes = std::size_t{frames[0].width} * 4;
-        for (std::size_t k = 0; k < frames.size(); ++k) {
-            const auto mode =
-                k == 0 ? OIIO::ImageOutput::Create : OIIO::ImageOutput::AppendSubimage;
-            bool ok = out->open(tmp.string(), spec, mode);
-            // Image files store the top row first.
-            for (std::uint32_t row = 0; ok && row < frames[k].height; ++row) {
-                const std::uint32_t src = frames[k].height - 1 - row;
-                ok = out->write_scanline(static_cast<int>(row), 0, OIIO::TypeDesc::UINT8,
-                                         frames[k].color8.data() + src * row_bytes);
-            }
-            if (!ok) throw ImageIoError(path.string() + ": cannot write: " + out->geterror());
-        }
-        if (!out->close()) throw ImageIoError(path.string() + ": cannot write: " + out->geterror());
-    });
-}
-
-void write_color_image(const refraster::Framebuffer& fb, const std::filesystem::path& path) {
-    check_extension(fb, path);
-    // Written beside the destination and moved into place (files.hpp): never a partial image.
-    write_atomically(path,
-                     [&](const std::filesystem::path& tmp) { write_image_file(fb, path, tmp); });
-}
-
-void write_color_images(const std::vector<ImageToWrite>& images) {
-    for (const auto& [fb, path] : images) check_extension(*fb, path);
-    write_nested(images, 0);
-}
-
-std::vector<std::filesystem::path> sample_image_paths(const std::filesystem::path& prefix,
-                                                      std::uint32_t samples,
-                                                      refraster::ColorFormat format) {
-    std::vector<std::filesystem::path> out;
-    for (std::uint32_t s = 0; s < samples; ++s) {
-        out.emplace_back(prefix.string() + ".s" + std::to_string(s) +
-                         std::string(image_extension(format)));
-    }
-    return out;
-}
-
-refraster::Framebuffer read_color_image(const std::filesystem::path& path) {
-    // Keep the colour as stored: without this, PNG colour is multiplied by alpha on reading.
-    OIIO::ImageSpec config;
-    config.attribute("oiio:UnassociatedAlpha", 1);
-    auto in = OIIO::ImageInput::open(path.string(), &config);
-    if (!in) throw ImageIoError(path.string() + ": cannot read: " + OIIO::geterror());
-    const OIIO::ImageSpec& spec = in->spec();
-    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels < 1) {
-        throw ImageIoError(path.string() + ": empty image");
-    }
-    const bool is8 = spec.format == OIIO::TypeDesc::UINT8;
-    refraster::Framebuffer fb(static_cast<std::uint32_t>(spec.width),
-                              static_cast<std::uint32_t>(spec.height),
-                              is8 ? refraster::ColorFormat::Rgba8 : refraster::ColorFormat::Rgba32f,
-                              refraster::DepthFormat::None);
-    const int nch = std::min(spec.nchannels, 4);
-    const OIIO::TypeDesc type = is8 ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT;
-    const std::size_t row_values = std::size_t{fb.width} * 4;
-    const auto pixel_stride = static_cast<OIIO::stride_t>(4 * type.size());
-    const auto row_stride = static_cast<OIIO::stride_t>(row_values * type.size());
-    // Read the top file row into the last buffer row: a negative row stride flips.
-    void* last_row = is8 ? static_cast<void*>(fb.color8.data() + (fb.height - 1) * row_values)
-                         : static_cast<void*>(fb.color32f.data() + (fb.height - 1) * row_values);
-    if (!in->read_image(0, 0, 0, nch, type, last_row, pixel_stride, -row_stride)) {
-        throw ImageIoError(path.string() + ": cannot read: " + in->geterror());
-    }
-    if (nch < 4) {  // a file without alpha is opaque
-        for (std::size_t i = 0; i < fb.pixel_count(); ++i) {
-            if (is8) {
-                fb.color8[i * 4 + 3] = 255;
-            } else {
-                fb.color32f[i * 4 + 3] = 1.0f;
-            }
-        }
-    }
-    in->close();
-    return fb;
-}
 
 namespace {
 
@@ -274,6 +171,217 @@ const char* png_decode(PngSource& source, std::uint32_t width, std::uint32_t hei
 }
 
 }  // namespace
+
+namespace {
+
+// libpng's write callbacks report through the same handler as its reads (PngSource::error).
+const char* png_encode(std::FILE* file, PngSource& errors, std::uint32_t width,
+                       std::uint32_t height, png_bytep* rows) {
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &errors, png_error_handler,
+                                              png_warning_handler);
+    if (png == nullptr) return "cannot allocate an encoder";
+    png_infop info = png_create_info_struct(png);
+    if (info == nullptr) {
+        png_destroy_write_struct(&png, nullptr);
+        return "cannot allocate an encoder";
+    }
+    if (setjmp(png_jmpbuf(png))) {  // NOLINT(cert-err52-cpp): libpng's error return
+        png_destroy_write_struct(&png, &info);
+        return errors.error != nullptr ? errors.error : "cannot encode";
+    }
+    png_init_io(png, file);
+    png_set_IHDR(png, info, width, height, 8, PNG_COLOR_TYPE_RGB_ALPHA, PNG_INTERLACE_NONE,
+                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_write_info(png, info);
+    png_write_image(png, rows);
+    png_write_end(png, nullptr);
+    png_destroy_write_struct(&png, &info);
+    return nullptr;
+}
+
+// An rgba8 target as an 8-bit RGBA PNG (alpha unassociated, as rendered), top row first.
+void write_png_rgba8(const refraster::Framebuffer& fb, const std::filesystem::path& path,
+                     const std::filesystem::path& tmp) {
+    std::vector<png_bytep> rows(fb.height);
+    const std::size_t row_bytes = std::size_t{fb.width} * 4;
+    for (std::uint32_t r = 0; r < fb.height; ++r) {
+        // const_cast: libpng's row type is not const, and writing only reads the rows.
+        rows[r] = const_cast<png_bytep>(fb.color8.data() + (fb.height - 1 - r) * row_bytes);
+    }
+    std::FILE* file = std::fopen(tmp.c_str(), "wb");
+    if (file == nullptr) {
+        throw ImageIoError(path.string() + ": cannot write: " + std::strerror(errno));
+    }
+    PngSource errors;
+    const char* error = png_encode(file, errors, fb.width, fb.height, rows.data());
+    const bool closed = std::fclose(file) == 0;
+    if (error == nullptr && !closed) error = "cannot close the file";
+    if (error != nullptr) throw ImageIoError(path.string() + ": cannot write: " + error);
+}
+
+// A PNG of 8-bit RGB or RGBA (without a transparent colour) decoded with libpng, rows bottom
+// to top; nullopt for any other file, which the codec module reads.
+std::optional<refraster::Framebuffer> read_plain_png(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+        std::error_code ec;
+        throw ImageIoError(
+            path.string() + ": cannot read: " +
+            (std::filesystem::exists(path, ec) ? "cannot open the file" : "no such file"));
+    }
+    std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
+                                    std::istreambuf_iterator<char>());
+    static constexpr std::array<std::uint8_t, 8> kSignature = {0x89, 'P',  'N',  'G',
+                                                               '\r', '\n', 0x1a, '\n'};
+    if (bytes.size() < 33 || !std::equal(kSignature.begin(), kSignature.end(), bytes.begin()) ||
+        std::memcmp(bytes.data() + 12, "IHDR", 4) != 0) {
+        return std::nullopt;
+    }
+    const auto u32 = [&](std::size_t at) {
+        return (std::uint32_t{bytes[at]} << 24) | (std::uint32_t{bytes[at + 1]} << 16) |
+               (std::uint32_t{bytes[at + 2]} << 8) | std::uint32_t{bytes[at + 3]};
+    };
+    const std::uint32_t width = u32(16);
+    const std::uint32_t height = u32(20);
+    const int channels = bytes[25] == 6 ? 4 : bytes[25] == 2 ? 3 : 0;
+    constexpr std::uint32_t kMaxSide = 16384;
+    if (bytes[24] != 8 || channels == 0 || width < 1 || height < 1 || width > kMaxSide ||
+        height > kMaxSide) {
+        return std::nullopt;
+    }
+    const auto nch = static_cast<std::size_t>(channels);
+    std::vector<std::uint8_t> stored(std::size_t{width} * height * nch);
+    std::vector<png_bytep> rows(height);
+    for (std::uint32_t r = 0; r < height; ++r) rows[r] = stored.data() + r * width * nch;
+    std::array<std::array<std::uint8_t, 4>, 256> palette{};
+    int palette_entries = 0;
+    PngTransparency trns;
+    PngSource source{bytes};
+    if (const char* error = png_decode(source, width, height, channels, rows.data(), palette,
+                                       palette_entries, trns)) {
+        throw ImageIoError(path.string() + ": cannot read: " + error);
+    }
+    if (trns.has_colour) return std::nullopt;
+    refraster::Framebuffer fb(width, height, refraster::ColorFormat::Rgba8,
+                              refraster::DepthFormat::None);
+    for (std::uint32_t r = 0; r < height; ++r) {
+        const std::uint8_t* src = stored.data() + std::size_t{r} * width * nch;
+        std::uint8_t* dst = fb.color8.data() + std::size_t{height - 1 - r} * width * 4;
+        for (std::uint32_t x = 0; x < width; ++x, src += nch, dst += 4) {
+            std::copy_n(src, nch, dst);
+            if (nch == 3) dst[3] = 255;  // a file without alpha is opaque
+        }
+    }
+    return fb;
+}
+
+}  // namespace
+
+std::string_view image_extension(refraster::ColorFormat f) {
+    return f == refraster::ColorFormat::Rgba8 ? ".png" : ".exr";
+}
+
+namespace {
+
+void check_extension(const refraster::Framebuffer& fb, const std::filesystem::path& path) {
+    const std::string ext = path.extension().string();
+    if (ext != std::string(image_extension(fb.color_format))) {
+        throw ImageIoError(path.string() + ": a " + std::string(to_string(fb.color_format)) +
+                           " target is written as " +
+                           std::string(image_extension(fb.color_format)) + ", not " +
+                           (ext.empty() ? "a file without extension" : ext));
+    }
+}
+
+// Writes `fb` into the file `tmp`; messages name `path`, the file it becomes. PNGs go through
+// libpng here, EXRs through the codec module.
+void write_image_file(const refraster::Framebuffer& fb, const std::filesystem::path& path,
+                      const std::filesystem::path& tmp) {
+    if (fb.color_format == refraster::ColorFormat::Rgba8) {
+        write_png_rgba8(fb, path, tmp);
+        return;
+    }
+    const std::string error =
+        oiio_codec(path).write_image(tmp.c_str(), fb.width, fb.height, false, fb.color32f.data());
+    if (!error.empty()) throw ImageIoError(path.string() + ": " + error);
+}
+
+// Writes images[k..] inside one another's write_atomically: every file is written before the
+// first is moved into place, and a failure removes every partial file.
+void write_nested(const std::vector<ImageToWrite>& images, std::size_t k) {
+    if (k == images.size()) return;
+    const refraster::Framebuffer& fb = *images[k].first;
+    const std::filesystem::path& path = images[k].second;
+    write_atomically(path, [&](const std::filesystem::path& tmp) {
+        write_image_file(fb, path, tmp);
+        write_nested(images, k + 1);
+    });
+}
+
+}  // namespace
+
+void write_color_animation(const std::vector<refraster::Framebuffer>& frames,
+                           const std::filesystem::path& path, int frames_per_second) {
+    if (path.extension() != ".gif")
+        throw ImageIoError(path.string() + ": an animation is written as .gif");
+    if (frames.empty()) throw ImageIoError(path.string() + ": an animation of no frames");
+    for (const auto& f : frames) {
+        if (f.color_format != refraster::ColorFormat::Rgba8 || f.width != frames[0].width ||
+            f.height != frames[0].height || f.width == 0 || f.height == 0)
+            throw ImageIoError(path.string() +
+                               ": the frames of an animation are rgba8 images "
+                               "of one size");
+    }
+    const detail::OiioCodec& codec = oiio_codec(path);
+    std::vector<const std::uint8_t*> pixels;
+    for (const auto& f : frames) pixels.push_back(f.color8.data());
+    write_atomically(path, [&](const std::filesystem::path& tmp) {
+        const std::string error =
+            codec.write_animation(tmp.c_str(), frames[0].width, frames[0].height, pixels.data(),
+                                  pixels.size(), frames_per_second);
+        if (!error.empty()) throw ImageIoError(path.string() + ": " + error);
+    });
+}
+
+void write_color_image(const refraster::Framebuffer& fb, const std::filesystem::path& path) {
+    check_extension(fb, path);
+    // Written beside the destination and moved into place (files.hpp): never a partial image.
+    write_atomically(path,
+                     [&](const std::filesystem::path& tmp) { write_image_file(fb, path, tmp); });
+}
+
+void write_color_images(const std::vector<ImageToWrite>& images) {
+    for (const auto& [fb, path] : images) check_extension(*fb, path);
+    write_nested(images, 0);
+}
+
+std::vector<std::filesystem::path> sample_image_paths(const std::filesystem::path& prefix,
+                                                      std::uint32_t samples,
+                                                      refraster::ColorFormat format) {
+    std::vector<std::filesystem::path> out;
+    for (std::uint32_t s = 0; s < samples; ++s) {
+        out.emplace_back(prefix.string() + ".s" + std::to_string(s) +
+                         std::string(image_extension(format)));
+    }
+    return out;
+}
+
+refraster::Framebuffer read_color_image(const std::filesystem::path& path) {
+    if (auto fb = read_plain_png(path)) return std::move(*fb);
+    detail::CodecImage image;
+    const std::string error = oiio_codec(path).read_image(path.c_str(), image);
+    if (!error.empty()) throw ImageIoError(path.string() + ": " + error);
+    refraster::Framebuffer fb(
+        image.width, image.height,
+        image.is8 ? refraster::ColorFormat::Rgba8 : refraster::ColorFormat::Rgba32f,
+        refraster::DepthFormat::None);
+    if (image.is8) {
+        std::copy(image.rgba8.begin(), image.rgba8.end(), fb.color8.begin());
+    } else {
+        std::copy(image.rgba32f.begin(), image.rgba32f.end(), fb.color32f.begin());
+    }
+    return fb;
+}
 
 refraster::TextureImage read_texture_png(std::span<const std::uint8_t> png) {
     // The signature and IHDR (always the first chunk): the 8-byte signature, the chunk's
