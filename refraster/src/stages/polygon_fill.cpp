@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 
+#include "common/bit_count.hpp"
 #include "refraster/assert.hpp"
 #include "stages/rules.hpp"
 
@@ -137,7 +138,7 @@ void FillMask::set_span(int y, int x0, int x1) {
 
 std::uint64_t FillMask::count() const {
     std::uint64_t n = 0;
-    for (auto w : bits_) n += static_cast<std::uint64_t>(std::popcount(w));
+    for (auto w : bits_) n += static_cast<std::uint64_t>(bit_count(w));
     return n;
 }
 

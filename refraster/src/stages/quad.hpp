@@ -14,6 +14,8 @@
 #include <cstdint>
 #include <span>
 
+#include "common/bit_count.hpp"
+
 namespace refraster::detail {
 
 inline constexpr unsigned kMaxSamples = 4;
@@ -36,7 +38,7 @@ struct QuadPacket {
 // Pixels a packet of a single-sample render covers.
 inline int covered_pixels(std::span<const QuadPacket> quads) {
     int n = 0;
-    for (const auto& q : quads) n += std::popcount(static_cast<unsigned>(q.mask & kSample0Pixels));
+    for (const auto& q : quads) n += bit_count(q.mask & kSample0Pixels);
     return n;
 }
 

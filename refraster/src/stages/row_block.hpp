@@ -19,6 +19,8 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "common/bit_count.hpp"
+
 namespace refraster::detail {
 
 inline constexpr int kMaxBlockRows = 64;
@@ -59,7 +61,7 @@ inline void prefetch_pixels(const std::uint32_t* buffer, std::size_t first, std:
 // The covered pixels (sample 0's, on a 4x block: what covered_pixels of quad packets counts).
 inline int covered_pixels(const RowBlock& b) {
     int n = 0;
-    for (int r = 0; r < b.rows; ++r) n += std::popcount(b.mask[r]);
+    for (int r = 0; r < b.rows; ++r) n += bit_count(b.mask[r]);
     return n;
 }
 
