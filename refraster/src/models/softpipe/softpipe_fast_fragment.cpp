@@ -9,7 +9,9 @@
 //  - colours go through SoftpipeLazyTiles, whose loads and evictions cost nothing beyond the
 //    pixels written (softpipe_lazy_tiles.hpp), fetched in the model's order: once a batch
 //    with a surviving pixel, at its first quad.
-// The depth test, the blend (ScanlineKernel::merge) and the sampler are the model's own code.
+// The depth test and the blend (ScanlineKernel::merge) are the model's own code; the sampler
+// is the model's with the tile cache's emulation skipped where no entry can alias
+// (SoftpipeSampler::sample_quad_direct).
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -189,7 +191,7 @@ void ScanlineKernel::quad_colors_fast(const ScanlineList& list, const ScanlinePr
         }
     }
     std::array<std::array<float, 4>, 4> texel{};
-    sampler_->sample_quad(s, t, texel);
+    sampler_->sample_quad_direct(s, t, texel);
     const bool replace = draw_.state.texture->env == TextureEnv::Replace;
     for (std::size_t k = 0; k < 4; ++k) {
         for (std::size_t ch = 0; ch < 4; ++ch)

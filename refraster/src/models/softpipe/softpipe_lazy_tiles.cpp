@@ -101,7 +101,8 @@ void SoftpipeLazyTiles::write_back(Slot& s) {
 }
 
 void SoftpipeLazyTiles::load(Slot& s, int tile) {
-    if (!s.data) s.data = std::make_unique_for_overwrite<float[]>(std::size_t{kTileSize} * kTileSize * 4);
+    if (!s.data)
+        s.data = std::make_unique_for_overwrite<float[]>(std::size_t{kTileSize} * kTileSize * 4);
     s.tile = tile;
     auto& flag = flagged_clear_[static_cast<std::size_t>(tile)];
     s.from_clear = flag != 0;
