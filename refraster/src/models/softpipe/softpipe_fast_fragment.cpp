@@ -15,6 +15,9 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "common/cpu.hpp"
 #include "models/softpipe/softpipe_fragment.hpp"
@@ -77,6 +80,89 @@ unsigned depth_outcome(std::uint32_t frag, std::uint32_t stored, bool is_float) 
     return frag < stored ? 1u : frag == stored ? 2u : 4u;
 }
 
+#if defined(__SSE2__)
+// What the depth test of a batch needs, as vectors: the compare function's outcomes, the
+// conversion, and the z16 fast path's start.
+struct DepthLanes {
+    __m128i pass_lt;  // all ones where the function passes on frag < stored
+    __m128i pass_eq;
+    __m128i pass_gt;
+    __m128i keep;  // the bits stored of a converted value
+    __m128 scale;  // 65535.0f or 16777215.0f
+    __m128i init;  // the z16 fast path's values at the batch's first quad
+    __m128 depth_min;
+    __m128 depth_max;
+};
+
+// One quad's depth test with its four pixels' depth values as one vector, for a quad whose
+// four pixels lie inside the target (the pixel loop of depth_test_fast, lane k pixel k): the
+// same operations on each lane in the same order (sp_quad_depth_test.c
+// depth_test_quads_fallback, convert_quad_depth, depth_test_quad; the z16 fast path of
+// sp_quad_depth_test_tmp.h), and the same writes. `z` the z plane's four quad values (not
+// read on the z16 fast path), `dz16` that path's step times the quad's distance from the
+// batch's first. Returns false, having changed nothing, when a converted value lies outside
+// int32's range (cvttss2si to 64 bits then keeps other low bits than the 32-bit conversion
+// gives): the pixel loop takes that quad.
+bool depth_quad_sse(const DepthLanes& d, const std::array<float, 4>& z, std::int32_t dz16,
+                    bool fast_z16, bool clamp, DepthFormat format, bool nearest, bool write,
+                    std::uint32_t* row0, std::uint32_t* row1, std::uint16_t& mask) {
+    auto* p0 = reinterpret_cast<__m128i*>(row0);
+    auto* p1 = reinterpret_cast<__m128i*>(row1);
+    const __m128i stored = _mm_unpacklo_epi64(_mm_loadl_epi64(p0), _mm_loadl_epi64(p1));
+    // frag < stored unsigned: both with the sign bit flipped, compared signed.
+    const __m128i flip = _mm_set1_epi32(INT32_MIN);
+    __m128i store;  // what a passing lane writes
+    __m128i lt;     // frag < stored
+    __m128i eq;     // frag == stored
+    if (fast_z16) {
+        // (init[k] + dx * step) & 0xffff, compared and stored as it is.
+        store = _mm_and_si128(_mm_add_epi32(d.init, _mm_set1_epi32(dz16)), _mm_set1_epi32(0xffff));
+        lt = _mm_cmplt_epi32(_mm_xor_si128(store, flip), _mm_xor_si128(stored, flip));
+        eq = _mm_cmpeq_epi32(store, stored);
+    } else {
+        __m128 v = _mm_loadu_ps(z.data());
+        // std::min(std::max(zk, min), max): maxps(min, zk) is min > zk ? min : zk, which is
+        // std::max(zk, min)'s zk < min ? min : zk (NaN and zeros included); minps(max, v)
+        // likewise std::min(v, max).
+        if (clamp) v = _mm_min_ps(d.depth_max, _mm_max_ps(d.depth_min, v));
+        if (format == DepthFormat::Z32f) {
+            // The float's bits, compared as floats: < and == as the scalar compares (NaN
+            // neither), under the same denormal mode.
+            store = _mm_castps_si128(v);
+            lt = _mm_castps_si128(_mm_cmplt_ps(v, _mm_castsi128_ps(stored)));
+            eq = _mm_castps_si128(_mm_cmpeq_ps(v, _mm_castsi128_ps(stored)));
+        } else {
+            const __m128 scaled = _mm_mul_ps(v, d.scale);
+            // Inside [-2^31, 2^31) (NaN is not) the 64-bit truncation's low 32 bits are the
+            // 32-bit conversion's, and nearbyint (in the current rounding mode) then the
+            // truncation is cvtps2dq: a float of 2^23 or more is an integer already.
+            const __m128 inside = _mm_and_ps(_mm_cmpge_ps(scaled, _mm_set1_ps(-2147483648.0f)),
+                                             _mm_cmplt_ps(scaled, _mm_set1_ps(2147483648.0f)));
+            if (_mm_movemask_ps(inside) != 0xf) return false;
+            const __m128i value = nearest ? _mm_cvtps_epi32(scaled) : _mm_cvttps_epi32(scaled);
+            // The unmasked value compared, the masked one stored.
+            lt = _mm_cmplt_epi32(_mm_xor_si128(value, flip), _mm_xor_si128(stored, flip));
+            eq = _mm_cmpeq_epi32(value, stored);
+            store = _mm_and_si128(value, d.keep);
+        }
+    }
+    // depth_outcome: less 1, equal 2, otherwise (greater, or unordered floats) 4.
+    const __m128i gt = _mm_andnot_si128(_mm_or_si128(lt, eq), _mm_set1_epi32(-1));
+    const __m128i pass =
+        _mm_or_si128(_mm_or_si128(_mm_and_si128(lt, d.pass_lt), _mm_and_si128(eq, d.pass_eq)),
+                     _mm_and_si128(gt, d.pass_gt));
+    mask = static_cast<std::uint16_t>(mask & _mm_movemask_ps(_mm_castsi128_ps(pass)));
+    if (!write || mask == 0) return true;
+    const __m128i bits = _mm_setr_epi32(1, 2, 4, 8);
+    const __m128i written = _mm_cmpeq_epi32(_mm_and_si128(_mm_set1_epi32(mask), bits), bits);
+    const __m128i out =
+        _mm_or_si128(_mm_and_si128(written, store), _mm_andnot_si128(written, stored));
+    _mm_storel_epi64(p0, out);
+    _mm_storel_epi64(p1, _mm_unpackhi_epi64(out, out));
+    return true;
+}
+#endif
+
 }  // namespace
 
 bool ScanlineKernel::depth_test_fast(const ScanlineList& list, const ScanlinePrimitive& p,
@@ -104,12 +190,38 @@ bool ScanlineKernel::depth_test_fast(const ScanlineList& list, const ScanlinePri
     const std::uint32_t keep = fb.depth_format == DepthFormat::Z16   ? 0xffffu
                                : fb.depth_format == DepthFormat::Z24 ? 0xffffffu
                                                                      : 0xffffffffu;
+#if defined(__SSE2__)
+    const auto pass_if = [this](unsigned outcome) {
+        return _mm_set1_epi32((depth_pass_ & outcome) != 0 ? -1 : 0);
+    };
+    const DepthLanes lanes{
+        pass_if(1),
+        pass_if(2),
+        pass_if(4),
+        _mm_set1_epi32(static_cast<std::int32_t>(keep)),
+        _mm_set1_ps(fb.depth_format == DepthFormat::Z16 ? 65535.0f : 16777215.0f),
+        _mm_setr_epi32(init[0], init[1], init[2], init[3]),
+        _mm_set1_ps(depth_min_),
+        _mm_set1_ps(depth_max_)};
+#endif
     for (std::size_t q = 0; q < quads.size(); ++q) {
         const QuadPacket& quad = quads[q];
         std::uint16_t mask = quad.mask & kSample0Pixels;
         std::array<float, 4> z{};
-        if (!fast_z16) z = scanline_quad(zp, quad.x, quad.y);
-        for (unsigned k = 0; k < 4; ++k) {
+        if (!fast_z16) quad_values(zp, static_cast<float>(quad.x), static_cast<float>(quad.y), z);
+        const std::int32_t dz16 = (quad.x - quads[0].x) * step;
+        bool done = mask == 0;
+#if defined(__SSE2__)
+        // A quad inside the target a vector at a time (its two rows' pixel pairs).
+        if (!done && static_cast<std::uint32_t>(quad.x) + 1 < fb.width &&
+            static_cast<std::uint32_t>(quad.y) + 1 < fb.height) {
+            std::uint32_t* row0 = fb.depth.data() + fb.index(static_cast<std::uint32_t>(quad.x),
+                                                             static_cast<std::uint32_t>(quad.y));
+            done = depth_quad_sse(lanes, z, dz16, fast_z16, p.clamp_depth, fb.depth_format,
+                                  depth_nearest_, depth_write_, row0, row0 + fb.width, mask);
+        }
+#endif
+        for (unsigned k = 0; k < 4 && !done; ++k) {
             if ((mask & (1u << k)) == 0) continue;
             const auto x = static_cast<std::uint32_t>(quad.x + static_cast<int>(k & 1u));
             const auto y = static_cast<std::uint32_t>(quad.y + static_cast<int>(k >> 1));
@@ -117,8 +229,7 @@ bool ScanlineKernel::depth_test_fast(const ScanlineList& list, const ScanlinePri
             std::uint32_t value = 0;
             std::uint32_t stored_value = 0;
             if (fast_z16) {
-                const std::int32_t dx = quad.x - quads[0].x;
-                value = static_cast<std::uint32_t>(init[k] + dx * step) & 0xffffu;
+                value = static_cast<std::uint32_t>(init[k] + dz16) & 0xffffu;
                 stored_value = value;
             } else {
                 float zk = z[k];
