@@ -9,8 +9,11 @@
 //  - colours go through SoftpipeLazyTiles, whose loads and evictions cost nothing beyond the
 //    pixels written (softpipe_lazy_tiles.hpp), fetched in the model's order: once a batch
 //    with a surviving pixel, at its first quad.
-// The depth test and the blend (ScanlineKernel::merge) are the model's own code; the sampler
-// is the model's with the tile cache's emulation skipped where no entry can alias
+//  - with SSE2, the depth test takes a quad's four pixels as one vector, and the colour
+//    planes a pixel's four channels as one (each lane the scalar code's operations in its
+//    order).
+// The blend (ScanlineKernel::merge) is the model's own code; the sampler is the model's with
+// the tile cache's emulation skipped where no entry can alias
 // (SoftpipeSampler::sample_quad_direct).
 #include <algorithm>
 #include <bit>
@@ -37,6 +40,61 @@ namespace {
     const float qx = q + p.dadx;
     out = {q, qx, q + p.dady, qx + p.dady};
 }
+
+// The values of one attribute channel's plane `a` at the quad's four pixels, as
+// ScanlineKernel::attributes computes them (tgsi_exec.c eval_constant_coef, eval_linear_coef,
+// eval_perspective_coef: the linear value divided by the quad's 1/w, `w`).
+[[gnu::always_inline]] inline void channel_values(const ScanlinePlane& a, ScanlineInterp interp,
+                                                  float fx, float fy, const std::array<float, 4>& w,
+                                                  std::array<float, 4>& out) {
+    switch (interp) {
+        case ScanlineInterp::Constant:
+            out.fill(a.a0);
+            break;
+        case ScanlineInterp::Linear:
+            quad_values(a, fx, fy, out);
+            break;
+        case ScanlineInterp::Perspective:
+            quad_values(a, fx, fy, out);
+            for (std::size_t k = 0; k < 4; ++k) out[k] = out[k] / w[k];
+            break;
+    }
+}
+
+#if defined(__SSE2__)
+// channel_values of planes a[0] to a[3] at once, pixel by pixel: c[k] gets pixel k's four
+// channels. Lane ch computes what channel_values computes for a[ch], in the same order:
+// q = (a0 + dadx*fx) + dady*fy, then q + dadx, q + dady and (q + dadx) + dady, each divided
+// by w[k] when perspective.
+[[gnu::always_inline]] inline void quad_channels(const ScanlinePlane* a, ScanlineInterp interp,
+                                                 float fx, float fy, const std::array<float, 4>& w,
+                                                 std::array<std::array<float, 4>, 4>& c) {
+    const __m128 a0 = _mm_setr_ps(a[0].a0, a[1].a0, a[2].a0, a[3].a0);
+    if (interp == ScanlineInterp::Constant) {
+        for (auto& pixel : c) _mm_storeu_ps(pixel.data(), a0);
+        return;
+    }
+    const __m128 dadx = _mm_setr_ps(a[0].dadx, a[1].dadx, a[2].dadx, a[3].dadx);
+    const __m128 dady = _mm_setr_ps(a[0].dady, a[1].dady, a[2].dady, a[3].dady);
+    const __m128 q = _mm_add_ps(_mm_add_ps(a0, _mm_mul_ps(dadx, _mm_set1_ps(fx))),
+                                _mm_mul_ps(dady, _mm_set1_ps(fy)));
+    const __m128 qx = _mm_add_ps(q, dadx);
+    __m128 p0 = q;
+    __m128 p1 = qx;
+    __m128 p2 = _mm_add_ps(q, dady);
+    __m128 p3 = _mm_add_ps(qx, dady);
+    if (interp == ScanlineInterp::Perspective) {
+        p0 = _mm_div_ps(p0, _mm_set1_ps(w[0]));
+        p1 = _mm_div_ps(p1, _mm_set1_ps(w[1]));
+        p2 = _mm_div_ps(p2, _mm_set1_ps(w[2]));
+        p3 = _mm_div_ps(p3, _mm_set1_ps(w[3]));
+    }
+    _mm_storeu_ps(c[0].data(), p0);
+    _mm_storeu_ps(c[1].data(), p1);
+    _mm_storeu_ps(c[2].data(), p2);
+    _mm_storeu_ps(c[3].data(), p3);
+}
+#endif
 
 // cvttss2si with a 32-bit destination, as shade's: 0x80000000 for NaN and values outside
 // int32's range.
@@ -258,28 +316,19 @@ void ScanlineKernel::quad_colors_fast(const ScanlineList& list, const ScanlinePr
     std::array<float, 4> w{};
     if (p.interp == ScanlineInterp::Perspective || p.point_coords)
         quad_values(planes[kScanlineWPlane], fx, fy, w);
-    // Channel `ch` of attribute floats from `first` for the four pixels, as
-    // ScanlineKernel::attributes computes it.
-    const auto channel = [&](std::size_t first, std::size_t ch, std::array<float, 4>& out) {
-        const ScanlinePlane& a = planes[kScanlineFirstAttribute + first + ch];
-        switch (p.interp) {
-            case ScanlineInterp::Constant:
-                out.fill(a.a0);
-                break;
-            case ScanlineInterp::Linear:
-                quad_values(a, fx, fy, out);
-                break;
-            case ScanlineInterp::Perspective:
-                quad_values(a, fx, fy, out);
-                for (std::size_t k = 0; k < 4; ++k) out[k] = out[k] / w[k];
-                break;
-        }
-    };
+    const ScanlinePlane* colour = planes + kScanlineFirstAttribute;
+#if defined(__SSE2__)
+    // The four channels of each pixel as one vector, lane ch the channel's value: the same
+    // operations on each lane as the scalar quad_values and division give.
+    quad_channels(colour, p.interp, fx, fy, w, c);
+#else
     std::array<std::array<float, 4>, 4> by_channel{};  // [channel][pixel]
-    for (std::size_t ch = 0; ch < 4; ++ch) channel(0, ch, by_channel[ch]);
+    for (std::size_t ch = 0; ch < 4; ++ch)
+        channel_values(colour[ch], p.interp, fx, fy, w, by_channel[ch]);
     for (std::size_t k = 0; k < 4; ++k) {
         for (std::size_t ch = 0; ch < 4; ++ch) c[k][ch] = by_channel[ch][k];
     }
+#endif
     if (sampler_ == nullptr) return;
     // ScanlineKernel::quad_colors: s/q and t/q (TXP), or the sprite coordinate over 1/w.
     std::array<float, 4> s{}, t{};
@@ -293,9 +342,9 @@ void ScanlineKernel::quad_colors_fast(const ScanlineList& list, const ScanlinePr
         }
     } else {
         std::array<float, 4> tq{};
-        channel(4, 0, s);
-        channel(4, 1, t);
-        channel(4, 3, tq);
+        channel_values(colour[4], p.interp, fx, fy, w, s);
+        channel_values(colour[5], p.interp, fx, fy, w, t);
+        channel_values(colour[7], p.interp, fx, fy, w, tq);
         for (std::size_t k = 0; k < 4; ++k) {
             s[k] = s[k] / tq[k];
             t[k] = t[k] / tq[k];
