@@ -244,6 +244,18 @@ bool ScanlineKernel::depth_test_fast(const ScanlineList& list, const ScanlinePri
         for (std::size_t j = 0; j < 4; ++j) init[j] = truncate_to_int32(z[j] * 65535.0f) & 0xffff;
         step = truncate_to_int32(zp.dadx * 65535.0f) & 0xffff;
     }
+#if defined(__GNUC__)
+    // A hint, no value: the depth of the next 2-row block under this batch's first quad,
+    // which the primitive's next batches there will likely test (a batch's quads lie in one
+    // 16-pixel chunk: one cache line a row).
+    const auto qx0 = static_cast<std::uint32_t>(quads[0].x);
+    const auto qy0 = static_cast<std::uint32_t>(quads[0].y);
+    if (qx0 < fb.width && qy0 + 3 < fb.height) {
+        const std::uint32_t* next = fb.depth.data() + fb.index(qx0, qy0 + 2);
+        __builtin_prefetch(next, 1);
+        __builtin_prefetch(next + fb.width, 1);
+    }
+#endif
     const bool is_float = fb.depth_format == DepthFormat::Z32f;
     const std::uint32_t keep = fb.depth_format == DepthFormat::Z16   ? 0xffffu
                                : fb.depth_format == DepthFormat::Z24 ? 0xffffffu
