@@ -353,6 +353,15 @@ void ScanlineKernel::quad_colors_fast(const ScanlineList& list, const ScanlinePr
             t[k] = t[k] / w[k];
         }
     } else {
+#if defined(__SSE2__)
+        // The texture coordinate's four planes as the colour's (r computed and not read).
+        std::array<std::array<float, 4>, 4> stq{};  // [pixel][s, t, r, q]
+        quad_channels(colour + 4, p.interp, fx, fy, w, stq);
+        for (std::size_t k = 0; k < 4; ++k) {
+            s[k] = stq[k][0] / stq[k][3];
+            t[k] = stq[k][1] / stq[k][3];
+        }
+#else
         std::array<float, 4> tq{};
         channel_values(colour[4], p.interp, fx, fy, w, s);
         channel_values(colour[5], p.interp, fx, fy, w, t);
@@ -361,6 +370,7 @@ void ScanlineKernel::quad_colors_fast(const ScanlineList& list, const ScanlinePr
             s[k] = s[k] / tq[k];
             t[k] = t[k] / tq[k];
         }
+#endif
     }
     std::array<std::array<float, 4>, 4> texel{};
     sampler_->sample_quad_direct(s, t, texel);

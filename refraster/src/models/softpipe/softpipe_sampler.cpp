@@ -9,6 +9,9 @@
 #include <cmath>
 #include <cstddef>
 #include <utility>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "refraster/assert.hpp"
 
@@ -276,6 +279,23 @@ std::array<const float*, 4> fetch_quad(const LevelRef& l, const float* border,
 void bilinear(const std::array<const float*, 4>& tx, float xw, float yw, float* rgba) {
     for (std::size_t c = 0; c < 4; ++c)
         rgba[c] = lerp_2d(xw, yw, tx[0][c], tx[1][c], tx[2][c], tx[3][c]);
+}
+
+// bilinear for sample_quad_direct: the four channels as one vector, lane c lerp_2d's
+// operations on channel c in its order (v0 + a * (v1 - v0) for each row, then between them).
+void bilinear_direct(const std::array<const float*, 4>& tx, float xw, float yw, float* rgba) {
+#if defined(__SSE2__)
+    const __m128 a = _mm_set1_ps(xw);
+    const __m128 t00 = _mm_loadu_ps(tx[0]);
+    const __m128 t10 = _mm_loadu_ps(tx[1]);
+    const __m128 t01 = _mm_loadu_ps(tx[2]);
+    const __m128 t11 = _mm_loadu_ps(tx[3]);
+    const __m128 bottom = _mm_add_ps(t00, _mm_mul_ps(a, _mm_sub_ps(t10, t00)));
+    const __m128 top = _mm_add_ps(t01, _mm_mul_ps(a, _mm_sub_ps(t11, t01)));
+    _mm_storeu_ps(rgba, _mm_add_ps(bottom, _mm_mul_ps(_mm_set1_ps(yw), _mm_sub_ps(top, bottom))));
+#else
+    bilinear(tx, xw, yw, rgba);
+#endif
 }
 
 // img_filter_2d_linear with the wraps of the sampler.
@@ -637,7 +657,11 @@ void SoftpipeSampler::linear(std::uint32_t level, float s, float t, const float*
         const auto y1 = static_cast<std::int32_t>(static_cast<std::uint32_t>(y0 + 1) & ymask);
         tx = fetch_quad(l, border, {x0, x1, x0, x1}, {y0, y0, y1, y1});
     }
-    bilinear(tx, xw, yw, rgba);
+    if constexpr (kDirect) {
+        bilinear_direct(tx, xw, yw, rgba);
+    } else {
+        bilinear(tx, xw, yw, rgba);
+    }
 }
 
 template <bool kDirect>
