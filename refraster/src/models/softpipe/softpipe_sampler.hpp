@@ -90,8 +90,9 @@ class SoftpipeSampler {
     // The same values as sample_quad, for the fast path (softpipe_fast_fragment.cpp): the
     // power-of-two repeat bilinear filter reads its four texels directly wherever no repeat
     // seam lies between them, where the tile cache's entries cannot alias (the proof is at
-    // SoftpipeSampler::linear); sample_quad, the model's, emulates the cache for every sample
-    // away from the level's first tile column and row.
+    // SoftpipeSampler::linear), and blends the four channels as one vector (bilinear_direct);
+    // sample_quad, the model's, emulates the cache for every sample away from the level's
+    // first tile column and row and blends channel by channel.
     void sample_quad_direct(const std::array<float, 4>& s, const std::array<float, 4>& t,
                             std::array<std::array<float, 4>, 4>& out) const;
 
