@@ -41,6 +41,7 @@ namespace {
     out = {q, qx, q + p.dady, qx + p.dady};
 }
 
+#if !defined(__SSE2__)
 // The values of one attribute channel's plane `a` at the quad's four pixels, as
 // ScanlineKernel::attributes computes them (tgsi_exec.c eval_constant_coef, eval_linear_coef,
 // eval_perspective_coef: the linear value divided by the quad's 1/w, `w`).
@@ -60,6 +61,7 @@ namespace {
             break;
     }
 }
+#endif
 
 #if defined(__SSE2__)
 // channel_values of planes a[0] to a[3] at once, pixel by pixel: c[k] gets pixel k's four
