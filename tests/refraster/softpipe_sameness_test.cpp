@@ -11,9 +11,10 @@
 // included), rgba32f targets, several draws a scene, fill rules (whose stencil clear writes
 // every tile back) and line and point rules of the other family (a draw of the snapped model
 // in between); and what the kernel decides: every shade model, texture filter, wrap and
-// environment, point sprites, every depth format and function (the z16 fast path among them),
-// scissors, clipped and culled triangles, denormal positions and colours, and flushing on and
-// off.
+// environment (256x256 levels repeated across seams where softpipe's texture tile cache
+// aliases: the fast path's bilinear shortcut), point sprites, every depth format and function
+// (the z16 fast path among them), scissors, clipped and culled triangles, denormal positions
+// and colours, and flushing on and off.
 //
 // Seeds: 1, 2 and REFRASTER_TEST_SEED (3 unless set). A longer run is one command:
 //   REFRASTER_SAMENESS_SCENES=2000 REFRASTER_TEST_SEED=7 build/bin/core_tests
@@ -71,7 +72,30 @@ std::string first_difference(const refraster::Framebuffer& a, const refraster::F
 
 class SoftpipeSceneMaker {
   public:
-    explicit SoftpipeSceneMaker(std::uint64_t seed) : rng_(seed) {}
+    explicit SoftpipeSceneMaker(std::uint64_t seed) : rng_(seed), seams_(seed + 1) {}
+
+    // scene(), and for one scene in three a 256x256 base level whose textured draws repeat
+    // in both directions half the time: the fast path's bilinear repeat shortcut
+    // (softpipe_sampler.cpp, SoftpipeSampler::linear) against the model's tile cache
+    // emulation, on a level where a repeat seam makes two fetches of one sample alias (tiles
+    // (a + 1, 7) and (a, 0), or (0, b) and (7, b + 1), share an entry). Drawn from a second
+    // generator, so scene() makes the same scenes as before.
+    refraster::DrawList scene_with_seams() {
+        refraster::DrawList l = scene();
+        if (seams_() % 3 != 0) return l;
+        refraster::TextureImage img;
+        img.width = img.height = 256;
+        img.rgba.resize(std::size_t{256} * 256 * 4);
+        for (auto& b : img.rgba) b = static_cast<std::uint8_t>(seams_());
+        l.textures.front().levels = {std::move(img)};
+        for (auto& d : l.draws) {
+            if (d.state.texture && seams_() % 2 == 0) {
+                d.state.texture->wrap_s = refraster::TextureWrap::Repeat;
+                d.state.texture->wrap_t = refraster::TextureWrap::Repeat;
+            }
+        }
+        return l;
+    }
 
     refraster::DrawList scene() {
         refraster::DrawList l;
@@ -211,6 +235,7 @@ class SoftpipeSceneMaker {
     }
 
     std::mt19937_64 rng_;
+    std::mt19937_64 seams_;
 };
 
 class SoftpipeSameness : public ::testing::TestWithParam<std::uint64_t> {};
@@ -222,7 +247,7 @@ TEST_P(SoftpipeSameness, EveryPathAndThreadCountGivesTheModelsBytes) {
     int drawn = 0;
     int compared = 0;
     for (int n = 0; n < scenes; ++n) {
-        const refraster::DrawList l = maker.scene();
+        const refraster::DrawList l = maker.scene_with_seams();
         refraster::RenderOptions model;
         model.profile = refraster::builtin_profile("softpipe-22.3");
         model.kernels = KernelPath::Model;

@@ -9,6 +9,9 @@
 #include <cmath>
 #include <cstddef>
 #include <utility>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "refraster/assert.hpp"
 
@@ -276,6 +279,23 @@ std::array<const float*, 4> fetch_quad(const LevelRef& l, const float* border,
 void bilinear(const std::array<const float*, 4>& tx, float xw, float yw, float* rgba) {
     for (std::size_t c = 0; c < 4; ++c)
         rgba[c] = lerp_2d(xw, yw, tx[0][c], tx[1][c], tx[2][c], tx[3][c]);
+}
+
+// bilinear for sample_quad_direct: the four channels as one vector, lane c lerp_2d's
+// operations on channel c in its order (v0 + a * (v1 - v0) for each row, then between them).
+void bilinear_direct(const std::array<const float*, 4>& tx, float xw, float yw, float* rgba) {
+#if defined(__SSE2__)
+    const __m128 a = _mm_set1_ps(xw);
+    const __m128 t00 = _mm_loadu_ps(tx[0]);
+    const __m128 t10 = _mm_loadu_ps(tx[1]);
+    const __m128 t01 = _mm_loadu_ps(tx[2]);
+    const __m128 t11 = _mm_loadu_ps(tx[3]);
+    const __m128 bottom = _mm_add_ps(t00, _mm_mul_ps(a, _mm_sub_ps(t10, t00)));
+    const __m128 top = _mm_add_ps(t01, _mm_mul_ps(a, _mm_sub_ps(t11, t01)));
+    _mm_storeu_ps(rgba, _mm_add_ps(bottom, _mm_mul_ps(_mm_set1_ps(yw), _mm_sub_ps(top, bottom))));
+#else
+    bilinear(tx, xw, yw, rgba);
+#endif
 }
 
 // img_filter_2d_linear with the wraps of the sampler.
@@ -584,6 +604,7 @@ void SoftpipeSampler::nearest(std::uint32_t level, float s, float t, const float
     std::copy(p, p + 4, rgba);
 }
 
+template <bool kDirect>
 void SoftpipeSampler::linear(std::uint32_t level, float s, float t, const float* border,
                              float* rgba) const {
     const TextureImage& image = images_[level];
@@ -609,8 +630,26 @@ void SoftpipeSampler::linear(std::uint32_t level, float s, float t, const float*
     // fetches otherwise (which alias only across the seam).
     const auto xmax = static_cast<std::int32_t>(xmask & 31u);
     const auto ymax = static_cast<std::int32_t>(ymask & 31u);
+    //
+    // sample_quad_direct reads the four texels directly wherever no seam lies between them
+    // (x0 != xmask and y0 != ymask), the same values fetch_quad gives. Proof: then x1 = x0 + 1
+    // and y1 = y0 + 1, all four inside the level, so fetch k's tile is (a + (k & 1) d,
+    // b + (k >> 1) e) with (a, b) = (x0/32, y0/32) and d, e in {0, 1}. Two fetches in different
+    // tiles differ in tile coordinates by (1, 0), (0, 1), (1, 1) or (-1, 1) (fetches 1 and 2),
+    // so in entry, (x/32 + 9 (y/32) + 7 level) % 16, by 1, 9, 10 or 8 modulo 16, never 0
+    // (the level is the same for all four): no fetch loads another tile into an earlier
+    // fetch's entry. Two fetches that share an entry share the tile, so pointer k reads, at its
+    // offset, its own tile: texel (x_k, y_k). The seam samples (x0 = xmask or y0 = ymask,
+    // about one in `width` or `height`) keep the emulation: across a seam the tiles' distance
+    // is no longer 0 or 1, and entries can coincide. On a 256x256 level, a seam in t puts
+    // fetch 1 in tile (a + 1, 7) and fetch 2 in (a, 0) when x0 ends a tile column (entries
+    // a + 1 + 63 and a), a seam in s fetch 1 in (0, b) and fetch 2 in (7, b + 1) when y0
+    // ends a tile row (9b and 7 + 9b + 9): pointer 1 then reads fetch 2's tile.
+    const bool direct =
+        kDirect ? x0 != static_cast<std::int32_t>(xmask) && y0 != static_cast<std::int32_t>(ymask)
+                : x0 < xmax && y0 < ymax;
     std::array<const float*, 4> tx{};
-    if (x0 < xmax && y0 < ymax) {  // get_texel_quad_2d_no_border_single_tile
+    if (direct) {  // get_texel_quad_2d_no_border_single_tile, or the proof above
         tx = {texel_at(l, x0, y0), texel_at(l, x0 + 1, y0), texel_at(l, x0, y0 + 1),
               texel_at(l, x0 + 1, y0 + 1)};
     } else {  // get_texel_quad_2d_no_border
@@ -618,20 +657,26 @@ void SoftpipeSampler::linear(std::uint32_t level, float s, float t, const float*
         const auto y1 = static_cast<std::int32_t>(static_cast<std::uint32_t>(y0 + 1) & ymask);
         tx = fetch_quad(l, border, {x0, x1, x0, x1}, {y0, y0, y1, y1});
     }
-    bilinear(tx, xw, yw, rgba);
+    if constexpr (kDirect) {
+        bilinear_direct(tx, xw, yw, rgba);
+    } else {
+        bilinear(tx, xw, yw, rgba);
+    }
 }
 
+template <bool kDirect>
 void SoftpipeSampler::filter(ImageFilter f, std::uint32_t level, float s, float t,
                              const float* border, float* rgba) const {
     if (f == ImageFilter::Nearest) {
         nearest(level, s, t, border, rgba);
     } else {
-        linear(level, s, t, border, rgba);
+        linear<kDirect>(level, s, t, border, rgba);
     }
 }
 
-void SoftpipeSampler::sample_quad(const std::array<float, 4>& s, const std::array<float, 4>& t,
-                                  std::array<std::array<float, 4>, 4>& out) const {
+template <bool kDirect>
+void SoftpipeSampler::sample(const std::array<float, 4>& s, const std::array<float, 4>& t,
+                             std::array<std::array<float, 4>, 4>& out) const {
     // sp_tgsi_get_samples: a unorm view clamps the border colour to [0, 1] at every call, so
     // under the batch's DAZ (draw_vbo's, "Whether the driver sets up each output triangle")
     // CLAMP's compares read a denormal as zero and give 0: textures.border_color_denormal.
@@ -640,7 +685,8 @@ void SoftpipeSampler::sample_quad(const std::array<float, 4>& s, const std::arra
     const float* border = clamped.data();
     if (mip_ == MipFilter::None && min_ == mag_) {
         // mip_filter_none_no_filter_select: the mag filter on the base, no LOD.
-        for (std::size_t k = 0; k < 4; ++k) filter(mag_, 0, s[k], t[k], border, out[k].data());
+        for (std::size_t k = 0; k < 4; ++k)
+            filter<kDirect>(mag_, 0, s[k], t[k], border, out[k].data());
         return;
     }
     // The LOD is never NaN (util_fast_log2 of a NaN is finite) and lies in [0, 1000].
@@ -649,39 +695,50 @@ void SoftpipeSampler::sample_quad(const std::array<float, 4>& s, const std::arra
         float* rgba = out[k].data();
         switch (mip_) {
             case MipFilter::None:  // mip_filter_none
-                filter(lod <= 0.0f ? mag_ : min_, 0, s[k], t[k], border, rgba);
+                filter<kDirect>(lod <= 0.0f ? mag_ : min_, 0, s[k], t[k], border, rgba);
                 break;
             case MipFilter::Nearest: {  // mip_filter_nearest
                 if (lod <= 0.0f) {
-                    filter(mag_, 0, s[k], t[k], border, rgba);
+                    filter<kDirect>(mag_, 0, s[k], t[k], border, rgba);
                     break;
                 }
                 const auto level = static_cast<std::uint32_t>(lod + 0.5f);
-                filter(min_, std::min(level, last_), s[k], t[k], border, rgba);
+                filter<kDirect>(min_, std::min(level, last_), s[k], t[k], border, rgba);
                 break;
             }
             case MipFilter::Linear: {
                 const auto level0 = static_cast<std::uint32_t>(lod);
                 if (!pot_trilinear_ && lod <= 0.0f) {  // mip_filter_linear's mag test
-                    filter(mag_, 0, s[k], t[k], border, rgba);
+                    filter<kDirect>(mag_, 0, s[k], t[k], border, rgba);
                 } else if (level0 >= last_) {
                     // mip_filter_linear and mip_filter_linear_2d_linear_repeat_POT: the last
                     // level alone.
-                    filter(min_, last_, s[k], t[k], border, rgba);
+                    filter<kDirect>(min_, last_, s[k], t[k], border, rgba);
                 } else {
                     // Both levels, blended by frac(lod); the POT path does this at lod 0 too,
                     // where the weight 0 leaves the base's value.
                     const float blend = frac(lod);
                     std::array<float, 4> c0{};
                     std::array<float, 4> c1{};
-                    filter(min_, level0, s[k], t[k], border, c0.data());
-                    filter(min_, level0 + 1, s[k], t[k], border, c1.data());
+                    filter<kDirect>(min_, level0, s[k], t[k], border, c0.data());
+                    filter<kDirect>(min_, level0 + 1, s[k], t[k], border, c1.data());
                     for (std::size_t c = 0; c < 4; ++c) rgba[c] = lerp(blend, c0[c], c1[c]);
                 }
                 break;
             }
         }
     }
+}
+
+void SoftpipeSampler::sample_quad(const std::array<float, 4>& s, const std::array<float, 4>& t,
+                                  std::array<std::array<float, 4>, 4>& out) const {
+    sample<false>(s, t, out);
+}
+
+void SoftpipeSampler::sample_quad_direct(const std::array<float, 4>& s,
+                                         const std::array<float, 4>& t,
+                                         std::array<std::array<float, 4>, 4>& out) const {
+    sample<true>(s, t, out);
 }
 
 }  // namespace refraster::detail

@@ -87,6 +87,14 @@ class SoftpipeSampler {
     // interpolated colour, channel by channel) or replace.
     void sample_quad(const std::array<float, 4>& s, const std::array<float, 4>& t,
                      std::array<std::array<float, 4>, 4>& out) const;
+    // The same values as sample_quad, for the fast path (softpipe_fast_fragment.cpp): the
+    // power-of-two repeat bilinear filter reads its four texels directly wherever no repeat
+    // seam lies between them, where the tile cache's entries cannot alias (the proof is at
+    // SoftpipeSampler::linear), and blends the four channels as one vector (bilinear_direct);
+    // sample_quad, the model's, emulates the cache for every sample away from the level's
+    // first tile column and row and blends channel by channel.
+    void sample_quad_direct(const std::array<float, 4>& s, const std::array<float, 4>& t,
+                            std::array<std::array<float, 4>, 4>& out) const;
 
     // The RGBA8 levels sampled, base first: the given ones, or the base and the generated
     // ones (what glGetTexImage reads back on softpipe).
@@ -96,10 +104,16 @@ class SoftpipeSampler {
     enum class ImageFilter : std::uint8_t { Nearest, Linear };
     enum class MipFilter : std::uint8_t { None, Nearest, Linear };
 
+    // sample_quad (kDirect false) and sample_quad_direct (true).
+    template <bool kDirect>
+    void sample(const std::array<float, 4>& s, const std::array<float, 4>& t,
+                std::array<std::array<float, 4>, 4>& out) const;
     // The filtered texel of one level at (s, t), for one pixel.
+    template <bool kDirect>
     void filter(ImageFilter f, std::uint32_t level, float s, float t, const float* border,
                 float* rgba) const;
     void nearest(std::uint32_t level, float s, float t, const float* border, float* rgba) const;
+    template <bool kDirect>
     void linear(std::uint32_t level, float s, float t, const float* border, float* rgba) const;
 
     std::vector<TextureImage> images_;
