@@ -108,20 +108,20 @@ struct VectorKernel {
                 k.options.flush_denormals};
     }
 
-    // The depth value of the lanes at (px, py): the plane plus the offset, clamped, converted
-    // to the format's bits (z32f: the float's).
-    [[gnu::always_inline]] static I depth_value(const DepthTest& t, F px, F py, bool fma) {
+    // The depth test of the lanes at (px, py) against dp[0..kLanes) (`inside`: every lane lies
+    // in the row, else only `live` lanes are read and written): the live lanes that pass, their
+    // depths written when the draw writes depth.
+    [[gnu::always_inline]] static M depth_stage(const DepthTest& t, F px, F py, bool fma,
+                                                std::uint32_t* dp, bool inside, M live) {
         F z = V::add(at(t.zp, px, py, fma), t.z_offset);
         z = V::max(V::min(z, V::splat(1.0f)), V::splat(0.0f));
+        I value;
         if constexpr (D == DepthFormat::Z32f) {
-            return V::as_int(z);
+            value = V::as_int(z);
         } else {
-            return V::to_int_rne(V::mul(z, V::splat(static_cast<float>(depth_unorm_max(D)))));
+            value = V::to_int_rne(V::mul(z, V::splat(static_cast<float>(depth_unorm_max(D)))));
         }
-    }
-
-    // The lanes of `live` whose `value` passes the draw's test against `stored`.
-    [[gnu::always_inline]] static M depth_passes(const DepthTest& t, I value, I stored, M live) {
+        const I stored = inside ? V::load(dp) : V::load_masked(dp, live);
         M lt, eq;
         if constexpr (D == DepthFormat::Z32f) {
             // Compared as integers ordered as the floats are (neither side is NaN; -0 equals
@@ -139,17 +139,7 @@ struct VectorKernel {
         }
         const M pass = V::m_or(V::m_or(V::m_and(lt, t.want_lt), V::m_and(eq, t.want_eq)),
                                V::m_andnot(V::m_or(lt, eq), t.want_gt));
-        return V::m_and(live, pass);
-    }
-
-    // The depth test of the lanes at (px, py) against dp[0..kLanes) (`inside`: every lane lies
-    // in the row, else only `live` lanes are read and written): the live lanes that pass, their
-    // depths written when the draw writes depth.
-    [[gnu::always_inline]] static M depth_stage(const DepthTest& t, F px, F py, bool fma,
-                                                std::uint32_t* dp, bool inside, M live) {
-        const I value = depth_value(t, px, py, fma);
-        const I stored = inside ? V::load(dp) : V::load_masked(dp, live);
-        live = depth_passes(t, value, stored, live);
+        live = V::m_and(live, pass);
         if (t.write && !V::none(live)) {
             if (inside) {
                 V::store(dp, V::select(live, stored, value));
@@ -212,39 +202,12 @@ struct VectorKernel {
         const F lanes = V::lane_index();
         constexpr std::uint64_t kLaneBits = (std::uint64_t{1} << kLanes) - 1;
 
-        // Rows of few pixels (a thin line's, a small point's) are gathered: their pixels are
-        // collected kLanes at a time across rows and shaded by shade_gathered, a vector of
-        // pixels of many rows; the rest take the row's vectors. A primitive covers each pixel
-        // once, so the order of its pixels changes no byte. The buffers' offsets must fit int32.
-        const bool gathers =
-            static_cast<std::uint64_t>(fb.width) * fb.height <= std::uint64_t{INT32_MAX};
-        alignas(64) std::uint32_t gx[kGatherBuffer];
-        alignas(64) std::uint32_t gy[kGatherBuffer];
-        int gathered = 0;
-
         for (int r = 0; r < kAhead && r < b.rows; ++r) prefetch_row(b, r, fb);
         for (int r = 0; r < b.rows; ++r) {
             if (r + kAhead < b.rows) prefetch_row(b, r + kAhead, fb);
             std::uint64_t m = b.mask[r];
             if (m == 0) continue;
             const std::int32_t y = b.y0 + r;
-            if (gathers && std::popcount(m) <= kGatherRowPixels) {
-                do {
-                    gx[gathered] = static_cast<std::uint32_t>(b.x0 + std::countr_zero(m));
-                    gy[gathered] = static_cast<std::uint32_t>(y);
-                    ++gathered;
-                    m &= m - 1;
-                } while (m != 0);
-                if (gathered >= kLanes) {
-                    shade_gathered(depth, source, owner, fma, gx, gy, kLanes, fb);
-                    gathered -= kLanes;
-                    for (int i = 0; i < gathered; ++i) {
-                        gx[i] = gx[kLanes + i];
-                        gy[i] = gy[kLanes + i];
-                    }
-                }
-                continue;
-            }
             const F py = V::splat(static_cast<float>(y));
             const std::size_t row = static_cast<std::size_t>(y) * fb.width;
             std::uint32_t* depth_row = fb.depth.empty() ? nullptr : fb.depth.data() + row;
@@ -268,7 +231,6 @@ struct VectorKernel {
                             live);
             }
         }
-        if (gathered > 0) shade_gathered(depth, source, owner, fma, gx, gy, gathered, fb);
     }
 
     // The source colours of the pixels (x .. x + kLanes - 1, y) as packed rgba8, evaluated at
@@ -306,43 +268,6 @@ struct VectorKernel {
             }
             return pack_unorm8(c);
         }
-    }
-
-    // Rows of at most kGatherRowPixels pixels are gathered (at least four rows a vector, where
-    // a row's own vector would hold a quarter of its lanes or less); kGatherBuffer holds the
-    // pixels not yet shaded, fewer than kLanes, and one more row's.
-    static constexpr int kGatherRowPixels = kLanes / 4;
-    static constexpr auto kGatherBuffer = static_cast<std::size_t>(kLanes + kGatherRowPixels);
-
-    // The first n (1..kLanes) pixels (xs[l], ys[l]) of a primitive, from any rows: the pixel of
-    // shade_rows in each lane (px, py exact: integers below 2^24), the depth, colour and owner
-    // buffers read by gathers and written by scatters at ys * width + xs in the lanes that
-    // pass. Lanes from n on are neither read nor written.
-    static void shade_gathered(const DepthTest& depth, const Source& source, I owner, bool fma,
-                               const std::uint32_t* xs, const std::uint32_t* ys, int n,
-                               Framebuffer& fb) {
-        M live = V::from_bits(n >= kLanes ? (1u << kLanes) - 1u : (1u << n) - 1u);
-        const I xi = V::load_masked(xs, live);
-        const I yi = V::load_masked(ys, live);
-        const I at_pixel =
-            V::add32(V::mullo32(yi, V::splati(static_cast<std::int32_t>(fb.width))), xi);
-        const F px = V::to_float(xi);
-        const F py = V::to_float(yi);
-        if constexpr (D != DepthFormat::None) {
-            const I value = depth_value(depth, px, py, fma);
-            const I stored = V::gather(fb.depth.data(), at_pixel, live);
-            live = depth_passes(depth, value, stored, live);
-            if (V::none(live)) return;
-            if (depth.write) V::scatter(fb.depth.data(), at_pixel, live, value);
-        }
-        const I src = source_color(source, px, py, fma);
-        auto* color = reinterpret_cast<std::uint32_t*>(fb.color8.data());
-        if constexpr (B == BlendPreset::None) {
-            V::scatter(color, at_pixel, live, src);
-        } else {
-            V::scatter(color, at_pixel, live, blend(src, V::gather(color, at_pixel, live)));
-        }
-        if (!fb.owner.empty()) V::scatter(fb.owner.data(), at_pixel, live, owner);
     }
 
     // A 4x target, multisampling on: kLanes pixels of a row at a time, their samples in

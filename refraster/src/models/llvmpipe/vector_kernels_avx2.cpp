@@ -134,18 +134,6 @@ struct V {
         return _mm256_mask_i32gather_epi32(_mm256_setzero_si256(),
                                            reinterpret_cast<const int*>(base), idx, m, 4);
     }
-    // base[idx] = v in the lanes of the mask, in lane order (nothing written elsewhere): AVX2
-    // has no scatter, so lane by lane.
-    static void scatter(std::uint32_t* base, I idx, M m, I v) {
-        alignas(32) std::int32_t at[kLanes];
-        alignas(32) std::uint32_t value[kLanes];
-        _mm256_store_si256(reinterpret_cast<__m256i*>(at), idx);
-        _mm256_store_si256(reinterpret_cast<__m256i*>(value), v);
-        for (unsigned bits = sign_bits(m); bits != 0; bits &= bits - 1) {
-            const int l = std::countr_zero(bits);
-            base[at[l]] = value[l];
-        }
-    }
 };
 
 #include "models/llvmpipe/vector_kernel_body.hpp"

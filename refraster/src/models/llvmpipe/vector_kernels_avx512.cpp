@@ -6,10 +6,9 @@
 // functions is compiled for AVX-512.
 //
 // GCC 12 reports its own _mm512_undefined_* helpers, inlined into the intrinsics used here,
-// as (maybe) uninitialized: a known false positive, silenced for this file only.
+// as maybe uninitialized: a known false positive, silenced for this file only.
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#pragma GCC diagnostic ignored "-Wuninitialized"
 #endif
 #include <immintrin.h>
 
@@ -127,10 +126,6 @@ struct V {
     // base[idx] in the lanes of the mask, 0 elsewhere (nothing read there).
     static I gather(const std::uint32_t* base, I idx, M m) {
         return _mm512_mask_i32gather_epi32(_mm512_setzero_si512(), m, idx, base, 4);
-    }
-    // base[idx] = v in the lanes of the mask, in lane order (nothing written elsewhere).
-    static void scatter(std::uint32_t* base, I idx, M m, I v) {
-        _mm512_mask_i32scatter_epi32(base, m, idx, v, 4);
     }
 };
 
