@@ -66,7 +66,10 @@ class SceneMaker {
     // sampler's draws, vector_texture_body.hpp), mostly with the 8-bit path's wraps.
     // Multisample: every target 4x, mostly rgba8 (the vector 4x kernels and 4x row blocks,
     // vector_kernel_body.hpp shade_rows_4x, traverse.hpp convex_row_blocks_4x).
-    enum class Kind { Mixed, Textured, Multisample };
+    // LinesAndPoints: every draw lines (width 1 mostly, at every angle, long and short) or
+    // points (sizes 1 to 72, some not whole), mostly into single-sample targets (the row
+    // kernels' gathered rows of few pixels, vector_kernel_body.hpp shade_gathered).
+    enum class Kind { Mixed, Textured, Multisample, LinesAndPoints };
     explicit SceneMaker(std::uint64_t seed, Kind kind = Kind::Mixed)
         : rng_(seed), seed_(seed), textured_(kind == Kind::Textured), kind_(kind) {}
     std::uint64_t seed() const { return seed_; }
@@ -86,6 +89,7 @@ class SceneMaker {
             l.target.color = pick(6) == 0 ? ColorFormat::Rgba32f : ColorFormat::Rgba8;
             l.target.samples = 4;
         }
+        if (kind_ == Kind::LinesAndPoints) l.target.samples = pick(6) == 0 ? 4u : 1u;
         l.clear.color = {uniform(0, 1), uniform(0, 1), uniform(0, 1), uniform(0, 1)};
         l.clear.depth = pick(6) == 0 ? 1e-40f : uniform(0, 1);
         // A texture some draws sample (texture.cpp: every filter and wrap, both paths).
@@ -158,6 +162,17 @@ class SceneMaker {
             s.polygon_offset = refraster::PolygonOffset{uniform(-2, 2), uniform(-4, 4)};
         if (pick(3) == 0) s.line_width = 1.0f + static_cast<float>(pick(6));
         if (pick(3) == 0) s.point_size = 1.0f + static_cast<float>(pick(9));
+        if (kind_ == Kind::LinesAndPoints) {
+            static constexpr refraster::PrimitiveType kLinesAndPoints[] = {
+                refraster::PrimitiveType::Lines,     refraster::PrimitiveType::Lines,
+                refraster::PrimitiveType::LineStrip, refraster::PrimitiveType::LineLoop,
+                refraster::PrimitiveType::Points,    refraster::PrimitiveType::Points};
+            d.primitive = kLinesAndPoints[pick(6)];
+            s.line_width = pick(2) == 0 ? 1.0f : 1.0f + static_cast<float>(pick(12));
+            s.point_size =
+                pick(2) == 0 ? 1.0f + static_cast<float>(pick(72)) : uniform(0.5f, 20.0f);
+            s.polygon_mode = refraster::PolygonMode::Fill;
+        }
         s.multisample = pick(4) != 0;
         d.vertices.attributes = {{"color", 4}};
         const bool textured = textured_ || pick(4) == 0;
@@ -182,7 +197,7 @@ class SceneMaker {
             s.texture = ts;
         }
         // Small primitives around a point, or large ones across (and beyond) the viewport.
-        const bool large = pick(3) == 0;
+        const bool large = pick(3) == 0 || (kind_ == Kind::LinesAndPoints && pick(2) == 0);
         const int vertices = 3 * (1 + static_cast<int>(pick(12)));
         float cx = uniform(-1.1f, 1.1f), cy = uniform(-1.1f, 1.1f);
         for (int v = 0; v < vertices; ++v) {
@@ -231,6 +246,14 @@ TEST_P(Sameness, EveryPathAndThreadCountGivesTheModelsBytes) {
 // Every draw textured: the vector sampler against the scalar one, filters, wraps, levels.
 TEST_P(Sameness, TexturedDrawsGiveTheModelsBytes) {
     SceneMaker maker(GetParam() + 1000, SceneMaker::Kind::Textured);
+    expect_every_path_gives_the_models_bytes(maker, scene_count() / 2);
+}
+
+// Every draw lines or points: thin lines at every angle (rows of one or two pixels, gathered
+// across rows by the vector kernels), wide lines, points of many sizes, scissors, bands and
+// threads.
+TEST_P(Sameness, LinesAndPointsGiveTheModelsBytes) {
+    SceneMaker maker(GetParam() + 3000, SceneMaker::Kind::LinesAndPoints);
     expect_every_path_gives_the_models_bytes(maker, scene_count() / 2);
 }
 
