@@ -3,6 +3,7 @@
 
 #include <fcntl.h>
 #include <gtest/gtest.h>
+#include <png.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -37,6 +38,42 @@ TEST(ImageIo, ExrRoundTripIsExactFloat) {
     const auto p = dir.path() / "a.exr";
     harness::write_color_image(fb, p);
     EXPECT_EQ(harness::read_color_image(p).color32f, fb.color32f);
+}
+
+// A PNG of another writer: `channels` 8-bit samples a pixel (1 grey, 3 RGB), rows top first.
+void write_png_with_libpng(const std::filesystem::path& p, std::uint32_t width,
+                           std::uint32_t height, int channels,
+                           const std::vector<std::uint8_t>& samples) {
+    std::FILE* f = std::fopen(p.c_str(), "wb");
+    ASSERT_NE(f, nullptr);
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+    png_infop info = png_create_info_struct(png);
+    png_init_io(png, f);
+    png_set_IHDR(png, info, width, height, 8,
+                 channels == 1 ? PNG_COLOR_TYPE_GRAY : PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_write_info(png, info);
+    for (std::uint32_t r = 0; r < height; ++r) {
+        png_write_row(png,
+                      samples.data() + std::size_t{r} * width * static_cast<std::size_t>(channels));
+    }
+    png_write_end(png, nullptr);
+    png_destroy_write_struct(&png, &info);
+    ASSERT_EQ(std::fclose(f), 0);
+}
+
+// An RGB PNG is read with libpng, opaque; a grey one goes through the OpenImageIO codec module
+// (its only channel into red, as OpenImageIO reads it), bottom row first either way.
+TEST(ImageIo, RgbPngIsReadOpaqueAndGreyPngThroughTheCodecModule) {
+    testutil::TempDir dir;
+    const std::vector<std::uint8_t> rgb = {10, 20, 30, 40, 50, 60};  // top row, then bottom
+    write_png_with_libpng(dir.path() / "rgb.png", 1, 2, 3, rgb);
+    const auto a = harness::read_color_image(dir.path() / "rgb.png");
+    EXPECT_EQ(a.color8, (refraster::PixelVector<std::uint8_t>{40, 50, 60, 255, 10, 20, 30, 255}));
+    write_png_with_libpng(dir.path() / "grey.png", 2, 1, 1, {7, 200});
+    const auto g = harness::read_color_image(dir.path() / "grey.png");
+    EXPECT_EQ(g.color8, (refraster::PixelVector<std::uint8_t>{7, 0, 0, 255, 200, 0, 0, 255}));
+    EXPECT_THROW(harness::read_color_image(dir.path() / "none.png"), harness::ImageIoError);
 }
 
 TEST(ImageIo, WrongExtensionIsRefusedBeforeWriting) {

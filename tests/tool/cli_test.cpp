@@ -1,6 +1,7 @@
 // `refraster render` end to end: usage errors, NotSupported, and a written image.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cctype>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -78,6 +79,27 @@ TEST(Cli, RequiredUnknownExtensionIsNotSupported) {
         testutil::run_cli({"render", scene.string(), "-o", (dir.path() / "o.png").string()});
     EXPECT_EQ(r.exit_code, 4) << r.err;
     EXPECT_NE(r.err.find("x-future"), std::string::npos);
+}
+
+// An rgba32f target is written as EXR through the codec module; without it, one line names
+// where it was looked for, exit 2, and no file.
+TEST(Cli, ExrNeedsTheCodecModuleAndSaysWhereItLooked) {
+    testutil::TempDir dir;
+    const auto scene = dir.write("s.json", R"({"format": "refraster-scene/1",
+      "target": {"width": 2, "height": 2, "color": "rgba32f", "depth": "none"},
+      "clear": {"color": [0.25, 0.5, 2, 1]}, "draws": []})");
+    const auto out = dir.path() / "o.exr";
+    const auto ok = testutil::run_cli({"render", scene.string(), "-o", out.string()});
+    ASSERT_EQ(ok.exit_code, 0) << ok.err;
+    EXPECT_EQ(harness::read_color_image(out).color32f[2], 2.0f);
+    std::filesystem::remove(out);
+    const auto r = testutil::run_cli({"render", scene.string(), "-o", out.string()},
+                                     "env REFRASTER_CODEC_DIR=" + dir.path().string() + "/none ");
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find("REFRASTER_CODEC_DIR"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("libharness_oiio_codec.so"), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(out));
 }
 
 TEST(Cli, ClearOnlySceneRendersThroughRef) {

@@ -174,6 +174,53 @@ const char* png_decode(PngSource& source, std::uint32_t width, std::uint32_t hei
 
 namespace {
 
+// The fields of a PNG's IHDR that choose how it is read; nullopt when the bytes do not start
+// with the PNG signature and an IHDR chunk (always the first).
+struct PngHeader {
+    std::uint32_t width = 0;
+    std::uint32_t height = 0;
+    int depth = 0;
+    int color_type = 0;
+};
+
+std::optional<PngHeader> png_header(std::span<const std::uint8_t> png) {
+    static constexpr std::array<std::uint8_t, 8> kSignature = {0x89, 'P',  'N',  'G',
+                                                               '\r', '\n', 0x1a, '\n'};
+    if (png.size() < 33 || !std::equal(kSignature.begin(), kSignature.end(), png.begin()) ||
+        std::memcmp(png.data() + 12, "IHDR", 4) != 0) {
+        return std::nullopt;
+    }
+    const auto u32 = [&](std::size_t at) {
+        return (std::uint32_t{png[at]} << 24) | (std::uint32_t{png[at + 1]} << 16) |
+               (std::uint32_t{png[at + 2]} << 8) | std::uint32_t{png[at + 3]};
+    };
+    return PngHeader{u32(16), u32(20), png[24], png[25]};
+}
+
+// A PNG's samples as stored, `channels` a pixel in file row order, with its palette and
+// transparency (png_decode); libpng's message, prefixed, in ImageIoError on a fault.
+struct PngSamples {
+    std::vector<std::uint8_t> stored;
+    std::array<std::array<std::uint8_t, 4>, 256> palette{};
+    int palette_entries = 0;
+    PngTransparency trns;
+};
+
+PngSamples png_samples(std::span<const std::uint8_t> png, const PngHeader& h, int channels,
+                       const std::string& error_prefix) {
+    PngSamples out;
+    const auto nch = static_cast<std::size_t>(channels);
+    out.stored.resize(std::size_t{h.width} * h.height * nch);
+    std::vector<png_bytep> rows(h.height);
+    for (std::uint32_t r = 0; r < h.height; ++r) rows[r] = out.stored.data() + r * h.width * nch;
+    PngSource source{png};
+    if (const char* error = png_decode(source, h.width, h.height, channels, rows.data(),
+                                       out.palette, out.palette_entries, out.trns)) {
+        throw ImageIoError(error_prefix + error);
+    }
+    return out;
+}
+
 // libpng's write callbacks report through the same handler as its reads (PngSource::error).
 const char* png_encode(std::FILE* file, PngSource& errors, std::uint32_t width,
                        std::uint32_t height, png_bytep* rows) {
@@ -234,37 +281,19 @@ std::optional<refraster::Framebuffer> read_plain_png(const std::filesystem::path
     }
     std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
                                     std::istreambuf_iterator<char>());
-    static constexpr std::array<std::uint8_t, 8> kSignature = {0x89, 'P',  'N',  'G',
-                                                               '\r', '\n', 0x1a, '\n'};
-    if (bytes.size() < 33 || !std::equal(kSignature.begin(), kSignature.end(), bytes.begin()) ||
-        std::memcmp(bytes.data() + 12, "IHDR", 4) != 0) {
-        return std::nullopt;
-    }
-    const auto u32 = [&](std::size_t at) {
-        return (std::uint32_t{bytes[at]} << 24) | (std::uint32_t{bytes[at + 1]} << 16) |
-               (std::uint32_t{bytes[at + 2]} << 8) | std::uint32_t{bytes[at + 3]};
-    };
-    const std::uint32_t width = u32(16);
-    const std::uint32_t height = u32(20);
-    const int channels = bytes[25] == 6 ? 4 : bytes[25] == 2 ? 3 : 0;
+    const auto h = png_header(bytes);
+    const int channels = !h ? 0 : h->color_type == 6 ? 4 : h->color_type == 2 ? 3 : 0;
     constexpr std::uint32_t kMaxSide = 16384;
-    if (bytes[24] != 8 || channels == 0 || width < 1 || height < 1 || width > kMaxSide ||
-        height > kMaxSide) {
+    if (!h || h->depth != 8 || channels == 0 || h->width < 1 || h->height < 1 ||
+        h->width > kMaxSide || h->height > kMaxSide) {
         return std::nullopt;
     }
+    const PngSamples samples = png_samples(bytes, *h, channels, path.string() + ": cannot read: ");
+    if (samples.trns.has_colour) return std::nullopt;
+    const std::uint32_t width = h->width;
+    const std::uint32_t height = h->height;
     const auto nch = static_cast<std::size_t>(channels);
-    std::vector<std::uint8_t> stored(std::size_t{width} * height * nch);
-    std::vector<png_bytep> rows(height);
-    for (std::uint32_t r = 0; r < height; ++r) rows[r] = stored.data() + r * width * nch;
-    std::array<std::array<std::uint8_t, 4>, 256> palette{};
-    int palette_entries = 0;
-    PngTransparency trns;
-    PngSource source{bytes};
-    if (const char* error = png_decode(source, width, height, channels, rows.data(), palette,
-                                       palette_entries, trns)) {
-        throw ImageIoError(path.string() + ": cannot read: " + error);
-    }
-    if (trns.has_colour) return std::nullopt;
+    const std::vector<std::uint8_t>& stored = samples.stored;
     refraster::Framebuffer fb(width, height, refraster::ColorFormat::Rgba8,
                               refraster::DepthFormat::None);
     for (std::uint32_t r = 0; r < height; ++r) {
@@ -387,23 +416,14 @@ refraster::Framebuffer read_color_image(const std::filesystem::path& path) {
 }
 
 refraster::TextureImage read_texture_png(std::span<const std::uint8_t> png) {
-    // The signature and IHDR (always the first chunk): the 8-byte signature, the chunk's
-    // length and type, width, height, bit depth, colour type. Checked here so that nothing but
-    // a PNG reaches the decoder.
-    static constexpr std::array<std::uint8_t, 8> kSignature = {0x89, 'P',  'N',  'G',
-                                                               '\r', '\n', 0x1a, '\n'};
-    if (png.size() < 33 || !std::equal(kSignature.begin(), kSignature.end(), png.begin()) ||
-        std::memcmp(png.data() + 12, "IHDR", 4) != 0) {
-        throw ImageIoError("not a PNG file");
-    }
-    const auto u32 = [&](std::size_t at) {
-        return (std::uint32_t{png[at]} << 24) | (std::uint32_t{png[at + 1]} << 16) |
-               (std::uint32_t{png[at + 2]} << 8) | std::uint32_t{png[at + 3]};
-    };
-    const std::uint32_t width = u32(16);
-    const std::uint32_t height = u32(20);
-    const int depth = png[24];
-    const int color_type = png[25];
+    // The signature and IHDR (always the first chunk), checked here so that nothing but a PNG
+    // reaches the decoder.
+    const auto h = png_header(png);
+    if (!h) throw ImageIoError("not a PNG file");
+    const std::uint32_t width = h->width;
+    const std::uint32_t height = h->height;
+    const int depth = h->depth;
+    const int color_type = h->color_type;
     constexpr std::uint32_t kMaxSide = 4096;  // the scene format's texture limit
     if (width < 1 || height < 1 || width > kMaxSide || height > kMaxSide) {
         throw ImageIoError("a PNG of " + std::to_string(width) + " x " + std::to_string(height) +
@@ -423,17 +443,8 @@ refraster::TextureImage read_texture_png(std::span<const std::uint8_t> png) {
     if (channels == 0) throw ImageIoError("a PNG of unknown colour type");
     const std::size_t pixels = std::size_t{width} * height;
     const auto nch = static_cast<std::size_t>(channels);
-    std::vector<std::uint8_t> stored(pixels * nch);
-    std::vector<png_bytep> rows(height);
-    for (std::uint32_t r = 0; r < height; ++r) rows[r] = stored.data() + r * width * nch;
-    std::array<std::array<std::uint8_t, 4>, 256> palette{};
-    int palette_entries = 0;
-    PngTransparency trns;
-    PngSource source{png};
-    if (const char* error = png_decode(source, width, height, channels, rows.data(), palette,
-                                       palette_entries, trns)) {
-        throw ImageIoError(std::string("cannot decode the PNG: ") + error);
-    }
+    const PngSamples samples = png_samples(png, *h, channels, "cannot decode the PNG: ");
+    const auto& [stored, palette, palette_entries, trns] = samples;
     refraster::TextureImage image;
     image.width = width;
     image.height = height;
