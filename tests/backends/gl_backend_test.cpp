@@ -4,6 +4,7 @@
 // test frames. The scenes keep every pixel centre away from every edge, so the expected
 // images hold for any rasterizer that follows GL's rules, llvmpipe and softpipe alike.
 #include <gtest/gtest.h>
+#include <sched.h>
 #include <signal.h>
 #include <unistd.h>
 
@@ -601,6 +602,39 @@ TEST_P(GlBackend, WorkerPersistsAcrossScenes) {
     EXPECT_GT(pid, 0);
     for (int i = 0; i < 20; ++i) render_ok(*b, make_scene("b", list));
     EXPECT_EQ(b->worker_pid(), pid);
+}
+
+// BackendOptions::cpu holds the worker to one CPU from its start (the bench times
+// single-threaded drivers on the reference's CPU); without it the worker may run anywhere
+// the harness may, and the harness's own thread keeps its set either way.
+TEST_P(GlBackend, WorkerRunsOnTheCpuItIsGiven) {
+    const auto allowed_of = [](pid_t pid) {
+        cpu_set_t set;
+        CPU_ZERO(&set);
+        EXPECT_EQ(::sched_getaffinity(pid, sizeof set, &set), 0);
+        std::vector<int> cpus;
+        for (int c = 0; c < CPU_SETSIZE; ++c)
+            if (CPU_ISSET(static_cast<std::size_t>(c), &set)) cpus.push_back(c);
+        return cpus;
+    };
+    const std::vector<int> ours = allowed_of(0);
+    ASSERT_FALSE(ours.empty());
+    DrawList list;
+    list.target = Target{4, 4, ColorFormat::Rgba8, DepthFormat::None, 1};
+
+    harness::BackendOptions o;
+    o.kind = kKind;
+    o.driver = GetParam();
+    o.cpu = ours.back();
+    harness::GlWorkerBackend pinned(o);
+    render_ok(pinned, make_scene("pinned", list));
+    ASSERT_GT(pinned.worker_pid(), 0);
+    EXPECT_EQ(allowed_of(pinned.worker_pid()), std::vector<int>{ours.back()});
+    EXPECT_EQ(allowed_of(0), ours) << "the spawning thread gets its own set back";
+
+    auto free = make();
+    render_ok(*free, make_scene("free", list));
+    EXPECT_EQ(allowed_of(free->worker_pid()), ours);
 }
 
 TEST_P(GlBackend, CrashIsReportedAndTheNextSceneRenders) {

@@ -1,5 +1,6 @@
 // `refraster render` end to end: usage errors, NotSupported, and a written image.
 #include <gtest/gtest.h>
+#include <sched.h>
 
 #include <algorithm>
 #include <cctype>
@@ -326,6 +327,52 @@ TEST(Cli, BenchOptionsReachTheJson) {
                             "\"softpipe\": false", "\"ref2_ms\": null", "\"targets\""}) {
         EXPECT_NE(j.find(key), std::string::npos) << key << "\n" << j;
     }
+}
+
+// The single-threaded renders run on one CPU, the lowest this process may use unless
+// --pin-cpu names another or none; the table and the JSON say which, and a CPU the process
+// may not use is bad input.
+TEST(Cli, BenchPinsItsSingleThreadedRendersToOneCpu) {
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    ASSERT_EQ(::sched_getaffinity(0, sizeof set, &set), 0);
+    int lowest = -1;
+    for (int c = CPU_SETSIZE - 1; c >= 0; --c)
+        if (CPU_ISSET(static_cast<std::size_t>(c), &set)) lowest = c;
+    ASSERT_GE(lowest, 0);
+    testutil::TempDir dir;
+    const auto json = dir.path() / "bench.json";
+    const std::vector<std::string> quick = {
+        "bench",     "--no-gl",  "--scale", "0.0001",           "--scenes",
+        "tiny-flat", "--rounds", "1",       "--second-threads", "0"};
+    auto args = quick;
+    args.insert(args.end(), {"--json", json.string()});
+    const auto pinned = testutil::run_cli(args);
+    ASSERT_EQ(pinned.exit_code, 0) << pinned.err;
+    EXPECT_NE(pinned.out.find("; one thread on CPU " + std::to_string(lowest) + ";"),
+              std::string::npos)
+        << pinned.out;
+    EXPECT_NE(testutil::read_text(json).find("\"pinned_cpu\": " + std::to_string(lowest)),
+              std::string::npos);
+
+    args = quick;
+    args.insert(args.end(), {"--pin-cpu", "none", "--json", json.string()});
+    const auto free = testutil::run_cli(args);
+    ASSERT_EQ(free.exit_code, 0) << free.err;
+    EXPECT_NE(free.out.find("; not pinned;"), std::string::npos) << free.out;
+    EXPECT_NE(testutil::read_text(json).find("\"pinned_cpu\": null"), std::string::npos);
+
+    if (!CPU_ISSET(1023, &set)) {
+        args = quick;
+        args.insert(args.end(), {"--pin-cpu", "1023"});
+        const auto bad = testutil::run_cli(args);
+        EXPECT_EQ(bad.exit_code, 2) << bad.err;
+        EXPECT_NE(bad.err.find("CPU 1023 is not one this process may run on"), std::string::npos)
+            << bad.err;
+    }
+    args = quick;
+    args.insert(args.end(), {"--pin-cpu", "fastest"});
+    EXPECT_EQ(testutil::run_cli(args).exit_code, 2);
 }
 
 TEST(Cli, BenchRefusesUnknownKernelsAndScenes) {

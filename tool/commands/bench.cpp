@@ -28,6 +28,7 @@ struct BenchArgs {
     unsigned threads = 1;
     unsigned second_threads = 2;
     std::string kernels = "fastest";
+    std::string pin_cpu = "auto";
     std::string json;
     ProfileArgs profile;
 };
@@ -56,6 +57,11 @@ int run_bench(const BenchArgs& a) {
     o.threads = a.threads;
     o.second_threads = a.second_threads;
     o.kernels = *harness::parse_kernel_path(a.kernels);  // CLI checks the name
+    if (a.pin_cpu == "none") {
+        o.pin = false;
+    } else if (a.pin_cpu != "auto") {
+        o.pin_cpu = std::stoi(a.pin_cpu);  // CLI checks it is a number
+    }
     harness::BenchReport report;
     try {
         report = harness::run_bench(o, std::cerr);
@@ -126,6 +132,12 @@ Command add_bench_command(CLI::App& app) {
     cmd->add_option("--kernels", a->kernels,
                     "The reference's fragment kernels: model, scalar, avx2, avx512 or fastest")
         ->check(CLI::IsMember({"model", "scalar", "avx2", "avx512", "fastest"}))
+        ->capture_default_str();
+    cmd->add_option("--pin-cpu", a->pin_cpu,
+                    "The CPU every single-threaded render runs on (the reference on one thread, "
+                    "llvmpipe LP_NUM_THREADS=0, softpipe, the process runs): a number, auto (the "
+                    "lowest this process may use) or none")
+        ->check(CLI::IsMember({"auto", "none"}) | CLI::Range(0, 1023))
         ->capture_default_str();
     cmd->add_option("--json", a->json, "Write the results as JSON here");
     add_profile_options(cmd, a->profile);

@@ -136,6 +136,11 @@ struct BackendOptions {
     // here, a GPU where there is one) instead of the surfaceless platform; the device's index,
     // extensions and DRM node go into the provenance.
     std::optional<int> egl_device;
+    // GL backends: the worker (and every thread it starts) runs on this CPU alone, as the
+    // calling thread's affinity set at the start says it may (`refraster bench` times a
+    // single-threaded driver on the CPU it times the reference on). nullopt: wherever the
+    // system puts it.
+    std::optional<int> cpu;
 };
 
 // Backend options that cannot work (a device on a backend without devices): bad input, not a

@@ -108,6 +108,12 @@ struct BenchOptions {
     // A second reference configuration with this many threads, timed in the same rounds and
     // compared with llvmpipe's default threads; 0 leaves it out.
     unsigned second_threads = 2;
+    // Every single-threaded render (the first configuration with one thread, llvmpipe with
+    // LP_NUM_THREADS=0, softpipe, the process runs) on one CPU: `pin_cpu`, or the lowest one
+    // this process may run on. The CPUs of a shared machine differ in speed; a ratio of two
+    // renders on different CPUs would measure the CPUs.
+    bool pin = true;
+    std::optional<int> pin_cpu;
 };
 
 // The split of the reference's time by stage, each the median over the rounds.
@@ -186,6 +192,7 @@ struct BenchReport {
     std::string date;  // UTC, ISO 8601
     // llvmpipe's GL_RENDERER, GL_VERSION and Mesa's package version, when a GL worker ran.
     std::string gl_renderer, gl_version, mesa_version;
+    int pinned_cpu = -1;  // the CPU of the single-threaded renders; -1: not pinned
     std::vector<BenchRow> rows;
 };
 

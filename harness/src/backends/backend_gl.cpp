@@ -23,6 +23,7 @@
 
 #include "driver_env.hpp"
 #include "no_answer.hpp"
+#include "thread_pin.hpp"
 #include "wire.hpp"
 
 namespace harness {
@@ -388,6 +389,9 @@ std::optional<RenderResult> GlWorkerBackend::ensure_worker() {
         envp.push_back(nullptr);
 
         pid_t pid = -1;
+        // The child inherits the spawning thread's affinity: pinned for the spawn alone, so
+        // that no thread of the worker ever runs elsewhere.
+        const detail::ThreadPin pin(options_.cpu);
         const int rc =
             ::posix_spawn(&pid, program.c_str(), &actions, &attr, argv.data(), envp.data());
         if (rc != 0) throw std::system_error(rc, std::generic_category(), "posix_spawn");

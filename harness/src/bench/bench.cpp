@@ -28,6 +28,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "../backends/thread_pin.hpp"
 #include "harness/backend.hpp"
 #include "harness/files.hpp"
 #include "harness/scene.hpp"
@@ -458,7 +459,8 @@ struct GlConfig {
     std::string label;  // llvmpipe_t0, llvmpipe, softpipe
     Driver driver;
     std::vector<std::string> environment;
-    bool compared;  // byte-compared with llvmpipe_t0
+    bool compared;    // byte-compared with llvmpipe_t0
+    bool one_thread;  // runs on the bench's CPU (BenchOptions::pin)
 };
 
 double ms_since(std::chrono::steady_clock::time_point t0) {
@@ -676,6 +678,18 @@ BenchReport run_bench(const BenchOptions& options, std::ostream& log) {
 
     BenchReport report;
     report.options = options;
+    // The CPU every single-threaded render runs on: the reference's first configuration when
+    // it has one thread, llvmpipe with LP_NUM_THREADS=0, softpipe and the process runs.
+    std::optional<int> cpu;
+    if (options.pin) {
+        const std::vector<int> allowed = detail::allowed_cpus();
+        if (allowed.empty()) throw std::runtime_error("bench: this process may run on no CPU");
+        cpu = options.pin_cpu.value_or(allowed.front());
+        {
+            const detail::ThreadPin check(cpu);  // a CPU this process may not run on: bad input
+        }
+    }
+    report.pinned_cpu = cpu.value_or(-1);
     report.kernels =
         std::string(refraster::to_string(refraster::resolve_kernel_path(options.kernels)));
     report.cpu_flags = bench_cpu_flags();
@@ -700,15 +714,16 @@ BenchReport run_bench(const BenchOptions& options, std::ostream& log) {
     std::vector<GlConfig> configs;
     std::vector<std::unique_ptr<Backend>> backends;
     if (options.gl) {
-        configs = {{"llvmpipe_t0", Driver::Llvmpipe, {"LP_NUM_THREADS=0"}, true},
-                   {"llvmpipe", Driver::Llvmpipe, {}, true}};
-        if (options.softpipe) configs.push_back({"softpipe", Driver::Softpipe, {}, false});
+        configs = {{"llvmpipe_t0", Driver::Llvmpipe, {"LP_NUM_THREADS=0"}, true, true},
+                   {"llvmpipe", Driver::Llvmpipe, {}, true, false}};
+        if (options.softpipe) configs.push_back({"softpipe", Driver::Softpipe, {}, false, true});
         for (const auto& c : configs) {
             BackendOptions o;
             o.kind = BackendKind::OSMesa;
             o.driver = c.driver;
             o.environment = c.environment;
             o.timeout_seconds = options.timeout_seconds;
+            if (c.one_thread) o.cpu = cpu;
             backends.push_back(make_backend(o));
         }
     }
@@ -759,6 +774,9 @@ BenchReport run_bench(const BenchOptions& options, std::ostream& log) {
         // image and every sample beside it. The resolve is part of the timed render, as the
         // GL worker's glBlitFramebuffer is of its own.
         const auto render_ref = [&](const refraster::RenderOptions& ro, Rendered& out) {
+            // One thread on the bench's CPU; more wherever the system puts them (the band
+            // workers inherit the calling thread's affinity).
+            const detail::ThreadPin pin(ro.threads == 1 ? cpu : std::nullopt);
             const auto s0 = std::chrono::steady_clock::now();
             const auto outcome = refraster::render(scene.draw_list, ro, out.image);
             if (out.image.samples > 1) {
@@ -851,6 +869,7 @@ BenchReport run_bench(const BenchOptions& options, std::ostream& log) {
                 refraster::Framebuffer partial;
                 refraster::RenderOptions ro = row_first;
                 ro.stop_after = stages[k];
+                const detail::ThreadPin pin(ro.threads == 1 ? cpu : std::nullopt);
                 const auto s0 = std::chrono::steady_clock::now();
                 (void)refraster::render(scene.draw_list, ro, partial);
                 stage_ms[k].push_back(ms_since(s0));
@@ -899,6 +918,8 @@ BenchReport run_bench(const BenchOptions& options, std::ostream& log) {
                 const auto dir = process_dir->path;
                 const std::string exe = options.refraster_path, file = scene_path.string();
                 const std::string timeout = std::to_string(options.timeout_seconds);
+                // Both processes, and llvmpipe's worker under the second, on the bench's CPU.
+                const detail::ThreadPin pin(first.threads == 1 ? cpu : std::nullopt);
                 const auto ref_run =
                     time_process({exe, "render", file, "--threads", std::to_string(first.threads),
                                   "--profile", first.profile.name, "--timeout", timeout, "--output",
@@ -1146,8 +1167,10 @@ std::string bench_table(const BenchReport& report) {
     o << "kernels " << report.kernels << " (asked: " << refraster::to_string(opt_in.kernels)
       << "); ref: " << ref_label(opt_in.threads) << "; ref 2T: "
       << (opt_in.second_threads > 0 ? ref_label(opt_in.second_threads) : std::string("off"))
-      << "; profile " << opt_in.profile.name << "; cpu " << report.cpu_flags << "; commit "
-      << report.commit << "; " << report.date;
+      << "; profile " << opt_in.profile.name << "; "
+      << (report.pinned_cpu >= 0 ? "one thread on CPU " + std::to_string(report.pinned_cpu)
+                                 : std::string("not pinned"))
+      << "; cpu " << report.cpu_flags << "; commit " << report.commit << "; " << report.date;
     if (!report.gl_renderer.empty())
         o << "; " << report.gl_renderer << ", Mesa " << report.mesa_version;
     o << "\n\n";
@@ -1239,7 +1262,9 @@ std::string bench_json(const BenchReport& report) {
                   {"kernels_asked", std::string(refraster::to_string(o.kernels))},
                   {"kernels", report.kernels},
                   {"threads", o.threads},
-                  {"second_threads", o.second_threads}};
+                  {"second_threads", o.second_threads},
+                  {"pinned_cpu", report.pinned_cpu >= 0 ? nlohmann::ordered_json(report.pinned_cpu)
+                                                        : nlohmann::ordered_json()}};
     j["host"] = {{"cpu_flags", report.cpu_flags},
                  {"commit", report.commit},
                  {"date", report.date},
