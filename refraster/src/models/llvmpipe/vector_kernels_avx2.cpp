@@ -30,6 +30,9 @@ namespace refraster::detail::avx2 {
 // 8 lanes; a lane mask is a vector of all-ones or all-zeros lanes.
 struct V {
     static constexpr int kLanes = 8;
+    // vpmaskmovd's store form is microcoded on several AMD cores: a full store of a select
+    // is kept where every lane lies in the row.
+    static constexpr bool kCheapMaskedStore = false;
     using F = __m256;
     using I = __m256i;
     using M = __m256i;

@@ -36,6 +36,9 @@ namespace refraster::detail::avx512 {
 // 16 lanes; a lane mask is a 16-bit mask register.
 struct V {
     static constexpr int kLanes = 16;
+    // A masked store writes only its lanes without reading the line first (AVX-512's
+    // vmovdqu32 with a mask register), so replacing covered pixels needs no load.
+    static constexpr bool kCheapMaskedStore = true;
     using F = __m512;
     using I = __m512i;
     using M = __mmask16;
