@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 #include <vector>
@@ -35,6 +36,34 @@ TEST(Assembly, PrimitivesInTheDriversVertexOrder) {
     for (std::size_t i = 0; i < plain.size(); ++i) {
         EXPECT_EQ(plain[i], (std::vector<std::uint32_t>(segmented[i].element.begin(),
                                                         segmented[i].element.end())));
+    }
+}
+
+// A triangle list's segments: triangle t of a draw longer than one segment lies in segment
+// t / (simple / 3), simple being max_vertices unindexed and min(1024, max_vertices) with 32-bit
+// indices (draw_pt_vsplit.c); one segment when the draw fits.
+TEST(Assembly, TriangleListSegmentsHoldWholeTriangles) {
+    for (const int max_vertices : {3, 4, 9, 128, 4096}) {
+        for (const bool indexed : {false, true}) {
+            for (const std::size_t count :
+                 {std::size_t{0}, std::size_t{3}, std::size_t{8}, std::size_t{300},
+                  std::size_t{3077}, std::size_t{12290}}) {
+                const auto tris = refraster::assemble_triangles(PrimitiveType::Triangles, count,
+                                                                false, max_vertices, indexed);
+                ASSERT_EQ(tris.size(), count / 3);
+                const auto mv = static_cast<std::size_t>(max_vertices);
+                const std::size_t simple = indexed ? std::min<std::size_t>(1024, mv) : mv;
+                const std::size_t per = std::max<std::size_t>(simple / 3, 1);
+                for (std::size_t t = 0; t < tris.size(); ++t) {
+                    const std::uint32_t want =
+                        count > simple ? static_cast<std::uint32_t>(t / per) : 0u;
+                    ASSERT_EQ(tris[t].segment, want)
+                        << "triangle " << t << " of " << count << ", max_vertices " << max_vertices
+                        << (indexed ? ", indexed" : "");
+                    ASSERT_EQ(tris[t].element[0], 3 * t);
+                }
+            }
+        }
     }
 }
 

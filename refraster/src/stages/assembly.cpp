@@ -27,8 +27,15 @@ std::vector<AssembledTriangle> assemble_triangles(PrimitiveType p, std::size_t c
     switch (p) {
         case PrimitiveType::Triangles: {
             const std::size_t per = std::max<std::size_t>(simple / 3, 1);
+            // Triangle i / 3 of segment (i / 3) / per, counted rather than divided.
+            std::uint32_t segment = 0;
+            std::size_t in_segment = 0;
             for (std::size_t i = 0; i + 2 < count; i += 3) {
-                out.push_back({{u(i), u(i + 1), u(i + 2)}, split ? u((i / 3) / per) : 0u});
+                out.push_back({{u(i), u(i + 1), u(i + 2)}, split ? segment : 0u});
+                if (++in_segment == per) {
+                    in_segment = 0;
+                    ++segment;
+                }
             }
             break;
         }

@@ -192,6 +192,11 @@ class LlvmpipeModel : public DrawModule<LlvmpipeModel, SetupList> {
     // Triangle setup runs with the CPU's flush modes set and plain float operations where
     // the model emulates the flushing (fast paths of a flushing profile only).
     bool cpu_flushes_ = false;
+    // The draw's fragment options (fragment_options), and the same without flushing: a
+    // triangle's attribute setup takes one or the other whole (set once a draw: building the
+    // options a triangle cost a store-forwarding stall there).
+    FragmentOptions fragment_options_{};
+    FragmentOptions fragment_options_plain_{};
     TriangleSetup triangle_;  // the triangle being set up, kept to spare clearing its walk
     const Framebuffer* prefetch_fb_ = nullptr;
 };

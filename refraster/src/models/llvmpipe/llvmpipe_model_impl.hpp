@@ -81,6 +81,9 @@ void LlvmpipeModel::setup(VertexStage& stage, Observer& obs, const ListSink<List
     // A full list's planes: z, 1/w and one per attribute float for each primitive.
     list_.capacity = ctx_.workers != nullptr ? SetupList::kThreadedCapacity : SetupList::kCapacity;
     list_.primitives.reserve(list_.capacity);
+    fragment_options_ = fragment_options(ctx_);
+    fragment_options_plain_ = fragment_options_;
+    fragment_options_plain_.flush_denormals = false;
     list_.planes.reserve(list_.capacity * (kFirstAttributePlane + list_.attribute_floats));
     dispatch(stage, obs);
     end_lists(obs);
@@ -180,20 +183,20 @@ void LlvmpipeModel::snapped_triangle(const VertexStage& stage,
     }
     // Attribute setup sees the vertices in setup's order, after the orientation swap; it runs
     // without FTZ for the draw pipeline's last batch (pipeline_batches_flushed, model.hpp).
-    SetupPrimitive& prim = list_.primitives.emplace_back();
+    SetupPrimitive& prim = llvmpipe_setup::new_primitive(list_);
     llvmpipe_setup::copy_coverage(t, prim, list_);
     prim.owner = owner_;
-    const FragmentOptions fo = fragment_options(ctx_);
-    FragmentOptions setup_fo = fo;
-    setup_fo.flush_denormals = fo.flush_denormals && setup_ftz;
-    // Under the CPU's flush modes the planes' operations run plain (the CPU flushes them); a
-    // triangle the model sets up without flushing runs with the modes cleared.
-    if (cpu_flushes_ && setup_ftz) setup_fo.flush_denormals = false;
+    const FragmentOptions& fo = fragment_options_;
+    // Setup flushes when the profile does and the triangle's batch sets FTZ; under the CPU's
+    // flush modes the planes' operations run plain (the CPU flushes them), and a triangle the
+    // model sets up without flushing runs with the modes cleared.
+    const bool setup_flushes = fo.flush_denormals && setup_ftz && !cpu_flushes_;
     const ScopedDenormalMode plain(cpu_flushes_ && !setup_ftz, false);
     triangle_planes(
         {v[static_cast<std::size_t>(t.order[0])], v[static_cast<std::size_t>(t.order[1])],
          v[static_cast<std::size_t>(t.order[2])]},
-        stage, d, ctx_.target, params.provoking_first, setup_fo, fo.flush_denormals,
+        stage, d, ctx_.target, params.provoking_first,
+        setup_flushes ? fragment_options_ : fragment_options_plain_, fo.flush_denormals,
         plane_needs<Observer>(), list_, prim);
     obs.triangle_drawn(t, list_.primitives.size() - 1);
     if (prefetch_fb_ != nullptr) llvmpipe_setup::prefetch_rows(t.bbox, *prefetch_fb_);
@@ -210,8 +213,8 @@ void LlvmpipeModel::segment(const VertexStage& stage, const StageVertex& v1, con
     SetupPrimitive& prim = llvmpipe_setup::new_primitive(list_);
     llvmpipe_setup::copy_quad_coverage(*setup, prim);
     prim.owner = owner_;
-    line_planes(v1, v2, stage, ctx_.draw, ctx_.params.provoking_first, fragment_options(ctx_),
-                list_, prim);
+    line_planes(v1, v2, stage, ctx_.draw, ctx_.params.provoking_first, fragment_options_, list_,
+                prim);
     obs.line_drawn(v1, v2, *setup, list_.primitives.size() - 1);
 }
 
@@ -223,7 +226,7 @@ void LlvmpipeModel::point(const VertexStage& stage, const StageVertex& v, Observ
     SetupPrimitive& prim = llvmpipe_setup::new_primitive(list_);
     llvmpipe_setup::copy_quad_coverage(*setup, prim);
     prim.owner = owner_;
-    point_planes(v, *setup, ctx_.params, stage, ctx_.draw, fragment_options(ctx_), list_, prim);
+    point_planes(v, *setup, ctx_.params, stage, ctx_.draw, fragment_options_, list_, prim);
     obs.point_drawn(v, *setup, list_.primitives.size() - 1);
     if (prefetch_fb_ != nullptr) llvmpipe_setup::prefetch_rows(setup->bbox, *prefetch_fb_);
 }
