@@ -6,6 +6,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <cstring>
 #include <optional>
 #include <thread>
 
@@ -61,22 +62,32 @@ std::uint32_t clear_depth_value(DepthFormat f, float z, ClearPrecision precision
 
 // Clears the whole target (scissor off, every mask on): unorm8 colours through
 // float_to_ubyte as util_pack_color does for R8G8B8A8_UNORM, floats as given.
+// `pattern` (one pixel) repeated over `buffer`, whose size is a whole number of pixels: the
+// first pixel written, then the filled part copied after itself, doubling each time (a few
+// block copies instead of a loop of one pixel at a time).
+template <class T, std::size_t N>
+void fill_pattern(T* buffer, std::size_t size, const std::array<T, N>& pattern) {
+    if (size == 0) return;
+    std::memcpy(buffer, pattern.data(), sizeof(T) * N);
+    for (std::size_t done = N; done < size;) {
+        const std::size_t chunk = std::min(done, size - done);
+        std::memcpy(buffer + done, buffer, sizeof(T) * chunk);
+        done += chunk;
+    }
+}
+
 RenderOutcome clear(const DrawList& list, Framebuffer& out, ClearPrecision precision) {
     const auto& c = list.clear.color;
     if (list.target.color == ColorFormat::Rgba8) {
         std::array<std::uint8_t, 4> bytes{};
         for (std::size_t k = 0; k < 4; ++k) bytes[k] = detail::clear_to_unorm8(c[k]);
-        for (std::size_t i = 0; i < out.color8.size(); i += 4) {
-            std::copy(bytes.begin(), bytes.end(),
-                      out.color8.begin() + static_cast<std::ptrdiff_t>(i));
-        }
+        fill_pattern(out.color8.data(), out.color8.size(), bytes);
     } else {
-        for (std::size_t i = 0; i < out.color32f.size(); i += 4) {
-            std::copy(c.begin(), c.end(), out.color32f.begin() + static_cast<std::ptrdiff_t>(i));
-        }
+        fill_pattern(out.color32f.data(), out.color32f.size(), c);
     }
-    std::fill(out.depth.begin(), out.depth.end(),
-              clear_depth_value(list.target.depth, list.clear.depth, precision));
+    fill_pattern(out.depth.data(), out.depth.size(),
+                 std::array<std::uint32_t, 1>{
+                     clear_depth_value(list.target.depth, list.clear.depth, precision)});
     return {};
 }
 
