@@ -690,6 +690,8 @@ BenchReport run_bench(const BenchOptions& options, std::ostream& log) {
         }
     }
     report.pinned_cpu = cpu.value_or(-1);
+    // The CPU a render of `threads` threads runs on: the bench's for one thread, else any.
+    const auto cpu_for = [&](unsigned threads) { return threads == 1 ? cpu : std::nullopt; };
     report.kernels =
         std::string(refraster::to_string(refraster::resolve_kernel_path(options.kernels)));
     report.cpu_flags = bench_cpu_flags();
@@ -776,7 +778,7 @@ BenchReport run_bench(const BenchOptions& options, std::ostream& log) {
         const auto render_ref = [&](const refraster::RenderOptions& ro, Rendered& out) {
             // One thread on the bench's CPU; more wherever the system puts them (the band
             // workers inherit the calling thread's affinity).
-            const detail::ThreadPin pin(ro.threads == 1 ? cpu : std::nullopt);
+            const detail::ThreadPin pin(cpu_for(ro.threads));
             const auto s0 = std::chrono::steady_clock::now();
             const auto outcome = refraster::render(scene.draw_list, ro, out.image);
             if (out.image.samples > 1) {
@@ -869,7 +871,7 @@ BenchReport run_bench(const BenchOptions& options, std::ostream& log) {
                 refraster::Framebuffer partial;
                 refraster::RenderOptions ro = row_first;
                 ro.stop_after = stages[k];
-                const detail::ThreadPin pin(ro.threads == 1 ? cpu : std::nullopt);
+                const detail::ThreadPin pin(cpu_for(ro.threads));
                 const auto s0 = std::chrono::steady_clock::now();
                 (void)refraster::render(scene.draw_list, ro, partial);
                 stage_ms[k].push_back(ms_since(s0));
@@ -919,7 +921,7 @@ BenchReport run_bench(const BenchOptions& options, std::ostream& log) {
                 const std::string exe = options.refraster_path, file = scene_path.string();
                 const std::string timeout = std::to_string(options.timeout_seconds);
                 // Both processes, and llvmpipe's worker under the second, on the bench's CPU.
-                const detail::ThreadPin pin(first.threads == 1 ? cpu : std::nullopt);
+                const detail::ThreadPin pin(cpu_for(first.threads));
                 const auto ref_run =
                     time_process({exe, "render", file, "--threads", std::to_string(first.threads),
                                   "--profile", first.profile.name, "--timeout", timeout, "--output",
