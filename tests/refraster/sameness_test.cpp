@@ -68,7 +68,7 @@ class SceneMaker {
     // vector_kernel_body.hpp shade_rows_4x, traverse.hpp convex_row_blocks_4x).
     // LinesAndPoints: every draw lines (width 1 mostly, at every angle, long and short) or
     // points (sizes 1 to 72, some not whole), mostly into single-sample targets (the row
-    // kernels' gathered rows of few pixels, vector_kernel_body.hpp shade_gathered).
+    // kernels' pixels packed across rows, vector_kernel_body.hpp shade_packed).
     enum class Kind { Mixed, Textured, Multisample, LinesAndPoints };
     explicit SceneMaker(std::uint64_t seed, Kind kind = Kind::Mixed)
         : rng_(seed), seed_(seed), textured_(kind == Kind::Textured), kind_(kind) {}
@@ -249,7 +249,7 @@ TEST_P(Sameness, TexturedDrawsGiveTheModelsBytes) {
     expect_every_path_gives_the_models_bytes(maker, scene_count() / 2);
 }
 
-// Every draw lines or points: thin lines at every angle (rows of one or two pixels, gathered
+// Every draw lines or points: thin lines at every angle (rows of one or two pixels, packed
 // across rows by the vector kernels), wide lines, points of many sizes, scissors, bands and
 // threads.
 TEST_P(Sameness, LinesAndPointsGiveTheModelsBytes) {

@@ -75,17 +75,15 @@ std::optional<LineSetup> setup_line(const StageVertex& sv1, const StageVertex& s
     const auto iw = iround(width);
     if (!iw) return std::nullopt;
     const std::int32_t fixed_width = *iw * (1 << p.bits);
-    // Copied from a constant: a block copy, where a fresh value clears the struct with a
-    // string instruction whose start-up cost a short line notices.
-    static constexpr LineSetup kInitial{};
-    LineSetup L = kInitial;
-    L.bits = p.bits;
+    // The result is built once its every member is known (a default-constructed one is
+    // cleared first by a string store whose start-up cost a short line notices).
+    bool x_major = true;
     bool draw_start = false;
     bool draw_end = false;
     std::array<std::optional<std::int32_t>, 8> s{};  // x[0..3], y[0..3] before the width
 
     if (std::fabs(dx) >= std::fabs(dy)) {
-        L.x_major = true;
+        x_major = true;
         const float dydx = dy / dx;
         if (y2diff == -0.5f && dy < 0) y2diff = 0.5f;
         if (std::fabs(x1diff) + std::fabs(y1diff) < 0.5f) {
@@ -144,7 +142,7 @@ std::optional<LineSetup> setup_line(const StageVertex& sv1, const StageVertex& s
         s[6] = *yb + fixed_width / 2;
         s[7] = *ya + fixed_width / 2;
     } else {
-        L.x_major = false;
+        x_major = false;
         const float dxdy = dx / dy;
         if (x2diff == -0.5f && dx < 0) x2diff = 0.5f;
         if (std::fabs(x1diff) + std::fabs(y1diff) < 0.5f) {
@@ -206,25 +204,27 @@ std::optional<LineSetup> setup_line(const StageVertex& sv1, const StageVertex& s
     for (const auto& v : s) {
         if (!v) return std::nullopt;
     }
+    std::array<std::int32_t, 4> x;
+    std::array<std::int32_t, 4> y;
     for (std::size_t i = 0; i < 4; ++i) {
-        L.x[i] = *s[i];
-        L.y[i] = *s[4 + i];
-    }
-    for (std::size_t i = 0; i < 4; ++i) {
-        const std::size_t j = (i + 1) % 4;
-        L.edges[i] = make_edge(L.x[i], L.y[i], L.x[j], L.y[j], p.tie_rule);
+        x[i] = *s[i];
+        y[i] = *s[4 + i];
     }
     // The box: inclusive x0, y0 rounded up; x1, y1 one below the rounded-up maximum (the
     // driver's, for rules owning left and bottom edges); rules owning right or top edges keep
     // the pixel on the maximum.
-    const auto [xmin, xmax] = std::minmax_element(L.x.begin(), L.x.end());
-    const auto [ymin, ymax] = std::minmax_element(L.y.begin(), L.y.end());
+    const auto [xmin, xmax] = std::minmax_element(x.begin(), x.end());
+    const auto [ymin, ymax] = std::minmax_element(y.begin(), y.end());
     const int x1 = owns_right_edges(p.tie_rule) ? (*xmax >> p.bits) : ceil_shift(*xmax, p.bits) - 1;
     const int y1 = owns_top_edges(p.tie_rule) ? (*ymax >> p.bits) : ceil_shift(*ymax, p.bits) - 1;
-    L.bbox =
+    const PixelRect bbox =
         intersect({ceil_shift(*xmin, p.bits), ceil_shift(*ymin, p.bits), x1, y1}, p.draw_region);
-    if (L.bbox.empty()) return std::nullopt;
-    return L;
+    if (bbox.empty()) return std::nullopt;
+    const auto edge = [&](std::size_t i, std::size_t j) {
+        return make_edge(x[i], y[i], x[j], y[j], p.tie_rule);
+    };
+    return LineSetup{p.bits, x,       y, {edge(0, 1), edge(1, 2), edge(2, 3), edge(3, 0)},
+                     bbox,   x_major, 0};
 }
 
 std::optional<LineSetup> setup_rect_line(const StageVertex& sv1, const StageVertex& sv2,

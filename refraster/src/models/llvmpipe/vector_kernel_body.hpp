@@ -24,6 +24,10 @@
 // each vector of the sample stages holds kLanes / 4 pixels' samples, lane l sample l % 4 of
 // pixel l / 4, and the pixels' colours are permuted into it.
 //
+// Blocks of thin primitives, whose rows hold a pixel or two (shade_packed): the covered pixels
+// packed across rows, kLanes a vector, each lane at its own pixel's px and py, the buffers
+// read by gathers and written by scatters (AVX2: lane by lane).
+//
 // Deliberately does not: rgba32f targets, or draws that turn multisampling off on a 4x target
 // (the scalar kernels serve both).
 
@@ -126,15 +130,29 @@ struct VectorKernel {
     // The same from the z plane's value at the lanes.
     [[gnu::always_inline]] static M depth_stage_of(const DepthTest& t, F z_plane, std::uint32_t* dp,
                                                    bool inside, M live) {
+        I value;
+        const I stored = inside ? V::load(dp) : V::load_masked(dp, live);
+        live = depth_pass(t, z_plane, stored, live, value);
+        if (t.write && !V::none(live)) {
+            if (inside) {
+                V::store(dp, V::select(live, stored, value));
+            } else {
+                V::store_masked(dp, live, value);
+            }
+        }
+        return live;
+    }
+    // The live lanes whose depth (`value`, from the z plane's value at the lanes) passes the
+    // test against the depths stored there.
+    [[gnu::always_inline]] static M depth_pass(const DepthTest& t, F z_plane, I stored, M live,
+                                               I& value) {
         F z = V::add(z_plane, t.z_offset);
         z = V::max(V::min(z, V::splat(1.0f)), V::splat(0.0f));
-        I value;
         if constexpr (D == DepthFormat::Z32f) {
             value = V::as_int(z);
         } else {
             value = V::to_int_rne(V::mul(z, V::splat(static_cast<float>(depth_unorm_max(D)))));
         }
-        const I stored = inside ? V::load(dp) : V::load_masked(dp, live);
         M lt, eq;
         if constexpr (D == DepthFormat::Z32f) {
             // Compared as integers ordered as the floats are (neither side is NaN; -0 equals
@@ -152,15 +170,7 @@ struct VectorKernel {
         }
         const M pass = V::m_or(V::m_or(V::m_and(lt, t.want_lt), V::m_and(eq, t.want_eq)),
                                V::m_andnot(V::m_or(lt, eq), t.want_gt));
-        live = V::m_and(live, pass);
-        if (t.write && !V::none(live)) {
-            if (inside) {
-                V::store(dp, V::select(live, stored, value));
-            } else {
-                V::store_masked(dp, live, value);
-            }
-        }
-        return live;
+        return V::m_and(live, pass);
     }
 
     // The source colour `src` (packed rgba8) blended into cp[0..kLanes) in the live lanes, and
@@ -217,8 +227,83 @@ struct VectorKernel {
                            const RowBlock& b, Framebuffer& fb) {
         if (b.rows >= kColumnRows) {
             shade_block<true>(k, list, prim, b, fb);
+            return;
+        }
+        if (b.rows <= kPackedCost) {  // one vector of pixels at least: never packed
+            shade_block<false>(k, list, prim, b, fb);
+            return;
+        }
+        int rows = 0;
+        int pixels = 0;
+        for (int r = 0; r < b.rows; ++r) {
+            rows += b.mask[r] != 0 ? 1 : 0;
+            pixels += bit_count(b.mask[r]);
+        }
+        if (pixels <= kPackedMax && (pixels + kLanes - 1) / kLanes * kPackedCost < rows &&
+            fb.width * fb.height <= kPackedPixelsMax) {
+            shade_packed(k, list, prim, b, fb);
         } else {
             shade_block<false>(k, list, prim, b, fb);
+        }
+    }
+
+    // Thin primitives (lines one pixel wide, small points, tiny triangles) cover a pixel or two
+    // a row, and a run a row evaluates a whole vector for each. A block whose covered pixels
+    // fill fewer than 1 / kPackedCost as many vectors as it has covered rows packs its pixels
+    // into the lanes, row after row, reads depths and colours by gathers and writes them by
+    // scatters. A lane's px and py are its pixel's, so every value is the one the runs compute;
+    // a primitive's pixels are distinct, so the order of their reads and writes changes
+    // nothing.
+    static constexpr int kPackedMax = 256;
+    static constexpr int kPackedCost = 4;
+    // Gathers and scatters index pixels with int32 lanes.
+    static constexpr std::size_t kPackedPixelsMax = 0x7fffffff;
+
+    static void shade_packed(const KernelState& k, const SetupList& list,
+                             const SetupPrimitive& prim, const RowBlock& b, Framebuffer& fb) {
+        alignas(64) std::int32_t xs[static_cast<std::size_t>(kPackedMax + kLanes)];
+        alignas(64) std::int32_t ys[static_cast<std::size_t>(kPackedMax + kLanes)];
+        int n = 0;
+        for (int r = 0; r < b.rows; ++r) {
+            prefetch_row(b, r, fb);
+            for (std::uint64_t m = b.mask[r]; m != 0; m &= m - 1) {
+                xs[n] = b.x0 + std::countr_zero(m);
+                ys[n] = b.y0 + r;
+                ++n;
+            }
+        }
+        for (int i = n; i < n + kLanes; ++i) xs[i] = ys[i] = 0;  // lanes no mask selects
+
+        const Plane* planes = list.planes.data() + prim.planes;
+        const float* flat = list.flat.data() + prim.flat;
+        const bool fma = k.options.fma;
+        const DepthTest depth = depth_test_of(k, planes, prim);
+        const Source source = source_of(planes, flat);
+        const I owner = V::splati(static_cast<std::int32_t>(prim.owner));
+        const I width = V::splati(static_cast<std::int32_t>(fb.width));
+        auto* color = reinterpret_cast<std::uint32_t*>(fb.color8.data());
+        for (int i = 0; i < n; i += kLanes) {
+            const int count = std::min(kLanes, n - i);
+            M live = V::from_bits(static_cast<unsigned>((std::uint64_t{1} << count) - 1));
+            const I xi = V::load(reinterpret_cast<const std::uint32_t*>(xs + i));
+            const I yi = V::load(reinterpret_cast<const std::uint32_t*>(ys + i));
+            const F px = V::to_float(xi);
+            const F py = V::to_float(yi);
+            const I at = V::add32(V::mullo32(yi, width), xi);
+            if constexpr (D != DepthFormat::None) {
+                I value;
+                live = depth_pass(depth, VectorKernel::at(depth.zp, px, py, fma),
+                                  V::gather(fb.depth.data(), at, live), live, value);
+                if (V::none(live)) continue;
+                if (depth.write) V::scatter(fb.depth.data(), at, live, value);
+            }
+            const I src = source_color(source, px, py, fma);
+            if constexpr (B == BlendPreset::None) {
+                V::scatter(color, at, live, src);
+            } else {
+                V::scatter(color, at, live, blend(src, V::gather(color, at, live)));
+            }
+            if (!fb.owner.empty()) V::scatter(fb.owner.data(), at, live, owner);
         }
     }
 
@@ -297,13 +382,18 @@ struct VectorKernel {
 
     // The source colours of the pixels (x .. x + kLanes - 1, y) as packed rgba8, evaluated at
     // (px, py) (flat: the primitive's, converted once).
-    struct Source {
+    struct PlanesSource {
         PlaneV wp;
         PlaneV cp[4];
+    };
+    struct FlatSource {
         I flat_color;
     };
-    static Source source_of(const Plane* planes, const float* flat) {
-        Source src{};
+    using Source = std::conditional_t<S == ShadeModel::Flat, FlatSource, PlanesSource>;
+    // Each member set by vector moves (a value-initialized Source is cleared by a string
+    // store first, which small primitives noticed).
+    [[gnu::always_inline]] static Source source_of(const Plane* planes, const float* flat) {
+        Source src;
         if constexpr (S != ShadeModel::Flat) {
             src.wp = splat(planes[kWPlane]);
             for (std::size_t j = 0; j < 4; ++j) src.cp[j] = splat(planes[kFirstAttributePlane + j]);

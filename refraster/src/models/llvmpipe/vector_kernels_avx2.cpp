@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <bit>
 #include <cstdint>
+#include <type_traits>
 
 #include "models/llvmpipe/fragment.hpp"
 #include "models/llvmpipe/vector_kernels.hpp"
@@ -136,6 +137,17 @@ struct V {
     static I gather(const std::uint32_t* base, I idx, M m) {
         return _mm256_mask_i32gather_epi32(_mm256_setzero_si256(),
                                            reinterpret_cast<const int*>(base), idx, m, 4);
+    }
+    // base[idx] = v in the lanes of the mask, in lane order (AVX2 has no scatter).
+    static void scatter(std::uint32_t* base, I idx, M m, I v) {
+        alignas(32) std::int32_t at[kLanes];
+        alignas(32) std::uint32_t value[kLanes];
+        store(reinterpret_cast<std::uint32_t*>(at), idx);
+        store(value, v);
+        for (unsigned bits = sign_bits(m); bits != 0; bits &= bits - 1) {
+            const int l = std::countr_zero(bits);
+            base[at[l]] = value[l];
+        }
     }
 };
 

@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <bit>
 #include <cstdint>
+#include <type_traits>
 
 #include "models/llvmpipe/fragment.hpp"
 #include "models/llvmpipe/vector_kernels.hpp"
@@ -129,6 +130,10 @@ struct V {
     // base[idx] in the lanes of the mask, 0 elsewhere (nothing read there).
     static I gather(const std::uint32_t* base, I idx, M m) {
         return _mm512_mask_i32gather_epi32(_mm512_setzero_si512(), m, idx, base, 4);
+    }
+    // base[idx] = v in the lanes of the mask, in lane order (no two lanes share an index here).
+    static void scatter(std::uint32_t* base, I idx, M m, I v) {
+        _mm512_mask_i32scatter_epi32(base, m, idx, v, 4);
     }
 };
 
