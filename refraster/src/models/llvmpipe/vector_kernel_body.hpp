@@ -24,9 +24,10 @@
 // each vector of the sample stages holds kLanes / 4 pixels' samples, lane l sample l % 4 of
 // pixel l / 4, and the pixels' colours are permuted into it.
 //
-// Blocks of thin primitives, whose rows hold a pixel or two (shade_packed): the covered pixels
-// packed across rows, kLanes a vector, each lane at its own pixel's px and py, the buffers
-// read by gathers and written by scatters (AVX2: lane by lane).
+// Blocks of thin primitives, whose rows hold a pixel or two (shade_packed, shade_packed_4x): the
+// covered pixels packed across rows, kLanes a vector, each lane at its own pixel's (or
+// sample's) px and py, the buffers read by gathers and written by scatters (AVX2: lane by
+// lane).
 //
 // Deliberately does not: rgba32f targets, or draws that turn multisampling off on a 4x target
 // (the scalar kernels serve both).
@@ -237,7 +238,7 @@ struct VectorKernel {
         int pixels = 0;
         for (int r = 0; r < b.rows; ++r) {
             rows += b.mask[r] != 0 ? 1 : 0;
-            pixels += bit_count(b.mask[r]);
+            pixels += __builtin_popcountll(b.mask[r]);  // POPCNT: this unit's target has it
         }
         if (pixels <= kPackedMax && (pixels + kLanes - 1) / kLanes * kPackedCost < rows &&
             fb.width * fb.height <= kPackedPixelsMax) {
@@ -460,6 +461,7 @@ struct VectorKernel {
     // kGroups vectors of kGroupPixels pixels each.
     static constexpr int kGroupPixels = kLanes / static_cast<int>(kMsaaSamples);
     static constexpr std::size_t kGroups = kMsaaSamples;
+    static constexpr auto kN = static_cast<std::size_t>(kLanes);
     // Lane l of a sample vector: bit l of its mask is sample l % 4 of pixel l / 4; sample 0 of
     // each of a run's kLanes pixels, four bits apart.
     static constexpr std::uint64_t kSample0Bits = kLanes == 16 ? 0x1111111111111111u : 0x11111111u;
@@ -467,6 +469,124 @@ struct VectorKernel {
 
     static void shade_rows_4x(const KernelState& k, const SetupList& list,
                               const SetupPrimitive& prim, const RowBlock& b, Framebuffer& fb) {
+        if (b.rows > kPackedCost && fb.width * fb.height <= kPackedPixelsMax / kMsaaSamples) {
+            int rows = 0;
+            int pixels = 0;
+            for (int r = 0; r < b.rows; ++r) {
+                const std::uint64_t u = b.sample_rows(0)[r] | b.sample_rows(1)[r] |
+                                        b.sample_rows(2)[r] | b.sample_rows(3)[r];
+                rows += u != 0 ? 1 : 0;
+                pixels += __builtin_popcountll(u);
+            }
+            if (pixels <= kPackedMax && (pixels + kLanes - 1) / kLanes * kPackedCost < rows) {
+                shade_packed_4x(k, list, prim, b, fb);
+                return;
+            }
+        }
+        shade_block_4x(k, list, prim, b, fb);
+    }
+
+    // shade_packed on a 4x target: the pixels with a covered sample packed across rows, kLanes
+    // a vector for the colour (at each pixel's centre), their samples in kGroups vectors as
+    // shade_block_4x holds them, each lane at its own sample's position. Bit 4j + s of a
+    // vector's sample word: sample s of its pixel j.
+    static void shade_packed_4x(const KernelState& k, const SetupList& list,
+                                const SetupPrimitive& prim, const RowBlock& b, Framebuffer& fb) {
+        constexpr auto kCapacity = static_cast<std::size_t>(kPackedMax + kLanes);
+        alignas(64) std::int32_t xs[kCapacity];
+        alignas(64) std::int32_t ys[kCapacity];
+        std::uint64_t words[kCapacity / kN];
+        int n = 0;
+        for (int r = 0; r < b.rows; ++r) {
+            const std::uint64_t m[kMsaaSamples] = {b.sample_rows(0)[r], b.sample_rows(1)[r],
+                                                   b.sample_rows(2)[r], b.sample_rows(3)[r]};
+            std::uint64_t u = m[0] | m[1] | m[2] | m[3];
+            if (u == 0) continue;
+            prefetch_row(b, r, fb);
+            for (; u != 0; u &= u - 1) {
+                const int i = std::countr_zero(u);
+                std::uint64_t nibble = 0;
+                for (unsigned s = 0; s < kMsaaSamples; ++s) nibble |= ((m[s] >> i) & 1u) << s;
+                const auto slot = static_cast<std::size_t>(n) / kN;
+                const auto shift = (static_cast<std::size_t>(n) % kN) * kMsaaSamples;
+                words[slot] = (shift == 0 ? 0 : words[slot]) | (nibble << shift);
+                xs[n] = b.x0 + i;
+                ys[n] = b.y0 + r;
+                ++n;
+            }
+        }
+        for (int i = n; i < n + kLanes; ++i) xs[i] = ys[i] = 0;  // lanes no mask selects
+
+        const Plane* planes = list.planes.data() + prim.planes;
+        const float* flat = list.flat.data() + prim.flat;
+        const bool fma = k.options.fma;
+        const DepthTest depth = depth_test_of(k, planes, prim);
+        const Source source = source_of(planes, flat);
+        const I owner = V::splati(static_cast<std::int32_t>(prim.owner));
+        const I width = V::splati(static_cast<std::int32_t>(fb.width));
+        auto* color = reinterpret_cast<std::uint32_t*>(fb.color8.data());
+        // Lane l of a sample vector: sample l % 4 of the group's pixel l / 4.
+        alignas(64) float sample_x[kN];
+        alignas(64) float sample_y[kN];
+        alignas(64) std::uint32_t sample_index[kN];
+        alignas(64) std::uint32_t pick[kGroups][kN];
+        for (std::size_t l = 0; l < kN; ++l) {
+            sample_x[l] = kSamplePositions4x[l % kMsaaSamples].x;
+            sample_y[l] = kSamplePositions4x[l % kMsaaSamples].y;
+            sample_index[l] = static_cast<std::uint32_t>(l % kMsaaSamples);
+            for (std::size_t g = 0; g < kGroups; ++g)
+                pick[g][l] = static_cast<std::uint32_t>(g * (kN / kMsaaSamples) + l / kMsaaSamples);
+        }
+        const F sample_dx = V::load_f(sample_x);
+        const F sample_dy = V::load_f(sample_y);
+        const I sample_at = V::load(sample_index);
+        constexpr std::uint64_t kLaneBits = (std::uint64_t{1} << kLanes) - 1;
+        for (int i = 0; i < n; i += kLanes) {
+            const std::uint64_t word = words[static_cast<std::size_t>(i) / kN];
+            const I xi = V::load(reinterpret_cast<const std::uint32_t*>(xs + i));
+            const I yi = V::load(reinterpret_cast<const std::uint32_t*>(ys + i));
+            const I pixel_at = V::add32(V::mullo32(yi, width), xi);
+            M live[kGroups];
+            I at[kGroups];
+            bool any = false;
+            for (std::size_t g = 0; g < kGroups; ++g) {
+                const auto bits = static_cast<unsigned>((word >> (g * kN)) & kLaneBits);
+                live[g] = V::from_bits(bits);
+                if (bits == 0) continue;
+                const I pick_g = V::load(pick[g]);
+                at[g] = V::add32(V::sll32(V::permute(pixel_at, pick_g), 2), sample_at);
+                if constexpr (D != DepthFormat::None) {
+                    const F px = V::add(V::to_float(V::permute(xi, pick_g)), sample_dx);
+                    const F py = V::add(V::to_float(V::permute(yi, pick_g)), sample_dy);
+                    I value;
+                    live[g] =
+                        depth_pass(depth, VectorKernel::at(depth.zp, px, py, fma),
+                                   V::gather(fb.depth.data(), at[g], live[g]), live[g], value);
+                    if (V::none(live[g])) continue;
+                    if (depth.write) V::scatter(fb.depth.data(), at[g], live[g], value);
+                }
+                any = true;
+            }
+            if (!any) continue;
+            const F half = V::splat(0.5f);
+            const I src = source_color(source, V::add(V::to_float(xi), half),
+                                       V::add(V::to_float(yi), half), fma);
+            for (std::size_t g = 0; g < kGroups; ++g) {
+                if (V::none(live[g])) continue;
+                const I src_g = V::permute(src, V::load(pick[g]));
+                if constexpr (B == BlendPreset::None) {
+                    V::scatter(color, at[g], live[g], src_g);
+                } else {
+                    V::scatter(color, at[g], live[g],
+                               blend(src_g, V::gather(color, at[g], live[g])));
+                }
+                if (!fb.owner.empty()) V::scatter(fb.owner.data(), at[g], live[g], owner);
+            }
+        }
+    }
+
+    static void shade_block_4x(const KernelState& k, const SetupList& list,
+                               const SetupPrimitive& prim, const RowBlock& b, Framebuffer& fb) {
         const Plane* planes = list.planes.data() + prim.planes;
         const float* flat = list.flat.data() + prim.flat;
         const bool fma = k.options.fma;
@@ -479,7 +599,6 @@ struct VectorKernel {
         // scalar model evaluates them: fragment.cpp shade_4x); every value here is exact.
         const F centre_x = V::add(V::lane_index(), V::splat(0.5f));
         // Depth at the sample: px + sx, py + sy (samples.hpp: multiples of 1/8, exact).
-        constexpr auto kN = static_cast<std::size_t>(kLanes);
         alignas(64) float sample_x[kN];
         alignas(64) float sample_y[kN];
         alignas(64) std::uint32_t pick[kGroups][kN];
