@@ -11,10 +11,18 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <random>
 #include <set>
 #include <utility>
+#include <vector>
 
+#include "models/llvmpipe/setup_list.hpp"
 #include "models/llvmpipe/traverse.hpp"
+#include "stages/vertex_stage.hpp"
 
 namespace {
 
@@ -138,3 +146,117 @@ TEST(LineEnds, AnEndOnTheBorderBelowAPixelRisingKeepsItsPlace) {
 }
 
 }  // namespace
+
+// Line attribute planes (line_point.cpp, line_planes; setup_line_coefficients and linear_coef
+// in lp_setup_line.c): each plane equals linear_coef's operations on its attribute, in their
+// order, each result flushed to the zero of its sign when it is denormal, as written out
+// below one operation at a time. The values reach down to FLT_MIN and below, so that
+// differences, gradients and A0 land among the denormals.
+namespace {
+
+using refraster::detail::FragmentOptions;
+using refraster::detail::Plane;
+using refraster::detail::SetupList;
+using refraster::detail::SetupPrimitive;
+
+float flushed(float v) {
+    return std::fabs(v) < std::numeric_limits<float>::min() ? std::copysign(0.0f, v) : v;
+}
+
+struct Terms {
+    float x0c, y0c, info_dx, info_dy, oneoverarea;
+};
+
+Terms terms(const StageVertex& a, const StageVertex& b) {
+    const float dx = flushed(a.window[0] - b.window[0]);
+    const float dy = flushed(a.window[1] - b.window[1]);
+    const float area = flushed(flushed(dx * dx) + flushed(dy * dy));
+    Terms t{flushed(a.window[0] - 0.5f), flushed(a.window[1] - 0.5f), dx, dy, flushed(1.0f / area)};
+    if (std::fabs(dx) >= std::fabs(dy)) {
+        const float dydx = flushed(dy / dx);
+        t.info_dx = flushed(dx * flushed(1.0f + flushed(dydx * dydx)));
+        t.info_dy = 0.0f;
+    } else {
+        const float dxdy = flushed(dx / dy);
+        t.info_dx = 0.0f;
+        t.info_dy = flushed(dy * flushed(1.0f + flushed(dxdy * dxdy)));
+    }
+    return t;
+}
+
+Plane expected_plane(const Terms& t, float a1, float a2) {
+    const float da21 = flushed(a1 - a2);
+    Plane p;
+    p.dadx = flushed(flushed(da21 * t.info_dx) * t.oneoverarea);
+    p.dady = flushed(flushed(da21 * t.info_dy) * t.oneoverarea);
+    p.a0 = flushed(a1 - flushed(flushed(p.dadx * t.x0c) + flushed(p.dady * t.y0c)));
+    return p;
+}
+
+bool same_bits(const Plane& a, const Plane& b) {
+    return std::bit_cast<std::uint32_t>(a.a0) == std::bit_cast<std::uint32_t>(b.a0) &&
+           std::bit_cast<std::uint32_t>(a.dadx) == std::bit_cast<std::uint32_t>(b.dadx) &&
+           std::bit_cast<std::uint32_t>(a.dady) == std::bit_cast<std::uint32_t>(b.dady);
+}
+
+}  // namespace
+
+TEST(LinePlanes, EachPlaneIsLinearCoefFlushedOperationByOperation) {
+    // Attributes as they are (noperspective) and times 1 / w (smooth), 4 to 21 floats: one
+    // vector of them, several, and a part of one.
+    std::mt19937 rng(11);
+    const auto value = [&] {
+        const float scale = std::array{1.0f, 1e-36f, 1e-38f, 3e-39f}[rng() % 4];
+        return scale * std::uniform_real_distribution<float>(-2.0f, 2.0f)(rng);
+    };
+    int flushed_terms = 0;
+    for (int trial = 0; trial < 400; ++trial) {
+        refraster::Draw draw;
+        draw.primitive = refraster::PrimitiveType::Lines;
+        draw.state.shade =
+            trial % 2 == 0 ? refraster::ShadeModel::NoPerspective : refraster::ShadeModel::Smooth;
+        const auto floats = static_cast<std::uint32_t>(4 + trial % 18);
+        draw.vertices.attributes = {{"color", floats}};
+        for (int v = 0; v < 2; ++v) {
+            for (float c : {0.0f, 0.0f, 0.0f, 1.0f}) draw.vertices.data.push_back(c);
+            for (std::uint32_t k = 0; k < floats; ++k) draw.vertices.data.push_back(value());
+        }
+        refraster::detail::VertexStage stage(draw, {});
+        std::uniform_real_distribution<float> pos(0.0f, 64.0f);
+        std::array<StageVertex, 2> ends;
+        for (std::uint32_t v = 0; v < 2; ++v) {
+            ends[v].window = {pos(rng), pos(rng), value(), 1.0f / (0.5f + pos(rng))};
+            ends[v].attributes = v * (4 + floats) + 4;
+        }
+        if (ends[0].window[0] == ends[1].window[0] && ends[0].window[1] == ends[1].window[1])
+            continue;
+        SetupList list;
+        list.attribute_floats = floats;
+        SetupPrimitive prim;
+        FragmentOptions options;
+        refraster::detail::line_planes(ends[0], ends[1], stage, draw, false, options, list, prim);
+        ASSERT_EQ(list.planes.size(), prim.planes + 2 + floats);
+        const Terms t = terms(ends[0], ends[1]);
+        const auto& a = ends[0].window;
+        const auto& b = ends[1].window;
+        std::vector<Plane> want{expected_plane(t, a[2], b[2]), expected_plane(t, a[3], b[3])};
+        for (std::uint32_t k = 0; k < floats; ++k) {
+            const float c1 = draw.vertices.data[ends[0].attributes + k];
+            const float c2 = draw.vertices.data[ends[1].attributes + k];
+            if (draw.state.shade == refraster::ShadeModel::Smooth) {
+                want.push_back(expected_plane(t, flushed(c1 * a[3]), flushed(c2 * b[3])));
+            } else {
+                want.push_back(expected_plane(t, c1, c2));
+            }
+            if (std::fabs(c1) < std::numeric_limits<float>::min() && c1 != 0.0f) ++flushed_terms;
+        }
+        for (std::size_t i = 0; i < want.size(); ++i) {
+            const Plane& got = list.planes[prim.planes + i];
+            EXPECT_TRUE(same_bits(got, want[i]))
+                << "trial " << trial << ", plane " << i << ": got (" << got.a0 << ", " << got.dadx
+                << ", " << got.dady << "), want (" << want[i].a0 << ", " << want[i].dadx << ", "
+                << want[i].dady << ")";
+        }
+    }
+    EXPECT_GT(flushed_terms, 100);  // the flush was exercised
+}
