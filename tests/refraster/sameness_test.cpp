@@ -25,6 +25,7 @@
 
 #include "refraster/framebuffer.hpp"
 #include "refraster/renderer.hpp"
+#include "sameness_support.hpp"
 
 namespace {
 
@@ -32,35 +33,11 @@ using refraster::ColorFormat;
 using refraster::DepthFormat;
 using refraster::KernelPath;
 
-std::uint64_t ci_seed() {
-    const char* s = std::getenv("REFRASTER_TEST_SEED");
-    return s != nullptr && *s != '\0' ? std::strtoull(s, nullptr, 10) : 3;
-}
+using sameness::ci_seed;
+using sameness::first_difference;
+using sameness::scene_count;
 
-int scene_count() {
-    const char* s = std::getenv("REFRASTER_SAMENESS_SCENES");
-    return s != nullptr && *s != '\0' ? std::atoi(s) : 60;
-}
-
-// Where two renders first differ, or empty when they are the same bit for bit.
-std::string first_difference(const refraster::Framebuffer& a, const refraster::Framebuffer& b) {
-    for (std::size_t i = 0; i < a.color8.size(); ++i) {
-        if (a.color8[i] != b.color8[i]) return "colour byte " + std::to_string(i);
-    }
-    for (std::size_t i = 0; i < a.color32f.size(); ++i) {
-        if (std::bit_cast<std::uint32_t>(a.color32f[i]) !=
-            std::bit_cast<std::uint32_t>(b.color32f[i]))
-            return "colour float " + std::to_string(i);
-    }
-    for (std::size_t i = 0; i < a.depth.size(); ++i) {
-        if (a.depth[i] != b.depth[i]) return "depth " + std::to_string(i);
-    }
-    if (a.owner != b.owner) return "owners";
-    if (a.color8.size() != b.color8.size() || a.depth.size() != b.depth.size()) return "sizes";
-    return {};
-}
-
-class SceneMaker {
+class SceneMaker : sameness::RandomChoices {
   public:
     // Textured: every draw samples the texture, into single-sample rgba8 targets (the vector
     // sampler's draws, vector_texture_body.hpp), mostly with the 8-bit path's wraps.
@@ -71,7 +48,7 @@ class SceneMaker {
     // kernels' pixels packed across rows, vector_kernel_body.hpp shade_packed).
     enum class Kind { Mixed, Textured, Multisample, LinesAndPoints };
     explicit SceneMaker(std::uint64_t seed, Kind kind = Kind::Mixed)
-        : rng_(seed), seed_(seed), textured_(kind == Kind::Textured), kind_(kind) {}
+        : RandomChoices(seed), seed_(seed), textured_(kind == Kind::Textured), kind_(kind) {}
     std::uint64_t seed() const { return seed_; }
 
     refraster::DrawList scene() {
@@ -110,23 +87,6 @@ class SceneMaker {
     }
 
   private:
-    std::uint32_t pick(std::uint32_t n) { return static_cast<std::uint32_t>(rng_() % n); }
-    float uniform(float lo, float hi) {
-        return std::uniform_real_distribution<float>(lo, hi)(rng_);
-    }
-    float edge_value(float lo, float hi) {
-        switch (pick(12)) {
-            case 0:
-                return 1e-40f;  // a denormal
-            case 1:
-                return -3e-39f;
-            case 2:
-                return 0.0f;
-            default:
-                return uniform(lo, hi);
-        }
-    }
-
     refraster::Draw draw(const refraster::Target& target) {
         refraster::Draw d;
         static constexpr refraster::PrimitiveType kTypes[] = {
@@ -228,7 +188,6 @@ class SceneMaker {
         return d;
     }
 
-    std::mt19937_64 rng_;
     std::uint64_t seed_;
     bool textured_ = false;
     Kind kind_ = Kind::Mixed;
@@ -267,45 +226,17 @@ TEST_P(Sameness, MultisampleTargetsGiveTheModelsBytes) {
 INSTANTIATE_TEST_SUITE_P(Seeds, Sameness, ::testing::Values(1u, 2u, ci_seed()));
 
 void expect_every_path_gives_the_models_bytes(SceneMaker& maker, int scenes) {
-    const std::uint64_t seed = maker.seed();
-    int drawn = 0;
-    int compared = 0;
-    for (int n = 0; n < scenes; ++n) {
-        const refraster::DrawList l = maker.scene();
-        refraster::RenderOptions model;
-        model.kernels = KernelPath::Model;
-        model.record_owners = n % 3 == 0;
-        model.profile.gl.viewport_fma =
-            n % 5 == 0 ? refraster::FmaMode::Off : refraster::FmaMode::On;
-        model.profile.gl.flush_denormals = n % 7 != 0;
-        refraster::Framebuffer expected;
-        ASSERT_EQ(refraster::render(l, model, expected).status, refraster::RenderStatus::Ok);
-        refraster::DrawList empty = l;
-        empty.draws.clear();
-        refraster::Framebuffer cleared;
-        ASSERT_EQ(refraster::render(empty, model, cleared).status, refraster::RenderStatus::Ok);
-        drawn += !first_difference(expected, cleared).empty();
-        for (const auto path : {KernelPath::Scalar, KernelPath::Avx2, KernelPath::Avx512}) {
-            if (!refraster::kernel_path_available(path)) continue;
-            for (const unsigned threads : {1u, 2u, 3u}) {
-                refraster::RenderOptions fast = model;
-                fast.kernels = path;
-                fast.threads = threads;
-                refraster::Framebuffer got;
-                ASSERT_EQ(refraster::render(l, fast, got).status, refraster::RenderStatus::Ok);
-                const std::string where = first_difference(expected, got);
-                ASSERT_TRUE(where.empty())
-                    << "seed " << seed << " scene " << n << " (" << l.target.width << "x"
-                    << l.target.height << ", " << l.draws.size() << " draws): path "
-                    << refraster::to_string(path) << " with " << threads
-                    << " threads differs from the model at " << where;
-                ++compared;
-            }
-        }
-    }
-    // The comparisons are of drawn images, not of cleared targets.
-    EXPECT_GT(drawn, scenes / 2);
-    EXPECT_GT(compared, 0);
+    sameness::expect_every_path_gives_the_models_bytes(
+        maker.seed(), scenes, [&] { return maker.scene(); },
+        [](int n) {
+            refraster::RenderOptions model;
+            model.kernels = KernelPath::Model;
+            model.record_owners = n % 3 == 0;
+            model.profile.gl.viewport_fma =
+                n % 5 == 0 ? refraster::FmaMode::Off : refraster::FmaMode::On;
+            model.profile.gl.flush_denormals = n % 7 != 0;
+            return model;
+        });
 }
 
 // The comparison can fail: a render under another tie rule differs from the model somewhere

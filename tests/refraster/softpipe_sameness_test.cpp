@@ -32,6 +32,7 @@
 #include "refraster/framebuffer.hpp"
 #include "refraster/profile.hpp"
 #include "refraster/renderer.hpp"
+#include "sameness_support.hpp"
 #include "stages/output_merge.hpp"
 
 namespace {
@@ -40,39 +41,12 @@ using refraster::ColorFormat;
 using refraster::DepthFormat;
 using refraster::KernelPath;
 
-std::uint64_t ci_seed() {
-    const char* s = std::getenv("REFRASTER_TEST_SEED");
-    return s != nullptr && *s != '\0' ? std::strtoull(s, nullptr, 10) : 3;
-}
+using sameness::ci_seed;
+using sameness::scene_count;
 
-int scene_count() {
-    const char* s = std::getenv("REFRASTER_SAMENESS_SCENES");
-    return s != nullptr && *s != '\0' ? std::atoi(s) : 60;
-}
-
-// Where two renders first differ, or empty when they are the same bit for bit.
-std::string first_difference(const refraster::Framebuffer& a, const refraster::Framebuffer& b) {
-    if (a.color8.size() != b.color8.size() || a.color32f.size() != b.color32f.size() ||
-        a.depth.size() != b.depth.size())
-        return "sizes";
-    for (std::size_t i = 0; i < a.color8.size(); ++i) {
-        if (a.color8[i] != b.color8[i]) return "colour byte " + std::to_string(i);
-    }
-    for (std::size_t i = 0; i < a.color32f.size(); ++i) {
-        if (std::bit_cast<std::uint32_t>(a.color32f[i]) !=
-            std::bit_cast<std::uint32_t>(b.color32f[i]))
-            return "colour float " + std::to_string(i);
-    }
-    for (std::size_t i = 0; i < a.depth.size(); ++i) {
-        if (a.depth[i] != b.depth[i]) return "depth " + std::to_string(i);
-    }
-    if (a.owner != b.owner) return "owners";
-    return {};
-}
-
-class SoftpipeSceneMaker {
+class SoftpipeSceneMaker : sameness::RandomChoices {
   public:
-    explicit SoftpipeSceneMaker(std::uint64_t seed) : rng_(seed), seams_(seed + 1) {}
+    explicit SoftpipeSceneMaker(std::uint64_t seed) : RandomChoices(seed), seams_(seed + 1) {}
 
     // scene(), and for one scene in three a 256x256 base level whose textured draws repeat
     // in both directions half the time: the fast path's bilinear repeat shortcut
@@ -132,23 +106,6 @@ class SoftpipeSceneMaker {
     }
 
   private:
-    std::uint32_t pick(std::uint32_t n) { return static_cast<std::uint32_t>(rng_() % n); }
-    float uniform(float lo, float hi) {
-        return std::uniform_real_distribution<float>(lo, hi)(rng_);
-    }
-    float edge_value(float lo, float hi) {
-        switch (pick(12)) {
-            case 0:
-                return 1e-40f;  // a denormal
-            case 1:
-                return -3e-39f;
-            case 2:
-                return 0.0f;
-            default:
-                return uniform(lo, hi);
-        }
-    }
-
     refraster::Draw draw(const refraster::Target& target) {
         refraster::Draw d;
         static constexpr refraster::PrimitiveType kTypes[] = {
@@ -234,7 +191,6 @@ class SoftpipeSceneMaker {
         return d;
     }
 
-    std::mt19937_64 rng_;
     std::mt19937_64 seams_;
 };
 
@@ -243,48 +199,21 @@ class SoftpipeSameness : public ::testing::TestWithParam<std::uint64_t> {};
 TEST_P(SoftpipeSameness, EveryPathAndThreadCountGivesTheModelsBytes) {
     const std::uint64_t seed = GetParam();
     SoftpipeSceneMaker maker(seed);
-    const int scenes = scene_count();
-    int drawn = 0;
-    int compared = 0;
-    for (int n = 0; n < scenes; ++n) {
-        const refraster::DrawList l = maker.scene_with_seams();
-        refraster::RenderOptions model;
-        model.profile = refraster::builtin_profile("softpipe-22.3");
-        model.kernels = KernelPath::Model;
-        model.record_owners = n % 3 == 0;
-        model.profile.gl.flush_denormals = n % 7 != 0;
-        // Now and then a line or point rule of the snapped family: its draws write the surface
-        // between the tile cache's write-backs.
-        if (n % 5 == 1) model.profile.gl.line_rule = refraster::LineRule::Parallelogram;
-        if (n % 5 == 2) model.profile.gl.point_rule = refraster::PointRule::Square;
-        if (n % 4 == 3) model.profile.gl.depth_rounding = refraster::Rounding::Nearest;
-        refraster::Framebuffer expected;
-        ASSERT_EQ(refraster::render(l, model, expected).status, refraster::RenderStatus::Ok);
-        refraster::DrawList empty = l;
-        empty.draws.clear();
-        refraster::Framebuffer cleared;
-        ASSERT_EQ(refraster::render(empty, model, cleared).status, refraster::RenderStatus::Ok);
-        drawn += !first_difference(expected, cleared).empty();
-        for (const auto path : {KernelPath::Scalar, KernelPath::Avx2, KernelPath::Avx512}) {
-            if (!refraster::kernel_path_available(path)) continue;
-            for (const unsigned threads : {1u, 2u, 3u}) {
-                refraster::RenderOptions fast = model;
-                fast.kernels = path;
-                fast.threads = threads;
-                refraster::Framebuffer got;
-                ASSERT_EQ(refraster::render(l, fast, got).status, refraster::RenderStatus::Ok);
-                const std::string where = first_difference(expected, got);
-                ASSERT_TRUE(where.empty())
-                    << "seed " << seed << " scene " << n << " (" << l.target.width << "x"
-                    << l.target.height << ", " << l.draws.size() << " draws): path "
-                    << refraster::to_string(path) << " with " << threads
-                    << " threads differs from the model at " << where;
-                ++compared;
-            }
-        }
-    }
-    EXPECT_GT(drawn, scenes / 2);
-    EXPECT_GT(compared, 0);
+    sameness::expect_every_path_gives_the_models_bytes(
+        seed, scene_count(), [&] { return maker.scene_with_seams(); },
+        [](int n) {
+            refraster::RenderOptions model;
+            model.profile = refraster::builtin_profile("softpipe-22.3");
+            model.kernels = KernelPath::Model;
+            model.record_owners = n % 3 == 0;
+            model.profile.gl.flush_denormals = n % 7 != 0;
+            // Now and then a line or point rule of the snapped family: its draws write the
+            // surface between the tile cache's write-backs.
+            if (n % 5 == 1) model.profile.gl.line_rule = refraster::LineRule::Parallelogram;
+            if (n % 5 == 2) model.profile.gl.point_rule = refraster::PointRule::Square;
+            if (n % 4 == 3) model.profile.gl.depth_rounding = refraster::Rounding::Nearest;
+            return model;
+        });
 }
 
 INSTANTIATE_TEST_SUITE_P(Seeds, SoftpipeSameness, ::testing::Values(1u, 2u, ci_seed()));
