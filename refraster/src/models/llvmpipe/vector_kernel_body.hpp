@@ -275,14 +275,7 @@ struct VectorKernel {
         }
         for (int i = n; i < n + kLanes; ++i) xs[i] = ys[i] = 0;  // lanes no mask selects
 
-        const Plane* planes = list.planes.data() + prim.planes;
-        const float* flat = list.flat.data() + prim.flat;
-        const bool fma = k.options.fma;
-        const DepthTest depth = depth_test_of(k, planes, prim);
-        const Source source = source_of(planes, flat);
-        const I owner = V::splati(static_cast<std::int32_t>(prim.owner));
-        const I width = V::splati(static_cast<std::int32_t>(fb.width));
-        auto* color = reinterpret_cast<std::uint32_t*>(fb.color8.data());
+        const Packed p = packed_state(k, list, prim, fb);
         for (int i = 0; i < n; i += kLanes) {
             const int count = std::min(kLanes, n - i);
             M live = V::from_bits(static_cast<unsigned>((std::uint64_t{1} << count) - 1));
@@ -290,21 +283,21 @@ struct VectorKernel {
             const I yi = V::load(reinterpret_cast<const std::uint32_t*>(ys + i));
             const F px = V::to_float(xi);
             const F py = V::to_float(yi);
-            const I at = V::add32(V::mullo32(yi, width), xi);
+            const I at = V::add32(V::mullo32(yi, p.width), xi);
             if constexpr (D != DepthFormat::None) {
                 I value;
-                live = depth_pass(depth, VectorKernel::at(depth.zp, px, py, fma),
+                live = depth_pass(p.depth, VectorKernel::at(p.depth.zp, px, py, p.fma),
                                   V::gather(fb.depth.data(), at, live), live, value);
                 if (V::none(live)) continue;
-                if (depth.write) V::scatter(fb.depth.data(), at, live, value);
+                if (p.depth.write) V::scatter(fb.depth.data(), at, live, value);
             }
-            const I src = source_color(source, px, py, fma);
+            const I src = source_color(p.source, px, py, p.fma);
             if constexpr (B == BlendPreset::None) {
-                V::scatter(color, at, live, src);
+                V::scatter(p.color, at, live, src);
             } else {
-                V::scatter(color, at, live, blend(src, V::gather(color, at, live)));
+                V::scatter(p.color, at, live, blend(src, V::gather(p.color, at, live)));
             }
-            if (!fb.owner.empty()) V::scatter(fb.owner.data(), at, live, owner);
+            if (!fb.owner.empty()) V::scatter(fb.owner.data(), at, live, p.owner);
         }
     }
 
@@ -457,6 +450,26 @@ struct VectorKernel {
         }
     }
 
+    // What both packed paths read of a primitive and the target.
+    struct Packed {
+        bool fma;
+        DepthTest depth;
+        Source source;
+        I owner;
+        I width;
+        std::uint32_t* color;
+    };
+    [[gnu::always_inline]] static Packed packed_state(const KernelState& k, const SetupList& list,
+                                                      const SetupPrimitive& prim, Framebuffer& fb) {
+        const Plane* planes = list.planes.data() + prim.planes;
+        return {k.options.fma,
+                depth_test_of(k, planes, prim),
+                source_of(planes, list.flat.data() + prim.flat),
+                V::splati(static_cast<std::int32_t>(prim.owner)),
+                V::splati(static_cast<std::int32_t>(fb.width)),
+                reinterpret_cast<std::uint32_t*>(fb.color8.data())};
+    }
+
     // A 4x target, multisampling on: kLanes pixels of a row at a time, their samples in
     // kGroups vectors of kGroupPixels pixels each.
     static constexpr int kGroupPixels = kLanes / static_cast<int>(kMsaaSamples);
@@ -517,14 +530,7 @@ struct VectorKernel {
         }
         for (int i = n; i < n + kLanes; ++i) xs[i] = ys[i] = 0;  // lanes no mask selects
 
-        const Plane* planes = list.planes.data() + prim.planes;
-        const float* flat = list.flat.data() + prim.flat;
-        const bool fma = k.options.fma;
-        const DepthTest depth = depth_test_of(k, planes, prim);
-        const Source source = source_of(planes, flat);
-        const I owner = V::splati(static_cast<std::int32_t>(prim.owner));
-        const I width = V::splati(static_cast<std::int32_t>(fb.width));
-        auto* color = reinterpret_cast<std::uint32_t*>(fb.color8.data());
+        const Packed p = packed_state(k, list, prim, fb);
         // Lane l of a sample vector: sample l % 4 of the group's pixel l / 4.
         alignas(64) float sample_x[kN];
         alignas(64) float sample_y[kN];
@@ -545,7 +551,7 @@ struct VectorKernel {
             const std::uint64_t word = words[static_cast<std::size_t>(i) / kN];
             const I xi = V::load(reinterpret_cast<const std::uint32_t*>(xs + i));
             const I yi = V::load(reinterpret_cast<const std::uint32_t*>(ys + i));
-            const I pixel_at = V::add32(V::mullo32(yi, width), xi);
+            const I pixel_at = V::add32(V::mullo32(yi, p.width), xi);
             M live[kGroups];
             I at[kGroups];
             bool any = false;
@@ -560,27 +566,27 @@ struct VectorKernel {
                     const F py = V::add(V::to_float(V::permute(yi, pick_g)), sample_dy);
                     I value;
                     live[g] =
-                        depth_pass(depth, VectorKernel::at(depth.zp, px, py, fma),
+                        depth_pass(p.depth, VectorKernel::at(p.depth.zp, px, py, p.fma),
                                    V::gather(fb.depth.data(), at[g], live[g]), live[g], value);
                     if (V::none(live[g])) continue;
-                    if (depth.write) V::scatter(fb.depth.data(), at[g], live[g], value);
+                    if (p.depth.write) V::scatter(fb.depth.data(), at[g], live[g], value);
                 }
                 any = true;
             }
             if (!any) continue;
             const F half = V::splat(0.5f);
-            const I src = source_color(source, V::add(V::to_float(xi), half),
-                                       V::add(V::to_float(yi), half), fma);
+            const I src = source_color(p.source, V::add(V::to_float(xi), half),
+                                       V::add(V::to_float(yi), half), p.fma);
             for (std::size_t g = 0; g < kGroups; ++g) {
                 if (V::none(live[g])) continue;
                 const I src_g = V::permute(src, V::load(pick[g]));
                 if constexpr (B == BlendPreset::None) {
-                    V::scatter(color, at[g], live[g], src_g);
+                    V::scatter(p.color, at[g], live[g], src_g);
                 } else {
-                    V::scatter(color, at[g], live[g],
-                               blend(src_g, V::gather(color, at[g], live[g])));
+                    V::scatter(p.color, at[g], live[g],
+                               blend(src_g, V::gather(p.color, at[g], live[g])));
                 }
-                if (!fb.owner.empty()) V::scatter(fb.owner.data(), at[g], live[g], owner);
+                if (!fb.owner.empty()) V::scatter(fb.owner.data(), at[g], live[g], p.owner);
             }
         }
     }
