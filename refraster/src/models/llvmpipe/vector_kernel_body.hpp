@@ -24,10 +24,9 @@
 // each vector of the sample stages holds kLanes / 4 pixels' samples, lane l sample l % 4 of
 // pixel l / 4, and the pixels' colours are permuted into it.
 //
-// Blocks of thin primitives, whose rows hold a pixel or two (shade_packed, shade_packed_4x): the
-// covered pixels packed across rows, kLanes a vector, each lane at its own pixel's (or
-// sample's) px and py, the buffers read by gathers and written by scatters (AVX2: lane by
-// lane).
+// Blocks of thin primitives, whose rows hold a pixel or two (shade_packed): the covered pixels
+// packed across rows, kLanes a vector, each lane at its own pixel's px and py, the buffers read
+// by gathers and written by scatters (AVX2: lane by lane).
 //
 // Deliberately does not: rgba32f targets, or draws that turn multisampling off on a 4x target
 // (the scalar kernels serve both).
@@ -131,9 +130,9 @@ struct VectorKernel {
     // The same from the z plane's value at the lanes.
     [[gnu::always_inline]] static M depth_stage_of(const DepthTest& t, F z_plane, std::uint32_t* dp,
                                                    bool inside, M live) {
-        I value;
+        const I value = depth_value(t, z_plane);
         const I stored = inside ? V::load(dp) : V::load_masked(dp, live);
-        live = depth_pass(t, z_plane, stored, live, value);
+        live = depth_passes(t, value, stored, live);
         if (t.write && !V::none(live)) {
             if (inside) {
                 V::store(dp, V::select(live, stored, value));
@@ -143,17 +142,18 @@ struct VectorKernel {
         }
         return live;
     }
-    // The live lanes whose depth (`value`, from the z plane's value at the lanes) passes the
-    // test against the depths stored there.
-    [[gnu::always_inline]] static M depth_pass(const DepthTest& t, F z_plane, I stored, M live,
-                                               I& value) {
+    // The depth value of the lanes from the z plane's value there.
+    [[gnu::always_inline]] static I depth_value(const DepthTest& t, F z_plane) {
         F z = V::add(z_plane, t.z_offset);
         z = V::max(V::min(z, V::splat(1.0f)), V::splat(0.0f));
         if constexpr (D == DepthFormat::Z32f) {
-            value = V::as_int(z);
+            return V::as_int(z);
         } else {
-            value = V::to_int_rne(V::mul(z, V::splat(static_cast<float>(depth_unorm_max(D)))));
+            return V::to_int_rne(V::mul(z, V::splat(static_cast<float>(depth_unorm_max(D)))));
         }
+    }
+    // The live lanes whose depth value passes the test against the depth stored there.
+    [[gnu::always_inline]] static M depth_passes(const DepthTest& t, I value, I stored, M live) {
         M lt, eq;
         if constexpr (D == DepthFormat::Z32f) {
             // Compared as integers ordered as the floats are (neither side is NaN; -0 equals
@@ -238,7 +238,7 @@ struct VectorKernel {
         int pixels = 0;
         for (int r = 0; r < b.rows; ++r) {
             rows += b.mask[r] != 0 ? 1 : 0;
-            pixels += __builtin_popcountll(b.mask[r]);  // POPCNT: this unit's target has it
+            pixels += bit_count(b.mask[r]);
         }
         if (pixels <= kPackedMax && (pixels + kLanes - 1) / kLanes * kPackedCost < rows &&
             fb.width * fb.height <= kPackedPixelsMax) {
@@ -285,9 +285,8 @@ struct VectorKernel {
             const F py = V::to_float(yi);
             const I at = V::add32(V::mullo32(yi, p.width), xi);
             if constexpr (D != DepthFormat::None) {
-                I value;
-                live = depth_pass(p.depth, VectorKernel::at(p.depth.zp, px, py, p.fma),
-                                  V::gather(fb.depth.data(), at, live), live, value);
+                const I value = depth_value(p.depth, VectorKernel::at(p.depth.zp, px, py, p.fma));
+                live = depth_passes(p.depth, value, V::gather(fb.depth.data(), at, live), live);
                 if (V::none(live)) continue;
                 if (p.depth.write) V::scatter(fb.depth.data(), at, live, value);
             }
@@ -450,7 +449,7 @@ struct VectorKernel {
         }
     }
 
-    // What both packed paths read of a primitive and the target.
+    // What the packed path reads of a primitive and the target.
     struct Packed {
         bool fma;
         DepthTest depth;
@@ -482,117 +481,6 @@ struct VectorKernel {
 
     static void shade_rows_4x(const KernelState& k, const SetupList& list,
                               const SetupPrimitive& prim, const RowBlock& b, Framebuffer& fb) {
-        if (b.rows > kPackedCost && fb.width * fb.height <= kPackedPixelsMax / kMsaaSamples) {
-            int rows = 0;
-            int pixels = 0;
-            for (int r = 0; r < b.rows; ++r) {
-                const std::uint64_t u = b.sample_rows(0)[r] | b.sample_rows(1)[r] |
-                                        b.sample_rows(2)[r] | b.sample_rows(3)[r];
-                rows += u != 0 ? 1 : 0;
-                pixels += __builtin_popcountll(u);
-            }
-            if (pixels <= kPackedMax && (pixels + kLanes - 1) / kLanes * kPackedCost < rows) {
-                shade_packed_4x(k, list, prim, b, fb);
-                return;
-            }
-        }
-        shade_block_4x(k, list, prim, b, fb);
-    }
-
-    // shade_packed on a 4x target: the pixels with a covered sample packed across rows, kLanes
-    // a vector for the colour (at each pixel's centre), their samples in kGroups vectors as
-    // shade_block_4x holds them, each lane at its own sample's position. Bit 4j + s of a
-    // vector's sample word: sample s of its pixel j.
-    static void shade_packed_4x(const KernelState& k, const SetupList& list,
-                                const SetupPrimitive& prim, const RowBlock& b, Framebuffer& fb) {
-        constexpr auto kCapacity = static_cast<std::size_t>(kPackedMax + kLanes);
-        alignas(64) std::int32_t xs[kCapacity];
-        alignas(64) std::int32_t ys[kCapacity];
-        std::uint64_t words[kCapacity / kN];
-        int n = 0;
-        for (int r = 0; r < b.rows; ++r) {
-            const std::uint64_t m[kMsaaSamples] = {b.sample_rows(0)[r], b.sample_rows(1)[r],
-                                                   b.sample_rows(2)[r], b.sample_rows(3)[r]};
-            std::uint64_t u = m[0] | m[1] | m[2] | m[3];
-            if (u == 0) continue;
-            prefetch_row(b, r, fb);
-            for (; u != 0; u &= u - 1) {
-                const int i = std::countr_zero(u);
-                std::uint64_t nibble = 0;
-                for (unsigned s = 0; s < kMsaaSamples; ++s) nibble |= ((m[s] >> i) & 1u) << s;
-                const auto slot = static_cast<std::size_t>(n) / kN;
-                const auto shift = (static_cast<std::size_t>(n) % kN) * kMsaaSamples;
-                words[slot] = (shift == 0 ? 0 : words[slot]) | (nibble << shift);
-                xs[n] = b.x0 + i;
-                ys[n] = b.y0 + r;
-                ++n;
-            }
-        }
-        for (int i = n; i < n + kLanes; ++i) xs[i] = ys[i] = 0;  // lanes no mask selects
-
-        const Packed p = packed_state(k, list, prim, fb);
-        // Lane l of a sample vector: sample l % 4 of the group's pixel l / 4.
-        alignas(64) float sample_x[kN];
-        alignas(64) float sample_y[kN];
-        alignas(64) std::uint32_t sample_index[kN];
-        alignas(64) std::uint32_t pick[kGroups][kN];
-        for (std::size_t l = 0; l < kN; ++l) {
-            sample_x[l] = kSamplePositions4x[l % kMsaaSamples].x;
-            sample_y[l] = kSamplePositions4x[l % kMsaaSamples].y;
-            sample_index[l] = static_cast<std::uint32_t>(l % kMsaaSamples);
-            for (std::size_t g = 0; g < kGroups; ++g)
-                pick[g][l] = static_cast<std::uint32_t>(g * (kN / kMsaaSamples) + l / kMsaaSamples);
-        }
-        const F sample_dx = V::load_f(sample_x);
-        const F sample_dy = V::load_f(sample_y);
-        const I sample_at = V::load(sample_index);
-        constexpr std::uint64_t kLaneBits = (std::uint64_t{1} << kLanes) - 1;
-        for (int i = 0; i < n; i += kLanes) {
-            const std::uint64_t word = words[static_cast<std::size_t>(i) / kN];
-            const I xi = V::load(reinterpret_cast<const std::uint32_t*>(xs + i));
-            const I yi = V::load(reinterpret_cast<const std::uint32_t*>(ys + i));
-            const I pixel_at = V::add32(V::mullo32(yi, p.width), xi);
-            M live[kGroups];
-            I at[kGroups];
-            bool any = false;
-            for (std::size_t g = 0; g < kGroups; ++g) {
-                const auto bits = static_cast<unsigned>((word >> (g * kN)) & kLaneBits);
-                live[g] = V::from_bits(bits);
-                if (bits == 0) continue;
-                const I pick_g = V::load(pick[g]);
-                at[g] = V::add32(V::sll32(V::permute(pixel_at, pick_g), 2), sample_at);
-                if constexpr (D != DepthFormat::None) {
-                    const F px = V::add(V::to_float(V::permute(xi, pick_g)), sample_dx);
-                    const F py = V::add(V::to_float(V::permute(yi, pick_g)), sample_dy);
-                    I value;
-                    live[g] =
-                        depth_pass(p.depth, VectorKernel::at(p.depth.zp, px, py, p.fma),
-                                   V::gather(fb.depth.data(), at[g], live[g]), live[g], value);
-                    if (V::none(live[g])) continue;
-                    if (p.depth.write) V::scatter(fb.depth.data(), at[g], live[g], value);
-                }
-                any = true;
-            }
-            if (!any) continue;
-            const F half = V::splat(0.5f);
-            const I src = source_color(p.source, V::add(V::to_float(xi), half),
-                                       V::add(V::to_float(yi), half), p.fma);
-            for (std::size_t g = 0; g < kGroups; ++g) {
-                if (V::none(live[g])) continue;
-                const I src_g = V::permute(src, V::load(pick[g]));
-                if constexpr (B == BlendPreset::None) {
-                    V::scatter(p.color, at[g], live[g], src_g);
-                } else {
-                    V::scatter(p.color, at[g], live[g],
-                               blend(src_g, V::gather(p.color, at[g], live[g])));
-                }
-                if (!fb.owner.empty()) V::scatter(fb.owner.data(), at[g], live[g], p.owner);
-            }
-        }
-    }
-
-    static void shade_block_4x(const KernelState& k, const SetupList& list,
-                               const SetupPrimitive& prim, const RowBlock& b, Framebuffer& fb) {
         const Plane* planes = list.planes.data() + prim.planes;
         const float* flat = list.flat.data() + prim.flat;
         const bool fma = k.options.fma;
