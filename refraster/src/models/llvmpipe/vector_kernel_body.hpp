@@ -275,7 +275,12 @@ struct VectorKernel {
         }
         for (int i = n; i < n + kLanes; ++i) xs[i] = ys[i] = 0;  // lanes no mask selects
 
-        const Packed p = packed_state(k, list, prim, fb);
+        const Plane* planes = list.planes.data() + prim.planes;
+        const bool fma = k.options.fma;
+        const DepthTest depth = depth_test_of(k, planes, prim);
+        const Source source = source_of(planes, list.flat.data() + prim.flat);
+        const I width = V::splati(static_cast<std::int32_t>(fb.width));
+        auto* color = reinterpret_cast<std::uint32_t*>(fb.color8.data());
         for (int i = 0; i < n; i += kLanes) {
             const int count = std::min(kLanes, n - i);
             M live = V::from_bits(static_cast<unsigned>((std::uint64_t{1} << count) - 1));
@@ -283,20 +288,22 @@ struct VectorKernel {
             const I yi = V::load(reinterpret_cast<const std::uint32_t*>(ys + i));
             const F px = V::to_float(xi);
             const F py = V::to_float(yi);
-            const I at = V::add32(V::mullo32(yi, p.width), xi);
+            const I at = V::add32(V::mullo32(yi, width), xi);
             if constexpr (D != DepthFormat::None) {
-                const I value = depth_value(p.depth, VectorKernel::at(p.depth.zp, px, py, p.fma));
-                live = depth_passes(p.depth, value, V::gather(fb.depth.data(), at, live), live);
+                const I value = depth_value(depth, VectorKernel::at(depth.zp, px, py, fma));
+                live = depth_passes(depth, value, V::gather(fb.depth.data(), at, live), live);
                 if (V::none(live)) continue;
-                if (p.depth.write) V::scatter(fb.depth.data(), at, live, value);
+                if (depth.write) V::scatter(fb.depth.data(), at, live, value);
             }
-            const I src = source_color(p.source, px, py, p.fma);
+            const I src = source_color(source, px, py, fma);
             if constexpr (B == BlendPreset::None) {
-                V::scatter(p.color, at, live, src);
+                V::scatter(color, at, live, src);
             } else {
-                V::scatter(p.color, at, live, blend(src, V::gather(p.color, at, live)));
+                V::scatter(color, at, live, blend(src, V::gather(color, at, live)));
             }
-            if (!fb.owner.empty()) V::scatter(fb.owner.data(), at, live, p.owner);
+            if (!fb.owner.empty())
+                V::scatter(fb.owner.data(), at, live,
+                           V::splati(static_cast<std::int32_t>(prim.owner)));
         }
     }
 
@@ -447,26 +454,6 @@ struct VectorKernel {
             }
             return pack_unorm8(c);
         }
-    }
-
-    // What the packed path reads of a primitive and the target.
-    struct Packed {
-        bool fma;
-        DepthTest depth;
-        Source source;
-        I owner;
-        I width;
-        std::uint32_t* color;
-    };
-    [[gnu::always_inline]] static Packed packed_state(const KernelState& k, const SetupList& list,
-                                                      const SetupPrimitive& prim, Framebuffer& fb) {
-        const Plane* planes = list.planes.data() + prim.planes;
-        return {k.options.fma,
-                depth_test_of(k, planes, prim),
-                source_of(planes, list.flat.data() + prim.flat),
-                V::splati(static_cast<std::int32_t>(prim.owner)),
-                V::splati(static_cast<std::int32_t>(fb.width)),
-                reinterpret_cast<std::uint32_t*>(fb.color8.data())};
     }
 
     // A 4x target, multisampling on: kLanes pixels of a row at a time, their samples in
